@@ -1,0 +1,26 @@
+// Errors a subcommand reports to the user: one line on stderr and a chosen exit code.
+#pragma once
+
+#include <stdexcept>
+#include <string>
+
+namespace swum::host {
+
+enum ExitCode : int {
+  kExitOk = 0,
+  kExitFailure = 1,      // bad input file, I/O error, anything the user must fix
+  kExitUsage = 2,        // bad command-line arguments
+  kExitDiverged = 3,     // the simulation blew up; nothing was printed as a number
+};
+
+class CommandError : public std::runtime_error {
+ public:
+  CommandError(const std::string& message, int exit_code = kExitFailure)
+      : std::runtime_error(message), exit_code_(exit_code) {}
+  int exit_code() const { return exit_code_; }
+
+ private:
+  int exit_code_;
+};
+
+}  // namespace swum::host
