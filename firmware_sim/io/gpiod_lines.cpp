@@ -1,0 +1,144 @@
+#include "gpiod_lines.h"
+
+#include <gpiod.hpp>
+
+#include <cerrno>
+#include <cstring>
+#include <system_error>
+
+namespace swum::io {
+namespace {
+
+std::string where(const GpioLineConfig& c) { return "GPIO chip '" + c.chip + "' line " + std::to_string(c.offset); }
+
+gpiod::line open_line(const GpioLineConfig& c) {
+  gpiod::chip chip;
+  try {
+    chip.open(c.chip, gpiod::chip::OPEN_LOOKUP);
+  } catch (const std::system_error& e) {
+    const int code = e.code().value();
+    throw GpioError("no such GPIO chip '" + c.chip + "' (looked up as name, path, label and number): " + e.what(),
+                    code ? code : ENODEV);
+  }
+  if (!chip) throw GpioError("no such GPIO chip '" + c.chip + "'", ENODEV);
+  const unsigned lines = chip.num_lines();
+  if (c.offset >= lines) {
+    throw GpioError(where(c) + ": offset out of range, chip " + chip.name() + " [" + chip.label() + "] has " +
+                        std::to_string(lines) + " lines (0.." + std::to_string(lines ? lines - 1 : 0) + ")",
+                    EINVAL);
+  }
+  try {
+    return chip.get_line(c.offset);
+  } catch (const std::exception& e) {
+    throw GpioError(where(c) + ": " + e.what(), EINVAL);
+  }
+}
+
+[[noreturn]] void request_failed(const GpioLineConfig& c, const gpiod::line& line, const std::system_error& e) {
+  const int code = e.code().value();
+  if (code == EBUSY) {
+    std::string holder;
+    try {
+      line.update();
+      holder = line.consumer();
+    } catch (const std::exception&) {
+    }
+    throw GpioError(where(c) + " is busy (already requested" + (holder.empty() ? "" : " by '" + holder + "'") + ")", code);
+  }
+  throw GpioError(where(c) + ": request failed: " + e.what(), code);
+}
+
+class GpiodOutput final : public GpioOutputLine {
+ public:
+  explicit GpiodOutput(gpiod::line line, GpioLineConfig c) : line_(std::move(line)), config_(std::move(c)) {}
+  ~GpiodOutput() override { line_.release(); }
+  void set(bool value) override {
+    try {
+      line_.set_value(value ? 1 : 0);
+    } catch (const std::system_error& e) {
+      throw GpioError(where(config_) + ": set failed: " + e.what(), e.code().value());
+    }
+  }
+  bool get() const override {
+    try {
+      return line_.get_value() != 0;
+    } catch (const std::system_error& e) {
+      throw GpioError(where(config_) + ": get failed: " + e.what(), e.code().value());
+    }
+  }
+
+ private:
+  gpiod::line line_;
+  GpioLineConfig config_;
+};
+
+class GpiodInput final : public GpioInputLine {
+ public:
+  GpiodInput(gpiod::line line, GpioLineConfig c, bool events) : line_(std::move(line)), config_(std::move(c)), events_(events) {}
+  ~GpiodInput() override { line_.release(); }
+  bool get() const override {
+    try {
+      return line_.get_value() != 0;
+    } catch (const std::system_error& e) {
+      throw GpioError(where(config_) + ": get failed: " + e.what(), e.code().value());
+    }
+  }
+  GpioWait wait_edge(GpioEvent& event, std::chrono::milliseconds timeout) override {
+    if (!events_) throw GpioError(where(config_) + ": requested without edge detection, cannot wait for edges", EINVAL);
+    try {
+      if (!line_.event_wait(timeout)) return GpioWait::timeout;
+      const gpiod::line_event e = line_.event_read();
+      event.rising = e.event_type == gpiod::line_event::RISING_EDGE;
+      event.timestamp = e.timestamp;
+      return GpioWait::event;
+    } catch (const std::system_error& e) {
+      throw GpioError(where(config_) + ": waiting for an edge failed: " + e.what(), e.code().value());
+    }
+  }
+
+ private:
+  gpiod::line line_;
+  GpioLineConfig config_;
+  bool events_;
+};
+
+std::bitset<32> bias_flags(GpioBias bias) {
+  switch (bias) {
+    case GpioBias::as_is: return {};
+    case GpioBias::disabled: return gpiod::line_request::FLAG_BIAS_DISABLE;
+    case GpioBias::pull_up: return gpiod::line_request::FLAG_BIAS_PULL_UP;
+    case GpioBias::pull_down: return gpiod::line_request::FLAG_BIAS_PULL_DOWN;
+  }
+  return {};
+}
+
+}  // namespace
+
+std::unique_ptr<GpioOutputLine> GpiodLines::request_output(const GpioLineConfig& config, bool initial_value) {
+  gpiod::line line = open_line(config);
+  try {
+    line.request({config.consumer, gpiod::line_request::DIRECTION_OUTPUT, {}}, initial_value ? 1 : 0);
+  } catch (const std::system_error& e) {
+    request_failed(config, line, e);
+  }
+  return std::make_unique<GpiodOutput>(std::move(line), config);
+}
+
+std::unique_ptr<GpioInputLine> GpiodLines::request_input(const GpioLineConfig& config, GpioEdge edge, GpioBias bias) {
+  gpiod::line line = open_line(config);
+  int type = gpiod::line_request::DIRECTION_INPUT;
+  switch (edge) {
+    case GpioEdge::none: break;
+    case GpioEdge::rising: type = gpiod::line_request::EVENT_RISING_EDGE; break;
+    case GpioEdge::falling: type = gpiod::line_request::EVENT_FALLING_EDGE; break;
+    case GpioEdge::both: type = gpiod::line_request::EVENT_BOTH_EDGES; break;
+  }
+  try {
+    line.request({config.consumer, type, bias_flags(bias)});
+  } catch (const std::system_error& e) {
+    request_failed(config, line, e);
+  }
+  return std::make_unique<GpiodInput>(std::move(line), config, edge != GpioEdge::none);
+}
+
+}  // namespace swum::io
