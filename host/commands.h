@@ -1,0 +1,12 @@
+// Registration of the `swum` subcommands (one file each).
+#pragma once
+
+#include <CLI/CLI.hpp>
+
+namespace swum::host {
+
+void add_modes_command(CLI::App& app);     // modes_command.cpp
+void add_simulate_command(CLI::App& app);  // simulate_command.cpp
+void add_sweep_command(CLI::App& app);     // sweep_command.cpp
+
+}  // namespace swum::host

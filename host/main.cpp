@@ -1,0 +1,44 @@
+// swum: the host command-line tool. Each subcommand lives in its own file; main only
+// wires them up and turns every failure into one line on stderr and an exit code.
+#include <CLI/CLI.hpp>
+
+#include <cstdio>
+#include <exception>
+#include <stdexcept>
+
+#include "command_error.h"
+#include "commands.h"
+#include "model/parameters.h"
+
+int main(int argc, char** argv) {
+  using namespace swum::host;
+  CLI::App app{"swum: ultrasonic motor model, emulator client and operating-point tool"};
+  app.require_subcommand(1);
+  add_modes_command(app);
+  add_simulate_command(app);
+  add_sweep_command(app);
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    std::fprintf(stderr, "swum: error: %s (see swum --help)\n", e.what());
+    return kExitUsage;
+  } catch (const std::invalid_argument& e) {
+    std::fprintf(stderr, "swum: error: %s\n", e.what());
+    return kExitUsage;
+  } catch (const CommandError& e) {
+    std::fprintf(stderr, "swum: error: %s\n", e.what());
+    return e.exit_code();
+  } catch (const swum::ParameterError& e) {
+    std::fprintf(stderr, "swum: error: %s\n", e.what());
+    return kExitFailure;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "swum: error: %s\n", e.what());
+    return kExitFailure;
+  }
+  return kExitOk;
+}

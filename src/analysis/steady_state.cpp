@@ -1,0 +1,179 @@
+#include "analysis/steady_state.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "integrators/dormand_prince.h"
+#include "model/motor.h"
+#include "model/simulator.h"
+
+namespace swum {
+namespace {
+
+// Time-weighted statistics of one window.
+struct WindowStats {
+  double start_position_m = 0.0;
+  double duration_s = 0.0;
+  double u_min = std::numeric_limits<double>::infinity();
+  double u_max = -std::numeric_limits<double>::infinity();
+  double w_min = std::numeric_limits<double>::infinity();
+  double w_max = -std::numeric_limits<double>::infinity();
+  double contact_s = 0.0;
+  double ft_sum = 0.0, ft2_sum = 0.0, fn_sum = 0.0;
+
+  void add(double dt, double u, double w, double fn, double ft) {
+    duration_s += dt;
+    u_min = std::min(u_min, u);
+    u_max = std::max(u_max, u);
+    w_min = std::min(w_min, w);
+    w_max = std::max(w_max, w);
+    if (fn > 0.0) contact_s += dt;
+    ft_sum += dt * ft;
+    ft2_sum += dt * ft * ft;
+    fn_sum += dt * fn;
+  }
+
+  void store(double end_position_m, SteadyStateResult& r) const {
+    const double T = duration_s;
+    r.speed_mm_s = 1e3 * (end_position_m - start_position_m) / T;
+    r.tip_normal_um = 1e6 * 0.5 * (u_max - u_min);
+    r.tip_tangential_um = 1e6 * 0.5 * (w_max - w_min);
+    r.contact_fraction = contact_s / T;
+    r.mean_friction_force_n = ft_sum / T;
+    r.mean_normal_force_n = fn_sum / T;
+    r.friction_force_std_n =
+        std::sqrt(std::max(0.0, ft2_sum / T - r.mean_friction_force_n * r.mean_friction_force_n));
+  }
+};
+
+// Shared window logic: `run(duration, stats_or_null)` advances the solver; returns false on
+// failure (diverged or solver failure, with result.failure set).
+template <typename Run, typename Position>
+SteadyStateResult window_loop(const SteadyStateOptions& opt, Run&& run, Position&& position) {
+  SteadyStateResult r;
+  if (!run(opt.settle_s, nullptr, r)) return r;
+  double previous_speed = std::numeric_limits<double>::quiet_NaN();
+  double elapsed = opt.settle_s;
+  while (true) {
+    WindowStats w;
+    w.start_position_m = position();
+    if (!run(opt.window_s, &w, r)) return r;
+    elapsed += opt.window_s;
+    w.store(position(), r);
+    ++r.windows;
+    if (!std::isnan(previous_speed)) {
+      r.speed_change_mm_s = r.speed_mm_s - previous_speed;
+      const double tolerance =
+          std::max(opt.speed_tolerance_mm_s, opt.speed_relative_tolerance * std::abs(r.speed_mm_s));
+      if (std::abs(r.speed_change_mm_s) <= tolerance) {
+        r.ok = true;
+        return r;
+      }
+    }
+    previous_speed = r.speed_mm_s;
+    if (elapsed + opt.window_s > opt.max_s + 1e-12) {
+      r.failure = std::string("did not settle within ") + std::to_string(opt.max_s) +
+                  " s: last two windows differ by " + std::to_string(r.speed_change_mm_s) +
+                  " mm/s";
+      return r;
+    }
+  }
+}
+
+}  // namespace
+
+SteadyStateResult run_to_steady_state(const MotorModel& model, const OperatingPoint& point,
+                                      const SteadyStateOptions& opt) {
+  MotorSimulator sim(model);
+  DriveInput drive;
+  drive.vpp = point.vpp;
+  drive.frequency_hz = point.frequency_hz;
+  drive.phase_deg = point.phase_deg;
+  drive.load_n = point.load_n;
+  sim.set_drive(drive);
+  const double dt = sim.time_step_s();
+  const double g_tv = model.coefficients().g_tv;
+  std::uint64_t total_steps = 0;
+
+  auto run = [&](double duration_s, WindowStats* w, SteadyStateResult& r) {
+    const auto steps = static_cast<std::uint64_t>(std::llround(duration_s / dt));
+    for (std::uint64_t k = 0; k < steps; ++k) {
+      sim.step();
+      ++total_steps;
+      const auto& s = sim.state();
+      const auto& f = sim.forces();
+      if (w != nullptr) w->add(dt, -s.q1_m, g_tv * s.q2_m, f.normal_n, f.friction_n);
+      if (opt.trace && opt.trace_every_steps > 0 && total_steps % opt.trace_every_steps == 0) {
+        opt.trace(TraceSample{s.time_s, s.q1_m, s.q1_dot_m_s, s.q2_m, s.q2_dot_m_s,
+                              -1e6 * s.q1_m, 1e6 * g_tv * s.q2_m, f.normal_n, f.friction_n,
+                              s.mover_position_m, s.mover_velocity_m_s});
+      }
+    }
+    r.steps = total_steps;
+    r.sim_s = sim.state().time_s;
+    if (sim.diverged()) {
+      r.diverged = true;
+      r.ok = false;
+      r.failure = std::string("diverged (non-finite or runaway state) at t = ") +
+                  std::to_string(sim.state().time_s) + " s";
+      return false;
+    }
+    return true;
+  };
+  return window_loop(opt, run, [&] { return sim.state().mover_position_m; });
+}
+
+SteadyStateResult run_to_steady_state_reference(const MotorModel& model,
+                                                const OperatingPoint& point,
+                                                const SteadyStateOptions& opt) {
+  DriveInput drive;
+  drive.vpp = point.vpp;
+  drive.frequency_hz = point.frequency_hz;
+  drive.phase_deg = point.phase_deg;
+  drive.load_n = point.load_n;
+  const MotorOde ode(model, [drive](double) { return drive; });
+  MotorOde::Vector x = MotorOde::pack(model.rest_state(), 0.0);
+  DormandPrinceOptions<MotorOde::Vector> dp;
+  dp.relative_tolerance = opt.reference_relative_tolerance;
+  dp.absolute_tolerance = {1e-15, 1e-10, 1e-15, 1e-10, 1e-13, 1e-10, 1e-10};
+  dp.max_step = 1.0 / (opt.reference_samples_per_cycle * std::max(point.frequency_hz, 1.0));
+  dp.initial_step = 1e-9;
+  const double g_tv = model.coefficients().g_tv;
+  const double speed_limit = model.parameters().numerics.divergence_speed_limit_m_s;
+  const double position_limit = model.parameters().numerics.divergence_limit_um * 1e-6;
+  double t = 0.0;
+  std::uint64_t accepted = 0;
+
+  auto run = [&](double duration_s, WindowStats* w, SteadyStateResult& r) {
+    double t_prev = t;
+    const auto observer = [&](double tn, const MotorOde::Vector& xn) {
+      ++accepted;
+      const InterfaceForces f = ode.forces(tn, xn);
+      if (w != nullptr) w->add(tn - t_prev, -xn[0], g_tv * xn[2], f.normal_n, f.friction_n);
+      t_prev = tn;
+      if (opt.trace && opt.trace_every_steps > 0 && accepted % opt.trace_every_steps == 0) {
+        opt.trace(TraceSample{tn, xn[0], xn[1], xn[2], xn[3], -1e6 * xn[0], 1e6 * g_tv * xn[2],
+                              f.normal_n, f.friction_n, xn[4], xn[5]});
+      }
+    };
+    const auto stats = integrate_dormand_prince(ode, t, t + duration_s, x, dp, observer);
+    if (stats.last_step > 0.0) dp.initial_step = stats.last_step;
+    t += duration_s;
+    r.steps = accepted;
+    r.sim_s = t;
+    const bool sane = std::abs(x[0]) < position_limit && std::abs(x[2]) < position_limit &&
+                      std::abs(x[5]) < speed_limit;
+    if (!stats.ok || !sane) {
+      r.diverged = !sane;
+      r.ok = false;
+      r.failure = !sane ? "diverged (non-finite or runaway state)"
+                        : "reference solver failed (step size underflow or step limit)";
+      return false;
+    }
+    return true;
+  };
+  return window_loop(opt, run, [&] { return x[4]; });
+}
+
+}  // namespace swum

@@ -1,0 +1,71 @@
+// Steady-state operating point of the motor: start at the static preload equilibrium, settle,
+// then average over windows until two consecutive windows agree (MODEL_SPEC §10: tau ~ 5-10 ms).
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <string>
+
+#include "model/motor_model.h"
+
+namespace swum {
+
+struct OperatingPoint {
+  double vpp = 0.0;  // as DriveInput::vpp (convention per options.voltage_convention)
+  double frequency_hz = 40000.0;
+  double load_n = 0.0;
+  double phase_deg = 90.0;
+};
+
+// One trace sample (the CLI writes these to CSV; src does no I/O).
+struct TraceSample {
+  double time_s = 0.0;
+  double q1_m = 0.0, q1_dot_m_s = 0.0, q2_m = 0.0, q2_dot_m_s = 0.0;
+  double tip_normal_um = 0.0, tip_tangential_um = 0.0;
+  double normal_force_n = 0.0, friction_force_n = 0.0;
+  double mover_position_m = 0.0, mover_velocity_m_s = 0.0;
+};
+
+struct SteadyStateOptions {
+  double settle_s = 0.030;   // discarded transient (speed settles with tau ~ 5-10 ms)
+  double window_s = 0.010;   // averaging window
+  double max_s = 0.100;      // give up (ok = false, values of the last window) after this
+  // Two consecutive windows agree when |speed_k - speed_k-1| <= max(abs, rel |speed_k|).
+  double speed_tolerance_mm_s = 0.5;
+  double speed_relative_tolerance = 0.005;
+  // Trace: called every trace_every_steps steps (fixed step) or accepted steps (reference).
+  std::uint64_t trace_every_steps = 0;  // 0 = no trace
+  std::function<void(const TraceSample&)> trace;
+  // Reference solver (run_to_steady_state_reference) only.
+  double reference_relative_tolerance = 1e-9;
+  double reference_samples_per_cycle = 100.0;  // max step = 1/(this * f): peak sampling
+};
+
+struct SteadyStateResult {
+  bool ok = false;        // settled and did not diverge
+  bool diverged = false;  // NaN guard tripped (values meaningless)
+  std::string failure;    // why not ok
+  double speed_mm_s = 0.0;          // mean mover speed over the last window (dx_m / T)
+  double tip_normal_um = 0.0;       // (max - min)/2 of u_tip = -q1 over the last window
+  double tip_tangential_um = 0.0;   // (max - min)/2 of w_tip = gTv q2
+  double contact_fraction = 0.0;    // fraction of time with F_N > 0
+  double mean_friction_force_n = 0.0;  // mean F_T on the mover
+  double mean_normal_force_n = 0.0;    // mean F_N
+  double friction_force_std_n = 0.0;   // standard deviation of F_T over the window
+  double speed_change_mm_s = 0.0;   // speed difference of the last two windows
+  double sim_s = 0.0;               // simulated time in total
+  std::uint64_t steps = 0;          // solver steps in total (accepted steps for the reference)
+  int windows = 0;
+};
+
+// Fixed-step semi-implicit solver (the HIL scheme, model.time_step_s()).
+[[nodiscard]] SteadyStateResult run_to_steady_state(const MotorModel& model,
+                                                    const OperatingPoint& point,
+                                                    const SteadyStateOptions& options = {});
+
+// Same procedure with the adaptive Dormand-Prince reference on the full erf model
+// (kappa = 3.6 * 10^a). Slow in stick-dominated regimes; meant for accuracy checks.
+[[nodiscard]] SteadyStateResult run_to_steady_state_reference(
+    const MotorModel& model, const OperatingPoint& point, const SteadyStateOptions& options = {});
+
+}  // namespace swum

@@ -1,0 +1,63 @@
+// Two-phase drive V_A = V0 sin(theta), V_B = V0 sin(theta + phase) (MODEL_SPEC §4; with the
+// default phase +90 deg V_B = V0 cos(theta)). The fixed-step simulator advances
+// (sin theta, cos theta) by a rotation exp(i w dt) per step instead of calling sin().
+#pragma once
+
+#include <cmath>
+#include <numbers>
+
+#include "model/motor_model.h"
+
+namespace swum {
+
+struct DriveVoltages {
+  double va_v = 0.0;
+  double vb_v = 0.0;
+};
+
+struct DriveWaveform {
+  double amplitude_v = 0.0;   // V0
+  double cos_phase = 0.0;     // cos(phase)
+  double sin_phase = 1.0;     // sin(phase)
+  double angular_frequency_rad_s = 0.0;
+  double rotation_cos = 1.0;  // cos(w dt)
+  double rotation_sin = 0.0;  // sin(w dt)
+};
+
+[[nodiscard]] inline DriveWaveform make_drive_waveform(const DriveInput& input,
+                                                       double amplitude_per_volt,
+                                                       double time_step_s) {
+  DriveWaveform w;
+  w.amplitude_v = amplitude_per_volt * input.vpp;
+  const double phase = input.phase_deg * std::numbers::pi / 180.0;
+  w.cos_phase = std::cos(phase);
+  w.sin_phase = std::sin(phase);
+  w.angular_frequency_rad_s = 2.0 * std::numbers::pi * input.frequency_hz;
+  w.rotation_cos = std::cos(w.angular_frequency_rad_s * time_step_s);
+  w.rotation_sin = std::sin(w.angular_frequency_rad_s * time_step_s);
+  return w;
+}
+
+[[nodiscard]] inline DriveVoltages drive_voltages(const DriveWaveform& w, double sin_theta,
+                                                  double cos_theta) {
+  return {w.amplitude_v * sin_theta,
+          w.amplitude_v * (sin_theta * w.cos_phase + cos_theta * w.sin_phase)};
+}
+
+// theta += w dt. The modulus drifts by ~1e-16 per step; call renormalise_phasor() every few
+// dozen steps.
+inline void rotate_phasor(const DriveWaveform& w, double& sin_theta, double& cos_theta) {
+  const double s = sin_theta * w.rotation_cos + cos_theta * w.rotation_sin;
+  const double c = cos_theta * w.rotation_cos - sin_theta * w.rotation_sin;
+  sin_theta = s;
+  cos_theta = c;
+}
+
+// First-order renormalisation to |phasor| = 1 (exact to rounding for a near-unit phasor).
+inline void renormalise_phasor(double& sin_theta, double& cos_theta) {
+  const double k = 1.5 - 0.5 * (sin_theta * sin_theta + cos_theta * cos_theta);
+  sin_theta *= k;
+  cos_theta *= k;
+}
+
+}  // namespace swum

@@ -1,0 +1,37 @@
+#include "model/motor_model.h"
+
+namespace swum {
+
+MotorModel::MotorModel(const MotorParameters& parameters) : parameters_(parameters) {
+  validate_parameters(parameters_, "MotorModel");
+  constants_ = compute_modal_constants(parameters_);
+  const auto& c = constants_;
+  auto& k = coefficients_;
+  k.stator = make_stator_force_coefficients(c, parameters_.stator);
+  k.m1_inv_per_kg = 1.0 / c.m1_kg;
+  k.c1_n_s_m = c.c1_n_s_m;
+  k.m2_inv_per_kg = 1.0 / c.m2_kg;
+  k.c2_n_s_m = c.c2_n_s_m;
+  k.g_n = c.g_n;
+  k.g_t = c.g_t;
+  k.g_tv = c.g_tv;
+  k.preload_n = parameters_.contact.preload_n;
+  k.contact_stiffness_n_m = parameters_.contact.stiffness_n_m;
+  k.friction_coefficient = parameters_.contact.friction_coefficient;
+  k.kappa_s_per_m = c.kappa_s_per_m;
+  k.mover_mass_inv_per_kg = 1.0 / parameters_.mover.mass_kg;
+  k.mover_damping_n_s_m = parameters_.mover.damping_n_s_m;
+  k.guide = make_guide_friction(parameters_.mover.guide_friction_coefficient,
+                                parameters_.mover.gravity_m_s2 * parameters_.mover.mass_kg,
+                                parameters_.mover.guide_sign_smoothing_m_s);
+  k.drive_amplitude_per_volt = c.drive_amplitude_per_volt;
+}
+
+MotorState MotorModel::rest_state(double time_s) const {
+  MotorState s;
+  s.q1_m = constants_.static_q1_m;
+  s.time_s = time_s;
+  return s;
+}
+
+}  // namespace swum

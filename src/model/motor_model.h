@@ -1,0 +1,72 @@
+// The constant part of the simulation (MuJoCo's mjModel idea): parameters plus everything
+// precomputed from them. Built once; shared read-only by simulators and analyses.
+#pragma once
+
+#include "model/contact.h"
+#include "model/modal_constants.h"
+#include "model/mover.h"
+#include "model/parameters.h"
+#include "model/stator.h"
+
+namespace swum {
+
+// Mutable simulation data (MODEL_SPEC §4 state y plus time and the drive phasor).
+struct MotorState {
+  double q1_m = 0.0;        // L1 modal coordinate (u_tip = -q1)
+  double q1_dot_m_s = 0.0;
+  double q2_m = 0.0;        // B2 modal coordinate (w_tip = gTv q2)
+  double q2_dot_m_s = 0.0;
+  double mover_position_m = 0.0;
+  double mover_velocity_m_s = 0.0;
+  double time_s = 0.0;
+  double drive_sin = 0.0;  // sin(theta), theta = drive phase (V_A = V0 sin theta)
+  double drive_cos = 1.0;  // cos(theta)
+};
+
+// Commanded drive, changeable at any step.
+struct DriveInput {
+  double vpp = 0.0;            // voltage as quoted by the paper; V0 per options.voltage_convention
+  double frequency_hz = 40000.0;
+  double phase_deg = 90.0;     // phase of V_B ahead of V_A; the sign selects the direction
+  double load_n = 0.0;         // external load force on the mover (opposes +y motion)
+};
+
+// Everything one step needs, flattened (no indirection in the hot loop).
+struct MotorCoefficients {
+  StatorForceCoefficients stator;
+  double m1_inv_per_kg = 0.0, c1_n_s_m = 0.0;
+  double m2_inv_per_kg = 0.0, c2_n_s_m = 0.0;
+  double g_n = 0.0, g_t = 0.0, g_tv = 0.0;
+  double preload_n = 0.0, contact_stiffness_n_m = 0.0;
+  double friction_coefficient = 0.0, kappa_s_per_m = 0.0;
+  double mover_mass_inv_per_kg = 0.0, mover_damping_n_s_m = 0.0;
+  GuideFrictionCoefficients guide;
+  double drive_amplitude_per_volt = 0.0;
+};
+
+class MotorModel {
+ public:
+  // Validates the parameters (throws ParameterError) and computes the constants.
+  explicit MotorModel(const MotorParameters& parameters);
+
+  [[nodiscard]] const MotorParameters& parameters() const { return parameters_; }
+  [[nodiscard]] const ModalConstants& constants() const { return constants_; }
+  [[nodiscard]] const MotorCoefficients& coefficients() const { return coefficients_; }
+  [[nodiscard]] double time_step_s() const { return parameters_.numerics.time_step_ns * 1e-9; }
+
+  // Rest state: q1 at the static preload equilibrium, everything else zero, phasor at 0.
+  [[nodiscard]] MotorState rest_state(double time_s = 0.0) const;
+
+  // Tip displacements (m): u_tip = phiL(L) q1 = -q1, w_tip = gTv q2.
+  [[nodiscard]] static double tip_normal_m(const MotorState& s) { return -s.q1_m; }
+  [[nodiscard]] double tip_tangential_m(const MotorState& s) const {
+    return coefficients_.g_tv * s.q2_m;
+  }
+
+ private:
+  MotorParameters parameters_;
+  ModalConstants constants_;
+  MotorCoefficients coefficients_;
+};
+
+}  // namespace swum

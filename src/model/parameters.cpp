@@ -1,0 +1,280 @@
+#include "model/parameters.h"
+
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <type_traits>
+
+namespace swum {
+namespace {
+
+// Accessors generated from pointers to members: section of MotorParameters, then field.
+template <auto Section, auto Member>
+double get_field(const MotorParameters& p) {
+  const auto& value = (p.*Section).*Member;
+  using T = std::remove_cvref_t<decltype(value)>;
+  if constexpr (std::is_enum_v<T>) {
+    return static_cast<double>(static_cast<int>(value));
+  } else {
+    return static_cast<double>(value);
+  }
+}
+
+template <auto Section, auto Member>
+void set_field(MotorParameters& p, double v) {
+  auto& value = (p.*Section).*Member;
+  using T = std::remove_cvref_t<decltype(value)>;
+  if constexpr (std::is_enum_v<T>) {
+    value = static_cast<T>(static_cast<int>(v));
+  } else if constexpr (std::is_same_v<T, bool>) {
+    value = v != 0.0;
+  } else {
+    value = static_cast<T>(v);
+  }
+}
+
+constexpr std::array<std::string_view, 2> kGeometryChoices{"from_frequencies", "explicit"};
+constexpr std::array<std::string_view, 2> kVoltageChoices{"peak_to_peak", "amplitude"};
+constexpr std::array<std::string_view, 2> kLeverChoices{"same_as_force", "free_tip"};
+constexpr std::array<std::string_view, 2> kPrefactorChoices{"derived", "paper_x4"};
+constexpr std::array<std::string_view, 2> kDiagonalChoices{"standard", "swapped"};
+constexpr std::array<std::string_view, 2> kFrictionChoices{"coulomb_projection", "erf_newton"};
+
+constexpr std::span<const std::string_view> kNone{};
+
+#define SWUM_REAL(SEC, STRUCT, KEY, UNIT, MIN, MAX, DESC)                                     \
+  ParameterSpec {                                                                            \
+    #SEC, #KEY, UNIT, DESC, ParameterKind::real, MIN, MAX, kNone,                            \
+        &get_field<&MotorParameters::SEC, &STRUCT::KEY>,                                     \
+        &set_field<&MotorParameters::SEC, &STRUCT::KEY>                                      \
+  }
+#define SWUM_INT(SEC, STRUCT, KEY, UNIT, MIN, MAX, DESC)                                      \
+  ParameterSpec {                                                                            \
+    #SEC, #KEY, UNIT, DESC, ParameterKind::integer, MIN, MAX, kNone,                         \
+        &get_field<&MotorParameters::SEC, &STRUCT::KEY>,                                     \
+        &set_field<&MotorParameters::SEC, &STRUCT::KEY>                                      \
+  }
+#define SWUM_CHOICE(SEC, STRUCT, KEY, CHOICES, DESC)                                          \
+  ParameterSpec {                                                                            \
+    #SEC, #KEY, "-", DESC, ParameterKind::choice, 0.0,                                       \
+        static_cast<double>(CHOICES.size() - 1), CHOICES,                                    \
+        &get_field<&MotorParameters::SEC, &STRUCT::KEY>,                                     \
+        &set_field<&MotorParameters::SEC, &STRUCT::KEY>                                      \
+  }
+
+const std::array kSpecs{
+    // [stator] Table 1, Table 2 (§7.2 reading), geometry §5
+    SWUM_REAL(stator, StatorParameters, substrate_density_kg_m3, "kg/m^3", 100.0, 1e5,
+              "Substrate (45 steel) density rho_s (Table 1)"),
+    SWUM_REAL(stator, StatorParameters, substrate_youngs_modulus_pa, "Pa", 1e6, 1e13,
+              "Substrate Young's modulus E_s (Table 1)"),
+    SWUM_REAL(stator, StatorParameters, piezo_density_kg_m3, "kg/m^3", 100.0, 1e5,
+              "PZT-8 density rho_p (Table 1)"),
+    SWUM_REAL(stator, StatorParameters, piezo_c11_pa, "Pa", 1e6, 1e13,
+              "PZT elastic stiffness c11^E (Table 1)"),
+    SWUM_REAL(stator, StatorParameters, piezo_e31_c_m2, "C/m^2", -1e3, 1e3,
+              "Piezoelectric constant e31 (Table 1; physical sign negative)"),
+    SWUM_REAL(stator, StatorParameters, c111_pa, "Pa", -1e22, 1e22,
+              "Second-order elastic constant c111 (Table 2, MODEL_SPEC 7.2)"),
+    SWUM_REAL(stator, StatorParameters, c1111_pa, "Pa", -1e22, 1e22,
+              "Third-order elastic constant c1111 (Table 2; negative = softening)"),
+    SWUM_REAL(stator, StatorParameters, e311_c_per_v_m, "C/(V m)", -1e6, 1e6,
+              "Nonlinear electroelastic constant e311 (Table 2)"),
+    SWUM_REAL(stator, StatorParameters, e3111_c_per_v_m, "C/(V m)", -1e6, 1e6,
+              "Nonlinear electroelastic constant e3111 (Table 2)"),
+    SWUM_REAL(stator, StatorParameters, damping_l1_n_s_m, "N s/m", 0.0, 1e6,
+              "L1 modal damping C1 (Table 1)"),
+    SWUM_REAL(stator, StatorParameters, damping_b2_n_s_m, "N s/m", 0.0, 1e6,
+              "B2 modal damping C2 (Table 1)"),
+    SWUM_REAL(stator, StatorParameters, substrate_thickness_mm, "mm", 1e-3, 1e3,
+              "Substrate thickness ts (free choice, MODEL_SPEC 5)"),
+    SWUM_REAL(stator, StatorParameters, piezo_thickness_mm, "mm", 1e-3, 1e3,
+              "Piezo patch thickness tp (free choice, MODEL_SPEC 5)"),
+    SWUM_CHOICE(stator, StatorParameters, geometry, kGeometryChoices,
+                "L and hs from the target frequencies (MODEL_SPEC 5) or explicit"),
+    SWUM_REAL(stator, StatorParameters, target_l1_frequency_hz, "Hz", 1.0, 1e8,
+              "Free-stator L1 natural frequency f1 used to compute L (paper: 39516 Hz)"),
+    SWUM_REAL(stator, StatorParameters, target_b2_frequency_hz, "Hz", 1.0, 1e8,
+              "Free-stator B2 natural frequency f2 used to compute hs (paper: 39469 Hz)"),
+    SWUM_REAL(stator, StatorParameters, length_mm, "mm", 1e-3, 1e4,
+              "Beam length L (only with geometry = \"explicit\")"),
+    SWUM_REAL(stator, StatorParameters, half_height_mm, "mm", 1e-3, 1e4,
+              "Beam half height hs (only with geometry = \"explicit\")"),
+    SWUM_REAL(stator, StatorParameters, tip_lever_over_length, "-", -1.0, 1.0,
+              "Tip lever L1/L of eq. 8: gT = phiB(L) + L1 phiB'(L) (literal: 0.1321)"),
+    // [contact] Table 3
+    SWUM_REAL(contact, ContactParameters, preload_n, "N", 0.0, 1e5, "Preload F_P (Table 3)"),
+    SWUM_REAL(contact, ContactParameters, stiffness_n_m, "N/m", 0.0, 1e13,
+              "Equivalent contact stiffness k_e (Table 3, eq. 16)"),
+    SWUM_REAL(contact, ContactParameters, friction_coefficient, "-", 0.0, 10.0,
+              "Stator/mover friction coefficient mu_c (Table 3)"),
+    SWUM_REAL(contact, ContactParameters, erf_steepness_exponent, "-", -3.0, 15.0,
+              "Exponent a of the erf friction law: kappa = 3.6 * 10^a s/m (eq. 22)"),
+    // [mover] Table 3
+    SWUM_REAL(mover, MoverParameters, mass_kg, "kg", 1e-6, 1e4, "Mover mass m (Table 3)"),
+    SWUM_REAL(mover, MoverParameters, damping_n_s_m, "N s/m", 0.0, 1e6,
+              "Mover viscous damping c (Table 3)"),
+    SWUM_REAL(mover, MoverParameters, guide_friction_coefficient, "-", 0.0, 10.0,
+              "Linear-guide friction coefficient mu_s (Table 3, eq. 24)"),
+    SWUM_REAL(mover, MoverParameters, gravity_m_s2, "m/s^2", 0.0, 100.0,
+              "Gravity in the guide normal force mu_s (F_N + g m) (eq. 24)"),
+    SWUM_REAL(mover, MoverParameters, guide_sign_smoothing_m_s, "m/s", 0.0, 10.0,
+              "Width w of sign(v_m) ~ tanh(v_m/w) in eq. 24 (0 = exact sign)"),
+    // [options] §11
+    SWUM_CHOICE(options, ModelOptions, voltage_convention, kVoltageChoices,
+                "Commanded voltage is peak-to-peak (V0 = V/2) or amplitude (V0 = V)"),
+    SWUM_CHOICE(options, ModelOptions, tip_velocity_lever, kLeverChoices,
+                "Tip velocity lever gTv: gT (passive) or phiB(L) (free tip, eq. 30)"),
+    SWUM_CHOICE(options, ModelOptions, electrical_prefactors, kPrefactorChoices,
+                "Prefactors of a1..a4: derived from the energy or the paper's 4x"),
+    SWUM_CHOICE(options, ModelOptions, electrode_diagonals, kDiagonalChoices,
+                "Which electrode diagonal carries phase A (swapped reverses direction)"),
+    // [numerics]
+    SWUM_REAL(numerics, NumericsParameters, time_step_ns, "ns", 1.0, 1e5,
+              "Fixed step of the semi-implicit solver (default 1/(96 x 40 kHz))"),
+    SWUM_CHOICE(numerics, NumericsParameters, friction_solver, kFrictionChoices,
+                "Implicit friction solve: Coulomb projection or exact erf root"),
+    SWUM_INT(numerics, NumericsParameters, quadrature_points, "-", 4.0, 4000.0,
+             "Gauss-Legendre points per interval for the modal integrals"),
+    SWUM_REAL(numerics, NumericsParameters, divergence_limit_um, "um", 1e-3, 1e9,
+              "Runaway limit on |q1|, |q2| (NaN guard resets above it)"),
+    SWUM_REAL(numerics, NumericsParameters, divergence_speed_limit_m_s, "m/s", 1e-6, 1e9,
+              "Runaway limit on the mover speed (NaN guard resets above it)"),
+};
+
+#undef SWUM_REAL
+#undef SWUM_INT
+#undef SWUM_CHOICE
+
+std::string number_text(double v) {
+  // Shortest text that reads back to the same double.
+  char buffer[64];
+  if (v == std::floor(v) && std::abs(v) < 1e7) {
+    std::snprintf(buffer, sizeof buffer, "%.1f", v);
+    return buffer;
+  }
+  for (int precision = 1; precision <= 17; ++precision) {
+    std::snprintf(buffer, sizeof buffer, "%.*g", precision, v);
+    if (std::strtod(buffer, nullptr) == v) break;
+  }
+  std::string s(buffer);
+  // Make reals look like TOML floats.
+  if (s.find_first_of(".eEn") == std::string::npos) s += ".0";
+  return s;
+}
+
+}  // namespace
+
+MotorParameters linearised(MotorParameters parameters) {
+  parameters.stator.c111_pa = 0.0;
+  parameters.stator.c1111_pa = 0.0;
+  parameters.stator.e311_c_per_v_m = 0.0;
+  parameters.stator.e3111_c_per_v_m = 0.0;
+  return parameters;
+}
+
+std::string quoted(std::string_view text) {
+  std::string out;
+  out.reserve(text.size() + 2);
+  out.push_back('"');
+  out.append(text);
+  out.push_back('"');
+  return out;
+}
+
+std::span<const ParameterSpec> parameter_specs() { return kSpecs; }
+
+const ParameterSpec* find_parameter_spec(std::string_view section, std::string_view key) {
+  for (const auto& spec : kSpecs) {
+    if (spec.section == section && spec.key == key) return &spec;
+  }
+  return nullptr;
+}
+
+std::string format_parameter_value(const ParameterSpec& spec, double value) {
+  switch (spec.kind) {
+    case ParameterKind::choice: {
+      const auto index = static_cast<std::size_t>(value);
+      if (index < spec.choices.size()) return quoted(spec.choices[index]);
+      return "<invalid>";
+    }
+    case ParameterKind::boolean:
+      return value != 0.0 ? "true" : "false";
+    case ParameterKind::integer: {
+      char buffer[32];
+      std::snprintf(buffer, sizeof buffer, "%lld", static_cast<long long>(value));
+      return buffer;
+    }
+    case ParameterKind::real:
+      break;
+  }
+  return number_text(value);
+}
+
+void validate_parameters(const MotorParameters& parameters, std::string_view source_name) {
+  for (const auto& spec : kSpecs) {
+    const double v = spec.get(parameters);
+    std::string problem;
+    if (!std::isfinite(v)) {
+      problem = "is not a finite number";
+    } else if (v < spec.min_value || v > spec.max_value) {
+      problem = "value " + format_parameter_value(spec, v) + " is out of range";
+    } else if (spec.kind == ParameterKind::integer && v != std::floor(v)) {
+      problem = "must be an integer";
+    }
+    if (problem.empty()) continue;
+    std::string allowed;
+    if (spec.kind == ParameterKind::choice) {
+      allowed = "one of";
+      for (auto c : spec.choices) allowed.append(" ").append(quoted(c));
+    } else {
+      allowed = std::string("[") + format_parameter_value(spec, spec.min_value) + ", " +
+                format_parameter_value(spec, spec.max_value) + "] " + std::string(spec.unit);
+    }
+    throw ParameterError(std::string(source_name) + ": " + std::string(spec.section) + "." +
+                         std::string(spec.key) + " " + problem + " (allowed: " + allowed + ")");
+  }
+  const auto& s = parameters.stator;
+  if (s.geometry == GeometryMode::explicit_size && s.half_height_mm >= s.length_mm) {
+    throw ParameterError(std::string(source_name) +
+                         ": stator.half_height_mm must be smaller than stator.length_mm");
+  }
+}
+
+std::string render_parameters_markdown() {
+  const MotorParameters defaults{};
+  std::string out;
+  out += "# Model parameters\n\n";
+  out += "Generated from the parameter table in `src/model/parameters.cpp` "
+         "(`swum::render_parameters_markdown()`); a test checks that this file matches it.\n"
+         "Parameter files are TOML with one table per section; unknown keys, wrong types, "
+         "NaN/Inf and out-of-range values are errors. Integers are accepted for real keys.\n"
+         "Equation numbers refer to Li et al. 2019 (MSSP), sections to "
+         "MODEL_SPEC.md.\n";
+  std::string_view section;
+  for (const auto& spec : kSpecs) {
+    if (spec.section != section) {
+      section = spec.section;
+      out += std::string("\n## [") + std::string(section) + "]\n\n";
+      out += "| key | unit | default | allowed | description |\n";
+      out += "|---|---|---|---|---|\n";
+    }
+    std::string allowed;
+    if (spec.kind == ParameterKind::choice) {
+      for (auto c : spec.choices) {
+        if (!allowed.empty()) allowed += ", ";
+        allowed.append("`").append(quoted(c)).append("`");
+      }
+    } else {
+      allowed = format_parameter_value(spec, spec.min_value) + " .. " +
+                format_parameter_value(spec, spec.max_value);
+    }
+    out += "| `" + std::string(spec.key) + "` | " + std::string(spec.unit) + " | `" +
+           format_parameter_value(spec, spec.get(defaults)) + "` | " + allowed + " | " +
+           std::string(spec.description) + " |\n";
+  }
+  return out;
+}
+
+}  // namespace swum

@@ -1,0 +1,159 @@
+// Parameters of the swum motor model (MODEL_SPEC.md §7, §5, §11) and the single table of
+// parameter specifications used for validation, TOML parsing and docs/parameters.md.
+#pragma once
+
+#include <span>
+#include <stdexcept>
+#include <string>
+#include <string_view>
+
+namespace swum {
+
+// Every validation / parse problem with a parameter set. The message names the source, the
+// key (section.key), the line when known, what is wrong and the allowed range.
+class ParameterError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+// §5: how L and hs are obtained.
+enum class GeometryMode {
+  from_frequencies,  // L, hs from the target L1/B2 frequencies given ts, tp (calibrate_geometry)
+  explicit_size,     // L, hs given directly (length_mm, half_height_mm)
+};
+
+// §11.1: meaning of the commanded voltage.
+enum class VoltageConvention {
+  peak_to_peak,  // V0 = V/2 (paper: "peak-peak value")
+  amplitude,     // V0 = V
+};
+
+// §2.3 / §11.2: lever converting q2' into the tip velocity used by the friction law.
+enum class TipVelocityLever {
+  same_as_force,  // gTv = gT (passive interface)
+  free_tip,       // gTv = phiB(L) (eq. 30)
+};
+
+// §1.5 / §11.5: prefactors of a1..a4.
+enum class ElectricalPrefactors {
+  derived,   // 1/2, 1, 1, 3/2 (from the energy of §1.4)
+  paper_x4,  // 4x derived (the garbled Appendix A "2, 4, 4, 6")
+};
+
+// §1.6 / §11.6: which diagonal carries phase A.
+enum class ElectrodeDiagonals {
+  standard,  // phase A on zones {1,4,5,8}, phase B on {2,3,6,7}
+  swapped,   // exchanged: reverses the direction of motion
+};
+
+// §10 / §11.8: friction treatment of the fixed-step solver.
+enum class FrictionSolver {
+  coulomb_projection,  // kappa -> infinity limit of the implicit erf solve
+  erf_newton,          // exact root of the implicit erf equation (safeguarded Newton)
+};
+
+// Table 1 + geometry (§5) + nonlinear constants (Table 2, reading of §7.2).
+struct StatorParameters {
+  double substrate_density_kg_m3 = 7850.0;
+  double substrate_youngs_modulus_pa = 2.09e11;
+  double piezo_density_kg_m3 = 7600.0;
+  double piezo_c11_pa = 12.23e10;
+  double piezo_e31_c_m2 = -5.2;
+  double c111_pa = -1.4583e12;
+  double c1111_pa = -2.8856e17;
+  double e311_c_per_v_m = 3.3142e-6;
+  double e3111_c_per_v_m = 6.4235e-3;
+  double damping_l1_n_s_m = 39.0;
+  double damping_b2_n_s_m = 48.0;
+  double substrate_thickness_mm = 5.1;
+  double piezo_thickness_mm = 1.0;
+  GeometryMode geometry = GeometryMode::from_frequencies;
+  double target_l1_frequency_hz = 39516.0;
+  double target_b2_frequency_hz = 39469.0;
+  double length_mm = 61.632;      // used only with geometry = explicit
+  double half_height_mm = 5.4314; // used only with geometry = explicit
+  double tip_lever_over_length = 0.0;  // L1/L of §2.4: gT = phiB(L) + L1 phiB'(L)
+};
+
+// Table 3, interface part (§2).
+struct ContactParameters {
+  double preload_n = 24.8;
+  double stiffness_n_m = 2.58e7;
+  double friction_coefficient = 0.35;     // mu_c
+  double erf_steepness_exponent = 6.0;    // a: kappa = 3.6 * 10^a s/m (eq. 22)
+};
+
+// Table 3, mover part (§3).
+struct MoverParameters {
+  double mass_kg = 0.2;
+  double damping_n_s_m = 1.3;
+  double guide_friction_coefficient = 0.04;  // mu_s
+  double gravity_m_s2 = 9.81;
+  double guide_sign_smoothing_m_s = 1.0e-4;  // sign(v) -> tanh(v/width); 0 = exact sign
+};
+
+// The switchable readings of §11.
+struct ModelOptions {
+  VoltageConvention voltage_convention = VoltageConvention::peak_to_peak;
+  TipVelocityLever tip_velocity_lever = TipVelocityLever::same_as_force;
+  ElectricalPrefactors electrical_prefactors = ElectricalPrefactors::derived;
+  ElectrodeDiagonals electrode_diagonals = ElectrodeDiagonals::standard;
+};
+
+struct NumericsParameters {
+  double time_step_ns = 1.0e9 / (96.0 * 40000.0);  // 96 steps per 40 kHz cycle (§10)
+  FrictionSolver friction_solver = FrictionSolver::coulomb_projection;
+  int quadrature_points = 400;             // Gauss-Legendre points per interval (§1.5)
+  double divergence_limit_um = 1000.0;     // |q1|, |q2| above this = runaway (NaN guard)
+  double divergence_speed_limit_m_s = 100.0;  // |v_m| above this = runaway
+};
+
+struct MotorParameters {
+  StatorParameters stator;
+  ContactParameters contact;
+  MoverParameters mover;
+  ModelOptions options;
+  NumericsParameters numerics;
+};
+
+// The linear variant: the four nonlinear constants c111, c1111, e311, e3111 set to zero.
+[[nodiscard]] MotorParameters linearised(MotorParameters parameters);
+
+// ---------------------------------------------------------------------------------------
+// The parameter table.
+enum class ParameterKind { real, integer, boolean, choice };
+
+struct ParameterSpec {
+  std::string_view section;  // TOML table
+  std::string_view key;      // TOML key (unit in the name, or in `unit`)
+  std::string_view unit;
+  std::string_view description;
+  ParameterKind kind;
+  double min_value;  // inclusive (real/integer)
+  double max_value;  // inclusive (real/integer)
+  std::span<const std::string_view> choices;  // kind == choice: names, index = enum value
+  double (*get)(const MotorParameters&);       // bool -> 0/1, choice -> index
+  void (*set)(MotorParameters&, double);
+};
+
+// All parameters, in documentation order.
+[[nodiscard]] std::span<const ParameterSpec> parameter_specs();
+
+// Looks up "section.key"; nullptr if unknown.
+[[nodiscard]] const ParameterSpec* find_parameter_spec(std::string_view section,
+                                                       std::string_view key);
+
+// Checks every value against its spec (finite, in range, valid choice). Throws ParameterError
+// naming source_name and the first offending key.
+void validate_parameters(const MotorParameters& parameters, std::string_view source_name);
+
+// Text of a value as it would be written in TOML (choices as quoted names).
+[[nodiscard]] std::string format_parameter_value(const ParameterSpec& spec, double value);
+
+// "text" (with double quotes).
+[[nodiscard]] std::string quoted(std::string_view text);
+
+// docs/parameters.md, rendered from the table (defaults = MotorParameters{}).
+[[nodiscard]] std::string render_parameters_markdown();
+
+}  // namespace swum

@@ -1,0 +1,121 @@
+#include "model/simulator.h"
+
+#include <cmath>
+
+#include "integrators/semi_implicit_euler.h"
+
+namespace swum {
+
+MotorSimulator::MotorSimulator(const MotorModel& model)
+    : model_(model),
+      system_(model.coefficients(), model.parameters().numerics.friction_solver),
+      state_(model.rest_state()),
+      dt_(model.time_step_s()),
+      position_limit_m_(model.parameters().numerics.divergence_limit_um * 1e-6),
+      speed_limit_m_s_(model.parameters().numerics.divergence_speed_limit_m_s) {
+  drive_.vpp = 0.0;
+  set_drive(drive_);
+}
+
+void MotorSimulator::set_drive(const DriveInput& input) {
+  const bool same_waveform = waveform_valid_ && input.frequency_hz == drive_.frequency_hz &&
+                             input.phase_deg == drive_.phase_deg;
+  if (same_waveform) {
+    // Only amplitude and load changed: no trigonometric calls (set_drive may run every tick).
+    waveform_.amplitude_v = model_.coefficients().drive_amplitude_per_volt * input.vpp;
+  } else {
+    waveform_ = make_drive_waveform(input, model_.coefficients().drive_amplitude_per_volt, dt_);
+    waveform_valid_ = true;
+  }
+  drive_ = input;
+}
+
+void MotorSimulator::step() { advance(1); }
+
+namespace {
+// Values this small are physically zero; flushing them avoids subnormal arithmetic (x100 slower)
+// when a mode decays at zero drive.
+inline double flush_tiny(double x) { return std::abs(x) < 1e-200 ? 0.0 : x; }
+}  // namespace
+
+void MotorSimulator::advance(std::uint64_t steps) {
+  MotorSplitSystem::Vector q{state_.q1_m, state_.q2_m, state_.mover_position_m};
+  MotorSplitSystem::Vector v{state_.q1_dot_m_s, state_.q2_dot_m_s, state_.mover_velocity_m_s};
+  double s = state_.drive_sin;
+  double c = state_.drive_cos;
+  double t = state_.time_s;
+  const double load = drive_.load_n;
+  const DriveWaveform waveform = waveform_;
+  const double dt = dt_;
+  const double position_limit_sq = position_limit_m_ * position_limit_m_;
+  const double speed_limit_sq = speed_limit_m_s_ * speed_limit_m_s_;
+  std::uint64_t housekeeping = housekeeping_steps_;
+  for (std::uint64_t k = 0; k < steps; ++k) {
+    system_.set_inputs(drive_voltages(waveform, s, c), load);
+    semi_implicit_euler_step(system_, t, dt, q, v);
+    rotate_phasor(waveform, s, c);
+    t += dt;
+    if ((++housekeeping & 63U) == 0U) {
+      renormalise_phasor(s, c);
+      for (auto& x : v) x = flush_tiny(x);
+    }
+    // Runaway limits on q1, q2, v_m; NaN fails every comparison and a NaN/Inf anywhere makes
+    // the sum's difference with itself NaN.
+    const double sum = v[0] + v[1] + q[2];
+    const bool sane = q[0] * q[0] + q[1] * q[1] < position_limit_sq &&
+                      v[2] * v[2] < speed_limit_sq && sum - sum == 0.0;
+    if (!sane) [[unlikely]] {
+      const MotorState rest = model_.rest_state(t);
+      q = {rest.q1_m, rest.q2_m, rest.mover_position_m};
+      v = {rest.q1_dot_m_s, rest.q2_dot_m_s, rest.mover_velocity_m_s};
+      diverged_ = true;
+      ++divergence_count_;
+    }
+  }
+  housekeeping_steps_ = housekeeping;
+  state_.q1_m = q[0];
+  state_.q2_m = q[1];
+  state_.mover_position_m = q[2];
+  state_.q1_dot_m_s = v[0];
+  state_.q2_dot_m_s = v[1];
+  state_.mover_velocity_m_s = v[2];
+  state_.drive_sin = s;
+  state_.drive_cos = c;
+  state_.time_s = t;
+}
+
+void MotorSimulator::set_state(const MotorState& state) {
+  state_ = state;
+  const double r = std::hypot(state_.drive_sin, state_.drive_cos);
+  if (r > 0.0 && std::isfinite(r)) {
+    state_.drive_sin /= r;
+    state_.drive_cos /= r;
+  } else {
+    state_.drive_sin = 0.0;
+    state_.drive_cos = 1.0;
+  }
+}
+
+void MotorSimulator::reset() {
+  const MotorState rest = model_.rest_state(state_.time_s);
+  const double s = state_.drive_sin;
+  const double c = state_.drive_cos;
+  state_ = rest;
+  state_.drive_sin = s;
+  state_.drive_cos = c;
+}
+
+MotorOutputs MotorSimulator::outputs() const {
+  MotorOutputs o;
+  o.time_s = state_.time_s;
+  o.tip_normal_um = 1e6 * MotorModel::tip_normal_m(state_);
+  o.tip_tangential_um = 1e6 * model_.tip_tangential_m(state_);
+  o.normal_force_n = system_.forces().normal_n;
+  o.friction_force_n = system_.forces().friction_n;
+  o.guide_force_n = system_.forces().guide_n;
+  o.mover_position_m = state_.mover_position_m;
+  o.mover_velocity_m_s = state_.mover_velocity_m_s;
+  return o;
+}
+
+}  // namespace swum

@@ -1,0 +1,164 @@
+// The `swum` command-line contract, exercised on the real binary: JSON fields, CSV
+// layout, and one-line errors with the right exit codes for bad input.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "child_process.h"
+
+namespace {
+
+namespace fs = std::filesystem;
+using namespace std::chrono_literals;
+
+struct CliRun {
+  int status = -1;
+  std::string output;  // stdout and stderr together
+};
+
+std::string shell_quote(const std::string& word) {
+  std::string quoted = "'";
+  for (char c : word) quoted += (c == '\'') ? std::string("'\\''") : std::string(1, c);
+  return quoted + "'";
+}
+
+// Runs swum with `args`; stderr is merged into stdout so messages can be checked.
+CliRun swum(const std::vector<std::string>& args) {
+  std::string command = shell_quote(SWUM_BINARY);
+  for (const auto& a : args) command += " " + shell_quote(a);
+  command += " 2>&1";
+  swum::test::ChildProcess child({"/bin/sh", "-c", command}, true);
+  CliRun run;
+  run.output = child.read_stdout(120s);
+  run.status = child.wait(120s).value_or(-1);
+  return run;
+}
+
+const std::string kConfig = std::string(SWUM_SOURCE_DIR) + "/config/li2019.toml";
+
+fs::path scratch(const std::string& name) {
+  const fs::path dir = fs::temp_directory_path() / "swum_cli_test";
+  fs::create_directories(dir);
+  return dir / name;
+}
+
+std::string slurp(const fs::path& path) {
+  std::ifstream in(path);
+  std::stringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+TEST(SwumCli, NoSubcommandIsAUsageError) {
+  const CliRun r = swum({});
+  EXPECT_EQ(r.status, 2) << r.output;
+}
+
+TEST(SwumCli, ModesJsonHasTheNaturalFrequencies) {
+  const CliRun r = swum({"modes", "--config", kConfig, "--json"});
+  ASSERT_EQ(r.status, 0) << r.output;
+  const auto j = nlohmann::json::parse(r.output);
+  EXPECT_NEAR(j.at("f_l1_hz").get<double>(), 39516.0, 0.002 * 39516.0);
+  EXPECT_NEAR(j.at("f_b2_hz").get<double>(), 39469.0, 0.002 * 39469.0);
+}
+
+TEST(SwumCli, SimulateJsonHasTheContractFields) {
+  const CliRun r = swum({"simulate", "--config", kConfig, "--vpp", "400", "--frequency", "40000",
+                      "--duration", "0.02", "--json"});
+  ASSERT_EQ(r.status, 0) << r.output;
+  const auto j = nlohmann::json::parse(r.output);
+  for (const char* key : {"speed_mm_s", "tip_normal_um", "tip_tangential_um", "contact_fraction",
+                          "sim_s", "wall_s", "realtime_factor"}) {
+    ASSERT_TRUE(j.contains(key)) << key;
+    EXPECT_TRUE(j.at(key).is_number()) << key;
+  }
+  EXPECT_NEAR(j.at("sim_s").get<double>(), 0.02, 1e-6);
+  EXPECT_GT(j.at("tip_normal_um").get<double>(), 0.1);
+}
+
+TEST(SwumCli, SimulateTraceIsACsvWithTimeAndForces) {
+  const fs::path trace = scratch("trace.csv");
+  const CliRun r = swum({"simulate", "--config", kConfig, "--vpp", "300", "--frequency", "40000",
+                      "--duration", "0.004", "--trace", trace.string()});
+  ASSERT_EQ(r.status, 0) << r.output;
+  std::ifstream in(trace);
+  std::string header;
+  std::getline(in, header);
+  EXPECT_EQ(header.rfind("time_s,q1_m,q1_dot_m_s,q2_m,q2_dot_m_s,tip_normal_um", 0), 0u) << header;
+  EXPECT_NE(header.find("normal_force_n,friction_force_n,mover_position_m,mover_velocity_m_s"),
+            std::string::npos);
+  int lines = 0;
+  for (std::string line; std::getline(in, line);) ++lines;
+  EXPECT_GT(lines, 100);  // 4 ms at ~48 samples per 25 us period
+}
+
+TEST(SwumCli, SweepWritesOneRowPerPointAndAPlot) {
+  const fs::path csv = scratch("sweep.csv");
+  const fs::path png = scratch("sweep.png");
+  const CliRun r = swum({"sweep", "--config", kConfig, "--vpp", "200,400", "--frequency",
+                      "40000:40400:200", "--jobs", "2", "--out", csv.string(), "--plot", png.string()});
+  ASSERT_EQ(r.status, 0) << r.output;
+  std::istringstream text(slurp(csv));
+  std::string header;
+  std::getline(text, header);
+  EXPECT_EQ(header, "vpp,frequency_hz,load_n,speed_mm_s,tip_normal_um,tip_tangential_um,status");
+  std::vector<std::string> rows;
+  for (std::string line; std::getline(text, line);) rows.push_back(line);
+  ASSERT_EQ(rows.size(), 6u);
+  EXPECT_EQ(rows[0].rfind("200,40000,0,", 0), 0u) << rows[0];
+  EXPECT_EQ(rows[5].rfind("400,40400,0,", 0), 0u) << rows[5];
+  EXPECT_GT(fs::file_size(png), 1000u);
+}
+
+struct BadArguments {
+  std::vector<std::string> args;
+  int status;
+  std::string message_part;
+};
+
+class SwumCliRejects : public ::testing::TestWithParam<BadArguments> {};
+
+TEST_P(SwumCliRejects, WithOneLineNamingTheProblem) {
+  const CliRun r = swum(GetParam().args);
+  EXPECT_EQ(r.status, GetParam().status) << r.output;
+  EXPECT_NE(r.output.find(GetParam().message_part), std::string::npos) << r.output;
+  EXPECT_EQ(r.output.find("swum: error: "), 0u) << r.output;
+  EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << r.output;
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    BadInput, SwumCliRejects,
+    ::testing::Values(
+        BadArguments{{"simulate", "--config", kConfig, "--vpp", "nan", "--frequency", "40000"}, 2, "--vpp"},
+        BadArguments{{"simulate", "--config", kConfig, "--vpp", "100", "--frequency", "4e4x"}, 2, "--frequency"},
+        BadArguments{{"simulate", "--config", kConfig, "--vpp", "-5", "--frequency", "40000"}, 2, "--vpp"},
+        BadArguments{{"simulate", "--config", kConfig, "--vpp", "100", "--frequency", "inf"}, 2, "--frequency"},
+        BadArguments{{"simulate", "--config", kConfig, "--vpp", "100", "--frequency", "40000", "--phase", "400"}, 2, "--phase"},
+        BadArguments{{"simulate", "--config", "/nonexistent/m.toml", "--vpp", "100", "--frequency", "40000"}, 1, "/nonexistent/m.toml"},
+        BadArguments{{"simulate", "--vpp", "100", "--frequency", "40000"}, 2, "--config"},
+        BadArguments{{"sweep", "--config", kConfig, "--vpp", "100,,200", "--frequency", "40000", "--out", "/tmp/x.csv"}, 2, "--vpp"},
+        BadArguments{{"sweep", "--config", kConfig, "--vpp", "100", "--frequency", "41000:40000:100", "--out", "/tmp/x.csv"}, 2, "--frequency"},
+        BadArguments{{"sweep", "--config", kConfig, "--vpp", "100", "--frequency", "40000", "--out", "/nonexistent/x.csv"}, 1, "/nonexistent/x.csv"},
+        BadArguments{{"modes", "--config", kConfig, "--bogus"}, 2, "--bogus"}));
+
+TEST(SwumCli, ConfigErrorsNameFileAndKey) {
+  const fs::path bad = scratch("bad.toml");
+  std::ofstream(bad) << "[contact]\npreload_n = -3\n";
+  CliRun r = swum({"modes", "--config", bad.string()});
+  EXPECT_EQ(r.status, 1) << r.output;
+  EXPECT_NE(r.output.find(bad.string()), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("preload_n"), std::string::npos) << r.output;
+
+  std::ofstream(bad) << "[contact]\nno_such_key = 1\n";
+  r = swum({"modes", "--config", bad.string()});
+  EXPECT_EQ(r.status, 1) << r.output;
+  EXPECT_NE(r.output.find("no_such_key"), std::string::npos) << r.output;
+}
+
+}  // namespace

@@ -1,0 +1,141 @@
+#include "analysis/steady_state.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <vector>
+
+namespace swum {
+namespace {
+
+const MotorModel& reference_model() {
+  static const MotorModel model{MotorParameters{}};
+  return model;
+}
+
+void expect_rel(double actual, double expected, double rel, const char* what) {
+  EXPECT_NEAR(actual, expected, std::abs(expected) * rel) << what;
+}
+
+// Fixed-step (default 96 steps per 40 kHz cycle) against the adaptive erf reference.
+void compare_with_reference(double vpp, double f_hz, double speed_rel, double amplitude_rel) {
+  const auto fixed = run_to_steady_state(reference_model(), {vpp, f_hz});
+  SteadyStateOptions opt;
+  opt.reference_relative_tolerance = 1e-8;
+  const auto ref = run_to_steady_state_reference(reference_model(), {vpp, f_hz}, opt);
+  ASSERT_TRUE(fixed.ok) << fixed.failure;
+  ASSERT_TRUE(ref.ok) << ref.failure;
+  expect_rel(fixed.speed_mm_s, ref.speed_mm_s, speed_rel, "speed");
+  expect_rel(fixed.tip_normal_um, ref.tip_normal_um, amplitude_rel, "tip normal");
+  expect_rel(fixed.tip_tangential_um, ref.tip_tangential_um, amplitude_rel, "tip tangential");
+  EXPECT_NEAR(fixed.contact_fraction, ref.contact_fraction, 0.02);
+}
+
+TEST(SteadyStateReference, FixedStepMatchesReferenceAt400Vpp40kHz) {
+  compare_with_reference(400.0, 40000.0, 0.01, 0.015);
+}
+
+TEST(SteadyStateReference, FixedStepMatchesReferenceAt250Vpp40200Hz) {
+  compare_with_reference(250.0, 40200.0, 0.0125, 0.015);
+}
+
+TEST(SteadyState, ReproducesModelSpecSection92) {
+  const auto& m = reference_model();
+  const auto v400 = run_to_steady_state(m, {400.0, 40000.0});
+  ASSERT_TRUE(v400.ok) << v400.failure;
+  EXPECT_NEAR(v400.speed_mm_s, 198.0, 8.0);  // spec: 195 (sweep) .. 201 (max)
+  EXPECT_GT(v400.contact_fraction, 0.4);
+  EXPECT_LT(v400.contact_fraction, 0.8);  // intermittent contact
+  const auto v250 = run_to_steady_state(m, {250.0, 40200.0});
+  EXPECT_NEAR(v250.speed_mm_s, 74.0, 4.0);
+  const auto v300 = run_to_steady_state(m, {300.0, 40000.0});
+  EXPECT_NEAR(v300.speed_mm_s, 0.0, 1.0);  // dead zone up to 325 Vpp at 40 kHz
+  const auto v350 = run_to_steady_state(m, {350.0, 40000.0});
+  EXPECT_NEAR(v350.speed_mm_s, 173.0, 15.0);
+}
+
+TEST(SteadyState, ExactErfRootEqualsCoulombProjection) {
+  MotorParameters p{};
+  p.numerics.friction_solver = FrictionSolver::erf_newton;
+  const MotorModel erf_model(p);
+  const auto a = run_to_steady_state(reference_model(), {400.0, 40000.0});
+  const auto b = run_to_steady_state(erf_model, {400.0, 40000.0});
+  EXPECT_NEAR(b.speed_mm_s, a.speed_mm_s, 1e-4 * a.speed_mm_s);
+  EXPECT_NEAR(b.tip_tangential_um, a.tip_tangential_um, 1e-4 * a.tip_tangential_um);
+}
+
+TEST(SteadyState, PhaseSignReversesDirection) {
+  const auto fwd = run_to_steady_state(reference_model(), {400.0, 40000.0, 0.0, 90.0});
+  const auto rev = run_to_steady_state(reference_model(), {400.0, 40000.0, 0.0, -90.0});
+  EXPECT_GT(fwd.speed_mm_s, 100.0);
+  EXPECT_NEAR(rev.speed_mm_s, -fwd.speed_mm_s, 0.02 * fwd.speed_mm_s);
+}
+
+TEST(SteadyState, LoadSlowsTheMover) {
+  const auto free = run_to_steady_state(reference_model(), {400.0, 40000.0, 0.0});
+  const auto loaded = run_to_steady_state(reference_model(), {400.0, 40000.0, 1.0});
+  EXPECT_LT(loaded.speed_mm_s, free.speed_mm_s - 5.0);
+}
+
+TEST(SteadyState, LinearModelDoesNotMoveAt40kHz) {
+  const MotorModel linear{linearised(MotorParameters{})};
+  const auto r = run_to_steady_state(linear, {400.0, 40000.0});
+  EXPECT_LT(std::abs(r.speed_mm_s), 5.0);  // §9.2: 40 kHz is below the linear contact resonance
+}
+
+TEST(SteadyState, FrictionDoesNotChatterInStick) {
+  // 100 Vpp at 40.4 kHz: B2 locked by friction (§9.3), the contact sticks.
+  std::vector<double> ft;
+  std::vector<double> fn;
+  SteadyStateOptions opt;
+  opt.settle_s = 0.005;
+  opt.window_s = 0.002;
+  opt.max_s = 0.009;
+  opt.trace_every_steps = 1;
+  opt.trace = [&](const TraceSample& s) {
+    if (s.time_s > 0.005) {
+      ft.push_back(s.friction_force_n);
+      fn.push_back(s.normal_force_n);
+    }
+  };
+  const auto r = run_to_steady_state(reference_model(), {100.0, 40400.0}, opt);
+  ASSERT_GT(ft.size(), 1000U);
+  double jump = 0.0;
+  double limit = 0.0;
+  for (std::size_t k = 1; k < ft.size(); ++k) {
+    jump += std::abs(ft[k] - ft[k - 1]);
+    limit += 0.35 * fn[k];
+  }
+  jump /= static_cast<double>(ft.size() - 1);
+  limit /= static_cast<double>(ft.size() - 1);
+  EXPECT_LT(jump, 0.1 * limit) << "F_T changes by " << jump << " N per step; cone " << limit;
+  EXPECT_LT(r.tip_tangential_um, 0.05);  // B2 locked
+  EXPECT_LT(std::abs(r.speed_mm_s), 2.0);
+}
+
+TEST(SteadyState, TraceIsSampledEveryNSteps) {
+  int samples = 0;
+  SteadyStateOptions opt;
+  opt.settle_s = 0.001;
+  opt.window_s = 0.001;
+  opt.max_s = 0.0021;
+  opt.trace_every_steps = 96;
+  opt.trace = [&](const TraceSample&) { ++samples; };
+  const auto r = run_to_steady_state(reference_model(), {200.0, 40000.0}, opt);
+  EXPECT_EQ(static_cast<std::uint64_t>(samples), r.steps / 96);
+}
+
+TEST(SteadyState, DivergenceIsReportedNotThrown) {
+  MotorParameters p{};
+  p.numerics.time_step_ns = 20000.0;  // w dt = 5 > 2: symplectic Euler is unstable
+  const MotorModel model(p);
+  SteadyStateOptions opt;
+  opt.settle_s = 0.01;
+  const auto r = run_to_steady_state(model, {400.0, 40000.0}, opt);
+  EXPECT_TRUE(r.diverged);
+  EXPECT_FALSE(r.ok);
+  EXPECT_FALSE(r.failure.empty());
+}
+
+}  // namespace
+}  // namespace swum

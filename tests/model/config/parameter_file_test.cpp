@@ -1,0 +1,113 @@
+#include "config/parameter_file.h"
+
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#include "model/motor_model.h"
+
+namespace swum {
+namespace {
+
+std::string read_text(const std::string& path) {
+  std::ifstream in(path);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+// The message of the ParameterError thrown for `text`.
+std::string error_of(const std::string& text) {
+  try {
+    (void)parse_motor_parameters(text, "test.toml");
+  } catch (const ParameterError& e) {
+    return e.what();
+  }
+  return "<no error>";
+}
+
+TEST(ParameterFile, EmptyTextGivesDefaults) {
+  const auto p = parse_motor_parameters("", "empty.toml");
+  EXPECT_EQ(p.contact.preload_n, MotorParameters{}.contact.preload_n);
+}
+
+TEST(ParameterFile, ReferenceConfigIsTheDefaultSet) {
+  const auto p = parse_motor_parameters(read_text(SWUM_SOURCE_DIR "/config/li2019.toml"), "li2019.toml");
+  EXPECT_EQ(format_motor_parameters(p), format_motor_parameters(MotorParameters{}));
+}
+
+TEST(ParameterFile, LiteralConfigHasLiteralLever) {
+  const auto p = parse_motor_parameters(read_text(SWUM_SOURCE_DIR "/config/li2019_literal.toml"),
+                                        "li2019_literal.toml");
+  const MotorModel model(p);
+  EXPECT_NEAR(model.constants().g_t, 4.07, 0.01);
+  EXPECT_EQ(p.options.voltage_convention, VoltageConvention::peak_to_peak);
+}
+
+TEST(ParameterFile, RoundTrip) {
+  MotorParameters p{};
+  p.contact.preload_n = 12.5;
+  p.options.electrode_diagonals = ElectrodeDiagonals::swapped;
+  p.numerics.quadrature_points = 64;
+  const auto q = parse_motor_parameters(format_motor_parameters(p), "roundtrip");
+  EXPECT_EQ(format_motor_parameters(q), format_motor_parameters(p));
+  EXPECT_EQ(q.numerics.time_step_ns, p.numerics.time_step_ns);
+}
+
+TEST(ParameterFile, IntegerAcceptedForReal) {
+  const auto p = parse_motor_parameters("[contact]\npreload_n = 20\n", "t");
+  EXPECT_EQ(p.contact.preload_n, 20.0);
+}
+
+TEST(ParameterFile, UnknownKeyNamesKeyAndLine) {
+  const auto msg = error_of("[contact]\npreload_n = 20\npreloud_n = 3\n");
+  EXPECT_NE(msg.find("test.toml:3"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("contact.preloud_n"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("unknown key"), std::string::npos) << msg;
+}
+
+TEST(ParameterFile, UnknownSection) {
+  const auto msg = error_of("[contakt]\npreload_n = 20\n");
+  EXPECT_NE(msg.find("unknown section [contakt]"), std::string::npos) << msg;
+}
+
+TEST(ParameterFile, OutOfRangeNamesKeyAndRange) {
+  const auto msg = error_of("[mover]\nmass_kg = -0.2\n");
+  EXPECT_NE(msg.find("mover.mass_kg"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("out of range"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("allowed: ["), std::string::npos) << msg;
+  EXPECT_NE(msg.find(":2"), std::string::npos) << msg;
+}
+
+TEST(ParameterFile, NanAndInfRejected) {
+  for (const char* v : {"nan", "inf", "-inf"}) {
+    const auto msg = error_of(std::string("[contact]\nstiffness_n_m = ") + v + "\n");
+    EXPECT_NE(msg.find("contact.stiffness_n_m"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("finite"), std::string::npos) << msg;
+  }
+}
+
+TEST(ParameterFile, WrongTypeNamesKey) {
+  auto msg = error_of("[contact]\npreload_n = \"24.8\"\n");
+  EXPECT_NE(msg.find("contact.preload_n must be a number"), std::string::npos) << msg;
+  msg = error_of("[options]\nvoltage_convention = 2\n");
+  EXPECT_NE(msg.find("options.voltage_convention must be a string"), std::string::npos) << msg;
+  msg = error_of("[options]\nvoltage_convention = \"rms\"\n");
+  EXPECT_NE(msg.find("unknown value \"rms\""), std::string::npos) << msg;
+  EXPECT_NE(msg.find("\"peak_to_peak\""), std::string::npos) << msg;
+  msg = error_of("[numerics]\nquadrature_points = 10.5\n");
+  EXPECT_NE(msg.find("numerics.quadrature_points must be an integer"), std::string::npos) << msg;
+  msg = error_of("contact = 3\n");
+  EXPECT_NE(msg.find("must be a table"), std::string::npos) << msg;
+}
+
+TEST(ParameterFile, SyntaxErrorHasLine) {
+  const auto msg = error_of("[contact]\npreload_n = = 3\n");
+  EXPECT_NE(msg.find("test.toml:2"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("syntax"), std::string::npos) << msg;
+}
+
+}  // namespace
+}  // namespace swum
