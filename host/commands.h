@@ -8,5 +8,8 @@ namespace swum::host {
 void add_modes_command(CLI::App& app);     // modes_command.cpp
 void add_simulate_command(CLI::App& app);  // simulate_command.cpp
 void add_sweep_command(CLI::App& app);     // sweep_command.cpp
+void add_validate_command(CLI::App& app);  // validate_command.cpp
+void add_stator_command(CLI::App& app);    // stator_command.cpp
+void add_identify_command(CLI::App& app);  // identify_command.cpp
 
 }  // namespace swum::host

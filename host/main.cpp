@@ -17,6 +17,9 @@ int main(int argc, char** argv) {
   add_modes_command(app);
   add_simulate_command(app);
   add_sweep_command(app);
+  add_validate_command(app);
+  add_stator_command(app);
+  add_identify_command(app);
 
   try {
     app.parse(argc, argv);
