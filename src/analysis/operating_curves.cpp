@@ -42,7 +42,15 @@ SpeedPeak best_of(const MotorModel& model, double vpp, const std::vector<double>
 
 SpeedPeak frequency_of_max_speed(const MotorModel& model, double vpp, double start_hz,
                                  double stop_hz, double step_hz, double load_n) {
-  const SpeedPeak coarse = best_of(model, vpp, evenly_spaced(start_hz, stop_hz, step_hz), load_n);
+  std::vector<double> descending = evenly_spaced(start_hz, stop_hz, step_hz);
+  std::reverse(descending.begin(), descending.end());
+  SpeedPeak coarse;
+  for (double f : descending) {
+    const SpeedPeak here = best_of(model, vpp, {f}, load_n);
+    const double speed = here.found ? here.speed_mm_s : 0.0;
+    if (coarse.found && speed < 0.5 * coarse.speed_mm_s) break;  // collapsed below the peak
+    if (here.found && (!coarse.found || speed > coarse.speed_mm_s)) coarse = here;
+  }
   if (!coarse.found) return coarse;
   const double lo = std::max(start_hz, coarse.frequency_hz - step_hz);
   const double hi = std::min(stop_hz, coarse.frequency_hz + step_hz);

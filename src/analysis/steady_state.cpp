@@ -136,7 +136,7 @@ SteadyStateResult run_to_steady_state_reference(const MotorModel& model,
   MotorOde::Vector x = MotorOde::pack(model.rest_state(), 0.0);
   DormandPrinceOptions<MotorOde::Vector> dp;
   dp.relative_tolerance = opt.reference_relative_tolerance;
-  dp.absolute_tolerance = {1e-15, 1e-10, 1e-15, 1e-10, 1e-13, 1e-10, 1e-10};
+  dp.absolute_tolerance = {1e-15, 1e-10, 1e-15, 1e-10, 1e-13, 1e-10, 1e-10, 1e-16};
   dp.max_step = 1.0 / (opt.reference_samples_per_cycle * std::max(point.frequency_hz, 1.0));
   dp.initial_step = 1e-9;
   const double g_tv = model.coefficients().g_tv;

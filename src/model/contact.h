@@ -29,6 +29,49 @@ namespace swum {
   return f > limit_n ? limit_n : (f < -limit_n ? -limit_n : f);
 }
 
+// ---------------------------------------------------------------------------------------
+// Jenkins element (calibration term, not in the paper): the stator tip is connected to a
+// massless contact point through a tangential spring k_t; that point rubs on the mover with
+// Coulomb friction. State: spring deflection delta (m). Force on the mover F_T = k_t delta,
+// |k_t delta| <= mu_c F_N; stick: delta' = gTv q2' - v_m; slip: k_t delta = +-mu_c F_N;
+// F_N = 0 => delta = 0.
+
+// Spring force, safeguarded to the cone (delta is kept inside it by the return mapping).
+[[nodiscard]] inline double jenkins_force_n(double stiffness_n_m, double deflection_m,
+                                            double limit_n) {
+  const double f = stiffness_n_m * deflection_m;
+  return f > limit_n ? limit_n : (f < -limit_n ? -limit_n : f);
+}
+
+// Return mapping of one step (projection onto |delta| <= limit_m = mu_c F_N(t_n+1)/k_t):
+// elastic trial delta + dt v_rel, clipped. Unconditionally stable w.r.t. friction.
+[[nodiscard]] inline double jenkins_return_mapping_m(double deflection_m, double increment_m,
+                                                     double limit_m) {
+  const double trial = deflection_m + increment_m;
+  return trial > limit_m ? limit_m : (trial < -limit_m ? -limit_m : trial);
+}
+
+// Continuous (differential-inclusion) form for the reference ODE: the play operator
+//   delta' = v_rel                       inside the cone (stick, elastic);
+//   delta' = min(v_rel, limit')          on the upper face delta >= limit (slip, or sticking
+//   delta' = max(v_rel, -limit')         on the lower face delta <= -limit  when v_rel points in)
+//   delta' = 0                           in separation (limit = 0; delta is 0 there)
+// with limit = mu_c F_N/k_t and limit' = mu_c F_N'/k_t. The slider is exact Coulomb: an
+// erf-regularised slider (kappa = 3.6e6) differs only below ~1 um/s of slip but makes the ODE
+// stiff (~4e11 1/s) in slip.
+[[nodiscard]] inline double jenkins_deflection_rate_m_s(double deflection_m, double limit_m,
+                                                        double limit_rate_m_s,
+                                                        double relative_velocity_m_s) {
+  if (!(limit_m > 0.0)) return 0.0;
+  if (deflection_m >= limit_m) {
+    return relative_velocity_m_s < limit_rate_m_s ? relative_velocity_m_s : limit_rate_m_s;
+  }
+  if (deflection_m <= -limit_m) {
+    return relative_velocity_m_s > -limit_rate_m_s ? relative_velocity_m_s : -limit_rate_m_s;
+  }
+  return relative_velocity_m_s;
+}
+
 // The exact root of v = v* - compliance limit erf(kappa v) (monotone; safeguarded Newton from
 // a start left of the root, converging monotonically because erf is concave for v > 0).
 // Returns F_T = (v* - v)/compliance. No allocation, no throw; at most 30 iterations.

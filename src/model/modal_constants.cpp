@@ -22,17 +22,17 @@ double y_moment(double y0, double y1, int n) {
 }
 
 // Static preload equilibrium of eq. 14 with V = 0:
-// K1 q + c111 alpha1 q^2 + c1111 beta1 q^3 = gN max(0, F_P - k_e q).
+// K1 q + c111 alpha1 q^2 + c1111 beta1 q^3 = gN max(0, F_P - k_e q) + gNP F_P.
 double static_preload_q1(const ModalConstants& c, const MotorParameters& p) {
   const double fp = p.contact.preload_n;
   const double ke = p.contact.stiffness_n_m;
   const double k2 = p.stator.c111_pa * c.alpha1;
   const double k3 = p.stator.c1111_pa * c.beta1_per_m;
-  double q = c.g_n * fp / (c.k1_n_m + c.g_n * ke);
+  double q = (c.g_n + c.g_np) * fp / (c.k1_n_m + c.g_n * ke);
   for (int it = 0; it < 50; ++it) {
     const bool contact = fp - ke * q > 0.0;
     const double r = c.k1_n_m * q + k2 * q * q + k3 * q * q * q -
-                     (contact ? c.g_n * (fp - ke * q) : 0.0);
+                     (contact ? c.g_n * (fp - ke * q) : 0.0) - c.g_np * fp;
     const double dr = c.k1_n_m + 2.0 * k2 * q + 3.0 * k3 * q * q + (contact ? c.g_n * ke : 0.0);
     const double dq = r / dr;
     q -= dq;
@@ -94,7 +94,13 @@ ModalConstants compute_modal_constants(const MotorParameters& p) {
   c.alpha1 = 6.0 * ap * int_dphil3;
   c.beta1_per_m = 8.0 * ap * int_dphil4;
   c.beta2_per_m = 0.1 * std::pow(hp, 4) * ap * int_ddphib4;
-  c.g_n = modes.phi_l(0.0) - modes.phi_l(len);
+  if (p.contact.preload_application == PreloadApplication::both_ends) {
+    c.g_n = modes.phi_l(0.0) - modes.phi_l(len);  // eq. 8: F_N at both ends
+    c.g_np = 0.0;
+  } else {
+    c.g_n = -modes.phi_l(len);  // F_N(t) at the tip only
+    c.g_np = modes.phi_l(0.0);  // constant F_P at the back end
+  }
   c.g_t = c.phi_b_tip + c.tip_lever_m * c.phi_b_slope_tip_per_m;
   c.g_tv = p.options.tip_velocity_lever == TipVelocityLever::same_as_force ? c.g_t : c.phi_b_tip;
 
@@ -142,6 +148,9 @@ ModalConstants compute_modal_constants(const MotorParameters& p) {
   c.f_b2_hz = std::sqrt(c.k2_n_m / c.m2_kg) / kTwoPi;
   c.f_l1_full_contact_hz =
       std::sqrt((c.k1_n_m + c.g_n * p.contact.stiffness_n_m) / c.m1_kg) / kTwoPi;
+  c.f_b2_stick_hz =
+      std::sqrt((c.k2_n_m + c.g_t * c.g_tv * p.contact.tangential_stiffness_n_m) / c.m2_kg) /
+      kTwoPi;
   c.static_q1_m = static_preload_q1(c, p);
   return c;
 }

@@ -33,7 +33,9 @@ struct ModalConstants {
   double alpha1 = 0.0;       // 6 Ap Int phiL'^3 (dimensionless)
   double beta1_per_m = 0.0;  // 8 Ap Int phiL'^4
   double beta2_per_m = 0.0;  // hp^4 Ap/10 Int phiB''^4
-  double g_n = 0.0;          // phiL(0) - phiL(L) = 2
+  double g_n = 0.0;          // lever of F_N on q1: phiL(0) - phiL(L) = 2 (both_ends) or
+                             // -phiL(L) = 1 (back_end_constant)
+  double g_np = 0.0;         // lever of the constant F_P on q1: 0 or phiL(0) = 1
   double g_t = 0.0;          // phiB(L) + L1 phiB'(L)
   double g_tv = 0.0;         // tip velocity lever (gT or phiB(L), option)
 
@@ -47,6 +49,7 @@ struct ModalConstants {
   double f_l1_hz = 0.0;               // sqrt(K1/M1)/2pi
   double f_b2_hz = 0.0;               // sqrt(K2/M2)/2pi
   double f_l1_full_contact_hz = 0.0;  // sqrt((K1 + gN k_e)/M1)/2pi
+  double f_b2_stick_hz = 0.0;         // sqrt((K2 + gT gTv k_t)/M2)/2pi (Jenkins stick; = f_b2 if k_t = 0)
   double static_q1_m = 0.0;           // preload equilibrium (V = 0), §2.1
 };
 

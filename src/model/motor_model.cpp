@@ -18,6 +18,17 @@ MotorModel::MotorModel(const MotorParameters& parameters) : parameters_(paramete
   k.preload_n = parameters_.contact.preload_n;
   k.contact_stiffness_n_m = parameters_.contact.stiffness_n_m;
   k.friction_coefficient = parameters_.contact.friction_coefficient;
+  k.preload_constant_force_n = c.g_np * parameters_.contact.preload_n;
+  k.tangential_stiffness_n_m = parameters_.contact.tangential_stiffness_n_m;
+  if (k.tangential_stiffness_n_m > 0.0) {
+    k.tangential = TangentialContact::jenkins;
+    k.slider_limit_per_normal_force_m_n = k.friction_coefficient / k.tangential_stiffness_n_m;
+  } else {
+    k.tangential = parameters_.numerics.friction_solver == FrictionSolver::erf_newton
+                       ? TangentialContact::rigid_erf
+                       : TangentialContact::rigid_projection;
+  }
+  k.guide_model = parameters_.mover.guide_friction_model;
   k.kappa_s_per_m = c.kappa_s_per_m;
   k.mover_mass_inv_per_kg = 1.0 / parameters_.mover.mass_kg;
   k.mover_damping_n_s_m = parameters_.mover.damping_n_s_m;

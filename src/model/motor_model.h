@@ -18,6 +18,8 @@ struct MotorState {
   double q2_dot_m_s = 0.0;
   double mover_position_m = 0.0;
   double mover_velocity_m_s = 0.0;
+  double contact_deflection_m = 0.0;  // Jenkins element: tangential spring deflection delta
+                                      // (F_T = k_t delta); always 0 with a rigid contact
   double time_s = 0.0;
   double drive_sin = 0.0;  // sin(theta), theta = drive phase (V_A = V0 sin theta)
   double drive_cos = 1.0;  // cos(theta)
@@ -31,6 +33,14 @@ struct DriveInput {
   double load_n = 0.0;         // external load force on the mover (opposes +y motion)
 };
 
+// Tangential contact law used by the solvers (from contact.tangential_stiffness_n_m and
+// numerics.friction_solver).
+enum class TangentialContact {
+  rigid_projection,  // k_t = 0, Coulomb projection (kappa -> infinity)
+  rigid_erf,         // k_t = 0, exact root of the implicit erf law
+  jenkins,           // k_t > 0: spring k_t in series with a Coulomb slider (state delta)
+};
+
 // Everything one step needs, flattened (no indirection in the hot loop).
 struct MotorCoefficients {
   StatorForceCoefficients stator;
@@ -38,6 +48,11 @@ struct MotorCoefficients {
   double m2_inv_per_kg = 0.0, c2_n_s_m = 0.0;
   double g_n = 0.0, g_t = 0.0, g_tv = 0.0;
   double preload_n = 0.0, contact_stiffness_n_m = 0.0;
+  double preload_constant_force_n = 0.0;  // gNP F_P (back_end_constant), else 0
+  TangentialContact tangential = TangentialContact::rigid_projection;
+  double tangential_stiffness_n_m = 0.0;           // k_t (0 = rigid)
+  double slider_limit_per_normal_force_m_n = 0.0;  // mu_c / k_t: |delta| <= this * F_N
+  GuideFrictionModel guide_model = GuideFrictionModel::smoothed_sign;
   double friction_coefficient = 0.0, kappa_s_per_m = 0.0;
   double mover_mass_inv_per_kg = 0.0, mover_damping_n_s_m = 0.0;
   GuideFrictionCoefficients guide;

@@ -51,6 +51,28 @@ struct GuideFrictionCoefficients {
   return -f_max;
 }
 
+// Implicit Coulomb guide friction (guide_friction_model = implicit_coulomb, §11.9): the
+// projection of one step. velocity_pred = mover velocity after every other force of the step,
+// cap = dt mu_s (F_N + g m)/m (the largest velocity change guide friction can make). Stuck
+// (returns exactly 0) when the guide friction can stop the mover, else slides with the full
+// Coulomb force opposing the motion. The guide force is (result - velocity_pred) m/dt.
+[[nodiscard]] inline double coulomb_guide_velocity_m_s(double velocity_pred_m_s, double cap_m_s) {
+  if (velocity_pred_m_s > cap_m_s) return velocity_pred_m_s - cap_m_s;
+  if (velocity_pred_m_s < -cap_m_s) return velocity_pred_m_s + cap_m_s;
+  return 0.0;
+}
+
+// Continuous form of the same law for the reference ODE: F_f = -mu_s (F_N + g m) tanh(v_m/w)
+// (w = guide_sign_smoothing_m_s; exact sign if 0). No "stuck" branch of eqs. 24-25.
+[[nodiscard]] inline double coulomb_guide_friction_n(const GuideFrictionCoefficients& g,
+                                                     double normal_force_n,
+                                                     double mover_velocity_m_s) {
+  const double sign = g.inverse_sign_width_s_m > 0.0
+                          ? clamped_tanh(mover_velocity_m_s * g.inverse_sign_width_s_m)
+                          : smooth_sign(mover_velocity_m_s, 0.0);
+  return -sign * g.coefficient * (normal_force_n + g.weight_n);
+}
+
 // Eq. 23: m v_m' + c v_m = F_T + F_f - F_load.
 [[nodiscard]] inline double mover_acceleration_m_s2(double inverse_mass_per_kg, double damping_n_s_m,
                                                     double friction_force_n, double guide_force_n,

@@ -40,6 +40,8 @@ constexpr std::array<std::string_view, 2> kLeverChoices{"same_as_force", "free_t
 constexpr std::array<std::string_view, 2> kPrefactorChoices{"derived", "paper_x4"};
 constexpr std::array<std::string_view, 2> kDiagonalChoices{"standard", "swapped"};
 constexpr std::array<std::string_view, 2> kFrictionChoices{"coulomb_projection", "erf_newton"};
+constexpr std::array<std::string_view, 2> kPreloadChoices{"both_ends", "back_end_constant"};
+constexpr std::array<std::string_view, 2> kGuideChoices{"smoothed_sign", "implicit_coulomb"};
 
 constexpr std::span<const std::string_view> kNone{};
 
@@ -111,6 +113,12 @@ const std::array kSpecs{
               "Stator/mover friction coefficient mu_c (Table 3)"),
     SWUM_REAL(contact, ContactParameters, erf_steepness_exponent, "-", -3.0, 15.0,
               "Exponent a of the erf friction law: kappa = 3.6 * 10^a s/m (eq. 22)"),
+    SWUM_CHOICE(contact, ContactParameters, preload_application, kPreloadChoices,
+                "Preload path into L1: both_ends = eq. 8 (gN F_N, gN = 2); back_end_constant = "
+                "constant F_P at the back end + F_N at the tip (calibration, not in the paper)"),
+    SWUM_REAL(contact, ContactParameters, tangential_stiffness_n_m, "N/m", 0.0, 1e11,
+              "Tangential contact stiffness k_t of a Jenkins element (spring + Coulomb slider, "
+              "extra state delta); 0 = rigid contact, the paper (calibration term)"),
     // [mover] Table 3
     SWUM_REAL(mover, MoverParameters, mass_kg, "kg", 1e-6, 1e4, "Mover mass m (Table 3)"),
     SWUM_REAL(mover, MoverParameters, damping_n_s_m, "N s/m", 0.0, 1e6,
@@ -121,6 +129,9 @@ const std::array kSpecs{
               "Gravity in the guide normal force mu_s (F_N + g m) (eq. 24)"),
     SWUM_REAL(mover, MoverParameters, guide_sign_smoothing_m_s, "m/s", 0.0, 10.0,
               "Width w of sign(v_m) ~ tanh(v_m/w) in eq. 24 (0 = exact sign)"),
+    SWUM_CHOICE(mover, MoverParameters, guide_friction_model, kGuideChoices,
+                "Guide friction: literal eqs. 24-25 with tanh sign, or exact Coulomb "
+                "mu_s (F_N + g m) solved implicitly (stuck state; cheaper per step)"),
     // [options] §11
     SWUM_CHOICE(options, ModelOptions, voltage_convention, kVoltageChoices,
                 "Commanded voltage is peak-to-peak (V0 = V/2) or amplitude (V0 = V)"),

@@ -52,6 +52,20 @@ enum class FrictionSolver {
   erf_newton,          // exact root of the implicit erf equation (safeguarded Newton)
 };
 
+// How the preload reaches the L1 mode (eq. 8 / §2.1; calibration term, not in the paper).
+enum class PreloadApplication {
+  both_ends,          // paper eq. 8: F_N at both beam ends, generalised force gN F_N, gN = 2
+  back_end_constant,  // constant F_P at the back end (soft preload spring), F_N(t) at the tip:
+                      // generalised force phiL(0) F_P - phiL(L) F_N = F_P + F_N
+};
+
+// Linear-guide friction of the mover (eqs. 24-25, §11.9).
+enum class GuideFrictionModel {
+  smoothed_sign,     // literal eqs. 24-25 with sign(v_m) ~ tanh(v_m/w) (MODEL_SPEC default)
+  implicit_coulomb,  // exact Coulomb mu_s (F_N + g m) with a stuck state, solved implicitly
+                     // (projection); the reference ODE uses -f_g tanh(v_m/w) for it
+};
+
 // Table 1 + geometry (§5) + nonlinear constants (Table 2, reading of §7.2).
 struct StatorParameters {
   double substrate_density_kg_m3 = 7850.0;
@@ -81,6 +95,9 @@ struct ContactParameters {
   double stiffness_n_m = 2.58e7;
   double friction_coefficient = 0.35;     // mu_c
   double erf_steepness_exponent = 6.0;    // a: kappa = 3.6 * 10^a s/m (eq. 22)
+  PreloadApplication preload_application = PreloadApplication::both_ends;
+  // Jenkins element: tangential spring k_t in series with the Coulomb slider; 0 = rigid (paper).
+  double tangential_stiffness_n_m = 0.0;
 };
 
 // Table 3, mover part (§3).
@@ -90,6 +107,7 @@ struct MoverParameters {
   double guide_friction_coefficient = 0.04;  // mu_s
   double gravity_m_s2 = 9.81;
   double guide_sign_smoothing_m_s = 1.0e-4;  // sign(v) -> tanh(v/width); 0 = exact sign
+  GuideFrictionModel guide_friction_model = GuideFrictionModel::smoothed_sign;
 };
 
 // The switchable readings of §11.

@@ -8,7 +8,7 @@ namespace swum {
 
 MotorSimulator::MotorSimulator(const MotorModel& model)
     : model_(model),
-      system_(model.coefficients(), model.parameters().numerics.friction_solver),
+      system_(model.coefficients(), model.time_step_s()),
       state_(model.rest_state()),
       dt_(model.time_step_s()),
       position_limit_m_(model.parameters().numerics.divergence_limit_um * 1e-6),
@@ -39,6 +39,14 @@ inline double flush_tiny(double x) { return std::abs(x) < 1e-200 ? 0.0 : x; }
 }  // namespace
 
 void MotorSimulator::advance(std::uint64_t steps) {
+  system_.dispatch([&]<TangentialContact C, GuideFrictionModel G>() {
+    advance_specialised<C, G>(steps);
+  });
+}
+
+template <TangentialContact C, GuideFrictionModel G>
+void MotorSimulator::advance_specialised(std::uint64_t steps) {
+  SpecialisedMotorSystem<C, G> system{system_};
   MotorSplitSystem::Vector q{state_.q1_m, state_.q2_m, state_.mover_position_m};
   MotorSplitSystem::Vector v{state_.q1_dot_m_s, state_.q2_dot_m_s, state_.mover_velocity_m_s};
   double s = state_.drive_sin;
@@ -52,7 +60,7 @@ void MotorSimulator::advance(std::uint64_t steps) {
   std::uint64_t housekeeping = housekeeping_steps_;
   for (std::uint64_t k = 0; k < steps; ++k) {
     system_.set_inputs(drive_voltages(waveform, s, c), load);
-    semi_implicit_euler_step(system_, t, dt, q, v);
+    semi_implicit_euler_step(system, t, dt, q, v);
     rotate_phasor(waveform, s, c);
     t += dt;
     if ((++housekeeping & 63U) == 0U) {
@@ -68,6 +76,7 @@ void MotorSimulator::advance(std::uint64_t steps) {
       const MotorState rest = model_.rest_state(t);
       q = {rest.q1_m, rest.q2_m, rest.mover_position_m};
       v = {rest.q1_dot_m_s, rest.q2_dot_m_s, rest.mover_velocity_m_s};
+      system_.set_contact_deflection_m(0.0);
       diverged_ = true;
       ++divergence_count_;
     }
@@ -79,6 +88,7 @@ void MotorSimulator::advance(std::uint64_t steps) {
   state_.q1_dot_m_s = v[0];
   state_.q2_dot_m_s = v[1];
   state_.mover_velocity_m_s = v[2];
+  state_.contact_deflection_m = system_.contact_deflection_m();
   state_.drive_sin = s;
   state_.drive_cos = c;
   state_.time_s = t;
@@ -86,6 +96,8 @@ void MotorSimulator::advance(std::uint64_t steps) {
 
 void MotorSimulator::set_state(const MotorState& state) {
   state_ = state;
+  system_.set_contact_deflection_m(state_.contact_deflection_m);
+  state_.contact_deflection_m = system_.contact_deflection_m();
   const double r = std::hypot(state_.drive_sin, state_.drive_cos);
   if (r > 0.0 && std::isfinite(r)) {
     state_.drive_sin /= r;
@@ -101,6 +113,7 @@ void MotorSimulator::reset() {
   const double s = state_.drive_sin;
   const double c = state_.drive_cos;
   state_ = rest;
+  system_.set_contact_deflection_m(0.0);
   state_.drive_sin = s;
   state_.drive_cos = c;
 }

@@ -63,6 +63,9 @@ class MotorSimulator {
   void clear_diverged() { diverged_ = false; }
 
  private:
+  template <TangentialContact C, GuideFrictionModel G>
+  void advance_specialised(std::uint64_t steps);
+
   const MotorModel& model_;
   MotorSplitSystem system_;
   MotorState state_;

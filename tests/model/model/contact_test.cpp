@@ -59,3 +59,40 @@ TEST(ErfImplicitFriction, ApproachesProjectionForSteepLaw) {
 
 }  // namespace
 }  // namespace swum
+
+namespace swum {
+namespace {
+
+// Jenkins element (tangential spring k_t in series with a Coulomb slider).
+TEST(JenkinsElement, SticksElasticallyBelowTheConeAndSlidesAtIt) {
+  const double kt = 2e8;
+  const double limit_n = 0.35 * 20.0;  // mu_c F_N
+  const double limit_m = limit_n / kt;
+  // Stick: a small tip motion deflects the spring exactly by the motion (force k_t delta).
+  double delta = jenkins_return_mapping_m(0.0, 1e-9, limit_m);
+  EXPECT_DOUBLE_EQ(delta, 1e-9);
+  EXPECT_DOUBLE_EQ(jenkins_force_n(kt, delta, limit_n), kt * 1e-9);
+  EXPECT_LT(jenkins_force_n(kt, delta, limit_n), limit_n);
+  // Slide: further motion saturates the force at mu_c F_N (the slider slips).
+  for (int k = 0; k < 100; ++k) delta = jenkins_return_mapping_m(delta, 1e-9, limit_m);
+  EXPECT_DOUBLE_EQ(delta, limit_m);
+  EXPECT_DOUBLE_EQ(jenkins_force_n(kt, delta, limit_n), limit_n);
+  // Reversal unloads elastically from the cone (no jump to -limit).
+  delta = jenkins_return_mapping_m(delta, -1e-9, limit_m);
+  EXPECT_NEAR(jenkins_force_n(kt, delta, limit_n), limit_n - kt * 1e-9, 1e-9);
+  // Separation (F_N = 0): delta = 0 and no force.
+  EXPECT_EQ(jenkins_return_mapping_m(delta, 3e-9, 0.0), 0.0);
+  EXPECT_EQ(jenkins_force_n(kt, 1e-8, 0.0), 0.0);
+}
+
+TEST(JenkinsElement, ContinuousFormIsThePlayOperator) {
+  const double lim = 4e-8;
+  EXPECT_EQ(jenkins_deflection_rate_m_s(1e-8, lim, 0.0, 0.3), 0.3);    // stick: delta' = v_rel
+  EXPECT_EQ(jenkins_deflection_rate_m_s(lim, lim, -0.01, 0.3), -0.01);  // slip: follows the cone
+  EXPECT_EQ(jenkins_deflection_rate_m_s(lim, lim, 0.0, -0.3), -0.3);   // unloading: elastic
+  EXPECT_EQ(jenkins_deflection_rate_m_s(-lim, lim, 0.02, -0.3), -0.02);
+  EXPECT_EQ(jenkins_deflection_rate_m_s(0.0, 0.0, 0.0, 0.3), 0.0);      // separation
+}
+
+}  // namespace
+}  // namespace swum

@@ -43,3 +43,20 @@ TEST(GuideFriction, StuckBranchCancelsDriveAndLoad) {
 
 }  // namespace
 }  // namespace swum
+
+namespace swum {
+namespace {
+
+TEST(CoulombGuide, StuckInsideTheCapSlidesOutside) {
+  const double cap = 1e-4;
+  EXPECT_EQ(coulomb_guide_velocity_m_s(0.9e-4, cap), 0.0);
+  EXPECT_EQ(coulomb_guide_velocity_m_s(-1e-4, cap), 0.0);
+  EXPECT_DOUBLE_EQ(coulomb_guide_velocity_m_s(3e-4, cap), 2e-4);
+  EXPECT_DOUBLE_EQ(coulomb_guide_velocity_m_s(-3e-4, cap), -2e-4);
+  const auto g = make_guide_friction(0.04, 9.81 * 0.2, 1e-4);
+  EXPECT_NEAR(coulomb_guide_friction_n(g, 24.8, 0.1), -0.04 * (24.8 + 1.962), 1e-9);
+  EXPECT_EQ(coulomb_guide_friction_n(g, 24.8, 0.0), 0.0);
+}
+
+}  // namespace
+}  // namespace swum

@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -88,6 +89,101 @@ TEST(MotorSimulator, AmplitudeOnlyChangeEqualsFreshWaveform) {
   EXPECT_EQ(a.state().q1_m, b.state().q1_m);
   EXPECT_EQ(a.state().mover_velocity_m_s, b.state().mover_velocity_m_s);
   EXPECT_EQ(a.voltages().va_v, b.voltages().va_v);
+}
+
+}  // namespace
+}  // namespace swum
+
+namespace swum {
+namespace {
+
+MotorParameters calibrated_terms() {
+  MotorParameters p{};
+  p.options.voltage_convention = VoltageConvention::amplitude;
+  p.stator.substrate_thickness_mm = 2.0;
+  p.stator.c1111_pa = -0.85e17;
+  p.contact.preload_application = PreloadApplication::back_end_constant;
+  p.contact.tangential_stiffness_n_m = 2e8;
+  p.mover.guide_friction_model = GuideFrictionModel::implicit_coulomb;
+  return p;
+}
+
+TEST(BackEndPreload, StaticEquilibriumIsTheRestState) {
+  MotorParameters p{};
+  p.contact.preload_application = PreloadApplication::back_end_constant;
+  const MotorModel model(p);
+  const auto& c = model.constants();
+  EXPECT_DOUBLE_EQ(c.g_n, 1.0);
+  EXPECT_DOUBLE_EQ(c.g_np, 1.0);
+  // Linear estimate 2 F_P/(K1 + k_e) (cubic terms change it by < 1e-6).
+  EXPECT_NEAR(c.static_q1_m, 2.0 * 24.8 / (c.k1_n_m + 2.58e7), 1e-5 * c.static_q1_m);
+  MotorSimulator sim(model);
+  sim.advance(100000);
+  EXPECT_NEAR(sim.state().q1_m, c.static_q1_m, 1e-15);
+  EXPECT_NEAR(sim.outputs().normal_force_n, 24.8 - 2.58e7 * c.static_q1_m, 1e-9);
+  // both_ends: gN = 2, no constant term.
+  const MotorModel literal{MotorParameters{}};
+  EXPECT_DOUBLE_EQ(literal.constants().g_n, 2.0);
+  EXPECT_EQ(literal.constants().g_np, 0.0);
+}
+
+TEST(JenkinsContact, SticksElasticallyAtLowDriveAndStaysInTheCone) {
+  const MotorModel model(calibrated_terms());
+  MotorSimulator sim(model);
+  sim.set_drive({40.0, 40000.0, 90.0, 0.0});  // dead zone: contact sticks, mover at rest
+  sim.advance(60000);
+  const double kt = 2e8;
+  bool elastic_stick = false;
+  for (int k = 0; k < 2000; ++k) {
+    sim.step();
+    const auto& f = sim.forces();
+    const double delta = sim.state().contact_deflection_m;
+    EXPECT_LE(std::abs(kt * delta), 0.35 * std::max(0.0, 24.8 - 2.58e7 * sim.state().q1_m) + 1e-9);
+    if (std::abs(f.friction_n) > 0.05 && std::abs(f.friction_n) < 0.9 * 0.35 * f.normal_n) {
+      elastic_stick = true;
+    }
+  }
+  EXPECT_TRUE(elastic_stick);
+  EXPECT_LT(std::abs(sim.state().mover_velocity_m_s), 1e-3);
+}
+
+TEST(JenkinsContact, SlidesAtTheLimitAndResetsInSeparation) {
+  const MotorModel model(calibrated_terms());
+  MotorSimulator sim(model);
+  sim.set_drive({400.0, 39500.0, 90.0, 0.0});  // large amplitude: slip and separation
+  sim.advance(100000);
+  int at_limit = 0;
+  int separated = 0;
+  for (int k = 0; k < 4000; ++k) {
+    sim.step();
+    const auto& f = sim.forces();
+    if (f.normal_n > 1.0 && std::abs(std::abs(f.friction_n) - 0.35 * f.normal_n) < 1e-9) ++at_limit;
+    if (24.8 - 2.58e7 * sim.state().q1_m <= 0.0) {
+      ++separated;
+      EXPECT_EQ(sim.state().contact_deflection_m, 0.0);
+    }
+  }
+  EXPECT_GT(at_limit, 100);
+  EXPECT_GT(separated, 100);
+}
+
+TEST(ImplicitCoulombGuide, HoldsBelowBreakawayAndSlidesAbove) {
+  MotorParameters p{};
+  p.mover.guide_friction_model = GuideFrictionModel::implicit_coulomb;
+  p.contact.friction_coefficient = 0.0;  // only the guide acts on the mover
+  const MotorModel model(p);
+  const double breakaway = 0.04 * (24.8 - 2.58e7 * model.constants().static_q1_m + 9.81 * 0.2);
+  MotorSimulator hold(model);
+  hold.set_drive({0.0, 40000.0, 90.0, 0.95 * breakaway});
+  hold.advance(200000);
+  EXPECT_EQ(hold.state().mover_velocity_m_s, 0.0);
+  EXPECT_EQ(hold.state().mover_position_m, 0.0);
+  EXPECT_NEAR(hold.forces().guide_n, 0.95 * breakaway, 1e-9);  // balances the load exactly
+  MotorSimulator slide(model);
+  slide.set_drive({0.0, 40000.0, 90.0, 1.05 * breakaway});
+  slide.advance(200000);
+  EXPECT_LT(slide.state().mover_velocity_m_s, -1e-3);  // pushed backwards by the load
+  EXPECT_NEAR(slide.forces().guide_n, breakaway, 1e-6);  // full Coulomb force opposes motion
 }
 
 }  // namespace
