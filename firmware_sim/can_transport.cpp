@@ -1,0 +1,158 @@
+#include "can_transport.h"
+
+#include <time.h>
+
+#include <array>
+#include <cstdio>
+#include <stdexcept>
+
+namespace swum::emu {
+
+namespace {
+std::int64_t monotonic_ns() {
+  timespec ts{};
+  clock_gettime(CLOCK_MONOTONIC, &ts);
+  return static_cast<std::int64_t>(ts.tv_sec) * 1'000'000'000 + ts.tv_nsec;
+}
+}  // namespace
+
+CanTransport::CanTransport(std::unique_ptr<io::CanBus> rx_bus, std::unique_ptr<io::CanBus> tx_bus,
+                           CanTransportConfig config, SharedState& shared, AmplifierLimits limits)
+    : rx_bus_(std::move(rx_bus)),
+      tx_bus_(std::move(tx_bus)),
+      config_(config),
+      ids_(can::ids_for_node(config.node)),
+      shared_(shared),
+      limits_(limits) {
+  if (config.node < can::kMinNode || config.node > can::kMaxNode)
+    throw std::invalid_argument("CAN node id must be 1..127");
+  const std::array<io::CanFilter, 2> filters{io::CanFilter{ids_.command, 0x7FF, false},
+                                             io::CanFilter{ids_.aux, 0x7FF, false}};
+  const io::CanResult r = rx_bus_->set_filters(filters);
+  if (!r.ok()) throw std::runtime_error("CAN: cannot set receive filters on " + rx_bus_->name() + ": " + r.message);
+}
+
+CanTransport::~CanTransport() { stop(); }
+
+void CanTransport::start() {
+  rx_thread_ = std::thread([this] { rx_loop(); });
+  tx_thread_ = std::thread([this] { tx_loop(); });
+}
+
+void CanTransport::stop() {
+  stopping_.store(true);
+  if (rx_thread_.joinable()) rx_thread_.join();
+  if (tx_thread_.joinable()) tx_thread_.join();
+}
+
+void CanTransport::rx_loop() {
+  can::AliveCounter command_alive, aux_alive;
+  io::CanFrame frame;
+  std::uint64_t reported_errors = 0;
+  while (!stopping_.load(std::memory_order_relaxed)) {
+    const io::CanResult r = rx_bus_->receive(frame, std::chrono::milliseconds(50));
+    if (r.status == io::CanStatus::timeout) continue;
+    if (r.status == io::CanStatus::error_frame) {
+      stats_.error_frames.fetch_add(1);
+      const io::CanErrorInfo info = io::decode_error_frame(frame);
+      if (info.bus_off) {
+        stats_.bus_off.fetch_add(1);
+        std::fprintf(stderr, "swum-emu: CAN %s: bus-off (%s); waiting for the controller to restart\n",
+                     rx_bus_->name().c_str(), info.describe().c_str());
+      }
+      continue;
+    }
+    if (r.status != io::CanStatus::ok) {
+      stats_.rx_errors.fetch_add(1);
+      if (reported_errors++ < 5)
+        std::fprintf(stderr, "swum-emu: CAN %s: receive: %s\n", rx_bus_->name().c_str(), r.message.c_str());
+      ::timespec pause{0, 10'000'000};
+      ::nanosleep(&pause, nullptr);  // e.g. ENETDOWN: do not spin
+      continue;
+    }
+    stats_.rx_frames.fetch_add(1, std::memory_order_relaxed);
+    Reason reason = Reason::none;
+    Command command;
+    if (frame.id == ids_.command && !frame.extended) {
+      can::CommandFrame c;
+      reason = can::decode_command(frame, c);
+      if (reason == Reason::none) reason = command_alive.check(c.alive);
+      if (reason == Reason::none) {
+        command = can::to_command(c);
+        reason = validate(command, limits_);
+      }
+      if (reason == Reason::none) {
+        command.accepted_ns = static_cast<std::uint64_t>(monotonic_ns());
+        reason = shared_.submit(command);
+        if (reason == Reason::none) command_alive.accept(c.alive);
+      }
+    } else if (frame.id == ids_.aux && !frame.extended) {
+      can::AuxFrame a;
+      reason = can::decode_aux(frame, a);
+      if (reason == Reason::none) reason = aux_alive.check(a.alive);
+      if (reason == Reason::none) {
+        command = can::to_command(a);
+        reason = validate(command, limits_);
+      }
+      if (reason == Reason::none) {
+        command.accepted_ns = static_cast<std::uint64_t>(monotonic_ns());
+        reason = shared_.submit(command);
+        if (reason == Reason::none) aux_alive.accept(a.alive);
+      }
+    } else {
+      continue;  // not for us (filters normally keep these out)
+    }
+    if (reason == Reason::none) {
+      stats_.accepted.fetch_add(1, std::memory_order_relaxed);
+    } else {
+      stats_.rejected.fetch_add(1, std::memory_order_relaxed);
+      if (reason != Reason::queue_full) shared_.rejects.record(reason, CommandSource::can);  // submit() logged it
+    }
+  }
+}
+
+void CanTransport::send(const io::CanFrame& frame) {
+  io::CanBus& bus = tx_bus_ ? *tx_bus_ : *rx_bus_;
+  const io::CanResult r = bus.send(frame);
+  if (r.ok()) {
+    stats_.tx_frames.fetch_add(1, std::memory_order_relaxed);
+  } else if (r.status == io::CanStatus::retry) {
+    stats_.tx_dropped.fetch_add(1, std::memory_order_relaxed);  // queue full: telemetry is periodic, drop it
+  } else {
+    if (stats_.tx_errors.fetch_add(1) < 5)
+      std::fprintf(stderr, "swum-emu: CAN %s: send: %s\n", bus.name().c_str(), r.message.c_str());
+  }
+}
+
+void CanTransport::tx_loop() {
+  const auto period = static_cast<std::int64_t>(1e9 / (config_.telemetry_hz > 0 ? config_.telemetry_hz : 100.0));
+  const auto heartbeat = static_cast<std::int64_t>(config_.heartbeat_s * 1e9);
+  std::int64_t next = monotonic_ns();
+  std::int64_t next_heartbeat = next;
+  std::uint8_t counter = 0;
+  while (!stopping_.load(std::memory_order_relaxed)) {
+    const Telemetry t = shared_.telemetry.load();
+    const modbus::RejectSnapshot rejects{static_cast<Reason>(shared_.rejects.last_reason.load()),
+                                         shared_.rejects.count.load()};
+    if (config_.telemetry_hz > 0) {
+      send(can::encode_status(t, rejects, counter++, ids_.status));
+      send(can::encode_motion(t, ids_.motion));
+      send(can::encode_drive(t, ids_.drive));
+      send(can::encode_loop_stats(t, ids_.loop_stats));
+      send(can::encode_output(t, ids_.output));
+    }
+    const std::int64_t now = monotonic_ns();
+    if (heartbeat > 0 && now >= next_heartbeat) {
+      send(can::encode_heartbeat(ids_.heartbeat));
+      next_heartbeat += heartbeat;
+      if (next_heartbeat < now) next_heartbeat = now + heartbeat;
+    }
+    next += period;
+    if (next < now) next = now + period;  // fell behind (e.g. stopped in a debugger): no burst
+    const timespec ts{static_cast<time_t>(next / 1'000'000'000), static_cast<long>(next % 1'000'000'000)};
+    while (clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &ts, nullptr) == EINTR) {
+    }
+  }
+}
+
+}  // namespace swum::emu

@@ -1,0 +1,65 @@
+// One tick of the emulator without any clock: drain commands, step the amplifier, integrate the
+// model over the tick in fixed sub-steps, catch numerical blow-ups, build the telemetry.
+// RealtimeLoop calls tick() on its schedule; tests call it directly. No allocation in tick().
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "amplifier.h"
+#include "model/simulator.h"
+#include "telemetry.h"
+
+namespace swum::emu {
+
+struct CoreConfig {
+  double tick_hz = 10000.0;
+  AmplifierConfig amplifier;     // tick_s is overwritten from tick_hz
+  double speed_window_s = 0.010;
+  unsigned sample_stride = 4;    // sub-steps between tip-amplitude samples
+};
+
+class EmulatorCore {
+ public:
+  EmulatorCore(const MotorModel& model, CoreConfig config, SharedState& shared);
+
+  // Runs one tick; returns the telemetry it published.
+  const Telemetry& tick();
+  // Drive off (end of run): disable at the next tick boundary, then publish.
+  void shut_down();
+
+  void set_stats(const LoopStatsSummary& s) { telemetry_.stats = s; }
+  [[nodiscard]] const Amplifier& amplifier() const { return amplifier_; }
+  [[nodiscard]] const Telemetry& telemetry() const { return telemetry_; }
+  [[nodiscard]] std::uint64_t ticks() const { return tick_; }
+  [[nodiscard]] std::uint64_t steps_per_tick() const { return steps_per_tick_; }
+  [[nodiscard]] double tick_s() const { return tick_s_; }
+  // Tests: replace the model state (e.g. a NaN) to exercise the blow-up path.
+  MotorSimulator& simulator() { return simulator_; }
+  // Accept times (CLOCK_MONOTONIC ns, stamped by the transports) of the commands applied in
+  // the last tick: the first and how many (the loop turns them into latencies).
+  [[nodiscard]] std::span<const std::uint64_t> accepted_in_last_tick() const {
+    return {accepted_ns_.data(), accepted_count_};
+  }
+
+ private:
+  const MotorModel& model_;
+  CoreConfig config_;
+  SharedState& shared_;
+  Amplifier amplifier_;
+  MotorSimulator simulator_;
+  Telemetry telemetry_;
+  double tick_s_;
+  std::uint64_t tick_ = 0;
+  std::uint64_t steps_done_ = 0;
+  std::uint64_t steps_per_tick_ = 0;
+  std::vector<double> position_ring_;  // mover position at the end of each of the last N ticks
+  std::size_t ring_index_ = 0;
+  std::size_t ring_filled_ = 0;
+  std::array<std::uint64_t, 64> accepted_ns_{};  // first 64 commands of a tick
+  std::size_t accepted_count_ = 0;
+};
+
+}  // namespace swum::emu

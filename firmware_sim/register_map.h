@@ -1,0 +1,113 @@
+// The Modbus register map (pure: no sockets). config/modbus_registers.json is the
+// machine-readable description; tests keep the two in agreement.
+//  - Holding registers (FC 03 read, FC 06 / FC 16 write): setpoints and commands. A write is
+//    validated here and becomes one Command (all registers of one request apply together).
+//  - Input registers (FC 04): telemetry, refreshed from the latest tick's snapshot.
+//  - 32-bit values: two registers, high word first (at the lower address), each word big-endian
+//    on the wire ("ABCD"). A request that covers only one half of a 32-bit value is rejected
+//    with ILLEGAL DATA ADDRESS.
+//  - Exceptions: 01 ILLEGAL FUNCTION, 02 ILLEGAL DATA ADDRESS, 03 ILLEGAL DATA VALUE (bad
+//    quantity / byte count, setpoint out of range, unknown command), 06 SERVER DEVICE BUSY
+//    (command queue full). The reason of the last reject is readable at input register 3.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <span>
+
+#include "amplifier.h"
+#include "telemetry.h"
+
+namespace swum::emu::modbus {
+
+enum Exception : std::uint8_t {
+  kNoException = 0,
+  kIllegalFunction = 0x01,
+  kIllegalDataAddress = 0x02,
+  kIllegalDataValue = 0x03,
+  kServerDeviceFailure = 0x04,
+  kServerDeviceBusy = 0x06,
+};
+
+enum Function : std::uint8_t {
+  kReadHoldingRegisters = 0x03,
+  kReadInputRegisters = 0x04,
+  kWriteSingleRegister = 0x06,
+  kWriteMultipleRegisters = 0x10,
+};
+
+// Holding register addresses (0-based PDU addresses).
+namespace holding {
+inline constexpr std::uint16_t kCommand = 0;            // u16: 0 keep-alive, 1 enable, 2 disable, 3 reset fault
+inline constexpr std::uint16_t kFrequency = 1;          // u32 (1-2): mHz
+inline constexpr std::uint16_t kAmplitude = 3;          // u16: 0.1 Vpp
+inline constexpr std::uint16_t kPhase = 4;              // i16: 0.01 deg
+inline constexpr std::uint16_t kLoad = 5;               // i16: mN
+inline constexpr std::uint16_t kFrequencySlew = 6;      // u32 (6-7): Hz/s, 0 = unlimited
+inline constexpr std::uint16_t kAmplitudeSlew = 8;      // u32 (8-9): Vpp/s, 0 = unlimited
+inline constexpr std::uint16_t kCount = 10;
+}  // namespace holding
+
+namespace input {
+inline constexpr std::uint16_t kStatus = 0;             // bits: 0 enabled, 1 fault, 2 enable line, 3 drive on, 4 at setpoint
+inline constexpr std::uint16_t kState = 1;              // 0 disabled, 1 enabled, 2 fault
+inline constexpr std::uint16_t kFault = 2;              // FaultCode
+inline constexpr std::uint16_t kLastReject = 3;         // Reason of the last rejected command (any interface)
+inline constexpr std::uint16_t kRejectCount = 4;        // u32 (4-5)
+inline constexpr std::uint16_t kAppliedCommands = 6;    // u32 (6-7)
+inline constexpr std::uint16_t kSpeed = 8;              // i32 (8-9): um/s, mean over 10 ms
+inline constexpr std::uint16_t kPosition = 10;          // i32 (10-11): um
+inline constexpr std::uint16_t kTipNormal = 12;         // u16: nm
+inline constexpr std::uint16_t kTipTangential = 13;     // u16: nm
+inline constexpr std::uint16_t kFrequencyOut = 14;      // u32 (14-15): mHz
+inline constexpr std::uint16_t kAmplitudeOut = 16;      // u16: 0.1 Vpp
+inline constexpr std::uint16_t kPhaseOut = 17;          // i16: 0.01 deg
+inline constexpr std::uint16_t kLoadOut = 18;           // i16: mN
+inline constexpr std::uint16_t kTick = 19;              // u32 (19-20)
+inline constexpr std::uint16_t kSimTime = 21;           // u32 (21-22): ms
+inline constexpr std::uint16_t kLatenessP50 = 23;       // u16: us (saturating)
+inline constexpr std::uint16_t kLatenessP99 = 24;
+inline constexpr std::uint16_t kLatenessP999 = 25;
+inline constexpr std::uint16_t kLatenessMax = 26;
+inline constexpr std::uint16_t kComputeP99 = 27;
+inline constexpr std::uint16_t kComputeMax = 28;
+inline constexpr std::uint16_t kOverruns = 29;          // u32 (29-30)
+inline constexpr std::uint16_t kTickSpeed = 31;         // i32 (31-32): um/s, mean over the last tick
+inline constexpr std::uint16_t kLastSequence = 33;      // u32 (33-34): sequence of the last command applied
+inline constexpr std::uint16_t kCount = 35;
+}  // namespace input
+
+// 32-bit registers: the address of their first (high) word.
+bool is_u32_start_holding(std::uint16_t address);
+bool is_u32_start_input(std::uint16_t address);
+
+inline constexpr std::size_t kMaxValues = 125;
+
+struct Request {
+  std::uint8_t function = 0;
+  std::uint16_t address = 0;
+  std::uint16_t quantity = 0;
+  std::array<std::uint16_t, kMaxValues> values{};  // writes
+};
+
+// PDU = function code + data (no MBAP header, no CRC). Checks the function code and the
+// quantity / byte-count consistency; 0 on success, else the exception code (reason in *reason).
+std::uint8_t parse_request(std::span<const std::uint8_t> pdu, Request& request, Reason* reason);
+
+struct Decision {
+  std::uint8_t exception = kNoException;
+  Reason reason = Reason::none;
+  bool has_command = false;
+  Command command;
+};
+// Address ranges and, for writes, value ranges -> one Command.
+Decision decide(const Request& request, const AmplifierLimits& limits);
+
+void fill_holding(const Telemetry& t, std::span<std::uint16_t, holding::kCount> registers);
+struct RejectSnapshot {
+  Reason last = Reason::none;
+  std::uint64_t count = 0;
+};
+void fill_input(const Telemetry& t, const RejectSnapshot& rejects, std::span<std::uint16_t, input::kCount> registers);
+
+}  // namespace swum::emu::modbus

@@ -1,0 +1,185 @@
+#!/usr/bin/python3
+"""swum-emu on a SocketCAN bus (vcan0) with independent peers: python3-can (frames encoded and
+decoded through config/swum.dbc with python3-canmatrix, CRC computed here) and can-utils'
+cansend/candump. Runs natively when the host has vcan0, else inside the test guest
+(tools/vm/with-vcan). Never asserts timing (TCG guest).
+
+usage: can_vcan.py SCENARIO   (enable_speed rejects watchdog)
+"""
+import decimal
+import os
+import subprocess
+import sys
+import time
+
+import can
+import canmatrix
+import canmatrix.formats
+
+from emu_harness import SOURCE_DIR, Emulator, RegisterMap, deadline, reference
+
+DB = canmatrix.formats.loadp_flat(os.path.join(SOURCE_DIR, "config/swum.dbc"))
+REASONS = RegisterMap().reasons
+COMMAND = DB.frame_by_name("Command")
+NODE = 1  # the DBC describes node 1
+
+
+def crc8(can_id, data7):
+    crc = 0xFF
+    for byte in bytes([can_id & 0xFF, (can_id >> 8) & 0xFF]) + bytes(data7):
+        crc ^= byte
+        for _ in range(8):
+            crc = ((crc << 1) ^ 0x1D) & 0xFF if crc & 0x80 else (crc << 1) & 0xFF
+    return crc ^ 0xFF
+
+
+def command_frame(mode, alive, frequency_hz, vpp, phase_deg=90.0):
+    physical = {"Mode": mode, "Reserved1": 0, "AliveCounter": alive % 16, "Frequency": frequency_hz,
+                "Phase": phase_deg, "Amplitude": vpp, "Reserved2": 0, "Crc": 0}
+    # canmatrix's Frame.encode takes raw values: convert through the DBC's factors.
+    data = bytearray(COMMAND.encode({name: COMMAND.signal_by_name(name).phys2raw(decimal.Decimal(str(value)))
+                                     for name, value in physical.items()}))
+    data[7] = crc8(COMMAND.arbitration_id.id, data[:7])
+    return bytes(data)
+
+
+class Peer:
+    """The controller under test on the bus."""
+
+    def __init__(self):
+        telemetry = [f.arbitration_id.id for f in DB.frames if f.name not in ("Command", "AuxCommand")]
+        self.bus = can.Bus(interface="socketcan", channel="vcan0",
+                           can_filters=[{"can_id": i, "can_mask": 0x7FF, "extended": False} for i in telemetry])
+        self.alive = 0
+        self.latest = {}
+
+    def send_command(self, mode, frequency_hz, vpp, phase_deg=90.0):
+        self.alive = (self.alive + 1) % 16
+        data = command_frame(mode, self.alive, frequency_hz, vpp, phase_deg)
+        self.bus.send(can.Message(arbitration_id=COMMAND.arbitration_id.id, data=data, is_extended_id=False))
+
+    def poll(self, seconds=0.01):
+        """Receives for a while; keeps the latest decoded value of every telemetry message."""
+        end = time.monotonic() + seconds
+        while True:
+            left = end - time.monotonic()
+            msg = self.bus.recv(timeout=max(0.0, left))
+            if msg is None:
+                return self.latest
+            frame = DB.frame_by_id(canmatrix.ArbitrationId(msg.arbitration_id))
+            if frame is not None and not msg.is_extended_id:
+                self.latest[frame.name] = {k: float(v.phys_value) for k, v in frame.decode(bytes(msg.data)).items()}
+            if left <= 0:  # a slow decoder (TCG guest) must not be trapped by the backlog
+                return self.latest
+
+    def wait_for(self, predicate, what, timeout=60, keep_sending=None):
+        expired = deadline(timeout)
+        while True:
+            if keep_sending:
+                keep_sending()
+            latest = self.poll(0.01)
+            if "Status" in latest and "Motion" in latest and predicate(latest):
+                return latest
+            assert not expired(), f"timeout waiting for {what}; last telemetry {latest}"
+
+    def close(self):
+        self.bus.shutdown()
+
+
+def cansend(data, can_id=0x200 + NODE):
+    subprocess.run(["cansend", "vcan0", f"{can_id:03X}#{data.hex().upper()}"], check=True)
+
+
+def speed_close(latest, ref):
+    return abs(latest["Motion"]["Speed"] - ref["speed_mm_s"]) <= 0.03 * abs(ref["speed_mm_s"]) + 2.0
+
+
+def scenario_enable_speed():
+    with Emulator("--can", "vcan0", "--node", str(NODE), "--speedup", "0", "--watchdog-ms", "5000",
+                  "--telemetry-hz", "50", modbus="none") as emu:
+        peer = Peer()
+        peer.wait_for(lambda t: t["Status"]["State"] == 0, "disabled at start")
+        for frequency in (40000, 39700):
+            ref = reference(400, frequency)
+            send = lambda f=frequency: peer.send_command(1, f, 400)  # noqa: E731
+            t = peer.wait_for(lambda t: t["Status"]["State"] == 1 and t["Drive"]["AmplitudeOut"] == 400 and
+                              abs(t["Output"]["FrequencyOut"] - frequency) < 0.01 and speed_close(t, ref),
+                              f"steady speed at {frequency} Hz", keep_sending=send)
+            peer.poll(0.3)  # and it stays there
+            t = peer.latest
+            assert speed_close(t, ref), (t["Motion"], ref)
+            print(f"{frequency} Hz: emulator {t['Motion']['Speed']:.2f} mm/s, model {ref['speed_mm_s']:.2f} mm/s, "
+                  f"tip {t['Drive']['TipNormal']:.3f}/{ref['tip_normal_um']:.3f} um")
+        peer.send_command(0, 40000, 0)
+        peer.wait_for(lambda t: t["Status"]["State"] == 0 and t["Drive"]["AmplitudeOut"] == 0, "disabled")
+        peer.close()
+        assert emu.stop() == 0
+        print(emu.output)
+
+
+def scenario_rejects():
+    with Emulator("--can", "vcan0", "--node", str(NODE), "--speedup", "1", "--watchdog-ms", "0",
+                  "--heartbeat-ms", "100", "--telemetry-hz", "50", modbus="none") as emu:
+        # candump sees heartbeats and status frames (independent receiver).
+        dump = subprocess.run(["candump", "-L", "-n", "3", "vcan0,701:7FF"], capture_output=True, text=True, timeout=30)
+        assert dump.returncode == 0 and dump.stdout.count("701#05") == 3, dump.stdout
+        peer = Peer()
+        cansend(command_frame(1, 1, 40000, 100))  # valid: enable at 100 Vpp
+        peer.wait_for(lambda t: t["Status"]["State"] == 1, "enabled via cansend")
+
+        def expect(data, reason, can_id=0x200 + NODE):
+            before = peer.poll(0.05)["Status"]
+            cansend(data, can_id)
+            t = peer.wait_for(lambda t: t["Status"]["RejectCount"] != before["RejectCount"], f"reject {reason}")
+            assert t["Status"]["LastReject"] == REASONS[reason], (t["Status"], reason)
+            assert t["Status"]["State"] == 1 and t["Status"]["AppliedCount"] == before["AppliedCount"], t["Status"]
+            assert t["Drive"]["AmplitudeOut"] == 100, t["Drive"]
+            print(f"cansend {data.hex()}: rejected, reason {reason}")
+
+        good = command_frame(1, 2, 40000, 300)
+        bad_crc = good[:7] + bytes([good[7] ^ 0x5A])
+        expect(bad_crc, "bad_checksum")
+        expect(good[:5], "wrong_length")
+        expect(command_frame(1, 2, 60000, 300), "frequency_out_of_range")
+        expect(command_frame(1, 1, 40000, 300), "stale_alive_counter")  # counter 1 again
+        expect(command_frame(3, 2, 40000, 300), "unknown_command")
+        reserved = bytearray(command_frame(1, 2, 40000, 300))
+        reserved[0] |= 0x04
+        reserved[7] = crc8(0x200 + NODE, reserved[:7])
+        expect(bytes(reserved), "reserved_bits")
+        # A frame for another node is not even received (kernel filter): no reject counted.
+        before = peer.poll(0.05)["Status"]["RejectCount"]
+        cansend(bad_crc, 0x200 + NODE + 1)
+        assert peer.poll(0.3)["Status"]["RejectCount"] == before
+        # Then the valid one is applied.
+        cansend(good)
+        peer.wait_for(lambda t: t["Drive"]["AmplitudeOut"] == 300, "valid command applied")
+        peer.close()
+        assert emu.stop() == 0
+        print(emu.output)
+
+
+def scenario_watchdog():
+    with Emulator("--can", "vcan0", "--node", str(NODE), "--speedup", "1", "--watchdog-ms", "100", "--telemetry-hz", "50",
+                  modbus="none") as emu:
+        peer = Peer()
+        send = lambda: peer.send_command(1, 40000, 400)  # noqa: E731
+        peer.wait_for(lambda t: t["Status"]["State"] == 1 and t["Motion"]["Speed"] > 20, "moving", keep_sending=send)
+        # Silence. Status and Drive are separate frames: wait until both show the fault.
+        t = peer.wait_for(lambda t: t["Status"]["State"] == 2 and t["Drive"]["AmplitudeOut"] == 0, "watchdog fault")
+        assert t["Status"]["FaultCode"] == 1 and t["Status"]["DriveOn"] == 0, t["Status"]
+        peer.wait_for(lambda t: abs(t["Motion"]["Speed"]) < 1.0, "coasting to rest")
+        # Enable refused in fault; reset then enable works.
+        peer.send_command(1, 40000, 400)
+        t = peer.wait_for(lambda t: t["Status"]["LastReject"] == REASONS["fault_active"], "enable refused")
+        assert t["Status"]["State"] == 2
+        peer.send_command(2, 40000, 400)
+        peer.wait_for(lambda t: t["Status"]["State"] == 0 and t["Status"]["FaultCode"] == 0, "fault reset")
+        peer.close()
+        assert emu.stop() == 0
+
+
+if __name__ == "__main__":
+    scenario = sys.argv[1] if len(sys.argv) > 1 else "enable_speed"
+    globals()["scenario_" + scenario]()
+    print(f"PASS can {scenario}")

@@ -1,0 +1,304 @@
+#!/usr/bin/python3
+"""swum-emu over Modbus TCP on 127.0.0.1 with an independent client (Debian's python3-pymodbus).
+
+usage: modbus_integration.py SCENARIO   (enable_speed frequency_change watchdog rejects malformed clients)
+Environment: SWUM_EMU, SWUM_EMU_REFERENCE, SWUM_SOURCE_DIR (set by ctest).
+"""
+import socket
+import struct
+import sys
+import threading
+
+try:
+    import serial_asyncio  # noqa: F401  (pymodbus.client imports it; only Recommended by Debian)
+except ImportError:
+    import types
+    sys.modules["serial_asyncio"] = types.SimpleNamespace(create_serial_connection=None)
+from pymodbus.client import ModbusTcpClient  # noqa: E402
+
+from emu_harness import Emulator, RegisterMap, deadline, reference
+
+MAP = RegisterMap()
+ILLEGAL_FUNCTION, ILLEGAL_DATA_ADDRESS, ILLEGAL_DATA_VALUE = 1, 2, 3
+
+
+class Controller:
+    """A controller under test, as a Modbus TCP client."""
+
+    def __init__(self, emu):
+        self.client = ModbusTcpClient(emu.host, port=emu.port, timeout=5)
+        assert self.client.connect(), "cannot connect"
+        self.accepted = 0  # writes accepted by the emulator (each one command) on this connection
+
+    def close(self):
+        self.client.close()
+
+    def inputs(self):
+        rr = self.client.read_input_registers(0, MAP.input_count, slave=1)
+        assert not rr.isError(), rr
+        return MAP.decode_inputs(rr.registers)
+
+    def holding(self):
+        rr = self.client.read_holding_registers(0, 10, slave=1)
+        assert not rr.isError(), rr
+        return MAP.decode_holding(rr.registers)
+
+    def write(self, **values):
+        """Writes named holding registers in one FC16 request when contiguous, else one by one.
+        Returns the exception code (0 = accepted)."""
+        for name, value in values.items():
+            rr = self.client.write_registers(MAP.holding[name]["address"], MAP.encode(name, value), slave=1)
+            if rr.isError():
+                return rr.exception_code
+            self.accepted += 1
+        return 0
+
+    def command(self, code):
+        return self.write(command=code)
+
+    def run_at(self, vpp, frequency_hz):
+        assert self.write(frequency_setpoint=frequency_hz, amplitude_setpoint=vpp) == 0
+        assert self.command(1) == 0  # enable
+
+    def wait_applied(self, timeout=60):
+        """Input registers once every write this client got accepted has been applied; for a
+        client that is the emulator's only writer since it started (applied_commands counts all
+        interfaces). A command takes effect at the next tick boundary, so a read right after an
+        accepted write may still show an earlier tick (docs/protocols.md): time an effect from
+        the snapshot this returns, whose emulated time is at or after the last write's effect."""
+        expired = deadline(timeout)
+        while True:
+            values = self.inputs()
+            if values["applied_commands"] >= self.accepted:
+                break
+            assert not expired(), f"accepted writes not applied: {values['applied_commands']} of {self.accepted}; {values}"
+        # Nothing accepted lost, nothing applied that was not accepted, nothing refused.
+        assert values["applied_commands"] == self.accepted and values["reject_count"] == 0, (self.accepted, values)
+        return values
+
+    def wait_sim_time(self, t_s, keepalive=True, timeout=60):
+        expired = deadline(timeout)
+        while True:
+            values = self.inputs()
+            if values["sim_time"] >= t_s:
+                return values
+            assert not expired(), f"emulated time stuck at {values['sim_time']}"
+            if keepalive:
+                assert self.command(0) == 0
+
+
+def steady_reference(vpp, frequency_hz):
+    """The model's steady state (run_to_steady_state). Computed before the emulator starts: the
+    emulator keeps running (and its watchdog counting) while a scenario waits for it."""
+    ref = reference(vpp, frequency_hz)
+    assert ref["ok"], ref
+    return ref
+
+
+def check_speed(measured_m_s, ref, what):
+    speed_mm_s = measured_m_s * 1e3
+    tolerance = 0.03 * abs(ref["speed_mm_s"]) + 2.0
+    print(f"{what}: emulator {speed_mm_s:.2f} mm/s, model steady state {ref['speed_mm_s']:.2f} mm/s (tolerance {tolerance:.2f})")
+    assert abs(speed_mm_s - ref["speed_mm_s"]) <= tolerance, "speed differs from the model's steady state"
+    return ref
+
+
+def scenario_enable_speed():
+    ref = steady_reference(400, 40000)
+    with Emulator("--speedup", "4", "--watchdog-ms", "1000") as emu:
+        c = Controller(emu)
+        v = c.inputs()
+        assert v["state"] == 0 and v["amplitude_output"] == 0
+        c.run_at(400, 40000)
+        v = c.wait_sim_time(c.wait_applied()["sim_time"] + 0.12)
+        assert v["state"] == 1, v
+        assert v["status"] & 1 and v["status"] & 8, v  # enabled, drive on
+        assert abs(v["amplitude_output"] - 400) < 1e-6 and abs(v["frequency_output"] - 40000) < 1e-3
+        check_speed(v["speed"], ref, "400 Vpp 40 kHz")
+        assert v["tip_normal_amplitude"] > 1.0, v
+        assert v["applied_commands"] >= 3
+        c.close()
+        assert emu.stop() == 0
+        print(emu.output)
+        assert "loop statistics" in emu.output and "state disabled" in emu.output
+
+
+def scenario_frequency_change():
+    # Up, not down: below the peak the softening resonance is bistable (MODEL_SPEC §9.1), so
+    # the branch a live change lands on depends on when it arrives; above it the speed
+    # has one steady value, the one run_to_steady_state finds from rest.
+    first, second = steady_reference(400, 40000), steady_reference(400, 40400)
+    assert abs(second["speed_mm_s"] - first["speed_mm_s"]) > 5, "pick frequencies with distinct speeds"
+    with Emulator("--speedup", "4", "--watchdog-ms", "1000") as emu:
+        c = Controller(emu)
+        c.run_at(400, 40000)
+        v = c.wait_sim_time(c.wait_applied()["sim_time"] + 0.12)
+        check_speed(v["speed"], first, "40 kHz")
+        assert c.write(frequency_setpoint=40400) == 0
+        # 0.15 s of emulated time from a snapshot in which the change has taken effect (not
+        # from `v`: the loop may not have reached the tick that applies the write yet).
+        v = c.wait_sim_time(c.wait_applied()["sim_time"] + 0.15)
+        assert abs(v["frequency_output"] - 40400) < 1e-3, v
+        check_speed(v["speed"], second, "40.4 kHz")
+        c.close()
+        assert emu.stop() == 0
+
+
+def scenario_watchdog():
+    with Emulator("--speedup", "1", "--watchdog-ms", "200") as emu:
+        c = Controller(emu)
+        c.run_at(400, 40000)
+        v = c.wait_sim_time(c.wait_applied()["sim_time"] + 0.08)  # keep-alive every request: stays enabled
+        assert v["state"] == 1 and v["speed"] > 0.05, v
+        # Silence: read only (reads do not feed the watchdog).
+        expired = deadline(10)
+        while v["state"] != 2:
+            assert not expired(), "no watchdog fault"
+            v = c.inputs()
+        assert v["fault_code"] == 1 and v["amplitude_output"] == 0 and not v["status"] & 8, v
+        print(f"watchdog fault at {v['sim_time']:.3f} s, speed {v['speed']*1e3:.1f} mm/s")
+        # Coast to rest under friction.
+        v = c.wait_sim_time(v["sim_time"] + 0.1, keepalive=False)
+        assert abs(v["speed"]) < 1e-3, v
+        assert v["state"] == 2
+        # Enable is refused in fault (state unchanged, reason readable); reset -> disabled.
+        rejects = v["reject_count"]
+        assert c.command(1) == 0  # the write is well-formed; the amplifier refuses it
+        expired = deadline(5)
+        while v["reject_count"] == rejects:
+            assert not expired()
+            v = c.inputs()
+        assert v["state"] == 2 and v["last_reject_reason"] == MAP.reasons["fault_active"], v
+        assert c.command(3) == 0
+        expired = deadline(5)
+        while v["state"] != 0:
+            assert not expired()
+            v = c.inputs()
+        assert v["fault_code"] == 0
+        c.close()
+        assert emu.stop() == 0
+
+
+def expect_rejected(c, exception, reason, write=None, read=None):
+    before_in, before_hold = c.inputs(), c.holding()
+    if write is not None:
+        address, values = write
+        rr = c.client.write_registers(address, values, slave=1) if len(values) > 1 or address != MAP.holding["command"]["address"] \
+            else c.client.write_register(address, values[0], slave=1)
+    else:
+        address, count, function = read
+        rr = (c.client.read_input_registers if function == 4 else c.client.read_holding_registers)(address, count, slave=1)
+    assert rr.isError(), rr
+    assert rr.exception_code == exception, (rr.exception_code, exception)
+    after = c.inputs()
+    assert after["last_reject_reason"] == MAP.reasons[reason], (after["last_reject_reason"], reason)
+    assert after["reject_count"] == before_in["reject_count"] + 1
+    assert after["state"] == before_in["state"] and after["applied_commands"] == before_in["applied_commands"]
+    assert c.holding() == before_hold
+    print(f"rejected as expected: exception {exception}, reason {reason}")
+
+
+def scenario_rejects():
+    with Emulator("--speedup", "1", "--watchdog-ms", "0") as emu:
+        c = Controller(emu)
+        h = MAP.holding
+        expect_rejected(c, ILLEGAL_DATA_VALUE, "amplitude_out_of_range", write=(h["amplitude_setpoint"]["address"], MAP.encode("amplitude_setpoint", 700)))
+        expect_rejected(c, ILLEGAL_DATA_VALUE, "frequency_out_of_range", write=(h["frequency_setpoint"]["address"], MAP.encode("frequency_setpoint", 60000)))
+        expect_rejected(c, ILLEGAL_DATA_VALUE, "phase_out_of_range", write=(h["phase_setpoint"]["address"], MAP.encode("phase_setpoint", 200)))
+        expect_rejected(c, ILLEGAL_DATA_VALUE, "unknown_command", write=(h["command"]["address"], [7]))
+        expect_rejected(c, ILLEGAL_DATA_ADDRESS, "split_value", write=(h["frequency_setpoint"]["address"] + 1, [5]))
+        expect_rejected(c, ILLEGAL_DATA_ADDRESS, "illegal_address", write=(40, [1, 2]))
+        expect_rejected(c, ILLEGAL_DATA_ADDRESS, "illegal_address", read=(MAP.input_count, 1, 4))
+        expect_rejected(c, ILLEGAL_DATA_ADDRESS, "illegal_address", read=(5, 10, 3))
+        rr = c.client.read_coils(0, 1, slave=1)
+        assert rr.isError() and rr.exception_code == ILLEGAL_FUNCTION, rr
+        assert c.inputs()["last_reject_reason"] == MAP.reasons["illegal_function"]
+        # A valid write after all that is applied.
+        assert c.write(amplitude_setpoint=123.4) == 0
+        expired = deadline(5)
+        while abs(c.holding()["amplitude_setpoint"] - 123.4) > 1e-6:
+            assert not expired()
+        c.close()
+        assert emu.stop() == 0
+
+
+def mbap(transaction, pdu, length=None, unit=1):
+    return struct.pack(">HHHB", transaction, 0, len(pdu) + 1 if length is None else length, unit) + pdu
+
+
+def scenario_malformed():
+    with Emulator("--speedup", "1", "--watchdog-ms", "0") as emu:
+        c = Controller(emu)
+        before = c.inputs()
+        # FC16 whose byte count disagrees with the quantity: ILLEGAL DATA VALUE, nothing applied.
+        with socket.create_connection((emu.host, emu.port), timeout=5) as s:
+            s.sendall(mbap(1, struct.pack(">BHHB", 16, 3, 2, 2) + b"\x00\x10"))
+            reply = s.recv(260)
+            assert reply[7] == 0x90 and reply[8] == ILLEGAL_DATA_VALUE, reply.hex()
+        v = c.inputs()
+        assert v["last_reject_reason"] == MAP.reasons["wrong_length"], v
+        # Truncated frame, then hang up.
+        with socket.create_connection((emu.host, emu.port), timeout=5) as s:
+            s.sendall(mbap(2, struct.pack(">BHH", 3, 0, 10))[:9])
+        # Garbage and a bogus protocol id.
+        with socket.create_connection((emu.host, emu.port), timeout=5) as s:
+            s.sendall(bytes(range(256)) * 2)
+            s.settimeout(2)
+            try:
+                s.recv(260)
+            except (socket.timeout, ConnectionResetError):
+                pass
+        # Read request with a wrong PDU length (extra bytes): answered or connection dropped, never a crash.
+        with socket.create_connection((emu.host, emu.port), timeout=5) as s:
+            s.sendall(mbap(3, struct.pack(">BHHH", 4, 0, 1, 0xDEAD)))
+            s.settimeout(2)
+            try:
+                s.recv(260)
+            except (socket.timeout, ConnectionResetError):
+                pass
+        after = c.inputs()  # the first client is still served
+        assert after["state"] == before["state"] and after["applied_commands"] == before["applied_commands"], after
+        assert emu.proc.poll() is None, "swum-emu died"
+        c.close()
+        assert emu.stop() == 0
+
+
+def scenario_clients():
+    """8 clients at once, each polling and writing; every accepted write is applied."""
+    with Emulator("--speedup", "1", "--watchdog-ms", "0") as emu:
+        first = Controller(emu)
+        base = first.inputs()["applied_commands"]
+        accepted = [0] * 8
+        errors = []
+
+        def worker(i):
+            try:
+                c = Controller(emu)
+                for k in range(150):
+                    c.inputs()
+                    if c.write(amplitude_setpoint=(i * 150 + k) % 500) == 0:
+                        accepted[i] += 1
+                c.close()
+            except Exception as e:  # noqa: BLE001 - reported below
+                errors.append(repr(e))
+
+        threads = [threading.Thread(target=worker, args=(i,)) for i in range(8)]
+        for t in threads:
+            t.start()
+        for t in threads:
+            t.join()
+        assert not errors, errors
+        expected = base + sum(accepted)
+        expired = deadline(5)
+        while first.inputs()["applied_commands"] != expected:
+            assert not expired(), (first.inputs()["applied_commands"], expected)
+        print(f"8 clients: {sum(accepted)} writes accepted, all applied")
+        first.close()
+        assert emu.stop() == 0
+        assert "8 connections" in emu.output or "9 connections" in emu.output, emu.output
+
+
+if __name__ == "__main__":
+    scenario = sys.argv[1] if len(sys.argv) > 1 else "enable_speed"
+    globals()["scenario_" + scenario]()
+    print(f"PASS {scenario}")

@@ -1,0 +1,184 @@
+// CAN and GPIO transports against the in-process fakes (FakeCanNetwork, FakeGpioLines).
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <functional>
+#include <thread>
+
+#include "can_protocol.h"
+#include "can_transport.h"
+#include "fake_can_bus.h"
+#include "fake_gpio_lines.h"
+#include "gpio_transport.h"
+
+namespace swum::emu {
+namespace {
+
+using namespace std::chrono_literals;
+
+bool eventually(const std::function<bool()>& condition, std::chrono::milliseconds timeout = 10000ms) {
+  const auto deadline = std::chrono::steady_clock::now() + timeout;
+  while (!condition()) {
+    if (std::chrono::steady_clock::now() > deadline) return false;
+    std::this_thread::sleep_for(1ms);
+  }
+  return true;
+}
+
+class CanTransportTest : public ::testing::Test {
+ protected:
+  std::shared_ptr<io::FakeCanNetwork> network = io::FakeCanNetwork::create();
+  std::unique_ptr<io::FakeCanBus> peer = network->attach("peer");
+  SharedState shared;
+  can::Ids ids = can::ids_for_node(3);
+  std::unique_ptr<CanTransport> transport;
+
+  void SetUp() override {
+    CanTransportConfig config;
+    config.node = 3;
+    config.telemetry_hz = 500;
+    config.heartbeat_s = 0.02;
+    transport = std::make_unique<CanTransport>(network->attach("emu"), nullptr, config, shared, AmplifierLimits{});
+    transport->start();
+  }
+  void TearDown() override { transport->stop(); }
+
+  void send_command(std::uint8_t alive, double frequency = 40000, std::uint8_t mode = 1) {
+    can::CommandFrame c;
+    c.mode = mode;
+    c.alive = alive;
+    c.frequency_hz = frequency;
+    c.amplitude_vpp = 400;
+    ASSERT_TRUE(peer->send(can::encode_command(c, ids.command)).ok());
+  }
+  Reason wait_reject(std::uint64_t before) {
+    EXPECT_TRUE(eventually([&] { return shared.rejects.count.load() > before; }));
+    return static_cast<Reason>(shared.rejects.last_reason.load());
+  }
+  bool pop(Command& c) {
+    return eventually([&] { return shared.commands.try_pop(c); }, 2000ms);
+  }
+};
+
+TEST_F(CanTransportTest, ValidCommandIsQueued) {
+  send_command(1);
+  Command c;
+  ASSERT_TRUE(pop(c));
+  EXPECT_EQ(c.source, CommandSource::can);
+  EXPECT_EQ(c.action, Action::enable);
+  EXPECT_NEAR(c.frequency_hz, 40000, 1e-9);
+  EXPECT_NEAR(c.amplitude_vpp, 400, 1e-9);
+}
+
+TEST_F(CanTransportTest, InvalidFramesAreRejectedWithTheirReasonAndNotQueued) {
+  send_command(1);
+  Command c;
+  ASSERT_TRUE(pop(c));
+  std::uint64_t n = shared.rejects.count.load();
+  send_command(1);  // repeated counter
+  EXPECT_EQ(wait_reject(n), Reason::stale_alive_counter);
+  n = shared.rejects.count.load();
+  can::CommandFrame cf;
+  cf.alive = 2;
+  io::CanFrame bad = can::encode_command(cf, ids.command);
+  bad.data[1] ^= 0xFF;
+  ASSERT_TRUE(peer->send(bad).ok());
+  EXPECT_EQ(wait_reject(n), Reason::bad_checksum);
+  n = shared.rejects.count.load();
+  bad = can::encode_command(cf, ids.command);
+  bad.dlc = 4;
+  ASSERT_TRUE(peer->send(bad).ok());
+  EXPECT_EQ(wait_reject(n), Reason::wrong_length);
+  n = shared.rejects.count.load();
+  send_command(2, 60000);
+  EXPECT_EQ(wait_reject(n), Reason::frequency_out_of_range);
+  EXPECT_FALSE(shared.commands.try_pop(c));
+  send_command(2);  // counter 2 was never accepted: still fresh
+  ASSERT_TRUE(pop(c));
+  EXPECT_EQ(transport->stats().accepted.load(), 2U);
+}
+
+TEST_F(CanTransportTest, TelemetryAndHeartbeatAreSent) {
+  Telemetry t;
+  t.state = AmpState::enabled;
+  t.speed_m_s = 0.1985;
+  shared.telemetry.store(t);
+  bool status = false, motion = false, heartbeat = false;
+  ASSERT_TRUE(eventually([&] {
+    io::CanFrame f;
+    while (peer->receive(f, 1ms).ok()) {
+      if (f.id == ids.status && can::get_bits(f, 0, 2) == 1) status = true;
+      if (f.id == ids.motion && can::get_bits(f, 0, 32) == 198500) motion = true;
+      if (f.id == ids.heartbeat && f.dlc == 1 && f.data[0] == 5) heartbeat = true;
+    }
+    return status && motion && heartbeat;
+  }));
+}
+
+TEST_F(CanTransportTest, SurvivesFullTransmitQueueAndBusOff) {
+  network->fail_next_sends(20);
+  network->inject_error_frame(0x40 /* CAN_ERR_BUSOFF */);
+  ASSERT_TRUE(eventually([&] { return transport->stats().tx_dropped.load() >= 20 && transport->stats().bus_off.load() >= 1; }));
+  send_command(5);
+  Command c;
+  ASSERT_TRUE(pop(c));
+  const auto sent = transport->stats().tx_frames.load();
+  ASSERT_TRUE(eventually([&] { return transport->stats().tx_frames.load() > sent + 10; }));
+}
+
+TEST(GpioTransport, EnableLineFaultLineAndEncoder) {
+  io::FakeGpioLines lines;
+  lines.add_chip("chip0", 8);
+  lines.drive("chip0", 0, true);
+  SharedState shared;
+  GpioConfig config;
+  ASSERT_EQ(parse_gpio_spec("chip0:enable=0,fault=1,a=2,b=3", config), "");
+  config.encoder_resolution_m = 1e-6;
+  config.max_edge_rate_hz = 20000;
+  GpioTransport gpio(lines, config, shared);
+  gpio.start();
+  EXPECT_TRUE(shared.enable_line.load());
+  lines.drive("chip0", 0, false);
+  EXPECT_TRUE(eventually([&] { return !shared.enable_line.load(); }));
+  lines.drive("chip0", 0, true);
+  EXPECT_TRUE(eventually([&] { return shared.enable_line.load(); }));
+
+  Telemetry t;
+  t.state = AmpState::fault;
+  shared.telemetry.store(t);
+  EXPECT_TRUE(eventually([&] { return lines.level("chip0", 1); }));
+  t.state = AmpState::disabled;
+  shared.telemetry.store(t);
+  EXPECT_TRUE(eventually([&] { return !lines.level("chip0", 1); }));
+
+  // Encoder: +1.5 counts -> count 1 (A high, B low: A leads in +y); -0.5 -> count -1 (A low, B high).
+  t.position_m = 1.5e-6;
+  shared.telemetry.store(t);
+  EXPECT_TRUE(eventually([&] { return gpio.stats().encoder_count.load() == 1; }));
+  EXPECT_TRUE(lines.level("chip0", 2));
+  EXPECT_FALSE(lines.level("chip0", 3));
+  t.position_m = -0.5e-6;
+  shared.telemetry.store(t);
+  EXPECT_TRUE(eventually([&] { return gpio.stats().encoder_count.load() == -1; }));
+  EXPECT_FALSE(lines.level("chip0", 2));
+  EXPECT_TRUE(lines.level("chip0", 3));
+  t.position_m = 100e-6;
+  shared.telemetry.store(t);
+  EXPECT_TRUE(eventually([&] { return gpio.stats().encoder_count.load() == 100; }));
+  EXPECT_EQ(gpio.stats().encoder_edges.load(), 1U + 2U + 101U);
+  gpio.stop();
+}
+
+TEST(GpioTransport, SpecParsing) {
+  GpioConfig c;
+  EXPECT_EQ(parse_gpio_spec("gpiochip1:enable=3,fault=4", c), "");
+  EXPECT_EQ(c.chip, "gpiochip1");
+  EXPECT_EQ(c.enable, 3);
+  EXPECT_EQ(c.fault, 4);
+  EXPECT_NE(parse_gpio_spec("gpiochip1:a=1", c), "");
+  EXPECT_NE(parse_gpio_spec("gpiochip1:bogus=1", c), "");
+  EXPECT_NE(parse_gpio_spec("nochip", c), "");
+}
+
+}  // namespace
+}  // namespace swum::emu
