@@ -11,7 +11,7 @@
 
 #include "amplitude_csv.h"
 #include "analysis/synthetic_amplitudes.h"
-#include "child_process.h"
+#include "swum_cli_runner.h"
 #include "config/parameter_file.h"
 
 namespace {
@@ -19,42 +19,15 @@ namespace {
 namespace fs = std::filesystem;
 using namespace std::chrono_literals;
 
-struct CliRun {
-  int status = -1;
-  std::string output;
-};
+using swum::test::CliRun;
 
-std::string shell_quote(const std::string& word) {
-  std::string quoted = "'";
-  for (char c : word) quoted += (c == '\'') ? std::string("'\\''") : std::string(1, c);
-  return quoted + "'";
-}
-
-CliRun swum_run(const std::vector<std::string>& args) {
-  std::string command = shell_quote(SWUM_BINARY);
-  for (const auto& a : args) command += " " + shell_quote(a);
-  command += " 2>&1";
-  swum::test::ChildProcess child({"/bin/sh", "-c", command}, true);
-  CliRun run;
-  run.output = child.read_stdout(120s);
-  run.status = child.wait(120s).value_or(-1);
-  return run;
-}
+CliRun swum_run(const std::vector<std::string>& args) { return swum::test::run_swum(args); }
 
 const std::string kLiteral = std::string(SWUM_SOURCE_DIR) + "/config/li2019_literal.toml";
 
-fs::path scratch(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() / "swum_hb_cli_test";
-  fs::create_directories(dir);
-  return dir / name;
-}
+fs::path scratch(const std::string& name) { return swum::test::scratch_path("swum_hb_cli_test", name); }
 
-std::string slurp(const fs::path& path) {
-  std::ifstream in(path);
-  std::stringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
+std::string slurp(const fs::path& path) { return swum::test::read_file(path); }
 
 void write(const fs::path& path, const std::string& text) { std::ofstream(path) << text; }
 

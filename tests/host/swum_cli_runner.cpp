@@ -1,0 +1,45 @@
+#include "swum_cli_runner.h"
+
+#include <chrono>
+#include <fstream>
+#include <sstream>
+
+#include "child_process.h"
+
+namespace swum::test {
+namespace {
+
+std::string shell_quote(const std::string& word) {
+  std::string quoted = "'";
+  for (char c : word) quoted += (c == '\'') ? std::string("'\\''") : std::string(1, c);
+  return quoted + "'";
+}
+
+}  // namespace
+
+CliRun run_swum(const std::vector<std::string>& args) {
+  using namespace std::chrono_literals;
+  std::string command = shell_quote(SWUM_BINARY);
+  for (const auto& a : args) command += " " + shell_quote(a);
+  command += " 2>&1";
+  ChildProcess child({"/bin/sh", "-c", command}, true);
+  CliRun run;
+  run.output = child.read_stdout(120s);
+  run.status = child.wait(120s).value_or(-1);
+  return run;
+}
+
+std::filesystem::path scratch_path(const std::string& suite, const std::string& name) {
+  const auto dir = std::filesystem::temp_directory_path() / suite;
+  std::filesystem::create_directories(dir);
+  return dir / name;
+}
+
+std::string read_file(const std::filesystem::path& path) {
+  std::ifstream in(path);
+  std::stringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+}  // namespace swum::test
