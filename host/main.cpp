@@ -20,6 +20,7 @@ int main(int argc, char** argv) {
   add_validate_command(app);
   add_stator_command(app);
   add_identify_command(app);
+  add_pick_command(app);
 
   try {
     app.parse(argc, argv);
