@@ -35,6 +35,12 @@ std::string allowed_text(const ParameterSpec& spec) {
 double read_value(const toml::node& node, const ParameterSpec& spec,
                   std::string_view source_name) {
   const auto& region = node.source();
+  const auto in_range = [&](double v) {
+    if (v < spec.min_value || v > spec.max_value) {
+      fail(source_name, region, spec, "value " + format_parameter_value(spec, v) + " is out of range");
+    }
+    return v;
+  };
   switch (spec.kind) {
     case ParameterKind::real: {
       double v = 0.0;
@@ -46,21 +52,12 @@ double read_value(const toml::node& node, const ParameterSpec& spec,
         fail(source_name, region, spec, "must be a number");
       }
       if (!std::isfinite(v)) fail(source_name, region, spec, "must be finite (NaN/Inf given)");
-      if (v < spec.min_value || v > spec.max_value) {
-        fail(source_name, region, spec,
-             "value " + format_parameter_value(spec, v) + " is out of range");
-      }
-      return v;
+      return in_range(v);
     }
     case ParameterKind::integer: {
       auto i = node.as_integer();
       if (!i) fail(source_name, region, spec, "must be an integer");
-      const auto v = static_cast<double>(i->get());
-      if (v < spec.min_value || v > spec.max_value) {
-        fail(source_name, region, spec,
-             "value " + format_parameter_value(spec, v) + " is out of range");
-      }
-      return v;
+      return in_range(static_cast<double>(i->get()));
     }
     case ParameterKind::boolean: {
       auto b = node.as_boolean();
