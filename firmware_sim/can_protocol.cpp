@@ -27,7 +27,7 @@ std::uint16_t us(std::uint64_t ns) { return static_cast<std::uint16_t>(std::min<
 
 Ids ids_for_node(std::uint8_t node) {
   return {0x200U + node, 0x300U + node, 0x180U + node, 0x280U + node,
-          0x380U + node, 0x480U + node, 0x500U + node, 0x700U + node};
+          0x380U + node, 0x480U + node, 0x500U + node, 0x700U + node, 0x580U + node};
 }
 
 std::uint8_t crc8(std::uint32_t id, const std::uint8_t* data, std::size_t length) {
@@ -190,6 +190,14 @@ io::CanFrame encode_output(const Telemetry& t, std::uint32_t id) {
   put_bits(f, 0, 32, raw_unsigned(t.output.frequency_hz, 0.001, 32));
   put_bits(f, 32, 16, raw_signed(t.output.load_n, 0.001, 16));
   put_bits(f, 48, 16, us(t.stats.lateness_p50_ns));
+  return f;
+}
+
+io::CanFrame encode_clock(const Telemetry& t, std::uint32_t id) {
+  io::CanFrame f = blank(id, 8);
+  const double ms = std::isfinite(t.sim_time_s) && t.sim_time_s > 0.0 ? std::floor(t.sim_time_s * 1e3) : 0.0;
+  put_bits(f, 0, 32, static_cast<std::uint64_t>(std::fmod(ms, 4294967296.0)));
+  put_bits(f, 32, 32, t.tick & 0xFFFFFFFFULL);
   return f;
 }
 

@@ -9,6 +9,7 @@
 //   0x380+N  Drive      tip amplitudes, amplitude and phase driven
 //   0x480+N  LoopStats  lateness p99 / p99.9 / max, overruns
 //   0x500+N  Output     frequency driven, load force, lateness p50
+//   0x580+N  Clock      emulated time and tick (sent before Output, which ends a telemetry set)
 //   0x700+N  Heartbeat  1 byte, 0x05 (CANopen "operational")
 //
 // CRC: CRC-8/SAE-J1850 (poly 0x1D, init 0xFF, final xor 0xFF) over the identifier as two bytes
@@ -28,7 +29,7 @@
 namespace swum::emu::can {
 
 struct Ids {
-  std::uint32_t command, aux, status, motion, drive, loop_stats, output, heartbeat;
+  std::uint32_t command, aux, status, motion, drive, loop_stats, output, heartbeat, clock;
 };
 inline constexpr std::uint8_t kMinNode = 1;
 inline constexpr std::uint8_t kMaxNode = 127;
@@ -82,6 +83,8 @@ io::CanFrame encode_motion(const Telemetry& t, std::uint32_t id);
 io::CanFrame encode_drive(const Telemetry& t, std::uint32_t id);
 io::CanFrame encode_loop_stats(const Telemetry& t, std::uint32_t id);
 io::CanFrame encode_output(const Telemetry& t, std::uint32_t id);
+// Emulated time (ms, mod 2^32) and tick (mod 2^32): the device clock a controller times against.
+io::CanFrame encode_clock(const Telemetry& t, std::uint32_t id);
 io::CanFrame encode_heartbeat(std::uint32_t id);
 
 }  // namespace swum::emu::can

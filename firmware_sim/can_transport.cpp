@@ -139,6 +139,7 @@ void CanTransport::tx_loop() {
       send(can::encode_motion(t, ids_.motion));
       send(can::encode_drive(t, ids_.drive));
       send(can::encode_loop_stats(t, ids_.loop_stats));
+      send(can::encode_clock(t, ids_.clock));
       send(can::encode_output(t, ids_.output));
     }
     const std::int64_t now = monotonic_ns();

@@ -20,6 +20,7 @@
 #include "motor_config.h"
 #include "plot.h"
 #include "text_files.h"
+#include "value_lists.h"
 
 namespace swum::host {
 namespace {
@@ -36,11 +37,7 @@ struct IdentifyOptions {
   std::uint64_t seed = IdentificationOptions{}.seed;
 };
 
-std::string number(double v, const char* format = "%.5g") {
-  char text[64];
-  std::snprintf(text, sizeof text, format, v);
-  return text;
-}
+std::string number(double v, const char* format = "%.5g") { return format_number(v, format); }
 
 nlohmann::ordered_json to_json(const IdentificationResult& r) {
   nlohmann::ordered_json j;

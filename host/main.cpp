@@ -21,6 +21,7 @@ int main(int argc, char** argv) {
   add_stator_command(app);
   add_identify_command(app);
   add_pick_command(app);
+  add_log_command(app);
 
   try {
     app.parse(argc, argv);

@@ -1,18 +1,19 @@
-// `swum sweep`: the model's steady speed over a grid of voltages, frequencies and loads,
-// on all cores.
+// `swum sweep`: steady speed over voltages x frequencies x loads, either from the model
+// (--config, all cores) or measured on a live device (--modbus / --can, docs/host.md).
 #include <algorithm>
-#include <atomic>
 #include <cstdio>
 #include <memory>
 #include <string>
-#include <thread>
 #include <vector>
 
-#include "analysis/steady_state.h"
 #include "command_error.h"
 #include "commands.h"
+#include "device_options.h"
+#include "device_sweep.h"
 #include "motor_config.h"
+#include "offline_sweep.h"
 #include "progress_bar.h"
+#include "stop_signal.h"
 #include "sweep_table.h"
 #include "text_files.h"
 #include "value_lists.h"
@@ -22,82 +23,76 @@ namespace {
 
 struct SweepOptions {
   std::string config_path;
+  DeviceOptions device;
   std::string vpp_list;
   std::string frequency_range;
   std::string load_list = "0";
+  double phase_deg = 90.0;
   int jobs = 0;
+  double settle_ms = 50.0;
+  double dwell_ms = 50.0;
+  double ramp_vpp_per_s = 2000.0;
   std::string out_path;
   std::string plot_path;
 };
 
-SweepRow run_point(const MotorModel& model, double vpp, double frequency_hz, double load_n) {
-  SweepRow row;
-  row.vpp = vpp;
-  row.frequency_hz = frequency_hz;
-  row.load_n = load_n;
-  OperatingPoint point;
-  point.vpp = vpp;
-  point.frequency_hz = frequency_hz;
-  point.load_n = load_n;
-  const SteadyStateResult r = run_to_steady_state(model, point);
-  if (r.diverged) {
-    row.ok = false;
-    row.status = "diverged";
-    return row;
-  }
-  row.ok = true;
-  row.status = r.ok ? "ok" : "unsettled";
-  row.speed_mm_s = r.speed_mm_s;
-  row.tip_normal_um = r.tip_normal_um;
-  row.tip_tangential_um = r.tip_tangential_um;
-  return row;
+void write_outputs(const SweepOptions& o, const std::vector<SweepRow>& rows) {
+  write_text_file_atomically(o.out_path, format_sweep_csv(rows));
+  if (!o.plot_path.empty() && !rows.empty()) write_sweep_plot(rows, o.plot_path);
 }
 
 void run_sweep(const SweepOptions& o) {
-  const std::vector<double> voltages = parse_number_list(o.vpp_list, "--vpp");
-  const std::vector<double> frequencies = parse_range_or_value(o.frequency_range, "--frequency");
-  const std::vector<double> loads = parse_number_list(o.load_list, "--load");
-  for (double v : voltages) {
+  OfflineGrid grid;
+  grid.voltages = parse_number_list(o.vpp_list, "--vpp");
+  grid.frequencies_hz = parse_range_or_value(o.frequency_range, "--frequency");
+  grid.loads_n = parse_number_list(o.load_list, "--load");
+  grid.phase_deg = o.phase_deg;
+  grid.jobs = o.jobs;
+  for (double v : grid.voltages) {
     if (v < 0.0) throw std::invalid_argument("--vpp: voltages must be >= 0");
   }
-  for (double f : frequencies) {
+  for (double f : grid.frequencies_hz) {
     if (f < 1000.0 || f > 200000.0) throw std::invalid_argument("--frequency: must be within 1000..200000 Hz");
   }
   if (o.jobs < 0) throw std::invalid_argument("--jobs: must be >= 1 (0 = all cores)");
-
-  const MotorModel model(load_motor_parameters(o.config_path));
-
-  std::vector<SweepRow> rows;
-  for (double v : voltages) {
-    for (double load : loads) {
-      for (double f : frequencies) rows.push_back(SweepRow{v, f, load});
-    }
+  const bool live = !o.device.address.empty();
+  if (live == !o.config_path.empty()) {
+    throw std::invalid_argument("give either --config (model) or a device (--modbus / --can)");
   }
 
-  const unsigned cores = std::max(1u, std::thread::hardware_concurrency());
-  const unsigned jobs = std::min<unsigned>(o.jobs > 0 ? static_cast<unsigned>(o.jobs) : cores,
-                                           static_cast<unsigned>(rows.size()));
-  ProgressBar progress("sweep", rows.size());
-  std::atomic<std::size_t> next{0};
-  auto worker = [&] {
-    for (std::size_t i = next++; i < rows.size(); i = next++) {
-      rows[i] = run_point(model, rows[i].vpp, rows[i].frequency_hz, rows[i].load_n);
-      progress.advance();
+  std::vector<SweepRow> rows;
+  if (!live) {
+    rows = sweep_model(MotorModel(load_motor_parameters(o.config_path)), grid);
+  } else {
+    DeviceSweepPlan plan;
+    plan.voltages = grid.voltages;
+    plan.frequencies_hz = grid.frequencies_hz;
+    plan.loads_n = grid.loads_n;
+    plan.phase_deg = o.phase_deg;
+    plan.settle_s = o.settle_ms * 1e-3;
+    plan.dwell_s = o.dwell_ms * 1e-3;
+    plan.ramp_vpp_per_s = o.ramp_vpp_per_s;
+    StopSignal stop;
+    const auto device = open_device(o.device.address, o.device.timeouts());
+    ProgressBar progress("sweep " + device->name(),
+                         plan.voltages.size() * plan.frequencies_hz.size() * plan.loads_n.size());
+    try {
+      sweep_device(*device, plan, rows, [&](const SweepRow&) { progress.advance(); });
+    } catch (...) {
+      // Ctrl-C or a device error: keep what was measured (the drive is already off).
+      write_outputs(o, rows);
+      std::fprintf(stderr, "swum: %zu points measured before the stop were written to %s\n", rows.size(),
+                   o.out_path.c_str());
+      throw;
     }
-  };
-  std::vector<std::thread> threads;
-  for (unsigned t = 1; t < jobs; ++t) threads.emplace_back(worker);
-  worker();
-  for (auto& thread : threads) thread.join();
-
-  write_text_file_atomically(o.out_path, format_sweep_csv(rows));
-  if (!o.plot_path.empty()) write_sweep_plot(rows, o.plot_path);
+  }
+  write_outputs(o, rows);
 
   const auto failed = std::count_if(rows.begin(), rows.end(), [](const SweepRow& r) { return !r.ok; });
   if (failed > 0) {
     throw CommandError(std::to_string(failed) + " of " + std::to_string(rows.size()) +
-                           " points diverged (status column of " + o.out_path + ")",
-                       kExitDiverged);
+                           " points failed (status column of " + o.out_path + ")",
+                       live ? kExitFailure : kExitDiverged);
   }
 }
 
@@ -105,12 +100,17 @@ void run_sweep(const SweepOptions& o) {
 
 void add_sweep_command(CLI::App& app) {
   auto o = std::make_shared<SweepOptions>();
-  CLI::App* sub = app.add_subcommand("sweep", "Steady speed over voltages x frequencies x loads");
-  sub->add_option("--config", o->config_path, "motor parameter file (TOML)")->required();
+  CLI::App* sub = app.add_subcommand("sweep", "Steady speed over voltages x frequencies x loads (model or live device)");
+  sub->add_option("--config", o->config_path, "motor parameter file (TOML): sweep the model offline");
+  add_device_options(*sub, o->device);
   sub->add_option("--vpp", o->vpp_list, "drive voltages, comma list (V peak-to-peak)")->required();
-  sub->add_option("--frequency", o->frequency_range, "START:STOP:STEP or one value (Hz)")->required();
+  sub->add_option("--frequency", o->frequency_range, "START:STOP:STEP or one value (Hz); swept downward on a device")->required();
   sub->add_option("--load", o->load_list, "loads, comma list (N)")->capture_default_str();
-  sub->add_option("--jobs", o->jobs, "worker threads (default: all cores)");
+  sub->add_option("--phase", o->phase_deg, "phase of B ahead of A (deg)")->capture_default_str();
+  sub->add_option("--jobs", o->jobs, "worker threads, model only (default: all cores)");
+  sub->add_option("--settle-ms", o->settle_ms, "device: wait after each frequency step (device time, ms)")->capture_default_str();
+  sub->add_option("--dwell-ms", o->dwell_ms, "device: sampling window per point (device time, ms)")->capture_default_str();
+  sub->add_option("--ramp-vpp-per-s", o->ramp_vpp_per_s, "device: amplitude slew limit for voltage ramps")->capture_default_str();
   sub->add_option("--out", o->out_path, "output CSV")->required();
   sub->add_option("--plot", o->plot_path, "output PNG plot");
   sub->callback([o] { run_sweep(*o); });

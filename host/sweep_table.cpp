@@ -3,18 +3,17 @@
 #include <cstdio>
 #include <map>
 #include <set>
+#include <sstream>
+#include <stdexcept>
 #include <utility>
 
 #include "plot.h"
+#include "value_lists.h"
 
 namespace swum::host {
 namespace {
 
-std::string number(double value) {
-  char buffer[32];
-  std::snprintf(buffer, sizeof buffer, "%.6g", value);
-  return buffer;
-}
+std::string number(double value) { return format_number(value); }
 
 std::string label_for(double vpp, double load_n, bool several_loads) {
   std::string label = number(vpp) + " Vpp";
@@ -25,7 +24,10 @@ std::string label_for(double vpp, double load_n, bool several_loads) {
 }  // namespace
 
 std::string format_sweep_csv(const std::vector<SweepRow>& rows) {
-  std::string csv = "vpp,frequency_hz,load_n,speed_mm_s,tip_normal_um,tip_tangential_um,status\n";
+  bool with_spread = false;
+  for (const SweepRow& row : rows) with_spread = with_spread || row.speed_spread_mm_s >= 0.0;
+  std::string csv = "vpp,frequency_hz,load_n,speed_mm_s,tip_normal_um,tip_tangential_um,";
+  csv += with_spread ? "speed_spread_mm_s,status\n" : "status\n";
   for (const SweepRow& row : rows) {
     csv += number(row.vpp) + "," + number(row.frequency_hz) + "," + number(row.load_n) + ",";
     if (row.ok) {
@@ -34,9 +36,69 @@ std::string format_sweep_csv(const std::vector<SweepRow>& rows) {
     } else {
       csv += ",,";
     }
+    if (with_spread) csv += "," + (row.ok && row.speed_spread_mm_s >= 0.0 ? number(row.speed_spread_mm_s) : "");
     csv += "," + row.status + "\n";
   }
   return csv;
+}
+
+namespace {
+std::vector<std::string> split_cells(const std::string& line) {
+  std::vector<std::string> cells;
+  std::stringstream in(line);
+  std::string cell;
+  while (std::getline(in, cell, ',')) cells.push_back(cell);
+  if (!line.empty() && line.back() == ',') cells.emplace_back();
+  return cells;
+}
+}  // namespace
+
+std::vector<SweepRow> parse_sweep_csv(const std::string& text, const std::string& source) {
+  std::stringstream in(text);
+  std::string line;
+  if (!std::getline(in, line)) throw std::runtime_error(source + ": empty file");
+  if (!line.empty() && line.back() == '\r') line.pop_back();
+  const auto header = split_cells(line);
+  auto column = [&](const std::string& name) {
+    for (std::size_t i = 0; i < header.size(); ++i) if (header[i] == name) return static_cast<int>(i);
+    return -1;
+  };
+  const int cv = column("vpp"), cf = column("frequency_hz"), cl = column("load_n"), cs = column("speed_mm_s"),
+            cn = column("tip_normal_um"), ct = column("tip_tangential_um"), cst = column("status"),
+            csp = column("speed_spread_mm_s");
+  if (cv < 0 || cf < 0 || cs < 0) {
+    throw std::runtime_error(source + ": not a sweep table (header needs vpp, frequency_hz, speed_mm_s)");
+  }
+  std::vector<SweepRow> rows;
+  int number = 1;
+  while (std::getline(in, line)) {
+    ++number;
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    if (line.empty()) continue;
+    const auto cells = split_cells(line);
+    if (cells.size() != header.size()) {
+      throw std::runtime_error(source + " line " + std::to_string(number) + ": " + std::to_string(cells.size()) +
+                               " cells, the header has " + std::to_string(header.size()));
+    }
+    auto cell = [&](int c) { return c >= 0 ? cells[static_cast<std::size_t>(c)] : std::string(); };
+    auto value = [&](int c) {
+      return parse_finite_number(cell(c), source + " line " + std::to_string(number) + " column " + header[c]);
+    };
+    SweepRow row;
+    row.vpp = value(cv);
+    row.frequency_hz = value(cf);
+    row.load_n = cl >= 0 ? value(cl) : 0.0;
+    row.status = cst >= 0 ? cell(cst) : "ok";
+    row.ok = row.status == "ok" && !cell(cs).empty();
+    if (row.ok) {
+      row.speed_mm_s = value(cs);
+      if (cn >= 0 && !cell(cn).empty()) row.tip_normal_um = value(cn);
+      if (ct >= 0 && !cell(ct).empty()) row.tip_tangential_um = value(ct);
+      if (csp >= 0 && !cell(csp).empty()) row.speed_spread_mm_s = value(csp);
+    }
+    rows.push_back(row);
+  }
+  return rows;
 }
 
 void write_sweep_plot(const std::vector<SweepRow>& rows, const std::filesystem::path& path) {

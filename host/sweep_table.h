@@ -1,5 +1,6 @@
-// The sweep table shared by the offline model sweep and (later) the live-device sweep:
+// The sweep table shared by the offline model sweep and the live-device sweep:
 // one row per operating point, the CSV layout, and the speed plot.
+// (The live sweep adds a per-point spread column.)
 #pragma once
 
 #include <filesystem>
@@ -17,12 +18,19 @@ struct SweepRow {
   double speed_mm_s = 0.0;
   double tip_normal_um = 0.0;
   double tip_tangential_um = 0.0;
+  // Live sweeps: standard deviation of the speed samples over the dwell (< 0: not measured).
+  double speed_spread_mm_s = -1.0;
 };
 
 /// CSV text: header `vpp,frequency_hz,load_n,speed_mm_s,tip_normal_um,tip_tangential_um,status`
-/// then one line per row; a failed row has empty numeric cells, never made-up numbers.
+/// then one line per row; a failed row has empty numeric cells, never made-up numbers. When
+/// any row has a measured spread, a `speed_spread_mm_s` column follows `tip_tangential_um`.
 std::string format_sweep_csv(const std::vector<SweepRow>& rows);
 
+/// Reads a sweep CSV (the layout above; columns found by name, `speed_spread_mm_s` and
+/// `status` optional). A row is ok when status is "ok" (or absent) and the speed is present.
+/// Throws std::runtime_error naming `source`, the line and the column of a bad cell.
+std::vector<SweepRow> parse_sweep_csv(const std::string& text, const std::string& source);
 /// Speed vs frequency, one curve per (voltage, load); or speed vs voltage when the sweep
 /// has a single frequency. Failed rows are left out of the curves.
 void write_sweep_plot(const std::vector<SweepRow>& rows, const std::filesystem::path& path);

@@ -68,6 +68,9 @@ int main() {
   print("LoopStats", can::encode_loop_stats(t, ids.loop_stats),
         {{"LatenessP99", 21}, {"LatenessP999", 70}, {"LatenessMax", 180}, {"Overruns", 3}});
   print("Output", can::encode_output(t, ids.output), {{"FrequencyOut", 40000.5}, {"LoadOut", 0.75}, {"LatenessP50", 4}});
+  t.sim_time_s = 3600.25;
+  t.tick = 36002500;
+  print("Clock", can::encode_clock(t, ids.clock), {{"SimTime", 3600.25}, {"Tick", 36002500}});
   print("Heartbeat", can::encode_heartbeat(ids.heartbeat), {{"NmtState", 5}});
   return 0;
 }

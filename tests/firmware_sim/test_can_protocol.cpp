@@ -88,7 +88,8 @@ TEST_F(CanDbc, EveryMessageOfTheDbcIsProducedByTheCode) {
   const std::map<std::string, std::uint32_t> code{{"Command", ids.command}, {"AuxCommand", ids.aux},
                                                   {"Status", ids.status},   {"Motion", ids.motion},
                                                   {"Drive", ids.drive},     {"LoopStats", ids.loop_stats},
-                                                  {"Output", ids.output},   {"Heartbeat", ids.heartbeat}};
+                                                  {"Output", ids.output},   {"Heartbeat", ids.heartbeat},
+                                                  {"Clock", ids.clock}};
   EXPECT_EQ(dbc.size(), code.size());
   for (const auto& [name, id] : code) {
     ASSERT_TRUE(dbc.contains(name)) << name;
@@ -173,6 +174,9 @@ TEST_F(CanDbc, TelemetryEncodingAgrees) {
                {{"LatenessP99", 12}, {"LatenessP999", 45}, {"LatenessMax", 90}, {"Overruns", 7}});
   expect_frame("Output", encode_output(t, ids.output), {{"FrequencyOut", 40123.456}, {"LoadOut", -0.5}, {"LatenessP50", 3}},
                1e-6);
+  t.sim_time_s = 1234.5678;
+  t.tick = 12345678;
+  expect_frame("Clock", encode_clock(t, ids.clock), {{"SimTime", 1234.567}, {"Tick", 12345678}}, 1e-6);
   expect_frame("Heartbeat", encode_heartbeat(ids.heartbeat), {{"NmtState", 5}});
 }
 

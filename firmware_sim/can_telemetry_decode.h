@@ -1,0 +1,58 @@
+// Controller-side decoding of the emulator's CAN telemetry frames (the inverse of the
+// encode_* functions of can_protocol.h, same bit layout as config/swum.dbc). Pure; used by the
+// host tool's CAN adapter and kept honest by an encode -> decode round-trip test.
+#pragma once
+
+#include <cstdint>
+
+#include "can_bus.h"
+
+namespace swum::emu::can {
+
+struct StatusFields {
+  std::uint8_t state = 0;  // AmpState
+  bool enable_line = false;
+  bool drive_on = false;
+  bool at_setpoint = false;
+  std::uint8_t fault = 0;           // FaultCode
+  std::uint8_t last_reject = 0;     // Reason
+  std::uint8_t reject_count = 0;    // mod 256
+  std::uint8_t applied_count = 0;   // mod 256
+  std::uint8_t status_counter = 0;  // mod 256, +1 per telemetry set
+};
+struct MotionFields {
+  double speed_mm_s = 0.0;
+  double position_mm = 0.0;
+};
+struct DriveFields {
+  double tip_normal_um = 0.0;
+  double tip_tangential_um = 0.0;
+  double vpp = 0.0;
+  double phase_deg = 0.0;
+};
+struct LoopStatsFields {
+  double lateness_p99_us = 0.0;
+  double lateness_p999_us = 0.0;
+  double lateness_max_us = 0.0;
+  std::uint32_t overruns = 0;  // saturates at 65535
+};
+struct OutputFields {
+  double frequency_hz = 0.0;
+  double load_n = 0.0;
+  double lateness_p50_us = 0.0;
+};
+
+struct ClockFields {
+  double sim_time_s = 0.0;  // ms resolution, wraps after 2^32 ms
+  std::uint32_t tick = 0;
+};
+
+// false when the length is wrong (8 bytes expected).
+bool decode_status(const io::CanFrame& frame, StatusFields& out);
+bool decode_motion(const io::CanFrame& frame, MotionFields& out);
+bool decode_drive(const io::CanFrame& frame, DriveFields& out);
+bool decode_loop_stats(const io::CanFrame& frame, LoopStatsFields& out);
+bool decode_output(const io::CanFrame& frame, OutputFields& out);
+bool decode_clock(const io::CanFrame& frame, ClockFields& out);
+
+}  // namespace swum::emu::can

@@ -1,0 +1,92 @@
+// A live amplifier as the host tool sees it: a narrow command / telemetry interface with one
+// adapter per protocol (Modbus: modbus_device.cpp, CAN: can_device.cpp). The sweep and log
+// code only talks to this interface, so tests can drive it with a fake and a real board that
+// speaks docs/protocols.md drops in for swum-emu.
+#pragma once
+
+#include <chrono>
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <stdexcept>
+#include <string>
+
+namespace swum::host {
+
+// Anything that went wrong talking to the device: the message names the device, what was
+// attempted and why (errno text, exception code, timeout, rejection reason).
+class DeviceError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+struct DriveSetpoint {
+  double frequency_hz = 40400.0;
+  double vpp = 0.0;
+  double phase_deg = 90.0;  // B ahead of A; the sign selects the direction
+  double load_n = 0.0;      // emulated load force (an emulator input; a real board ignores it)
+};
+
+enum class DeviceAction { keep_alive, enable, disable, reset_fault };
+
+// One telemetry sample, in physical units.
+struct DeviceTelemetry {
+  // Device clock (the emulator's emulated time) when the protocol carries one; the host
+  // times settle/dwell on it so a sped-up emulator and a real board behave the same.
+  std::optional<double> device_time_s;
+  std::chrono::steady_clock::time_point received;  // host clock at reception
+  // Running sample counter of the device's telemetry (CAN status counter, mod 256), for gap
+  // counting; absent when the protocol is polled (Modbus: every read is a fresh snapshot).
+  std::optional<std::uint32_t> sample_counter;
+  std::uint32_t sample_counter_modulus = 0;
+  int state = 0;  // 0 disabled, 1 enabled, 2 fault
+  int fault_code = 0;
+  bool drive_on = false;
+  bool enable_line = true;
+  int last_reject = 0;
+  std::uint32_t reject_count = 0;  // modulo the protocol's counter width
+  std::uint32_t reject_count_modulus = 0;
+  double speed_mm_s = 0.0;
+  double position_mm = 0.0;
+  double tip_normal_um = 0.0;
+  double tip_tangential_um = 0.0;
+  double frequency_hz = 0.0;  // driven (after slew)
+  double vpp = 0.0;           // driven (0 when off)
+  double phase_deg = 0.0;
+  double load_n = 0.0;
+  double lateness_p99_us = 0.0;
+  double lateness_max_us = 0.0;
+  std::uint32_t overruns = 0;
+};
+
+class Device {
+ public:
+  virtual ~Device() = default;
+  // "modbus tcp://127.0.0.1:1502", "can vcan0 node 1".
+  virtual std::string name() const = 0;
+  virtual void set_drive(const DriveSetpoint& setpoint) = 0;
+  virtual void set_slew(double frequency_hz_per_s, double vpp_per_s) = 0;
+  virtual void command(DeviceAction action) = 0;
+  // The next telemetry sample (Modbus: a fresh read; CAN: the next complete set of frames).
+  virtual DeviceTelemetry read() = 0;
+};
+
+struct DeviceTimeouts {
+  std::chrono::milliseconds connect{1000};
+  std::chrono::milliseconds response{500};
+};
+
+// Where the device is: exactly one of the two forms of the command line.
+struct DeviceAddress {
+  std::string modbus;  // tcp://HOST:PORT or rtu:DEVICE:BAUD
+  std::string can;     // IFACE[:NODE]
+  bool empty() const { return modbus.empty() && can.empty(); }
+};
+
+// Opens and checks the connection (the device must answer within the timeouts).
+std::unique_ptr<Device> open_device(const DeviceAddress& address, const DeviceTimeouts& timeouts);
+
+// The name of a reject reason code (docs/protocols.md), "reason N" when unknown.
+std::string reject_reason_name(int code);
+
+}  // namespace swum::host

@@ -1,0 +1,62 @@
+#include "offline_sweep.h"
+
+#include <algorithm>
+#include <atomic>
+#include <thread>
+
+#include "analysis/steady_state.h"
+#include "progress_bar.h"
+
+namespace swum::host {
+namespace {
+
+SweepRow run_point(const MotorModel& model, const SweepRow& at, double phase_deg) {
+  SweepRow row = at;
+  OperatingPoint point;
+  point.vpp = at.vpp;
+  point.frequency_hz = at.frequency_hz;
+  point.load_n = at.load_n;
+  point.phase_deg = phase_deg;
+  const SteadyStateResult r = run_to_steady_state(model, point);
+  if (r.diverged) {
+    row.ok = false;
+    row.status = "diverged";
+    return row;
+  }
+  row.ok = true;
+  row.status = r.ok ? "ok" : "unsettled";
+  row.speed_mm_s = r.speed_mm_s;
+  row.tip_normal_um = r.tip_normal_um;
+  row.tip_tangential_um = r.tip_tangential_um;
+  return row;
+}
+
+}  // namespace
+
+std::vector<SweepRow> sweep_model(const MotorModel& model, const OfflineGrid& grid) {
+  std::vector<SweepRow> rows;
+  for (double v : grid.voltages) {
+    for (double load : grid.loads_n) {
+      for (double f : grid.frequencies_hz) rows.push_back(SweepRow{v, f, load});
+    }
+  }
+  if (rows.empty()) return rows;
+  const unsigned cores = std::max(1u, std::thread::hardware_concurrency());
+  const unsigned jobs = std::min<unsigned>(grid.jobs > 0 ? static_cast<unsigned>(grid.jobs) : cores,
+                                           static_cast<unsigned>(rows.size()));
+  ProgressBar progress("sweep", rows.size());
+  std::atomic<std::size_t> next{0};
+  auto worker = [&] {
+    for (std::size_t i = next++; i < rows.size(); i = next++) {
+      rows[i] = run_point(model, rows[i], grid.phase_deg);
+      progress.advance();
+    }
+  };
+  std::vector<std::thread> threads;
+  for (unsigned t = 1; t < jobs; ++t) threads.emplace_back(worker);
+  worker();
+  for (auto& thread : threads) thread.join();
+  return rows;
+}
+
+}  // namespace swum::host

@@ -1,0 +1,23 @@
+// The offline counterpart of the live sweep: the model's steady speed at every
+// (voltage, load, frequency) point, each from rest (run_to_steady_state), on all cores.
+#pragma once
+
+#include <vector>
+
+#include "model/motor_model.h"
+#include "sweep_table.h"
+
+namespace swum::host {
+
+struct OfflineGrid {
+  std::vector<double> voltages;
+  std::vector<double> frequencies_hz;
+  std::vector<double> loads_n{0.0};
+  double phase_deg = 90.0;
+  int jobs = 0;  // 0 = all cores
+};
+
+// Rows in (voltage, load, frequency) order; failed points have ok = false and a status.
+std::vector<SweepRow> sweep_model(const MotorModel& model, const OfflineGrid& grid);
+
+}  // namespace swum::host

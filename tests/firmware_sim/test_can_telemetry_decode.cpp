@@ -1,0 +1,93 @@
+// The controller-side decoders invert the emulator's encoders (same DBC layout), so the host
+// tool reads exactly what swum-emu sends.
+#include "can_telemetry_decode.h"
+
+#include <gtest/gtest.h>
+
+#include "can_protocol.h"
+
+namespace swum::emu::can {
+namespace {
+
+Telemetry sample_telemetry() {
+  Telemetry t;
+  t.state = AmpState::enabled;
+  t.fault = FaultCode::none;
+  t.enable_line = true;
+  t.at_setpoint = false;
+  t.output.vpp = 312.5;
+  t.output.frequency_hz = 39876.543;
+  t.output.phase_deg = -90.25;
+  t.output.load_n = -1.234;
+  t.speed_m_s = -0.456789;
+  t.position_m = 1.234567;
+  t.tip_normal_um = 2.345;
+  t.tip_tangential_um = 3.456;
+  t.applied_commands = 300;  // 44 mod 256
+  t.stats.lateness_p50_ns = 4'000;
+  t.stats.lateness_p99_ns = 14'000;
+  t.stats.lateness_p999_ns = 40'000;
+  t.stats.lateness_max_ns = 1'300'000;
+  t.stats.overruns = 70'000;  // saturates at 65535 on CAN
+  return t;
+}
+
+TEST(CanTelemetryDecode, InvertsEveryEncoder) {
+  const Ids ids = ids_for_node(3);
+  const Telemetry t = sample_telemetry();
+  StatusFields s;
+  ASSERT_TRUE(decode_status(encode_status(t, {Reason::phase_out_of_range, 513}, 77, ids.status), s));
+  EXPECT_EQ(s.state, 1);
+  EXPECT_TRUE(s.enable_line);
+  EXPECT_TRUE(s.drive_on);
+  EXPECT_FALSE(s.at_setpoint);
+  EXPECT_EQ(s.last_reject, static_cast<int>(Reason::phase_out_of_range));
+  EXPECT_EQ(s.reject_count, 513 % 256);
+  EXPECT_EQ(s.applied_count, 300 % 256);
+  EXPECT_EQ(s.status_counter, 77);
+
+  MotionFields m;
+  ASSERT_TRUE(decode_motion(encode_motion(t, ids.motion), m));
+  EXPECT_NEAR(m.speed_mm_s, -456.789, 1e-3);
+  EXPECT_NEAR(m.position_mm, 1234.567, 1e-3);
+
+  DriveFields d;
+  ASSERT_TRUE(decode_drive(encode_drive(t, ids.drive), d));
+  EXPECT_NEAR(d.tip_normal_um, 2.345, 1e-3);
+  EXPECT_NEAR(d.tip_tangential_um, 3.456, 1e-3);
+  EXPECT_NEAR(d.vpp, 312.5, 0.05);
+  EXPECT_NEAR(d.phase_deg, -90.25, 0.005);
+
+  LoopStatsFields l;
+  ASSERT_TRUE(decode_loop_stats(encode_loop_stats(t, ids.loop_stats), l));
+  EXPECT_EQ(l.lateness_p99_us, 14.0);
+  EXPECT_EQ(l.lateness_max_us, 1300.0);
+  EXPECT_EQ(l.overruns, 65535u);
+
+  OutputFields o;
+  ASSERT_TRUE(decode_output(encode_output(t, ids.output), o));
+  EXPECT_NEAR(o.frequency_hz, 39876.543, 1e-3);
+  EXPECT_NEAR(o.load_n, -1.234, 1e-3);
+  EXPECT_EQ(o.lateness_p50_us, 4.0);
+
+  Telemetry timed = t;
+  timed.sim_time_s = 98.7654;
+  timed.tick = 987654;
+  ClockFields c;
+  ASSERT_TRUE(decode_clock(encode_clock(timed, ids.clock), c));
+  EXPECT_NEAR(c.sim_time_s, 98.765, 1e-9);
+  EXPECT_EQ(c.tick, 987654u);
+}
+
+TEST(CanTelemetryDecode, RefusesShortFrames) {
+  io::CanFrame f = encode_motion(sample_telemetry(), 0x281);
+  f.dlc = 4;
+  MotionFields m;
+  EXPECT_FALSE(decode_motion(f, m));
+  f.dlc = 8;
+  f.extended = true;
+  EXPECT_FALSE(decode_motion(f, m));
+}
+
+}  // namespace
+}  // namespace swum::emu::can

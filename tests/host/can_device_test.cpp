@@ -1,0 +1,162 @@
+// The host's CAN adapter against a node on the in-process fake bus that speaks the emulator's
+// frames (encoders and command decoder of firmware_sim/can_protocol.h): telemetry sets with the
+// device clock, valid command frames (CRC, alive counter), absent node, bus-off.
+#include "can_device.h"
+
+#include <gtest/gtest.h>
+#include <linux/can/error.h>
+
+#include <atomic>
+#include <mutex>
+#include <thread>
+
+#include "can_protocol.h"
+#include "fake_can_bus.h"
+
+namespace swum::host {
+namespace {
+
+namespace can = emu::can;
+
+class FakeNode {
+ public:
+  FakeNode(std::shared_ptr<io::FakeCanNetwork> network, std::uint8_t node)
+      : bus_(network->attach("node")), ids_(can::ids_for_node(node)) {
+    telemetry_.state = emu::AmpState::enabled;
+    telemetry_.output.vpp = 250.0;
+    telemetry_.output.frequency_hz = 40123.0;
+    telemetry_.speed_m_s = 0.321;
+    telemetry_.sim_time_s = 12.5;
+    thread_ = std::thread([this] { run(); });
+  }
+  ~FakeNode() {
+    stop_ = true;
+    thread_.join();
+  }
+  struct Received {
+    emu::Reason reason;
+    can::CommandFrame frame;
+  };
+  std::vector<Received> commands() {
+    std::lock_guard lock(mutex_);
+    return commands_;
+  }
+
+ private:
+  void run() {
+    std::uint8_t counter = 0;
+    can::AliveCounter alive;
+    auto next = std::chrono::steady_clock::now();
+    while (!stop_) {
+      io::CanFrame f;
+      if (bus_->receive(f, std::chrono::milliseconds(1)).ok() && f.id == ids_.command) {
+        Received r{};
+        r.reason = can::decode_command(f, r.frame);
+        if (r.reason == emu::Reason::none) r.reason = alive.check(r.frame.alive);
+        if (r.reason == emu::Reason::none) alive.accept(r.frame.alive);
+        std::lock_guard lock(mutex_);
+        commands_.push_back(r);
+      }
+      if (std::chrono::steady_clock::now() >= next) {
+        next += std::chrono::milliseconds(2);
+        telemetry_.sim_time_s += 0.002;
+        (void)bus_->send(can::encode_status(telemetry_, {}, counter++, ids_.status));
+        (void)bus_->send(can::encode_motion(telemetry_, ids_.motion));
+        (void)bus_->send(can::encode_drive(telemetry_, ids_.drive));
+        (void)bus_->send(can::encode_loop_stats(telemetry_, ids_.loop_stats));
+        (void)bus_->send(can::encode_clock(telemetry_, ids_.clock));
+        (void)bus_->send(can::encode_output(telemetry_, ids_.output));
+      }
+    }
+  }
+  std::unique_ptr<io::FakeCanBus> bus_;
+  can::Ids ids_;
+  emu::Telemetry telemetry_;
+  std::atomic<bool> stop_{false};
+  std::mutex mutex_;
+  std::vector<Received> commands_;
+  std::thread thread_;
+};
+
+const DeviceTimeouts kTimeouts{std::chrono::milliseconds(500), std::chrono::milliseconds(200)};
+
+TEST(CanDevice, ReadsCompleteTelemetrySetsWithTheDeviceClock) {
+  auto network = io::FakeCanNetwork::create();
+  FakeNode node(network, 7);
+  CanDevice device(network->attach("host"), 7, kTimeouts);
+  const DeviceTelemetry a = device.read();
+  const DeviceTelemetry b = device.read();
+  EXPECT_EQ(a.state, 1);
+  EXPECT_NEAR(a.speed_mm_s, 321.0, 1e-3);
+  EXPECT_NEAR(a.vpp, 250.0, 0.05);
+  EXPECT_NEAR(a.frequency_hz, 40123.0, 1e-3);
+  ASSERT_TRUE(a.device_time_s && b.device_time_s);
+  EXPECT_GT(*b.device_time_s, *a.device_time_s);
+  ASSERT_TRUE(a.sample_counter && b.sample_counter);
+  EXPECT_EQ(a.sample_counter_modulus, 256u);
+  EXPECT_EQ(device.name(), "can host node 7");
+}
+
+TEST(CanDevice, SendsValidCommandFramesWithAdvancingAliveCounters) {
+  auto network = io::FakeCanNetwork::create();
+  FakeNode node(network, 7);
+  {
+    CanDevice device(network->attach("host"), 7, kTimeouts);
+    device.set_drive({39876.5, 321.25, -90.0, 0.0});
+    device.command(DeviceAction::enable);
+    for (int i = 0; i < 40; ++i) device.command(DeviceAction::keep_alive);  // wraps the 4-bit counter
+    device.command(DeviceAction::disable);
+    device.command(DeviceAction::reset_fault);
+    (void)device.read();  // the node has seen our frames by the time its next set arrives
+    (void)device.read();
+  }
+  const auto commands = node.commands();
+  ASSERT_EQ(commands.size(), 44u);
+  for (const auto& c : commands) EXPECT_EQ(c.reason, emu::Reason::none) << emu::to_string(c.reason);
+  EXPECT_EQ(commands[0].frame.mode, 0);  // setpoint while disabled
+  EXPECT_NEAR(commands[0].frame.frequency_hz, 39876.5, 0.05);
+  EXPECT_NEAR(commands[0].frame.amplitude_vpp, 321.25, 0.125);
+  EXPECT_NEAR(commands[0].frame.phase_deg, -90.0, 0.05);
+  EXPECT_EQ(commands[1].frame.mode, 1);   // enable
+  EXPECT_EQ(commands[20].frame.mode, 1);  // keep-alives repeat the mode
+  EXPECT_EQ(commands[42].frame.mode, 0);  // disable
+  EXPECT_EQ(commands[43].frame.mode, 2);  // reset fault
+}
+
+TEST(CanDevice, AnAbsentNodeIsNamedInTheError) {
+  auto network = io::FakeCanNetwork::create();
+  FakeNode node(network, 7);
+  try {
+    CanDevice device(network->attach("host"), 4, kTimeouts);
+    FAIL() << "no error";
+  } catch (const DeviceError& e) {
+    EXPECT_NE(std::string(e.what()).find("no answer from node 4"), std::string::npos) << e.what();
+  }
+}
+
+TEST(CanDevice, BusOffIsAnError) {
+  auto network = io::FakeCanNetwork::create();
+  FakeNode node(network, 7);
+  CanDevice device(network->attach("host"), 7, kTimeouts);
+  network->inject_error_frame(CAN_ERR_BUSOFF);
+  bool threw = false;
+  for (int i = 0; i < 5 && !threw; ++i) {
+    try {
+      (void)device.read();
+    } catch (const DeviceError& e) {
+      threw = true;
+      EXPECT_NE(std::string(e.what()).find("bus-off"), std::string::npos) << e.what();
+    }
+  }
+  EXPECT_TRUE(threw);
+}
+
+TEST(CanDevice, MalformedAddressesAreUsageErrors) {
+  EXPECT_THROW(CanDevice(":3", kTimeouts), std::invalid_argument);
+  EXPECT_THROW(CanDevice("vcan0:0", kTimeouts), std::invalid_argument);
+  EXPECT_THROW(CanDevice("vcan0:128", kTimeouts), std::invalid_argument);
+  EXPECT_THROW(CanDevice("vcan0:x", kTimeouts), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace swum::host

@@ -1,0 +1,153 @@
+// The live sweep procedure (host/device_sweep.cpp) on a fake device with the emulator's
+// contract: downward sweeps from zero amplitude, a fed watchdog, measured speeds, recovery from
+// a fault, rejected commands and Ctrl-C never leave the drive on.
+#include "device_sweep.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <csignal>
+
+#include "command_error.h"
+#include "fake_device.h"
+#include "stop_signal.h"
+
+namespace swum::host {
+namespace {
+
+using test::FakeDevice;
+
+DeviceSweepPlan plan_for(std::vector<double> voltages, std::vector<double> frequencies) {
+  DeviceSweepPlan p;
+  p.voltages = std::move(voltages);
+  p.frequencies_hz = std::move(frequencies);
+  p.settle_s = 0.04;
+  p.dwell_s = 0.02;
+  p.ramp_vpp_per_s = 4000.0;
+  p.poll_interval_s = 0.0;  // the fake answers instantly; its clock advances per read
+  return p;
+}
+
+TEST(DeviceSweep, SweepsEachVoltageDownwardAndMeasuresTheSteadySpeed) {
+  FakeDevice device;
+  std::vector<SweepRow> rows;
+  sweep_device(device, plan_for({100, 300}, {40000, 40600, 40200, 40400}), rows);
+  ASSERT_EQ(rows.size(), 8u);
+  for (std::size_t v = 0; v < 2; ++v) {
+    for (std::size_t i = 1; i < 4; ++i) EXPECT_LT(rows[4 * v + i].frequency_hz, rows[4 * v + i - 1].frequency_hz);
+  }
+  for (const SweepRow& r : rows) {
+    ASSERT_TRUE(r.ok) << r.status;
+    // Settled for 40 ms = 8 time constants: within 0.1 % of the steady value.
+    EXPECT_NEAR(r.speed_mm_s, FakeDevice::steady_speed_mm_s(r.frequency_hz, r.vpp),
+                1e-3 * FakeDevice::steady_speed_mm_s(r.frequency_hz, r.vpp));
+    EXPECT_GE(r.speed_spread_mm_s, 0.0);
+  }
+  EXPECT_EQ(device.state, 0) << "drive must be off at the end";
+  EXPECT_EQ(device.actions.back(), DeviceAction::disable);
+  EXPECT_EQ(device.slew_vpp_per_s, 4000.0);
+  EXPECT_EQ(device.faults_tripped, 0);
+}
+
+TEST(DeviceSweep, EachVoltageStartsAtZeroAmplitudeAboveResonance) {
+  FakeDevice device;
+  std::vector<SweepRow> rows;
+  sweep_device(device, plan_for({100, 300}, {40000, 40500}), rows);
+  // The enable of each voltage comes with amplitude 0 at the highest frequency.
+  EXPECT_EQ(std::count(device.actions.begin(), device.actions.end(), DeviceAction::enable), 2);
+  bool saw_zero_at_top = false;
+  for (const DriveSetpoint& s : device.setpoints) {
+    if (s.vpp == 0.0 && s.frequency_hz == 40500.0) saw_zero_at_top = true;
+    if (s.vpp > 0.0) {
+      EXPECT_TRUE(saw_zero_at_top) << "voltage applied before a zero-amplitude start";
+    }
+  }
+}
+
+TEST(DeviceSweep, KeepsTheWatchdogFedDuringLongSettles) {
+  FakeDevice device;
+  device.watchdog_s = 0.1;
+  DeviceSweepPlan p = plan_for({200}, {40300, 40200});
+  p.settle_s = 0.5;  // 5 watchdog periods with nothing but reads
+  std::vector<SweepRow> rows;
+  sweep_device(device, p, rows);
+  EXPECT_EQ(device.faults_tripped, 0);
+  EXPECT_LE(device.longest_command_gap_s, p.keep_alive_s + 2 * device.read_step_s);
+  for (const SweepRow& r : rows) EXPECT_TRUE(r.ok) << r.status;
+}
+
+TEST(DeviceSweep, AFaultMarksThePointAndTheSweepRecovers) {
+  FakeDevice device;
+  device.fault_at_frequency_hz = 40200.0;
+  std::vector<SweepRow> rows;
+  sweep_device(device, plan_for({200}, {40400, 40300, 40200, 40100}), rows);
+  ASSERT_EQ(rows.size(), 4u);
+  EXPECT_TRUE(rows[1].ok);
+  EXPECT_FALSE(rows[2].ok);
+  EXPECT_EQ(rows[2].status, "fault_numerical");
+  EXPECT_TRUE(rows[3].ok) << rows[3].status;
+  EXPECT_NEAR(rows[3].speed_mm_s, FakeDevice::steady_speed_mm_s(40100, 200), 0.5);
+  EXPECT_NE(std::find(device.actions.begin(), device.actions.end(), DeviceAction::reset_fault), device.actions.end());
+  EXPECT_EQ(device.state, 0);
+}
+
+TEST(DeviceSweep, ARejectedSetpointIsAnErrorNamingTheReasonAndTheDriveGoesOff) {
+  FakeDevice device;
+  device.max_frequency_hz = 40500.0;
+  std::vector<SweepRow> rows;
+  try {
+    sweep_device(device, plan_for({200}, {40600, 40400}), rows);
+    FAIL() << "no error";
+  } catch (const DeviceError& e) {
+    EXPECT_NE(std::string(e.what()).find("frequency out of range"), std::string::npos) << e.what();
+  }
+  EXPECT_EQ(device.state, 0);
+  EXPECT_EQ(device.actions.back(), DeviceAction::disable);
+}
+
+TEST(DeviceSweep, ALostLinkPropagatesWithWhatWasMeasured) {
+  FakeDevice device;
+  std::vector<SweepRow> rows;
+  DeviceSweepPlan p = plan_for({200}, {40400, 40300, 40200, 40100, 40000});
+  device.fail_after_reads = 100;
+  EXPECT_THROW(sweep_device(device, p, rows), DeviceError);
+  EXPECT_GE(rows.size(), 1u);
+  EXPECT_LT(rows.size(), 5u);
+}
+
+TEST(DeviceSweep, CtrlCStopsWithTheDriveOffAndKeepsTheRows) {
+  StopSignal stop;
+  StopSignal::reset_for_tests();
+  FakeDevice device;
+  device.on_read = [](int reads) {
+    if (reads == 150) std::raise(SIGINT);
+  };
+  std::vector<SweepRow> rows;
+  try {
+    sweep_device(device, plan_for({200}, {40400, 40300, 40200, 40100, 40000}), rows);
+    FAIL() << "no interruption";
+  } catch (const CommandError& e) {
+    EXPECT_EQ(e.exit_code(), kExitInterrupted);
+  }
+  StopSignal::reset_for_tests();
+  EXPECT_EQ(device.state, 0);
+  EXPECT_EQ(device.actions.back(), DeviceAction::disable);
+  EXPECT_GE(rows.size(), 1u);
+  EXPECT_LT(rows.size(), 5u);
+}
+
+TEST(DeviceSweep, RefusesAnEmptyOrSillyPlan) {
+  FakeDevice device;
+  std::vector<SweepRow> rows;
+  EXPECT_THROW(sweep_device(device, plan_for({}, {40000}), rows), std::invalid_argument);
+  DeviceSweepPlan p = plan_for({100}, {40000});
+  p.dwell_s = 0.0;
+  EXPECT_THROW(sweep_device(device, p, rows), std::invalid_argument);
+  p = plan_for({100}, {40000});
+  p.keep_alive_s = 0.2;  // longer than the 50 ms the protocol allows
+  EXPECT_THROW(sweep_device(device, p, rows), std::invalid_argument);
+  EXPECT_TRUE(device.actions.empty()) << "a bad plan must not touch the device";
+}
+
+}  // namespace
+}  // namespace swum::host

@@ -1,0 +1,126 @@
+// A device for tests that obeys the contract of host/device.h like swum-emu does: a device
+// clock that advances per read, enable/disable/fault states, a command watchdog on the device
+// clock, an amplitude slew limit, first-order speed response to a resonance curve whose peak
+// drifts down with voltage, and silent rejection (counted, reason readable) like CAN.
+// Fault injection: numerical fault at a frequency, rejections, a broken link after N reads.
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <functional>
+#include <optional>
+#include <vector>
+
+#include "device.h"
+
+namespace swum::host::test {
+
+class FakeDevice : public Device {
+ public:
+  double read_step_s = 0.002;      // device time per read
+  double watchdog_s = 0.1;         // 0 = off
+  double speed_time_constant_s = 0.005;
+  double max_frequency_hz = 50000.0;  // setpoints above are rejected (reason 1)
+  std::optional<double> fault_at_frequency_hz;  // numerical fault when driven there (once)
+  std::optional<int> fail_after_reads;          // the link breaks (DeviceError) after N reads
+  std::function<void(int reads)> on_read;       // e.g. raise(SIGINT)
+
+  // Resonance drift: peak at 40.4 kHz at 100 Vpp, 1 Hz lower per Vpp above.
+  static double peak_hz(double vpp) { return 40400.0 - (vpp - 100.0); }
+  static double steady_speed_mm_s(double frequency_hz, double vpp) {
+    const double detune = (frequency_hz - peak_hz(vpp)) / 300.0;
+    return 2.0 * vpp / (1.0 + detune * detune);
+  }
+
+  std::string name() const override { return "fake"; }
+  void set_drive(const DriveSetpoint& s) override {
+    if (s.frequency_hz > max_frequency_hz) return reject(1);
+    setpoint_ = s;
+    setpoints.push_back(s);
+    commanded();
+  }
+  void set_slew(double, double vpp_per_s) override {
+    slew_vpp_per_s = vpp_per_s;
+    commanded();
+  }
+  void command(DeviceAction a) override {
+    actions.push_back(a);
+    commanded();
+    switch (a) {
+      case DeviceAction::keep_alive: break;
+      case DeviceAction::enable:
+        if (state == 2) return reject(12);
+        state = 1;
+        break;
+      case DeviceAction::disable:
+        if (state == 1) state = 0;
+        break;
+      case DeviceAction::reset_fault:
+        if (state == 2) state = 0, fault = 0;
+        break;
+    }
+  }
+  DeviceTelemetry read() override {
+    ++reads;
+    if (fail_after_reads && reads > *fail_after_reads) throw DeviceError("fake: link down");
+    if (on_read) on_read(reads);
+    time_s += read_step_s;
+    if (state == 1 && watchdog_s > 0.0 && time_s - last_command_s_ > watchdog_s) trip(1);
+    if (state == 1 && fault_at_frequency_hz && std::abs(setpoint_.frequency_hz - *fault_at_frequency_hz) < 0.1) {
+      fault_at_frequency_hz.reset();
+      trip(2);
+    }
+    const double target_vpp = state == 1 ? setpoint_.vpp : 0.0;
+    const double max_step = slew_vpp_per_s > 0.0 ? slew_vpp_per_s * read_step_s : 1e9;
+    vpp_out += std::clamp(target_vpp - vpp_out, -max_step, max_step);
+    const double target_speed = state == 1 ? steady_speed_mm_s(setpoint_.frequency_hz, vpp_out) : 0.0;
+    speed += (target_speed - speed) * (1.0 - std::exp(-read_step_s / speed_time_constant_s));
+    max_vpp_seen = std::max(max_vpp_seen, vpp_out);
+    DeviceTelemetry t;
+    t.device_time_s = time_s;
+    t.received = std::chrono::steady_clock::now();
+    t.state = state;
+    t.fault_code = fault;
+    t.drive_on = state == 1 && vpp_out > 0.0;
+    t.last_reject = last_reject;
+    t.reject_count = reject_count;
+    t.speed_mm_s = speed;
+    t.frequency_hz = setpoint_.frequency_hz;
+    t.vpp = vpp_out;
+    t.load_n = setpoint_.load_n;
+    longest_command_gap_s = std::max(longest_command_gap_s, state == 1 ? time_s - last_command_s_ : 0.0);
+    return t;
+  }
+
+  int state = 0;
+  int fault = 0;
+  int reads = 0;
+  int last_reject = 0;
+  std::uint32_t reject_count = 0;
+  int faults_tripped = 0;
+  double time_s = 0.0;
+  double vpp_out = 0.0;
+  double speed = 0.0;
+  double slew_vpp_per_s = 0.0;
+  double max_vpp_seen = 0.0;
+  double longest_command_gap_s = 0.0;
+  std::vector<DriveSetpoint> setpoints;
+  std::vector<DeviceAction> actions;
+
+ private:
+  void commanded() { last_command_s_ = time_s; }
+  void reject(int reason) {
+    last_reject = reason;
+    ++reject_count;
+  }
+  void trip(int code) {
+    state = 2;
+    fault = code;
+    vpp_out = 0.0;
+    ++faults_tripped;
+  }
+  DriveSetpoint setpoint_;
+  double last_command_s_ = 0.0;
+};
+
+}  // namespace swum::host::test
