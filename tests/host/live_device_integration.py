@@ -2,7 +2,7 @@
 """`swum sweep / pick / log` against a running swum-emu (the real binaries, independent
 processes): Modbus TCP on 127.0.0.1 always, CAN on vcan0 in the guest tier.
 
-  live_device_integration.py pick_modbus | sweep_log_modbus | interrupt_modbus | errors | pick_can
+  live_device_integration.py pick_modbus | sweep_log_modbus | interrupt_modbus | errors | rtu_modbus | pick_can
 
 The picked frequencies must match the model's own offline optimum (the same `swum pick` rule on
 an offline sweep of the same grid) within one sweep step plus the larger reported margin, fall
@@ -209,6 +209,50 @@ def errors():
     print(f"ok: silent device -> {status}: {err.strip()}")
 
 
+def rtu_modbus():
+    """Modbus RTU: swum-emu on one pseudo-terminal, swum on another, this script relaying the
+    bytes between their masters like a null-modem cable."""
+    import select
+    import threading
+    import tty
+    emu_master, emu_slave = os.openpty()
+    host_master, host_slave = os.openpty()
+    for fd in (emu_master, emu_slave, host_master, host_slave):
+        tty.setraw(fd)
+    stop = threading.Event()
+
+    def relay():
+        while not stop.is_set():
+            ready, _, _ = select.select([emu_master, host_master], [], [], 0.05)
+            for fd in ready:
+                data = os.read(fd, 4096)
+                os.write(host_master if fd == emu_master else emu_master, data)
+
+    thread = threading.Thread(target=relay, daemon=True)
+    thread.start()
+    try:
+        with Emulator("--speedup", "2", *EMU_ARGS, modbus=f"rtu:{os.ttyname(emu_slave)}:115200"):
+            device = f"rtu:{os.ttyname(host_slave)}:115200"
+            grid = ["--vpp", "250", "--frequency", "40000:40300:100"]
+            live_csv, offline_csv = os.path.join(OUT, "rtu.csv"), os.path.join(OUT, "rtu_offline.csv")
+            status, out, err = swum("sweep", "--modbus", device, *grid, "--timeout-ms", "2000", "--out", live_csv)
+            check(status == 0, f"RTU sweep failed ({status}): {err}")
+            status, out, err = swum("sweep", "--config", CONFIG, *grid, "--out", offline_csv)
+            check(status == 0, f"offline sweep failed: {err}")
+            with open(live_csv) as f:
+                live = list(csv.DictReader(f))
+            with open(offline_csv) as f:
+                model = {float(r["frequency_hz"]): float(r["speed_mm_s"]) for r in csv.DictReader(f)}
+            check(len(live) == 4, f"{len(live)} rows")
+            for r in live:
+                m = model[float(r["frequency_hz"])]
+                check(abs(float(r["speed_mm_s"]) - m) <= 0.03 * abs(m) + 1.0, f"RTU {r} vs model {m}")
+            print(f"RTU sweep of {len(live)} points matches the model")
+    finally:
+        stop.set()
+        thread.join()
+
+
 def pick_can():
     grid = ["--vpp", "100,400", "--frequency", "39200:40700:50"]
     with Emulator("--can", "vcan0", "--node", "5", "--speedup", "0", "--telemetry-hz", "200", *EMU_ARGS,
@@ -224,7 +268,7 @@ def pick_can():
 
 if __name__ == "__main__":
     scenario = sys.argv[1] if len(sys.argv) > 1 else ""
-    functions = {f.__name__: f for f in (pick_modbus, sweep_log_modbus, interrupt_modbus, errors, pick_can)}
+    functions = {f.__name__: f for f in (pick_modbus, sweep_log_modbus, interrupt_modbus, errors, rtu_modbus, pick_can)}
     if scenario not in functions:
         sys.exit(f"usage: {sys.argv[0]} {'|'.join(functions)}")
     functions[scenario]()
