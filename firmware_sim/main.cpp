@@ -68,6 +68,7 @@ int main(int argc, char** argv) {
   double tick_hz = 10000.0;
   double duration_s = 0.0;
   double speedup = 1.0;
+  double spin_us = 0.0;
   double watchdog_ms = 100.0;
   double telemetry_hz = 100.0;
   double heartbeat_ms = 1000.0;
@@ -113,6 +114,9 @@ int main(int argc, char** argv) {
   app.add_flag("--rt", realtime, "try SCHED_FIFO + mlockall (a message, not a failure, when not permitted)");
   app.add_option("--cpu", cpu, "pin the real-time loop to this CPU (transports stay unpinned)")
       ->check(CLI::NonNegativeNumber);
+  app.add_option("--spin-us", spin_us, "sleep until this long before each tick, then busy-wait (lower wake-up latency, busier CPU)")
+      ->check(CLI::Range(0.0, 1e6))
+      ->capture_default_str();
   app.add_option("--ready-fd", ready_fd, "also write the ready line to this file descriptor");
   CLI11_PARSE(app, argc, argv);
 
@@ -209,6 +213,7 @@ int main(int argc, char** argv) {
     LoopConfig loop_config;
     loop_config.speedup = speedup;
     loop_config.realtime = realtime;
+    loop_config.spin_s = spin_us * 1e-6;
     loop_config.stats_every_ticks = std::max<std::uint64_t>(1, static_cast<std::uint64_t>(tick_hz / 10.0));
     if (duration_s > 0.0) loop_config.max_ticks = static_cast<std::uint64_t>(std::llround(duration_s * tick_hz));
     if (realtime) std::fprintf(stderr, "swum-emu: %s\n", try_realtime(loop_config.priority).c_str());

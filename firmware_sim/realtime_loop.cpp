@@ -61,7 +61,8 @@ std::uint64_t RealtimeLoop::run(const std::atomic<bool>& stop) {
   while (!stop.load(std::memory_order_relaxed) && (config_.max_ticks == 0 || ticks < config_.max_ticks)) {
     std::int64_t wake = 0;
     if (!free_running) {
-      const timespec ts = to_timespec(deadline);
+      const std::int64_t spin_ns = static_cast<std::int64_t>(config_.spin_s * 1e9);
+      const timespec ts = to_timespec(deadline - spin_ns);
       int rc;
       while ((rc = clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &ts, nullptr)) == EINTR) {
         if (stop.load(std::memory_order_relaxed)) break;
@@ -71,6 +72,7 @@ std::uint64_t RealtimeLoop::run(const std::atomic<bool>& stop) {
         sleep_error_reported_ = true;
       }
       wake = now_ns();
+      while (spin_ns > 0 && wake < deadline && !stop.load(std::memory_order_relaxed)) wake = now_ns();
     } else {
       wake = now_ns();
       deadline = wake;

@@ -22,6 +22,11 @@ struct LoopConfig {
   // Ticks later than this behind schedule are dropped from the schedule (deadline resync),
   // counted in resyncs; the emulated time still advances one tick per tick.
   double resync_after_s = 0.1;
+  // Sleep until this long before each deadline, then spin on the clock: the wake-up of a
+  // sleeping thread (timer interrupt, and on a VM the host scheduling the idle vCPU again)
+  // costs tens of microseconds to milliseconds; a spinning CPU is already running.
+  // 0 = sleep all the way (no busy CPU). Costs up to spin/period of one CPU.
+  double spin_s = 0.0;
 };
 
 // Outcome of the SCHED_FIFO / mlockall attempt (a message, never a failure).
