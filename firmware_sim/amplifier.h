@@ -74,7 +74,8 @@ struct Command {
   double frequency_slew_hz_per_s = 0.0;   // 0 = unlimited
   double amplitude_slew_vpp_per_s = 0.0;  // 0 = unlimited
   std::uint64_t sequence = 0;             // set by the transport (for latency measurement)
-  std::uint64_t accepted_ns = 0;          // CLOCK_MONOTONIC when the transport accepted it
+  std::uint64_t accepted_ns = 0;          // CLOCK_MONOTONIC receive time: Modbus when the transport
+                                          // accepted it, CAN the bus's (kernel's) rx timestamp
 };
 
 struct AmplifierLimits {

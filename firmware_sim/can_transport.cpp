@@ -3,6 +3,8 @@
 #include <time.h>
 
 #include <array>
+#include <cerrno>
+#include <cstring>
 #include <cstdio>
 #include <stdexcept>
 
@@ -11,10 +13,37 @@ namespace swum::emu {
 namespace {
 std::int64_t monotonic_ns() {
   timespec ts{};
-  clock_gettime(CLOCK_MONOTONIC, &ts);
+  clock_gettime(CLOCK_MONOTONIC, &ts);  // cannot fail for CLOCK_MONOTONIC with a valid pointer
+  return static_cast<std::int64_t>(ts.tv_sec) * 1'000'000'000 + ts.tv_nsec;
+}
+// CLOCK_REALTIME now, or -1 (reported once) if clock_gettime fails.
+std::int64_t realtime_ns() {
+  timespec ts{};
+  if (clock_gettime(CLOCK_REALTIME, &ts) != 0) {
+    static std::atomic<bool> reported{false};
+    if (!reported.exchange(true))
+      std::fprintf(stderr, "swum-emu: clock_gettime(CLOCK_REALTIME): %s; CAN receive timestamps unused\n",
+                   std::strerror(errno));
+    return -1;
+  }
   return static_cast<std::int64_t>(ts.tv_sec) * 1'000'000'000 + ts.tv_nsec;
 }
 }  // namespace
+
+RxStamp receive_time(std::chrono::nanoseconds timestamp, std::int64_t realtime_now_ns, std::int64_t monotonic_now_ns) {
+  RxStamp r;
+  r.monotonic_ns = monotonic_now_ns;
+  if (timestamp.count() == 0) return r;  // missing
+  const std::int64_t age = realtime_now_ns - static_cast<std::int64_t>(timestamp.count());
+  if (realtime_now_ns < 0 || age < -1'000'000 || age > kMaxFrameAgeNs) {
+    r.source = RxStampSource::implausible;
+    return r;
+  }
+  r.source = RxStampSource::bus;
+  r.age_ns = age > 0 ? age : 0;
+  r.monotonic_ns = monotonic_now_ns - r.age_ns;
+  return r;
+}
 
 CanTransport::CanTransport(std::unique_ptr<io::CanBus> rx_bus, std::unique_ptr<io::CanBus> tx_bus,
                            CanTransportConfig config, SharedState& shared, AmplifierLimits limits)
@@ -71,6 +100,19 @@ void CanTransport::rx_loop() {
       continue;
     }
     stats_.rx_frames.fetch_add(1, std::memory_order_relaxed);
+    const RxStamp stamp = receive_time(frame.timestamp, realtime_ns(), monotonic_ns());
+    switch (stamp.source) {
+      case RxStampSource::bus:
+        stats_.rx_stamped.fetch_add(1, std::memory_order_relaxed);
+        receive_age_.record(static_cast<std::uint64_t>(stamp.age_ns));
+        break;
+      case RxStampSource::missing:
+        stats_.rx_stamp_missing.fetch_add(1, std::memory_order_relaxed);
+        break;
+      case RxStampSource::implausible:
+        stats_.rx_stamp_implausible.fetch_add(1, std::memory_order_relaxed);
+        break;
+    }
     Reason reason = Reason::none;
     Command command;
     if (frame.id == ids_.command && !frame.extended) {
@@ -82,7 +124,7 @@ void CanTransport::rx_loop() {
         reason = validate(command, limits_);
       }
       if (reason == Reason::none) {
-        command.accepted_ns = static_cast<std::uint64_t>(monotonic_ns());
+        command.accepted_ns = static_cast<std::uint64_t>(stamp.monotonic_ns);
         reason = shared_.submit(command);
         if (reason == Reason::none) command_alive.accept(c.alive);
       }
@@ -95,7 +137,7 @@ void CanTransport::rx_loop() {
         reason = validate(command, limits_);
       }
       if (reason == Reason::none) {
-        command.accepted_ns = static_cast<std::uint64_t>(monotonic_ns());
+        command.accepted_ns = static_cast<std::uint64_t>(stamp.monotonic_ns);
         reason = shared_.submit(command);
         if (reason == Reason::none) aux_alive.accept(a.alive);
       }

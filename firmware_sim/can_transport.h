@@ -2,9 +2,13 @@
 // a receive thread (kernel filters on the node's two command identifiers; decode, CRC, alive
 // counter, ranges -> command queue or reject with a reason) and a transmit thread (telemetry
 // frames at a fixed rate, heartbeat). Bus-off / ENOBUFS are counted and survived.
+// A command's receive time (Command::accepted_ns, start of the loop's accept-to-effect latency)
+// is the bus's receive timestamp (the kernel's SO_TIMESTAMPNS on SocketCAN, CLOCK_REALTIME)
+// converted to CLOCK_MONOTONIC, so time spent queued in the kernel socket counts too.
 #pragma once
 
 #include <atomic>
+#include <chrono>
 #include <cstdint>
 #include <memory>
 #include <thread>
@@ -12,6 +16,7 @@
 #include "amplifier.h"
 #include "can_bus.h"
 #include "can_protocol.h"
+#include "loop_statistics.h"
 #include "telemetry.h"
 
 namespace swum::emu {
@@ -21,6 +26,20 @@ struct CanTransportConfig {
   double telemetry_hz = 100.0;    // Status/Motion/Drive/LoopStats/Output frames
   double heartbeat_s = 1.0;       // 0 = no heartbeat
 };
+
+// Where a received frame's time came from.
+enum class RxStampSource { bus, missing, implausible };
+struct RxStamp {
+  std::int64_t monotonic_ns = 0;  // receive time on CLOCK_MONOTONIC
+  std::int64_t age_ns = 0;        // bus timestamp -> now (0 unless source == bus)
+  RxStampSource source = RxStampSource::missing;
+};
+// Converts a frame's CLOCK_REALTIME receive timestamp to CLOCK_MONOTONIC with two clock readings
+// taken now: monotonic_now - (realtime_now - timestamp). A zero timestamp is `missing`; an age
+// below -1 ms or above 60 s (the realtime clock was stepped meanwhile) is `implausible`; both
+// give monotonic_now. An age in [-1 ms, 0) (reading jitter) counts as 0.
+RxStamp receive_time(std::chrono::nanoseconds timestamp, std::int64_t realtime_now_ns, std::int64_t monotonic_now_ns);
+inline constexpr std::int64_t kMaxFrameAgeNs = 60'000'000'000;
 
 struct CanStats {
   std::atomic<std::uint64_t> rx_frames{0};
@@ -32,6 +51,10 @@ struct CanStats {
   std::atomic<std::uint64_t> rx_errors{0};
   std::atomic<std::uint64_t> error_frames{0};
   std::atomic<std::uint64_t> bus_off{0};
+  // Receive timestamps of the frames counted in rx_frames, by source (see receive_time()).
+  std::atomic<std::uint64_t> rx_stamped{0};
+  std::atomic<std::uint64_t> rx_stamp_missing{0};
+  std::atomic<std::uint64_t> rx_stamp_implausible{0};
 };
 
 class CanTransport {
@@ -45,6 +68,10 @@ class CanTransport {
   void start();
   void stop();
   [[nodiscard]] const CanStats& stats() const { return stats_; }
+  // Bus receive timestamp -> the receive thread read the frame (time queued in the kernel
+  // socket + wake-up), per frame with a usable timestamp. Written by the receive thread: read
+  // it only after stop().
+  [[nodiscard]] const Histogram& receive_age() const { return receive_age_; }
 
  private:
   void rx_loop();
@@ -59,6 +86,7 @@ class CanTransport {
   std::atomic<bool> stopping_{false};
   std::thread rx_thread_, tx_thread_;
   CanStats stats_;
+  Histogram receive_age_;
 };
 
 }  // namespace swum::emu

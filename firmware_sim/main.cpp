@@ -183,6 +183,7 @@ int main(int argc, char** argv) {
       }
     }
     std::unique_ptr<CanTransport> can;
+    const swum::io::SocketCanBus* can_rx = nullptr;  // owned by `can`; kernel drop counter
     if (!can_interface.empty()) {
       CanTransportConfig cc;
       cc.node = static_cast<std::uint8_t>(node);
@@ -190,6 +191,7 @@ int main(int argc, char** argv) {
       cc.heartbeat_s = heartbeat_ms * 1e-3;
       // Separate sockets for receiving (filtered) and sending (no filters needed).
       auto rx = std::make_unique<swum::io::SocketCanBus>(can_interface);
+      can_rx = rx.get();
       swum::io::SocketCanBus::Options tx_options;
       tx_options.receive_error_frames = false;
       auto tx = std::make_unique<swum::io::SocketCanBus>(can_interface, tx_options);
@@ -268,13 +270,28 @@ int main(int argc, char** argv) {
                   static_cast<unsigned long long>(modbus_tcp->stats().exceptions.load()),
                   static_cast<unsigned long long>(modbus_tcp->stats().connections.load()));
     if (can)
-      std::printf("  can       rx %llu (accepted %llu, rejected %llu), tx %llu (dropped %llu), bus-off %llu\n",
+      std::printf("  can       rx %llu (accepted %llu, rejected %llu, receive errors %llu), tx %llu (dropped %llu, "
+                  "send errors %llu), error frames %llu, bus-off %llu\n",
                   static_cast<unsigned long long>(can->stats().rx_frames.load()),
                   static_cast<unsigned long long>(can->stats().accepted.load()),
                   static_cast<unsigned long long>(can->stats().rejected.load()),
+                  static_cast<unsigned long long>(can->stats().rx_errors.load()),
                   static_cast<unsigned long long>(can->stats().tx_frames.load()),
                   static_cast<unsigned long long>(can->stats().tx_dropped.load()),
+                  static_cast<unsigned long long>(can->stats().tx_errors.load()),
+                  static_cast<unsigned long long>(can->stats().error_frames.load()),
                   static_cast<unsigned long long>(can->stats().bus_off.load()));
+    if (can) {
+      const Histogram& age = can->receive_age();
+      std::printf("  can rx    kernel timestamps %llu, missing %llu, implausible %llu; kernel drops %llu; "
+                  "kernel rx -> read p50 %.1f us  p99 %.1f us  max %.1f us\n",
+                  static_cast<unsigned long long>(can->stats().rx_stamped.load()),
+                  static_cast<unsigned long long>(can->stats().rx_stamp_missing.load()),
+                  static_cast<unsigned long long>(can->stats().rx_stamp_implausible.load()),
+                  static_cast<unsigned long long>(can_rx ? can_rx->kernel_drops() : 0),
+                  static_cast<double>(age.percentile(0.50)) / 1e3, static_cast<double>(age.percentile(0.99)) / 1e3,
+                  static_cast<double>(age.max()) / 1e3);
+    }
     std::fflush(stdout);
     return 0;
   } catch (const std::exception& e) {

@@ -22,7 +22,8 @@ struct CanFrame {
   std::uint8_t dlc = 0;   // 0..8 payload bytes
   std::array<std::uint8_t, 8> data{};
   // Receive time, CLOCK_REALTIME since the epoch: the kernel's receive timestamp on a real
-  // bus (SO_TIMESTAMPNS), the delivery time on the fake. Ignored by send().
+  // bus (SO_TIMESTAMPNS; zero if the kernel attached none, never made up), the delivery time
+  // on the fake. Ignored by send().
   std::chrono::nanoseconds timestamp{0};
 };
 

@@ -113,32 +113,27 @@ CanResult SocketCanBus::receive(CanFrame& frame, std::chrono::milliseconds timeo
       if (r > 0 && (pfd.revents & (POLLERR | POLLNVAL)) && !(pfd.revents & POLLIN)) {
         int soerr = 0;
         socklen_t len = sizeof soerr;
-        ::getsockopt(fd_, SOL_SOCKET, SO_ERROR, &soerr, &len);
+        if (::getsockopt(fd_, SOL_SOCKET, SO_ERROR, &soerr, &len) < 0)
+          return failure(CanStatus::error, errno, "getsockopt(SO_ERROR) on " + interface_ + " failed");
         return failure(CanStatus::error, soerr ? soerr : EIO, "socket error on " + interface_);
       }
       continue;
     }
     if (n != static_cast<ssize_t>(sizeof cf)) return failure(CanStatus::error, 0, "unexpected frame size " + std::to_string(n) + " on " + interface_);
 
-    frame = CanFrame{};
-    bool have_timestamp = false;
+    frame = CanFrame{};  // timestamp stays zero unless the kernel attached one
     for (cmsghdr* c = CMSG_FIRSTHDR(&msg); c != nullptr; c = CMSG_NXTHDR(&msg, c)) {
       if (c->cmsg_level != SOL_SOCKET) continue;
-      if (c->cmsg_type == SCM_TIMESTAMPNS) {
+      if (c->cmsg_type == SCM_TIMESTAMPNS && c->cmsg_len >= CMSG_LEN(sizeof(timespec))) {
         timespec ts{};
         std::memcpy(&ts, CMSG_DATA(c), sizeof ts);
         frame.timestamp = std::chrono::seconds(ts.tv_sec) + std::chrono::nanoseconds(ts.tv_nsec);
-        have_timestamp = true;
-      } else if (c->cmsg_type == SO_RXQ_OVFL) {
+      } else if (c->cmsg_type == SO_RXQ_OVFL && c->cmsg_len >= CMSG_LEN(sizeof(std::uint32_t))) {
         std::memcpy(&kernel_drops_, CMSG_DATA(c), sizeof kernel_drops_);
       }
     }
-    if (!have_timestamp) {
-      // The kernel always attaches it once SO_TIMESTAMPNS is on; keep the frame usable anyway.
-      timespec ts{};
-      ::clock_gettime(CLOCK_REALTIME, &ts);
-      frame.timestamp = std::chrono::seconds(ts.tv_sec) + std::chrono::nanoseconds(ts.tv_nsec);
-    }
+    // MSG_CTRUNC (control buffer too small) cannot happen with the buffer above; if it did, the
+    // timestamp may be missing and stays zero: the consumer sees that and uses its own clock.
     frame.dlc = cf.len > 8 ? 8 : cf.len;
     std::memcpy(frame.data.data(), cf.data, frame.dlc);
     if (cf.can_id & CAN_ERR_FLAG) {

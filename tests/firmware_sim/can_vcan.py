@@ -4,10 +4,16 @@ decoded through config/swum.dbc with python3-canmatrix, CRC computed here) and c
 cansend/candump. Runs natively when the host has vcan0, else inside the test guest
 (tools/vm/with-vcan). Never asserts timing (TCG guest).
 
-usage: can_vcan.py SCENARIO   (enable_speed rejects watchdog)
+usage: can_vcan.py SCENARIO   (enable_speed rejects watchdog bus_errors)
+
+Every scenario also checks, from the exit report, that each frame the emulator received carried
+the kernel's receive timestamp (SO_TIMESTAMPNS): none missing, none implausible.
 """
 import decimal
 import os
+import re
+import socket
+import struct
 import subprocess
 import sys
 import time
@@ -90,6 +96,29 @@ def cansend(data, can_id=0x200 + NODE):
     subprocess.run(["cansend", "vcan0", f"{can_id:03X}#{data.hex().upper()}"], check=True)
 
 
+def check_exit_report(output):
+    """The exit report's CAN lines: every received frame kernel-timestamped; returns the counters."""
+    m = re.search(r"can +rx (\d+) \(accepted (\d+), rejected (\d+), receive errors (\d+)\), tx (\d+) "
+                  r"\(dropped (\d+), send errors (\d+)\), error frames (\d+), bus-off (\d+)", output)
+    assert m, output
+    keys = ("rx", "accepted", "rejected", "rx_errors", "tx", "tx_dropped", "tx_errors", "error_frames", "bus_off")
+    report = dict(zip(keys, (int(g) for g in m.groups())))
+    m = re.search(r"kernel timestamps (\d+), missing (\d+), implausible (\d+); kernel drops (\d+); "
+                  r"kernel rx -> read p50 ([\d.]+) us  p99 ([\d.]+) us  max ([\d.]+) us", output)
+    assert m, output
+    stamped, missing, implausible, drops = (int(g) for g in m.groups()[:4])
+    assert report["rx"] > 0, "the emulator received no frame"
+    assert stamped == report["rx"] and missing == 0 and implausible == 0, \
+        f"frames without a usable kernel receive timestamp: {stamped} of {report['rx']} stamped, " \
+        f"{missing} missing, {implausible} implausible"
+    assert float(m.group(7)) > 0.0, "kernel rx -> read latency is zero: timestamps not taken from the kernel?"
+    m = re.search(r"commands +(\d+); accept-to-effect p50 ([\d.]+) us", output)
+    assert m and int(m.group(1)) > 0 and float(m.group(2)) > 0.0, output
+    report["kernel_drops"] = drops
+    print(f"kernel timestamps on all {stamped} received frames; CAN counters {report}")
+    return report
+
+
 def speed_close(latest, ref):
     return abs(latest["Motion"]["Speed"] - ref["speed_mm_s"]) <= 0.03 * abs(ref["speed_mm_s"]) + 2.0
 
@@ -115,6 +144,7 @@ def scenario_enable_speed():
         peer.close()
         assert emu.stop() == 0
         print(emu.output)
+        check_exit_report(emu.output)
 
 
 def scenario_rejects():
@@ -157,6 +187,8 @@ def scenario_rejects():
         peer.close()
         assert emu.stop() == 0
         print(emu.output)
+        report = check_exit_report(emu.output)
+        assert report["accepted"] == 2 and report["rejected"] == 6, report
 
 
 def scenario_watchdog():
@@ -177,6 +209,55 @@ def scenario_watchdog():
         peer.wait_for(lambda t: t["Status"]["State"] == 0 and t["Status"]["FaultCode"] == 0, "fault reset")
         peer.close()
         assert emu.stop() == 0
+        check_exit_report(emu.output)
+
+
+CAN_ERR_FLAG, CAN_ERR_BUSOFF, CAN_ERR_DLC = 0x20000000, 0x40, 8
+
+
+def send_error_frame(classes):
+    """An error frame as a CAN controller driver reports it (raw socket: python-can sends data only)."""
+    s = socket.socket(socket.AF_CAN, socket.SOCK_RAW, socket.CAN_RAW)
+    try:
+        s.bind(("vcan0",))
+        s.send(struct.pack("=IB3x8s", CAN_ERR_FLAG | classes, CAN_ERR_DLC, bytes(8)))
+    finally:
+        s.close()
+
+
+def ip_link(state):
+    subprocess.run(["ip", "link", "set", "vcan0", state], check=True)
+
+
+def scenario_bus_errors():
+    """Bus-off error frame and the interface going down and up (ENETDOWN on both sockets): the
+    emulator reports them, keeps running and applies the next valid command."""
+    with Emulator("--can", "vcan0", "--node", str(NODE), "--speedup", "1", "--watchdog-ms", "0",
+                  "--telemetry-hz", "100", modbus="none") as emu:
+        peer = Peer()
+        send = lambda: peer.send_command(1, 40000, 100)  # noqa: E731
+        peer.wait_for(lambda t: t["Status"]["State"] == 1 and t["Drive"]["AmplitudeOut"] == 100, "enabled",
+                      keep_sending=send)
+        send_error_frame(CAN_ERR_BUSOFF)
+        peer.poll(0.3)
+        peer.close()
+        alive = peer.alive  # the emulator remembers the last accepted counter
+        ip_link("down")  # telemetry sends fail (ENETDOWN), the receive socket gets ENETDOWN
+        time.sleep(0.5)
+        ip_link("up")
+        assert emu.proc.poll() is None, "swum-emu died with the interface down: " + emu.proc.stderr.read()
+        peer = Peer()
+        peer.alive = alive
+        peer.send_command(1, 40000, 300)
+        peer.wait_for(lambda t: t["Drive"]["AmplitudeOut"] == 300, "valid command applied after bus errors")
+        peer.close()
+        assert emu.stop() == 0, emu.stderr
+        print(emu.output)
+        print(emu.stderr)
+        report = check_exit_report(emu.output)
+        assert report["bus_off"] == 1 and report["error_frames"] == 1, report
+        assert report["tx_errors"] > 0 and report["rx_errors"] > 0, report  # ENETDOWN, counted, not fatal
+        assert "bus-off" in emu.stderr and "Network is down" in emu.stderr, emu.stderr
 
 
 if __name__ == "__main__":

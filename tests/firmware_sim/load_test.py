@@ -1,9 +1,13 @@
 #!/usr/bin/python3
 """Load test of swum-emu: 8 Modbus TCP clients (separate processes, pymodbus) polling input
 registers at full speed, one of them also writing valid setpoints, plus - when vcan0 exists - a
-flood of invalid CAN frames (bad CRC) on the emulator's command identifier, for DURATION s.
-Checks that every accepted write was applied (no valid command dropped) and that the process
-survives; prints the loop's overrun share. With --assert-rt it also fails when overruns exceed
+flood of invalid CAN frames (bad CRC) on the emulator's command identifier and, during the
+flood, valid CAN command frames (alive counter, CRC; encoded through config/swum.dbc) at about
+100 per second, for DURATION s. Checks that the process survives and that no valid command was
+dropped: every valid CAN frame sent was accepted, every accepted command (Modbus and CAN) was
+applied, and the applied sequence has no gap (last_sequence = applied + queue-full refusals).
+With CAN it also checks that every received frame carried a kernel receive timestamp. Prints
+the loop statistics and the overrun share. With --assert-rt it also fails when overruns exceed
 0.01 % of ticks (for the documented measurement, not for ctest on a shared machine).
 
 usage: load_test.py [DURATION_S] [--rt] [--assert-rt]
@@ -64,6 +68,31 @@ def can_flood(duration, node, result):
     result.put(("can", sent))
 
 
+def can_commander(duration, result):
+    """Valid Command frames (enable, 40 kHz, varying amplitude) every 10 ms during the flood."""
+    import can
+    from can_vcan import COMMAND, command_frame
+    bus = can.Bus(interface="socketcan", channel="vcan0", receive_own_messages=False,
+                  can_filters=[{"can_id": 0x7FF, "can_mask": 0x7FF, "extended": True}])  # receive nothing
+    end = time.monotonic() + duration
+    sent = retries = 0
+    next_send = time.monotonic()
+    while time.monotonic() < end:
+        data = command_frame(1, (sent + 1) % 16, 40000, 100 + (sent % 300))
+        try:
+            bus.send(can.Message(arbitration_id=COMMAND.arbitration_id.id, data=data, is_extended_id=False), timeout=0.1)
+            sent += 1
+        except can.CanError:
+            retries += 1  # not sent: the same counter goes again
+            continue
+        next_send += 0.01
+        pause = next_send - time.monotonic()
+        if pause > 0:
+            time.sleep(pause)
+    bus.shutdown()
+    result.put(("can_valid", sent, retries))
+
+
 def main():
     args = [a for a in sys.argv[1:] if not a.startswith("--")]
     duration = float(args[0]) if args else 30.0
@@ -76,35 +105,58 @@ def main():
         procs = [multiprocessing.Process(target=poller, args=(emu.port, duration, i == 0, result)) for i in range(8)]
         if have_can:
             procs.append(multiprocessing.Process(target=can_flood, args=(duration, 1, result)))
+            procs.append(multiprocessing.Process(target=can_commander, args=(duration, result)))
         for p in procs:
             p.start()
         outcomes = [result.get(timeout=duration + 60) for _ in procs]
         for p in procs:
             p.join()
             assert p.exitcode == 0, "a client failed"
-        modbus = [o for o in outcomes if o[0] != "can"]
+        modbus = [o for o in outcomes if o[0] not in ("can", "can_valid")]
         reads = sum(o[0] for o in modbus)
         accepted = sum(o[1] for o in modbus)
         refused = sum(o[2] for o in modbus)
-        # The last accepted write takes effect at the next tick boundary, which a starved loop may
-        # not have reached yet: wait for it (bounded), then require exactly `accepted` applied.
+        flood = [o[1] for o in outcomes if o[0] == "can"]
+        valid = [o for o in outcomes if o[0] == "can_valid"]
+        can_sent = valid[0][1] if valid else 0
+        # The last accepted command takes effect at the next tick boundary, which a starved loop
+        # may not have reached yet: wait for it (bounded), then compare exactly.
         c = ModbusTcpClient("127.0.0.1", port=emu.port, timeout=5)
         assert c.connect()
-        end = time.monotonic() + 10
+        end = time.monotonic() + 30
         while True:
             rr = c.read_input_registers(0, MAP.input_count, slave=1)
             assert not rr.isError(), rr
-            applied = MAP.decode_inputs(rr.registers)["applied_commands"]
-            if applied >= accepted or time.monotonic() > end:
+            inputs = MAP.decode_inputs(rr.registers)
+            applied, last_sequence = inputs["applied_commands"], inputs["last_sequence"]
+            if applied >= accepted + can_sent or time.monotonic() > end:
                 break
+            time.sleep(0.05)
         c.close()
         assert emu.stop() == 0
         print(emu.output)
-        flood = [o[1] for o in outcomes if o[0] == "can"]
+        if emu.stderr.strip():
+            print("swum-emu stderr: " + emu.stderr.strip())  # e.g. whether --rt was granted
         print(f"load: {reads} Modbus reads by 8 clients in {duration:.0f} s ({reads / duration:.0f}/s), "
-              f"{accepted} valid writes accepted, {refused} refused busy, {applied} applied"
-              + (f"; {flood[0]} invalid CAN frames sent" if flood else "; no vcan0: CAN flood skipped"))
-        assert applied == accepted, "a valid command was dropped"
+              f"{accepted} valid writes accepted, {refused} refused busy"
+              + (f"; {flood[0]} invalid CAN frames sent, {can_sent} valid CAN commands sent "
+                 f"({valid[0][2]} send retries)" if flood else "; no vcan0: CAN flood skipped")
+              + f"; {applied} commands applied, last sequence {last_sequence}")
+        queue_full = int(re.search(r"queue full (\d+)", emu.output).group(1))
+        can_accepted = 0
+        if have_can:
+            m = re.search(r"can +rx (\d+) \(accepted (\d+), rejected (\d+)", emu.output)
+            rx, can_accepted, can_rejected = (int(g) for g in m.groups())
+            print(f"can: {rx} frames received, {can_accepted} accepted, {can_rejected} rejected")
+            assert can_accepted == can_sent, f"valid CAN commands: {can_sent} sent, {can_accepted} accepted"
+            stamps = re.search(r"kernel timestamps (\d+), missing (\d+), implausible (\d+); kernel drops (\d+)",
+                               emu.output)
+            stamped, missing, implausible, drops = (int(g) for g in stamps.groups())
+            assert stamped == rx and missing == 0 and implausible == 0, "CAN frames without kernel timestamp"
+            print(f"kernel drops (SO_RXQ_OVFL): {drops}")
+        assert applied == accepted + can_accepted, \
+            f"a valid command was dropped: {accepted} Modbus + {can_accepted} CAN accepted, {applied} applied"
+        assert last_sequence == applied + queue_full, f"sequence gap: last {last_sequence}, applied {applied}"
         m = re.search(r"overruns\s+(\d+) \(([\d.]+) %", emu.output)
         print(f"overruns: {m.group(1)} ({m.group(2)} % of ticks; bound 0.01 %)")
         if "--assert-rt" in sys.argv:

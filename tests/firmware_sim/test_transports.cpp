@@ -60,14 +60,135 @@ class CanTransportTest : public ::testing::Test {
   }
 };
 
+std::int64_t monotonic_now_ns() {
+  return std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now().time_since_epoch())
+      .count();
+}
+
 TEST_F(CanTransportTest, ValidCommandIsQueued) {
+  const std::int64_t before = monotonic_now_ns();
   send_command(1);
   Command c;
   ASSERT_TRUE(pop(c));
+  const std::int64_t after = monotonic_now_ns();
   EXPECT_EQ(c.source, CommandSource::can);
   EXPECT_EQ(c.action, Action::enable);
   EXPECT_NEAR(c.frequency_hz, 40000, 1e-9);
   EXPECT_NEAR(c.amplitude_vpp, 400, 1e-9);
+  // The fake timestamps at delivery: the receive time is that, on CLOCK_MONOTONIC.
+  EXPECT_GE(static_cast<std::int64_t>(c.accepted_ns), before - 1'000'000);  // clock-pair reading jitter
+  EXPECT_LE(static_cast<std::int64_t>(c.accepted_ns), after);
+  EXPECT_EQ(transport->stats().rx_stamped.load(), 1U);
+  EXPECT_EQ(transport->stats().rx_stamp_missing.load(), 0U);
+  EXPECT_EQ(transport->stats().rx_stamp_implausible.load(), 0U);
+}
+
+TEST(CanReceiveTime, ConvertsTheRealtimeStampToMonotonic) {
+  using std::chrono::nanoseconds;
+  const std::int64_t real = 1'700'000'000'000'000'000, mono = 5'000'000'000;
+  RxStamp r = receive_time(nanoseconds(real - 250'000), real, mono);  // 250 us old
+  EXPECT_EQ(r.source, RxStampSource::bus);
+  EXPECT_EQ(r.age_ns, 250'000);
+  EXPECT_EQ(r.monotonic_ns, mono - 250'000);
+  r = receive_time(nanoseconds(real + 500'000), real, mono);  // 0.5 ms "in the future": jitter, age 0
+  EXPECT_EQ(r.source, RxStampSource::bus);
+  EXPECT_EQ(r.age_ns, 0);
+  EXPECT_EQ(r.monotonic_ns, mono);
+  r = receive_time(nanoseconds(0), real, mono);
+  EXPECT_EQ(r.source, RxStampSource::missing);
+  EXPECT_EQ(r.monotonic_ns, mono);
+  r = receive_time(nanoseconds(real + 2'000'000), real, mono);  // clock stepped back
+  EXPECT_EQ(r.source, RxStampSource::implausible);
+  EXPECT_EQ(r.monotonic_ns, mono);
+  r = receive_time(nanoseconds(real - kMaxFrameAgeNs - 1), real, mono);  // clock stepped forward
+  EXPECT_EQ(r.source, RxStampSource::implausible);
+  EXPECT_EQ(r.monotonic_ns, mono);
+  r = receive_time(nanoseconds(real - 1000), -1, mono);  // realtime clock unreadable
+  EXPECT_EQ(r.source, RxStampSource::implausible);
+}
+
+// A bus that hands the transport the fake's frames with their timestamp rewritten, as a kernel
+// with queued frames (old timestamps) or without timestamps would.
+class StampRewritingBus final : public io::CanBus {
+ public:
+  using Rewrite = std::function<std::chrono::nanoseconds(std::chrono::nanoseconds)>;
+  StampRewritingBus(std::unique_ptr<io::CanBus> inner, Rewrite rewrite)
+      : inner_(std::move(inner)), rewrite_(std::move(rewrite)) {}
+  io::CanResult send(const io::CanFrame& frame) override { return inner_->send(frame); }
+  io::CanResult receive(io::CanFrame& frame, std::chrono::milliseconds timeout) override {
+    const io::CanResult r = inner_->receive(frame, timeout);
+    if (r.ok()) frame.timestamp = rewrite_(frame.timestamp);
+    return r;
+  }
+  io::CanResult set_filters(std::span<const io::CanFilter> filters) override { return inner_->set_filters(filters); }
+  std::string name() const override { return inner_->name(); }
+
+ private:
+  std::unique_ptr<io::CanBus> inner_;
+  Rewrite rewrite_;
+};
+
+struct StampedCommand {
+  Command command;
+  std::int64_t sent_ns = 0, popped_ns = 0;
+  std::uint64_t stamped = 0, missing = 0, implausible = 0;
+  std::uint64_t age_max_ns = 0;
+};
+
+StampedCommand command_through(const StampRewritingBus::Rewrite& rewrite) {
+  auto network = io::FakeCanNetwork::create();
+  auto peer = network->attach("peer");
+  SharedState shared;
+  CanTransportConfig config;
+  config.node = 3;
+  config.telemetry_hz = 0;
+  config.heartbeat_s = 0;
+  CanTransport transport(std::make_unique<StampRewritingBus>(network->attach("emu"), rewrite), nullptr, config,
+                         shared, AmplifierLimits{});
+  transport.start();
+  StampedCommand out;
+  can::CommandFrame c;
+  c.mode = 1;
+  c.alive = 1;
+  c.amplitude_vpp = 100;
+  out.sent_ns = monotonic_now_ns();
+  EXPECT_TRUE(peer->send(can::encode_command(c, can::ids_for_node(3).command)).ok());
+  EXPECT_TRUE(eventually([&] { return shared.commands.try_pop(out.command); }, 2000ms));
+  out.popped_ns = monotonic_now_ns();
+  transport.stop();
+  out.stamped = transport.stats().rx_stamped.load();
+  out.missing = transport.stats().rx_stamp_missing.load();
+  out.implausible = transport.stats().rx_stamp_implausible.load();
+  out.age_max_ns = transport.receive_age().max();
+  return out;
+}
+
+TEST(CanTransportTimestamps, CommandReceiveTimeIsTheBusTimestamp) {
+  // The frame "waited" 50 ms in the kernel's queue: the receive time is 50 ms before the read.
+  const auto r = command_through([](std::chrono::nanoseconds t) { return t - 50ms; });
+  EXPECT_EQ(r.stamped, 1U);
+  EXPECT_EQ(r.missing + r.implausible, 0U);
+  const auto accepted = static_cast<std::int64_t>(r.command.accepted_ns);
+  EXPECT_GE(accepted, r.sent_ns - 51'000'000);
+  EXPECT_LE(accepted, r.popped_ns - 50'000'000);
+  EXPECT_GE(r.age_max_ns, 49'000'000U);  // histogram bucket resolution < 1.6 %
+}
+
+TEST(CanTransportTimestamps, MissingTimestampFallsBackToTheReadTimeAndIsCounted) {
+  const auto r = command_through([](std::chrono::nanoseconds) { return std::chrono::nanoseconds(0); });
+  EXPECT_EQ(r.missing, 1U);
+  EXPECT_EQ(r.stamped + r.implausible, 0U);
+  EXPECT_GE(static_cast<std::int64_t>(r.command.accepted_ns), r.sent_ns);
+  EXPECT_LE(static_cast<std::int64_t>(r.command.accepted_ns), r.popped_ns);
+  EXPECT_EQ(r.age_max_ns, 0U);
+}
+
+TEST(CanTransportTimestamps, SteppedClockIsNotTrusted) {
+  const auto r = command_through([](std::chrono::nanoseconds t) { return t - 3600s; });
+  EXPECT_EQ(r.implausible, 1U);
+  EXPECT_EQ(r.stamped + r.missing, 0U);
+  EXPECT_GE(static_cast<std::int64_t>(r.command.accepted_ns), r.sent_ns);
+  EXPECT_LE(static_cast<std::int64_t>(r.command.accepted_ns), r.popped_ns);
 }
 
 TEST_F(CanTransportTest, InvalidFramesAreRejectedWithTheirReasonAndNotQueued) {
