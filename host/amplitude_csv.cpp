@@ -3,6 +3,8 @@
 #include <array>
 #include <charconv>
 #include <cmath>
+
+#include "config/csv_cells.h"
 #include <cstdio>
 #include <optional>
 
@@ -13,26 +15,6 @@ namespace {
 
 constexpr std::array<std::string_view, 4> kColumns = {"vpp", "frequency_hz", "tip_normal_um",
                                                       "tip_tangential_um"};
-
-std::string_view trim(std::string_view text) {
-  while (!text.empty() && (text.front() == ' ' || text.front() == '\t')) text.remove_prefix(1);
-  while (!text.empty() && (text.back() == ' ' || text.back() == '\t' || text.back() == '\r')) {
-    text.remove_suffix(1);
-  }
-  return text;
-}
-
-std::vector<std::string_view> split_cells(std::string_view line) {
-  std::vector<std::string_view> cells;
-  std::size_t start = 0;
-  while (true) {
-    const std::size_t comma = line.find(',', start);
-    cells.push_back(trim(line.substr(start, comma == std::string_view::npos ? comma : comma - start)));
-    if (comma == std::string_view::npos) break;
-    start = comma + 1;
-  }
-  return cells;
-}
 
 [[noreturn]] void fail(std::string_view source, int line, int column, const std::string& what) {
   std::string message(source);
@@ -87,10 +69,10 @@ std::vector<AmplitudeMeasurement> parse_amplitude_csv(std::string_view text,
         text.substr(start, newline == std::string_view::npos ? std::string_view::npos : newline - start);
     start = newline == std::string_view::npos ? text.size() + 1 : newline + 1;
     ++line_number;
-    const std::string_view line = trim(raw);
+    const std::string_view line = trim_cell(raw);
     if (line.empty() || line.front() == '#') continue;
     last_line = line_number;
-    const std::vector<std::string_view> cells = split_cells(line);
+    const std::vector<std::string_view> cells = split_csv_cells(line);
     if (!have_header) {
       have_header = true;
       header_cells = cells.size();

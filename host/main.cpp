@@ -8,6 +8,7 @@
 
 #include "command_error.h"
 #include "commands.h"
+#include "analysis/measurements.h"
 #include "model/parameters.h"
 
 int main(int argc, char** argv) {
@@ -22,6 +23,8 @@ int main(int argc, char** argv) {
   add_identify_command(app);
   add_pick_command(app);
   add_log_command(app);
+  add_synth_command(app);
+  add_discrepancy_command(app);
 
   try {
     app.parse(argc, argv);
@@ -38,6 +41,9 @@ int main(int argc, char** argv) {
   } catch (const CommandError& e) {
     std::fprintf(stderr, "swum: error: %s\n", e.what());
     return e.exit_code();
+  } catch (const swum::MeasurementError& e) {
+    std::fprintf(stderr, "swum: error: %s\n", e.what());
+    return kExitFailure;
   } catch (const swum::ParameterError& e) {
     std::fprintf(stderr, "swum: error: %s\n", e.what());
     return kExitFailure;

@@ -107,7 +107,7 @@ FreeStatorHarmonicBalance::FreeStatorHarmonicBalance(const ModalConstants& c,
 
 FreeStatorHarmonicBalance::FreeStatorHarmonicBalance(const MotorModel& model,
                                                      const HarmonicBalanceOptions& options)
-    : FreeStatorHarmonicBalance(model.constants(), model.parameters().stator, options) {}
+    : FreeStatorHarmonicBalance(model.constants(), with_static_effects(model.parameters()).stator, options) {}
 
 double FreeStatorHarmonicBalance::tip_lever(StatorMode mode) const {
   return mode_data(mode).tip_lever;

@@ -20,9 +20,10 @@ struct WindowStats {
   double w_min = std::numeric_limits<double>::infinity();
   double w_max = -std::numeric_limits<double>::infinity();
   double contact_s = 0.0;
-  double ft_sum = 0.0, ft2_sum = 0.0, fn_sum = 0.0;
+  double ft_sum = 0.0, ft2_sum = 0.0, fn_sum = 0.0, power_sum = 0.0;
 
-  void add(double dt, double u, double w, double fn, double ft) {
+  void add(double dt, double u, double w, double fn, double ft, double power_w = 0.0) {
+    power_sum += dt * power_w;
     duration_s += dt;
     u_min = std::min(u_min, u);
     u_max = std::max(u_max, u);
@@ -42,6 +43,7 @@ struct WindowStats {
     r.contact_fraction = contact_s / T;
     r.mean_friction_force_n = ft_sum / T;
     r.mean_normal_force_n = fn_sum / T;
+    r.damping_power_w = power_sum / T;
     r.friction_force_std_n =
         std::sqrt(std::max(0.0, ft2_sum / T - r.mean_friction_force_n * r.mean_friction_force_n));
   }
@@ -92,8 +94,13 @@ SteadyStateResult run_to_steady_state(const MotorModel& model, const OperatingPo
   drive.phase_deg = point.phase_deg;
   drive.load_n = point.load_n;
   sim.set_drive(drive);
+  sim.set_slow_states(point.stator_temperature_rise_k, point.sliding_distance_m, true);
   const double dt = sim.time_step_s();
   const double g_tv = model.coefficients().g_tv;
+  const double damping_factor =
+      thermal_factors(model.coefficients().effects, point.stator_temperature_rise_k).damping;
+  const double c1 = model.coefficients().c1_n_s_m * damping_factor;
+  const double c2 = model.coefficients().c2_n_s_m * damping_factor;
   std::uint64_t total_steps = 0;
 
   auto run = [&](double duration_s, WindowStats* w, SteadyStateResult& r) {
@@ -103,7 +110,10 @@ SteadyStateResult run_to_steady_state(const MotorModel& model, const OperatingPo
       ++total_steps;
       const auto& s = sim.state();
       const auto& f = sim.forces();
-      if (w != nullptr) w->add(dt, -s.q1_m, g_tv * s.q2_m, f.normal_n, f.friction_n);
+      if (w != nullptr) {
+        w->add(dt, -s.q1_m, g_tv * s.q2_m, f.normal_n, f.friction_n,
+               c1 * s.q1_dot_m_s * s.q1_dot_m_s + c2 * s.q2_dot_m_s * s.q2_dot_m_s);
+      }
       if (opt.trace && opt.trace_every_steps > 0 && total_steps % opt.trace_every_steps == 0) {
         opt.trace(TraceSample{s.time_s, s.q1_m, s.q1_dot_m_s, s.q2_m, s.q2_dot_m_s,
                               -1e6 * s.q1_m, 1e6 * g_tv * s.q2_m, f.normal_n, f.friction_n,

@@ -15,6 +15,10 @@ struct OperatingPoint {
   double frequency_hz = 40000.0;
   double load_n = 0.0;
   double phase_deg = 90.0;
+  // Slow states of the thermal and wear effects, held fixed during the run (the quasi-static
+  // map of a measured point, docs/discrepancy.md); ignored when the effect is disabled.
+  double stator_temperature_rise_k = 0.0;
+  double sliding_distance_m = 0.0;
 };
 
 // One trace sample (the CLI writes these to CSV; src does no I/O).
@@ -52,6 +56,7 @@ struct SteadyStateResult {
   double mean_friction_force_n = 0.0;  // mean F_T on the mover
   double mean_normal_force_n = 0.0;    // mean F_N
   double friction_force_std_n = 0.0;   // standard deviation of F_T over the window
+  double damping_power_w = 0.0;        // mean C1 q1'^2 + C2 q2'^2 (heats the stator)
   double speed_change_mm_s = 0.0;   // speed difference of the last two windows
   double sim_s = 0.0;               // simulated time in total
   std::uint64_t steps = 0;          // solver steps in total (accepted steps for the reference)

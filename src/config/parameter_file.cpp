@@ -88,14 +88,34 @@ MotorParameters parse_motor_parameters(std::string_view toml_text,
                          std::string(e.description()));
   }
   MotorParameters parameters{};
-  for (auto&& [section_key, section_node] : root) {
-    const std::string section(section_key.str());
-    bool known_section = false;
-    for (const auto& spec : parameter_specs()) known_section |= spec.section == section;
-    if (!known_section) {
-      throw ParameterError(where(source_name, section_node.source()) + ": unknown section [" +
-                           section + "] (known: stator, contact, mover, options, numerics)");
+  const auto known_section = [](std::string_view name) {
+    for (const auto& spec : parameter_specs()) {
+      if (spec.section == name) return true;
     }
+    return false;
+  };
+  // A table of sub-sections ("effects" holds "effects.thermal", ...).
+  const auto known_parent = [](std::string_view name) {
+    for (const auto& spec : parameter_specs()) {
+      if (spec.section.size() > name.size() && spec.section.starts_with(name) &&
+          spec.section[name.size()] == '.') {
+        return true;
+      }
+    }
+    return false;
+  };
+  const auto known_sections = [] {
+    std::string list;
+    std::string_view last;
+    for (const auto& spec : parameter_specs()) {
+      if (spec.section == last) continue;
+      last = spec.section;
+      list += list.empty() ? "" : ", ";
+      list += std::string(last);
+    }
+    return list;
+  };
+  const auto read_section = [&](const std::string& section, const toml::node& section_node) {
     const auto* table = section_node.as_table();
     if (table == nullptr) {
       throw ParameterError(where(source_name, section_node.source()) + ": " + section +
@@ -109,6 +129,26 @@ MotorParameters parse_motor_parameters(std::string_view toml_text,
                              " (see docs/parameters.md for the valid keys)");
       }
       spec->set(parameters, read_value(node, *spec, source_name));
+    }
+  };
+  for (auto&& [section_key, section_node] : root) {
+    const std::string section(section_key.str());
+    if (known_section(section)) {
+      read_section(section, section_node);
+      continue;
+    }
+    const auto* parent = section_node.as_table();
+    if (!known_parent(section) || parent == nullptr) {
+      throw ParameterError(where(source_name, section_node.source()) + ": unknown section [" +
+                           section + "] (known: " + known_sections() + ")");
+    }
+    for (auto&& [sub_key, sub_node] : *parent) {
+      const std::string sub_section = section + "." + std::string(sub_key.str());
+      if (!known_section(sub_section)) {
+        throw ParameterError(where(source_name, sub_node.source()) + ": unknown section [" +
+                             sub_section + "] (known: " + known_sections() + ")");
+      }
+      read_section(sub_section, sub_node);
     }
   }
   validate_parameters(parameters, source_name);

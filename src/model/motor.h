@@ -135,6 +135,27 @@ class MotorSplitSystem {
                                        GuideFrictionModel::smoothed_sign>();
   }
 
+  // Slow effects (effects.h), called by the simulator's housekeeping, never per step:
+  // modal stiffness and damping scaled from `base` (thermal) and the friction coefficient (wear).
+  void set_modal_factors(const MotorCoefficients& base, double stiffness_factor,
+                         double damping_factor) {
+    k_.stator.l1.k = base.stator.l1.k * stiffness_factor;
+    k_.stator.b2.k = base.stator.b2.k * stiffness_factor;
+    paired_.k = DoublePair{k_.stator.l1.k, k_.stator.b2.k};
+    k_.c1_n_s_m = base.c1_n_s_m * damping_factor;
+    k_.c2_n_s_m = base.c2_n_s_m * damping_factor;
+    update_step(cached_dt_);
+  }
+  void set_friction_coefficient(double friction_coefficient) {
+    k_.friction_coefficient = friction_coefficient;
+    if (k_.tangential_stiffness_n_m > 0.0) {
+      k_.slider_limit_per_normal_force_m_n = friction_coefficient / k_.tangential_stiffness_n_m;
+    }
+  }
+  [[nodiscard]] double damping_power_w(const Vector& v) const {
+    return k_.c1_n_s_m * v[0] * v[0] + k_.c2_n_s_m * v[1] * v[1];
+  }
+
   [[nodiscard]] const InterfaceForces& forces() const { return forces_; }
   [[nodiscard]] double contact_deflection_m() const { return deflection_m_; }
   void set_contact_deflection_m(double deflection_m) {

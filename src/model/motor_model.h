@@ -3,6 +3,7 @@
 #pragma once
 
 #include "model/contact.h"
+#include "model/effects.h"
 #include "model/modal_constants.h"
 #include "model/mover.h"
 #include "model/parameters.h"
@@ -21,6 +22,9 @@ struct MotorState {
   double contact_deflection_m = 0.0;  // Jenkins element: tangential spring deflection delta
                                       // (F_T = k_t delta); always 0 with a rigid contact
   double time_s = 0.0;
+  // Slow states of the thermal and wear effects (docs/discrepancy.md); stay 0 when disabled.
+  double stator_temperature_rise_k = 0.0;  // over ambient
+  double sliding_distance_m = 0.0;         // mover travel since the start of the session
   double drive_sin = 0.0;  // sin(theta), theta = drive phase (V_A = V0 sin theta)
   double drive_cos = 1.0;  // cos(theta)
 };
@@ -57,11 +61,13 @@ struct MotorCoefficients {
   double mover_mass_inv_per_kg = 0.0, mover_damping_n_s_m = 0.0;
   GuideFrictionCoefficients guide;
   double drive_amplitude_per_volt = 0.0;
+  EffectCoefficients effects;  // thermal, wear, amplifier droop (simulator housekeeping)
 };
 
 class MotorModel {
  public:
-  // Validates the parameters (throws ParameterError) and computes the constants.
+  // Validates the parameters (throws ParameterError) and computes the constants from
+  // with_static_effects(parameters); parameters() returns them as given.
   explicit MotorModel(const MotorParameters& parameters);
 
   [[nodiscard]] const MotorParameters& parameters() const { return parameters_; }

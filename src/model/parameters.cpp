@@ -1,5 +1,6 @@
 #include "model/parameters.h"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdio>
@@ -28,6 +29,23 @@ void set_field(MotorParameters& p, double v) {
   if constexpr (std::is_enum_v<T>) {
     value = static_cast<T>(static_cast<int>(v));
   } else if constexpr (std::is_same_v<T, bool>) {
+    value = v != 0.0;
+  } else {
+    value = static_cast<T>(v);
+  }
+}
+
+// Effect parameters live one level deeper: MotorParameters::effects.<effect>.<member>.
+template <auto Effect, auto Member>
+double get_effect_field(const MotorParameters& p) {
+  return static_cast<double>((p.effects.*Effect).*Member);
+}
+
+template <auto Effect, auto Member>
+void set_effect_field(MotorParameters& p, double v) {
+  auto& value = (p.effects.*Effect).*Member;
+  using T = std::remove_cvref_t<decltype(value)>;
+  if constexpr (std::is_same_v<T, bool>) {
     value = v != 0.0;
   } else {
     value = static_cast<T>(v);
@@ -64,6 +82,16 @@ constexpr std::span<const std::string_view> kNone{};
         &get_field<&MotorParameters::SEC, &STRUCT::KEY>,                                     \
         &set_field<&MotorParameters::SEC, &STRUCT::KEY>                                      \
   }
+
+#define SWUM_EFFECT(EFFECT, STRUCT, KEY, KIND, UNIT, MIN, MAX, DESC)                          \
+  ParameterSpec {                                                                            \
+    "effects." #EFFECT, #KEY, UNIT, DESC, ParameterKind::KIND, MIN, MAX, kNone,              \
+        &get_effect_field<&EffectParameters::EFFECT, &STRUCT::KEY>,                          \
+        &set_effect_field<&EffectParameters::EFFECT, &STRUCT::KEY>                           \
+  }
+#define SWUM_EFFECT_SWITCH(EFFECT, STRUCT, WHAT)                                              \
+  SWUM_EFFECT(EFFECT, STRUCT, enabled, boolean, "-", 0.0, 1.0,                               \
+              "Enables the " WHAT " effect (docs/discrepancy.md)")
 
 const std::array kSpecs{
     // [stator] Table 1, Table 2 (§7.2 reading), geometry §5
@@ -152,8 +180,42 @@ const std::array kSpecs{
               "Runaway limit on |q1|, |q2| (NaN guard resets above it)"),
     SWUM_REAL(numerics, NumericsParameters, divergence_speed_limit_m_s, "m/s", 1e-6, 1e9,
               "Runaway limit on the mover speed (NaN guard resets above it)"),
+    // [effects.*] candidate effects of the discrepancy workflow (docs/discrepancy.md)
+    SWUM_EFFECT_SWITCH(electroelastic, ElectroelasticEffect, "non-linear electroelasticity"),
+    SWUM_EFFECT(electroelastic, ElectroelasticEffect, scale, real, "-", -5.0, 5.0,
+                "Adds scale x the reference Table-2 constants (li2019.toml) to c111, c1111, "
+                "e311, e3111 (free parameter)"),
+    SWUM_EFFECT_SWITCH(thermal, ThermalEffect, "stator temperature"),
+    SWUM_EFFECT(thermal, ThermalEffect, thermal_resistance_k_per_w, real, "K/W", 0.0, 1e3,
+                "Steady temperature rise per watt of modal damping power C1 q1'^2 + C2 q2'^2 "
+                "(free parameter)"),
+    SWUM_EFFECT(thermal, ThermalEffect, time_constant_s, real, "s", 1e-3, 1e6,
+                "Thermal time constant tau of dT/dt = (R_th P - T)/tau (fixed)"),
+    SWUM_EFFECT(thermal, ThermalEffect, stiffness_coefficient_per_k, real, "1/K", -0.1, 0.1,
+                "Relative change of K1, K2 per kelvin (fixed)"),
+    SWUM_EFFECT(thermal, ThermalEffect, damping_coefficient_per_k, real, "1/K", -0.1, 1.0,
+                "Relative change of C1, C2 per kelvin (fixed)"),
+    SWUM_EFFECT_SWITCH(wear, WearEffect, "friction-pair wear"),
+    SWUM_EFFECT(wear, WearEffect, friction_change, real, "-", -0.9, 5.0,
+                "Relative change d of mu_c after run-in: mu_c (1 + d (1 - exp(-s/s0))) "
+                "(free parameter)"),
+    SWUM_EFFECT(wear, WearEffect, run_in_distance_m, real, "m", 1e-3, 1e6,
+                "Run-in sliding (mover travel) distance s0 (fixed)"),
+    SWUM_EFFECT_SWITCH(preload, PreloadEffect, "preload error"),
+    SWUM_EFFECT(preload, PreloadEffect, preload_factor, real, "-", 0.05, 5.0,
+                "F_P -> f F_P and k_e -> f^(1/3) k_e (Hertzian contact) (free parameter)"),
+    SWUM_EFFECT_SWITCH(guide_friction, GuideFrictionEffect, "extra guide friction"),
+    SWUM_EFFECT(guide_friction, GuideFrictionEffect, extra_coefficient, real, "-", -1.0, 5.0,
+                "Added to mu_s (eq. 24; result clamped at 0) (free parameter)"),
+    SWUM_EFFECT_SWITCH(amplifier_droop, AmplifierDroopEffect, "amplifier droop"),
+    SWUM_EFFECT(amplifier_droop, AmplifierDroopEffect, source_resistance_ohm, real, "ohm",
+                0.0, 1e5, "Amplifier source resistance R_s (free parameter)"),
+    SWUM_EFFECT(amplifier_droop, AmplifierDroopEffect, clamped_capacitance_nf, real, "nF",
+                0.0, 1e6, "Clamped capacitance C0 of one phase (fixed)"),
 };
 
+#undef SWUM_EFFECT_SWITCH
+#undef SWUM_EFFECT
 #undef SWUM_REAL
 #undef SWUM_INT
 #undef SWUM_CHOICE
@@ -183,6 +245,31 @@ MotorParameters linearised(MotorParameters parameters) {
   parameters.stator.e311_c_per_v_m = 0.0;
   parameters.stator.e3111_c_per_v_m = 0.0;
   return parameters;
+}
+
+MotorParameters with_static_effects(MotorParameters p) {
+  const EffectParameters& e = p.effects;
+  if (e.electroelastic.enabled) {
+    const ReferenceNonlinearConstants ref;
+    const double k = e.electroelastic.scale;
+    p.stator.c111_pa += k * ref.c111_pa;
+    p.stator.c1111_pa += k * ref.c1111_pa;
+    p.stator.e311_c_per_v_m += k * ref.e311_c_per_v_m;
+    p.stator.e3111_c_per_v_m += k * ref.e3111_c_per_v_m;
+  }
+  if (e.preload.enabled) {
+    p.contact.preload_n *= e.preload.preload_factor;
+    p.contact.stiffness_n_m *= std::cbrt(e.preload.preload_factor);
+  }
+  if (e.guide_friction.enabled) {
+    p.mover.guide_friction_coefficient =
+        std::max(0.0, p.mover.guide_friction_coefficient + e.guide_friction.extra_coefficient);
+  }
+  return p;
+}
+
+std::string ParameterSpec::name() const {
+  return std::string(section) + "." + std::string(key);
 }
 
 std::string quoted(std::string_view text) {
@@ -239,6 +326,8 @@ void validate_parameters(const MotorParameters& parameters, std::string_view sou
     if (spec.kind == ParameterKind::choice) {
       allowed = "one of";
       for (auto c : spec.choices) allowed.append(" ").append(quoted(c));
+    } else if (spec.kind == ParameterKind::boolean) {
+      allowed = "true or false";
     } else {
       allowed = std::string("[") + format_parameter_value(spec, spec.min_value) + ", " +
                 format_parameter_value(spec, spec.max_value) + "] " + std::string(spec.unit);
@@ -262,7 +351,9 @@ std::string render_parameters_markdown() {
          "Parameter files are TOML with one table per section; unknown keys, wrong types, "
          "NaN/Inf and out-of-range values are errors. Integers are accepted for real keys.\n"
          "Equation numbers refer to Li et al. 2019 (MSSP), sections to "
-         "MODEL_SPEC.md.\n";
+         "MODEL_SPEC.md.\n"
+         "The `[effects.*]` tables are the candidate effects of the discrepancy workflow "
+         "([discrepancy.md](discrepancy.md)); all are off by default.\n";
   std::string_view section;
   for (const auto& spec : kSpecs) {
     if (spec.section != section) {
@@ -277,6 +368,8 @@ std::string render_parameters_markdown() {
         if (!allowed.empty()) allowed += ", ";
         allowed.append("`").append(quoted(c)).append("`");
       }
+    } else if (spec.kind == ParameterKind::boolean) {
+      allowed = "`true`, `false`";
     } else {
       allowed = format_parameter_value(spec, spec.min_value) + " .. " +
                 format_parameter_value(spec, spec.max_value);

@@ -126,13 +126,90 @@ struct NumericsParameters {
   double divergence_speed_limit_m_s = 100.0;  // |v_m| above this = runaway
 };
 
+// ---------------------------------------------------------------------------------------
+// Candidate effects (docs/discrepancy.md): physical extensions the paper leaves out, each off
+// by default. The defaults of the magnitudes are the documented default magnitudes of
+// `swum synth --effect NAME`. One free parameter each (the first member after `enabled`);
+// the others are fixed physical constants so that the effect stays identifiable.
+
+// Non-linear electroelasticity added to the configured constants:
+// c111 += scale * c111_ref, ... with the reference Table-2 values of config/li2019.toml
+// (a linear baseline thus becomes scale x the calibrated non-linear stator).
+struct ElectroelasticEffect {
+  bool enabled = false;
+  double scale = 1.0;
+};
+
+// Stator temperature rise T (K over ambient): dT/dt = (R_th P - T)/tau, P = mean of
+// C1 q1'^2 + C2 q2'^2 (modal damping power, eqs. 14-15). K_i -> K_i (1 + a_K T),
+// C_i -> C_i (1 + a_C T) (the paper's named missing effect, Sec. 5).
+struct ThermalEffect {
+  bool enabled = false;
+  double thermal_resistance_k_per_w = 4.0;       // free: R_th
+  double time_constant_s = 30.0;                  // fixed: tau
+  double stiffness_coefficient_per_k = -2.0e-4;   // fixed: a_K (PZT-8 c11, steel E ~ -2e-4/K)
+  double damping_coefficient_per_k = 5.0e-3;      // fixed: a_C (Qm of PZT-8 drops with T)
+};
+
+// Friction pair wear: mu_c(s) = mu_c (1 + d (1 - exp(-s/s0))), s = mover travel (sliding)
+// distance accumulated since the start of the session.
+struct WearEffect {
+  bool enabled = false;
+  double friction_change = -0.25;    // free: d (relative change of mu_c after run-in)
+  double run_in_distance_m = 20.0;   // fixed: s0
+};
+
+// Preload error: F_P -> f F_P and, for a Hertzian contact (k ~ F^(1/3)), k_e -> f^(1/3) k_e.
+struct PreloadEffect {
+  bool enabled = false;
+  double preload_factor = 0.8;  // free: f
+};
+
+// Extra linear-guide friction: mu_s -> mu_s + d (widens the dead zone, eq. 24).
+struct GuideFrictionEffect {
+  bool enabled = false;
+  double extra_coefficient = 0.05;  // free: d
+};
+
+// Amplifier source impedance: per phase V = (V_cmd - R_s I_m)/(1 + j w R_s C0), I_m the
+// motional current a0 q1' + b0 q2' (reciprocity of the linear coupling of eqs. 14-15);
+// applied to the drive amplitude.
+struct AmplifierDroopEffect {
+  bool enabled = false;
+  double source_resistance_ohm = 60.0;    // free: R_s
+  double clamped_capacitance_nf = 10.0;   // fixed: C0 per phase
+};
+
+struct EffectParameters {
+  ElectroelasticEffect electroelastic;
+  ThermalEffect thermal;
+  WearEffect wear;
+  PreloadEffect preload;
+  GuideFrictionEffect guide_friction;
+  AmplifierDroopEffect amplifier_droop;
+};
+
 struct MotorParameters {
   StatorParameters stator;
   ContactParameters contact;
   MoverParameters mover;
   ModelOptions options;
   NumericsParameters numerics;
+  EffectParameters effects;
 };
+
+// The reference Table-2 constants the electroelastic effect scales (config/li2019.toml).
+struct ReferenceNonlinearConstants {
+  double c111_pa = -1.4583e12;
+  double c1111_pa = -0.85e17;
+  double e311_c_per_v_m = 3.3142e-6;
+  double e3111_c_per_v_m = 6.4235e-3;
+};
+
+// The parameters the constant model is built from: the electroelastic, preload and
+// guide-friction effects folded into stator/contact/mover (the slow and fast effects,
+// thermal, wear and amplifier droop, act inside the simulator).
+[[nodiscard]] MotorParameters with_static_effects(MotorParameters parameters);
 
 // The linear variant: the four nonlinear constants c111, c1111, e311, e3111 set to zero.
 [[nodiscard]] MotorParameters linearised(MotorParameters parameters);
@@ -152,6 +229,9 @@ struct ParameterSpec {
   std::span<const std::string_view> choices;  // kind == choice: names, index = enum value
   double (*get)(const MotorParameters&);       // bool -> 0/1, choice -> index
   void (*set)(MotorParameters&, double);
+
+  // "section.key" (e.g. "effects.thermal.time_constant_s").
+  [[nodiscard]] std::string name() const;
 };
 
 // All parameters, in documentation order.

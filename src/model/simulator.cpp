@@ -53,7 +53,9 @@ void MotorSimulator::advance_specialised(std::uint64_t steps) {
   double c = state_.drive_cos;
   double t = state_.time_s;
   const double load = drive_.load_n;
-  const DriveWaveform waveform = waveform_;
+  const EffectCoefficients& effects = model_.coefficients().effects;
+  DriveWaveform waveform = waveform_;
+  waveform.amplitude_v *= droop_gain_;
   const double dt = dt_;
   const double position_limit_sq = position_limit_m_ * position_limit_m_;
   const double speed_limit_sq = speed_limit_m_s_ * speed_limit_m_s_;
@@ -66,6 +68,7 @@ void MotorSimulator::advance_specialised(std::uint64_t steps) {
     if ((++housekeeping & 63U) == 0U) {
       renormalise_phasor(s, c);
       for (auto& x : v) x = flush_tiny(x);
+      if (effects.any()) [[unlikely]] update_effects(q, v, s, c, waveform);
     }
     // Runaway limits on q1, q2, v_m; NaN fails every comparison and a NaN/Inf anywhere makes
     // the sum's difference with itself NaN.
@@ -94,8 +97,59 @@ void MotorSimulator::advance_specialised(std::uint64_t steps) {
   state_.time_s = t;
 }
 
+void MotorSimulator::update_effects(const MotorSplitSystem::Vector& q,
+                                    const MotorSplitSystem::Vector& v, double sin_theta,
+                                    double cos_theta, DriveWaveform& waveform) {
+  const EffectCoefficients& e = model_.coefficients().effects;
+  constexpr double kBlockSteps = 64.0;
+  const double block_s = kBlockSteps * dt_;
+  if (e.slow() && !slow_states_frozen_) {
+    if (e.thermal) {
+      state_.stator_temperature_rise_k = thermal_step_k(
+          e, state_.stator_temperature_rise_k, system_.damping_power_w(v), block_s);
+    }
+    if (e.wear) state_.sliding_distance_m += block_s * std::abs(v[2]);
+    apply_slow_states();
+  }
+  if (e.droop) {
+    const double w = waveform.angular_frequency_rad_s;
+    const double inv_w = w > 0.0 ? 1.0 / w : 0.0;
+    const Analytic z1{q[0] - model_.constants().static_q1_m, -v[0] * inv_w};
+    const Analytic z2{q[1], -v[1] * inv_w};
+    const double target = swum::droop_gain(e, w, sin_theta, cos_theta, waveform.cos_phase,
+                                     waveform.sin_phase, waveform_.amplitude_v, z1, z2);
+    // Half-way per block (~1 drive period): the modes respond over ~20 periods, so the
+    // discrete feedback through the motional current stays smooth and stable.
+    droop_gain_ += 0.5 * (target - droop_gain_);
+    waveform.amplitude_v = waveform_.amplitude_v * droop_gain_;
+  }
+}
+
+void MotorSimulator::apply_slow_states() {
+  const MotorCoefficients& k = model_.coefficients();
+  const EffectCoefficients& e = k.effects;
+  if (e.thermal) {
+    const ThermalFactors f = thermal_factors(e, state_.stator_temperature_rise_k);
+    system_.set_modal_factors(k, f.stiffness, f.damping);
+  }
+  if (e.wear) {
+    system_.set_friction_coefficient(k.friction_coefficient *
+                                     wear_friction_factor(e, state_.sliding_distance_m));
+  }
+}
+
+void MotorSimulator::set_slow_states(double temperature_rise_k, double sliding_distance_m,
+                                     bool frozen) {
+  const EffectCoefficients& e = model_.coefficients().effects;
+  state_.stator_temperature_rise_k = e.thermal ? temperature_rise_k : 0.0;
+  state_.sliding_distance_m = e.wear ? sliding_distance_m : 0.0;
+  slow_states_frozen_ = frozen;
+  apply_slow_states();
+}
+
 void MotorSimulator::set_state(const MotorState& state) {
   state_ = state;
+  apply_slow_states();
   system_.set_contact_deflection_m(state_.contact_deflection_m);
   state_.contact_deflection_m = system_.contact_deflection_m();
   const double r = std::hypot(state_.drive_sin, state_.drive_cos);
@@ -112,7 +166,11 @@ void MotorSimulator::reset() {
   const MotorState rest = model_.rest_state(state_.time_s);
   const double s = state_.drive_sin;
   const double c = state_.drive_cos;
+  const double temperature = state_.stator_temperature_rise_k;  // slow states persist
+  const double distance = state_.sliding_distance_m;
   state_ = rest;
+  state_.stator_temperature_rise_k = temperature;
+  state_.sliding_distance_m = distance;
   system_.set_contact_deflection_m(0.0);
   state_.drive_sin = s;
   state_.drive_cos = c;

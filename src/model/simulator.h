@@ -56,6 +56,14 @@ class MotorSimulator {
   [[nodiscard]] double time_step_s() const { return dt_; }
   [[nodiscard]] const MotorModel& model() const { return model_; }
 
+  // Slow states of the thermal and wear effects (no-ops when both are disabled). Frozen slow
+  // states keep their values (the quasi-static map of a measured point, steady_state.h);
+  // otherwise they evolve every housekeeping block (64 steps).
+  void set_slow_states(double temperature_rise_k, double sliding_distance_m, bool frozen);
+  [[nodiscard]] bool slow_states_frozen() const { return slow_states_frozen_; }
+  // Drive amplitude at the piezo / commanded (amplifier droop; 1 when disabled).
+  [[nodiscard]] double droop_gain() const { return droop_gain_; }
+
   // NaN guard (MuJoCo style): a non-finite or runaway state after a step resets to the rest
   // state, sets diverged() and counts a warning.
   [[nodiscard]] bool diverged() const { return diverged_; }
@@ -65,6 +73,11 @@ class MotorSimulator {
  private:
   template <TangentialContact C, GuideFrictionModel G>
   void advance_specialised(std::uint64_t steps);
+
+  // Housekeeping of the enabled effects (effects.h), every 64 steps.
+  void update_effects(const MotorSplitSystem::Vector& q, const MotorSplitSystem::Vector& v,
+                      double sin_theta, double cos_theta, DriveWaveform& waveform);
+  void apply_slow_states();
 
   const MotorModel& model_;
   MotorSplitSystem system_;
@@ -76,6 +89,8 @@ class MotorSimulator {
   double position_limit_m_;
   double speed_limit_m_s_;
   std::uint64_t housekeeping_steps_ = 0;  // phasor renormalisation / subnormal flush cadence
+  bool slow_states_frozen_ = false;
+  double droop_gain_ = 1.0;
   bool diverged_ = false;
   std::uint64_t divergence_count_ = 0;
 };

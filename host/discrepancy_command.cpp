@@ -1,0 +1,301 @@
+// `swum discrepancy`: where the model and measurements disagree, which candidate effect
+// explains it, the augmented config and the gap before -> after (docs/discrepancy.md).
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <system_error>
+#include <vector>
+
+#include "analysis/discrepancy.h"
+#include "command_error.h"
+#include "commands.h"
+#include "config/parameter_file.h"
+#include "motor_config.h"
+#include "parallel_for.h"
+#include "plot.h"
+#include "text_files.h"
+
+namespace swum::host {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct DiscrepancyCommandOptions {
+  std::string config_path;
+  std::string measured_path;
+  std::string out_dir;
+  std::string effects;
+  bool json = false;
+  int jobs = 0;
+};
+
+std::string number(double v, const char* format = "%.4g") {
+  char text[64];
+  std::snprintf(text, sizeof text, format, v);
+  return text;
+}
+
+std::string percent(double v) { return number(100.0 * v, "%.3g") + " %"; }
+
+std::vector<std::string> split_list(const std::string& text) {
+  std::vector<std::string> out;
+  std::size_t start = 0;
+  while (start <= text.size()) {
+    const std::size_t comma = text.find(',', start);
+    std::string item = text.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
+    if (!item.empty()) out.push_back(item);
+    if (comma == std::string::npos) break;
+    start = comma + 1;
+  }
+  return out;
+}
+
+nlohmann::ordered_json to_json(const DiscrepancyResult& r, double wall_s) {
+  nlohmann::ordered_json j;
+  j["effects"] = nlohmann::ordered_json::array();
+  for (const NamedEffect& e : r.effects) {
+    nlohmann::ordered_json effect;
+    effect["name"] = e.name;
+    effect["parameters"][e.key] = {{"value", e.value},
+                                   {"standard_error", e.standard_error},
+                                   {"unit", e.unit}};
+    effect["delta_bic"] = e.delta_bic;
+    effect["held_out_t"] = e.held_out_t;
+    effect["held_out_rms_before"] = e.held_out_rms_before;
+    effect["held_out_rms_after"] = e.held_out_rms_after;
+    j["effects"].push_back(effect);
+  }
+  j["rms_before"] = r.rms_before;
+  j["rms_after"] = r.rms_after;
+  nlohmann::ordered_json gaps;
+  for (Quantity q : kQuantities) {
+    const QuantityGap& g = r.gaps[static_cast<std::size_t>(q)];
+    if (g.count == 0) continue;
+    gaps[std::string(quantity_column(q))] = {{"count", g.count},
+                                             {"rms_before", g.rms_before},
+                                             {"max_before", g.max_before},
+                                             {"rms_after", g.rms_after},
+                                             {"max_after", g.max_after}};
+  }
+  j["gaps"] = gaps;
+  j["baseline"] = {{"rms", r.baseline_map.rms},
+                   {"noise", r.baseline_map.noise},
+                   {"noise_source", r.baseline_map.noise_source},
+                   {"structured", r.baseline_map.structured},
+                   {"summary", r.baseline_map.summary}};
+  j["rounds"] = nlohmann::ordered_json::array();
+  for (const DiscrepancyRound& round : r.rounds) {
+    nlohmann::ordered_json jr;
+    jr["verdict"] = round.verdict;
+    jr["candidates"] = nlohmann::ordered_json::array();
+    for (const CandidateScore& c : round.candidates) {
+      nlohmann::ordered_json jc{{"name", c.name}, {"skipped", c.skipped}};
+      if (c.skipped) {
+        jc["note"] = c.note;
+      } else {
+        jc["value"] = c.value;
+        jc["train_rms"] = c.train_rms;
+        jc["held_out_rms"] = c.held_out_rms;
+        jc["delta_bic"] = c.delta_bic;
+      }
+      jr["candidates"].push_back(jc);
+    }
+    j["rounds"].push_back(jr);
+  }
+  j["conclusion"] = r.conclusion;
+  j["model_evaluations"] = r.model_evaluations;
+  j["wall_s"] = wall_s;
+  return j;
+}
+
+std::string summary_text(const DiscrepancyResult& r) {
+  std::string out = "baseline: " + r.baseline_map.summary + "\n";
+  for (std::size_t k = 0; k < r.rounds.size(); ++k) {
+    out += "round " + std::to_string(k + 1) + ": " + r.rounds[k].verdict + "\n";
+    for (const CandidateScore& c : r.rounds[k].candidates) {
+      char line[256];
+      if (c.skipped) {
+        std::snprintf(line, sizeof line, "  %-16s skipped: %s\n", c.name.c_str(), c.note.c_str());
+      } else {
+        std::snprintf(line, sizeof line, "  %-16s value %-10s train RMS %-8s held-out RMS %-8s dBIC %+.1f\n",
+                      c.name.c_str(), number(c.value).c_str(), percent(c.train_rms).c_str(),
+                      percent(c.held_out_rms).c_str(), c.delta_bic);
+      }
+      out += line;
+    }
+  }
+  if (r.effects.empty()) out += "named effects: none\n";
+  for (const NamedEffect& e : r.effects) {
+    out += "named effect: " + e.name + "  " + e.key + " = " + number(e.value) + " +- " +
+           number(e.standard_error, "%.2g") + " " + e.unit + "  (held-out RMS " +
+           percent(e.held_out_rms_before) + " -> " + percent(e.held_out_rms_after) + ")\n";
+  }
+  out += "held-out gap (relative RMS / max): " + percent(r.rms_before) + " -> " + percent(r.rms_after) + "\n";
+  for (Quantity q : kQuantities) {
+    const QuantityGap& g = r.gaps[static_cast<std::size_t>(q)];
+    if (g.count == 0) continue;
+    char line[256];
+    std::snprintf(line, sizeof line, "  %-18s RMS %-8s -> %-8s max %-8s -> %s\n",
+                  std::string(quantity_column(q)).c_str(), percent(g.rms_before).c_str(),
+                  percent(g.rms_after).c_str(), percent(g.max_before).c_str(),
+                  percent(g.max_after).c_str());
+    out += line;
+  }
+  out += "conclusion: " + r.conclusion + "\n";
+  return out;
+}
+
+// Per quantity: measured, baseline and augmented against the point index in session order;
+// and the relative residuals of both models.
+std::vector<std::string> write_plots(const fs::path& dir, const MeasurementSet& set,
+                                     const DiscrepancyResult& r) {
+  std::vector<std::string> files;
+  const std::vector<std::size_t> order = session_order(set.rows);
+  for (Quantity q : kQuantities) {
+    if (!set.has_quantity[static_cast<std::size_t>(q)]) continue;
+    PlotSeries measured{"measured", {}, {}, false, true};
+    PlotSeries base{"baseline model", {}, {}, true, false};
+    PlotSeries augmented{"augmented model", {}, {}, true, false};
+    for (std::size_t k = 0; k < order.size(); ++k) {
+      const std::size_t i = order[k];
+      const auto& v = set.rows[i].value(q);
+      if (!v) continue;
+      const double x = static_cast<double>(k);
+      measured.x.push_back(x);
+      measured.y.push_back(*v);
+      base.x.push_back(x);
+      base.y.push_back(r.baseline_predictions[i].value(q));
+      augmented.x.push_back(x);
+      augmented.y.push_back(r.augmented_predictions[i].value(q));
+    }
+    PlotSpec spec;
+    spec.title = "Measured vs baseline and augmented model";
+    spec.x_label = "point (session order)";
+    spec.y_label = std::string(quantity_label(q));
+    spec.series = {measured, base, augmented};
+    const std::string name = std::string(quantity_column(q)) + ".png";
+    write_png_plot(spec, dir / name);
+    files.push_back(name);
+  }
+  return files;
+}
+
+std::string report_markdown(const DiscrepancyCommandOptions& o, const DiscrepancyResult& r,
+                            const std::vector<std::string>& plots) {
+  std::string md = "# Model discrepancy report\n\n";
+  md += "`swum discrepancy --config " + o.config_path + " --measured " + o.measured_path + "`\n\n";
+  md += "**Conclusion:** " + r.conclusion + "\n\n";
+  md += "## Disagreement map of the baseline\n\n" + r.baseline_map.summary + "\n\n";
+  md += "| variable | F (quadratic trend) | R^2 | quantity | structured |\n|---|---|---|---|---|\n";
+  for (const TrendTest& t : r.baseline_map.trends) {
+    md += "| " + std::string(t.variable) + " | " + number(t.f_statistic, "%.3g") + " | " +
+          number(t.explained_fraction, "%.2f") + " | " + std::string(quantity_column(t.quantity)) +
+          " | " + (t.structured ? "yes" : "no") + " |\n";
+  }
+  md += "\nLargest residuals (relative):\n\n| line | quantity | measured | baseline | r |\n|---|---|---|---|---|\n";
+  for (const ResidualValue& v : r.baseline_map.largest) {
+    md += "| " + std::to_string(v.slot.row) + " | " + std::string(quantity_column(v.slot.quantity)) +
+          " | " + number(v.measured) + " | " + number(v.predicted) + " | " + percent(v.relative) + " |\n";
+  }
+  md += "\n## Selection\n\n";
+  for (std::size_t k = 0; k < r.rounds.size(); ++k) {
+    md += "Round " + std::to_string(k + 1) + ": " + r.rounds[k].verdict + "\n\n";
+    md += "| candidate | value | train RMS | held-out RMS | delta BIC |\n|---|---|---|---|---|\n";
+    for (const CandidateScore& c : r.rounds[k].candidates) {
+      md += c.skipped ? "| " + c.name + " | skipped: " + c.note + " | | | |\n"
+                      : "| " + c.name + " | " + number(c.value) + " | " + percent(c.train_rms) +
+                            " | " + percent(c.held_out_rms) + " | " + number(c.delta_bic, "%+.1f") + " |\n";
+    }
+    md += "\n";
+  }
+  md += "## Named effects\n\n";
+  if (r.effects.empty()) md += "None.\n";
+  for (const NamedEffect& e : r.effects) {
+    md += "- **" + e.name + "**: `" + e.key + " = " + number(e.value) + "` +- " +
+          number(e.standard_error, "%.2g") + " " + e.unit + " (delta BIC " +
+          number(e.delta_bic, "%+.1f") + ", held-out t " + number(e.held_out_t, "%.3g") + ")\n";
+  }
+  md += "\n## Gap on held-out points (relative)\n\n| quantity | n | RMS before | RMS after | max before | max after |\n|---|---|---|---|---|---|\n";
+  for (Quantity q : kQuantities) {
+    const QuantityGap& g = r.gaps[static_cast<std::size_t>(q)];
+    if (g.count == 0) continue;
+    md += "| " + std::string(quantity_column(q)) + " | " + std::to_string(g.count) + " | " +
+          percent(g.rms_before) + " | " + percent(g.rms_after) + " | " + percent(g.max_before) +
+          " | " + percent(g.max_after) + " |\n";
+  }
+  md += "| all | | " + percent(r.rms_before) + " | " + percent(r.rms_after) + " | | |\n\n";
+  md += "Remaining residual: " + r.augmented_map.summary + "\n\n";
+  for (const std::string& p : plots) md += "![" + p + "](" + p + ")\n";
+  md += "\nAugmented config: `augmented.toml`. " + std::to_string(r.model_evaluations) +
+        " model evaluations of every point.\n";
+  return md;
+}
+
+void run_discrepancy_command(const DiscrepancyCommandOptions& o) {
+  if (o.jobs < 0) throw std::invalid_argument("--jobs: must be >= 1 (0 = all cores)");
+  DiscrepancyOptions options;
+  options.candidates = split_list(o.effects);
+  for (const std::string& name : options.candidates) {
+    if (find_candidate_effect(name) == nullptr) {
+      throw std::invalid_argument("--effects: unknown effect '" + name + "' (known: " +
+                                  candidate_effect_names() + ")");
+    }
+  }
+  const MotorParameters baseline = load_motor_parameters(o.config_path);
+  MeasurementSet measured;
+  try {
+    measured = parse_measurements_csv(read_text_file(o.measured_path), o.measured_path);
+  } catch (const MeasurementError& e) {
+    throw CommandError(e.what());
+  }
+  const auto start = std::chrono::steady_clock::now();
+  const DiscrepancyResult r = run_discrepancy(baseline, measured, options,
+                                              make_parallel_for(static_cast<unsigned>(o.jobs)));
+  const double wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+
+  const fs::path dir(o.out_dir);
+  std::error_code ec;
+  fs::create_directories(dir, ec);
+  if (ec) throw CommandError("cannot create output directory " + dir.string() + ": " + ec.message());
+  std::string header = "# Written by `swum discrepancy --config " + o.config_path + " --measured " +
+                       o.measured_path + "`: the baseline plus the named effects.\n";
+  for (const NamedEffect& e : r.effects) {
+    header += "#   effects." + e.name + "." + e.key + " = " + number(e.value, "%.6g") + " +- " +
+              number(e.standard_error, "%.2g") + " " + e.unit + "\n";
+  }
+  if (r.effects.empty()) header += "#   no effect named: identical to the baseline\n";
+  write_text_file_atomically(dir / "augmented.toml", header + "\n" + format_motor_parameters(r.augmented));
+  const std::vector<std::string> plots = write_plots(dir, measured, r);
+  write_text_file_atomically(dir / "report.md", report_markdown(o, r, plots));
+  write_text_file_atomically(dir / "summary.json", to_json(r, wall_s).dump(2) + "\n");
+  if (o.json) {
+    std::printf("%s\n", to_json(r, wall_s).dump(2).c_str());
+  } else {
+    std::fputs(summary_text(r).c_str(), stdout);
+    std::printf("wrote %s/report.md, augmented.toml and %zu plots (%.1f s, %d model evaluations)\n",
+                o.out_dir.c_str(), plots.size(), wall_s, r.model_evaluations);
+  }
+}
+
+}  // namespace
+
+void add_discrepancy_command(CLI::App& app) {
+  auto o = std::make_shared<DiscrepancyCommandOptions>();
+  CLI::App* sub = app.add_subcommand(
+      "discrepancy", "Name the effect missing from a model, add it, show the gap shrink");
+  sub->add_option("--config", o->config_path, "baseline motor parameter file (TOML)")->required();
+  sub->add_option("--measured", o->measured_path,
+                  "CSV: vpp,frequency_hz,load_n[,time_s] + speed_mm_s/tip_normal_um/tip_tangential_um")
+      ->required();
+  sub->add_option("--out", o->out_dir, "directory for report.md, plots, augmented.toml")->required();
+  sub->add_option("--effects", o->effects, "candidate effects, comma list (default: all)");
+  sub->add_flag("--json", o->json, "print one JSON object instead of the text summary");
+  sub->add_option("--jobs", o->jobs, "worker threads (default: all cores)");
+  sub->callback([o] { run_discrepancy_command(*o); });
+}
+
+}  // namespace swum::host

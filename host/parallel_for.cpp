@@ -1,0 +1,25 @@
+#include "parallel_for.h"
+
+#include <algorithm>
+#include <atomic>
+#include <thread>
+#include <vector>
+
+namespace swum::host {
+
+ParallelFor make_parallel_for(unsigned jobs) {
+  const unsigned threads = jobs > 0 ? jobs : std::max(1u, std::thread::hardware_concurrency());
+  return [threads](std::size_t count, const std::function<void(std::size_t)>& body) {
+    std::atomic<std::size_t> next{0};
+    auto worker = [&] {
+      for (std::size_t i = next++; i < count; i = next++) body(i);
+    };
+    std::vector<std::thread> pool;
+    const std::size_t extra = std::min<std::size_t>(threads, count) - (count > 0 ? 1 : 0);
+    for (std::size_t t = 0; t < extra; ++t) pool.emplace_back(worker);
+    worker();
+    for (auto& thread : pool) thread.join();
+  };
+}
+
+}  // namespace swum::host

@@ -1,0 +1,12 @@
+// The host's ParallelFor for the model library (src/ starts no threads): a batch of
+// independent tasks on `jobs` threads pulling indices from a shared counter.
+#pragma once
+
+#include "analysis/measured_point_model.h"
+
+namespace swum::host {
+
+/// jobs = 0: all cores.
+ParallelFor make_parallel_for(unsigned jobs = 0);
+
+}  // namespace swum::host

@@ -1,0 +1,91 @@
+// The model-discrepancy workflow (docs/discrepancy.md): disagreement map of the baseline,
+// screening and fitting of the candidate effects on a training split, scoring on held-out
+// points and by BIC, naming the effect that explains the structured residual, and repeating
+// with the winner added until no candidate improves both held-out error and BIC.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "analysis/candidate_effects.h"
+#include "analysis/disagreement_map.h"
+#include "analysis/measured_point_model.h"
+#include "analysis/measurements.h"
+
+namespace swum {
+
+struct DiscrepancyOptions {
+  PredictionOptions prediction;
+  std::vector<std::string> candidates;  // effect names; empty = all of candidate_effects()
+  int held_out_every = 4;               // one operating point (with its repeats) in 4 held out
+  std::uint64_t split_seed = 2019;
+  double floor_fraction = 0.05;         // residual floor (ResidualModel)
+  // A candidate is named only if its BIC is lower by more than this (Kass-Raftery "very
+  // strong": 10) AND it lowers the held-out squared residuals with a paired t above
+  // held_out_t; it must also cut the training residual by min_improvement (relative SSE).
+  double bic_margin = 10.0;
+  double held_out_t = 2.0;
+  int max_effects = 3;
+  int max_fit_iterations = 8;
+  int screening_steps = 2;  // Gauss-Newton/secant steps per candidate before the full fit
+};
+
+struct CandidateScore {
+  std::string name;
+  bool skipped = false;
+  std::string note;                 // why skipped
+  double value = 0.0;               // screened value of the free parameter
+  double train_rms = 0.0;           // relative
+  double held_out_rms = 0.0;        // relative
+  double delta_bic = 0.0;           // against the current model (negative = better)
+};
+
+struct NamedEffect {
+  std::string name;
+  std::string key;          // free parameter key in [effects.<name>]
+  std::string unit;
+  double value = 0.0;
+  double standard_error = 0.0;
+  double delta_bic = 0.0;
+  double held_out_t = 0.0;
+  double held_out_rms_before = 0.0;
+  double held_out_rms_after = 0.0;
+};
+
+struct DiscrepancyRound {
+  std::vector<CandidateScore> candidates;  // in candidate order
+  std::optional<std::size_t> fitted;       // index of the fully fitted candidate
+  bool accepted = false;
+  std::string verdict;
+};
+
+struct QuantityGap {
+  int count = 0;  // held-out values
+  double rms_before = 0.0, max_before = 0.0, rms_after = 0.0, max_after = 0.0;  // relative
+};
+
+struct DiscrepancyResult {
+  DisagreementMap baseline_map;   // all points
+  DisagreementMap augmented_map;  // all points
+  std::vector<NamedEffect> effects;  // in the order found
+  std::vector<DiscrepancyRound> rounds;
+  MotorParameters augmented;
+  Predictions baseline_predictions;
+  Predictions augmented_predictions;
+  std::vector<bool> held_out;  // per row
+  double rms_before = 0.0;  // held-out, relative, all quantities
+  double rms_after = 0.0;
+  std::array<QuantityGap, kQuantityCount> gaps{};
+  std::string conclusion;
+  int model_evaluations = 0;  // parameter sets evaluated at every point
+};
+
+// Throws std::invalid_argument for an unknown candidate name.
+[[nodiscard]] DiscrepancyResult run_discrepancy(const MotorParameters& baseline,
+                                                const MeasurementSet& measured,
+                                                const DiscrepancyOptions& options,
+                                                const ParallelFor& parallel);
+
+}  // namespace swum

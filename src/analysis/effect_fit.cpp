@@ -1,0 +1,195 @@
+#include "analysis/effect_fit.h"
+
+#include <ceres/ceres.h>
+#include <Eigen/Dense>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+
+namespace swum {
+
+EffectEvaluator::EffectEvaluator(const MotorParameters& current,
+                                 std::vector<const CandidateEffect*> effects,
+                                 const MeasurementSet& set, const PredictionOptions& options,
+                                 const ParallelFor& parallel, int& evaluation_counter)
+    : current_(current),
+      effects_(std::move(effects)),
+      set_(&set),
+      options_(options),
+      parallel_(parallel),
+      counter_(&evaluation_counter) {}
+
+MotorParameters EffectEvaluator::parameters_at(std::span<const double> values) const {
+  MotorParameters p = current_;
+  for (std::size_t k = 0; k < effects_.size(); ++k) enable_effect(p, *effects_[k], values[k]);
+  return p;
+}
+
+std::vector<Predictions> EffectEvaluator::evaluate(
+    const std::vector<std::vector<double>>& value_sets) const {
+  std::vector<MotorParameters> models;
+  for (const auto& v : value_sets) models.push_back(parameters_at(v));
+  *counter_ += static_cast<int>(value_sets.size());
+  return predict_points(models, set_->rows, options_, parallel_);
+}
+
+namespace {
+
+using Theta = std::vector<double>;
+
+// theta_k = (value_k - neutral_k) / typical_k: each free parameter in units of its typical
+// magnitude.
+class EffectCost final : public ceres::CostFunction {
+ public:
+  EffectCost(const EffectEvaluator& evaluator, const ResidualModel& residuals,
+             std::span<const std::size_t> slots, double step, Theta upper_theta)
+      : evaluator_(evaluator), residuals_(residuals), slots_(slots), step_(step),
+        upper_theta_(std::move(upper_theta)) {
+    set_num_residuals(static_cast<int>(slots.size()));
+    mutable_parameter_block_sizes()->push_back(static_cast<int>(upper_theta_.size()));
+  }
+
+  [[nodiscard]] std::vector<double> values_of(const Theta& theta) const {
+    std::vector<double> v(theta.size());
+    for (std::size_t k = 0; k < theta.size(); ++k) {
+      const CandidateEffect& e = *evaluator_.effects()[k];
+      v[k] = e.neutral + theta[k] * e.typical;
+    }
+    return v;
+  }
+
+  void remember(const Theta& theta, const Predictions& p) const { cache_.emplace(theta, p); }
+
+  // Predictions at theta (cached: Ceres re-evaluates accepted points).
+  const Predictions& at(const Theta& theta) const {
+    ensure({theta});
+    return cache_.find(theta)->second;
+  }
+
+  // Signed finite-difference step of parameter k that stays inside the bounds.
+  [[nodiscard]] Theta shifted(const Theta& theta, std::size_t k) const {
+    Theta t = theta;
+    t[k] += theta[k] + step_ <= upper_theta_[k] ? step_ : -step_;
+    return t;
+  }
+
+  bool Evaluate(double const* const* parameters, double* residuals,
+                double** jacobians) const override {
+    const std::size_t m = upper_theta_.size();
+    const Theta theta(parameters[0], parameters[0] + m);
+    const bool want_jacobian = jacobians != nullptr && jacobians[0] != nullptr;
+    std::vector<Theta> needed{theta};
+    if (want_jacobian) {
+      for (std::size_t k = 0; k < m; ++k) needed.push_back(shifted(theta, k));
+    }
+    ensure(needed);  // one parallel batch
+    const Predictions& p0 = cache_.find(theta)->second;
+    for (std::size_t i = 0; i < slots_.size(); ++i) residuals[i] = residuals_.residual(slots_[i], p0);
+    if (want_jacobian) {
+      for (std::size_t k = 0; k < m; ++k) {
+        const Theta t = shifted(theta, k);
+        const Predictions& p1 = cache_.find(t)->second;
+        const double h = t[k] - theta[k];
+        for (std::size_t i = 0; i < slots_.size(); ++i) {
+          jacobians[0][i * m + k] = (residuals_.residual(slots_[i], p1) - residuals[i]) / h;
+        }
+      }
+    }
+    return std::all_of(residuals, residuals + slots_.size(), [](double r) { return std::isfinite(r); });
+  }
+
+ private:
+  void ensure(const std::vector<Theta>& thetas) const {
+    std::vector<Theta> missing;
+    for (const Theta& t : thetas) {
+      if (cache_.find(t) == cache_.end() &&
+          std::find(missing.begin(), missing.end(), t) == missing.end()) {
+        missing.push_back(t);
+      }
+    }
+    if (missing.empty()) return;
+    std::vector<std::vector<double>> values;
+    for (const Theta& t : missing) values.push_back(values_of(t));
+    std::vector<Predictions> batch = evaluator_.evaluate(values);
+    for (std::size_t k = 0; k < missing.size(); ++k) cache_.emplace(missing[k], std::move(batch[k]));
+  }
+
+  const EffectEvaluator& evaluator_;
+  const ResidualModel& residuals_;
+  std::span<const std::size_t> slots_;
+  double step_;
+  Theta upper_theta_;
+  mutable std::map<Theta, Predictions> cache_;
+};
+
+}  // namespace
+
+EffectFit fit_effect(const EffectEvaluator& evaluator, const ResidualModel& residuals,
+                     std::span<const std::size_t> train_slots, std::vector<double> start,
+                     int max_iterations, const Predictions* start_predictions) {
+  const std::size_t m = evaluator.effects().size();
+  Theta lo(m), hi(m), theta(m);
+  for (std::size_t k = 0; k < m; ++k) {
+    const CandidateEffect& e = *evaluator.effects()[k];
+    // Bounds in theta units (typical may be negative).
+    lo[k] = (e.lower - e.neutral) / e.typical;
+    hi[k] = (e.upper - e.neutral) / e.typical;
+    if (lo[k] > hi[k]) std::swap(lo[k], hi[k]);
+    theta[k] = std::clamp((start[k] - e.neutral) / e.typical, lo[k], hi[k]);
+  }
+  constexpr double kStep = 0.1;  // 10 % of the typical magnitude: far above the steady-state noise
+  auto* cost = new EffectCost(evaluator, residuals, train_slots, kStep, hi);
+  if (start_predictions != nullptr && cost->values_of(theta) == start) {
+    cost->remember(theta, *start_predictions);
+  }
+  ceres::Problem problem;
+  problem.AddResidualBlock(cost, nullptr, theta.data());
+  for (std::size_t k = 0; k < m; ++k) {
+    problem.SetParameterLowerBound(theta.data(), static_cast<int>(k), lo[k]);
+    problem.SetParameterUpperBound(theta.data(), static_cast<int>(k), hi[k]);
+  }
+  ceres::Solver::Options so;
+  so.minimizer_type = ceres::TRUST_REGION;
+  so.trust_region_strategy_type = ceres::LEVENBERG_MARQUARDT;
+  so.linear_solver_type = ceres::DENSE_QR;
+  so.max_num_iterations = max_iterations;
+  so.function_tolerance = 1e-5;
+  so.parameter_tolerance = 1e-4;
+  so.num_threads = 1;  // the parallelism is inside the cost function
+  so.logging_type = ceres::SILENT;
+  ceres::Solver::Summary summary;
+  ceres::Solve(so, &problem, &summary);
+
+  EffectFit fit;
+  fit.iterations = static_cast<int>(summary.iterations.size());
+  fit.ok = summary.IsSolutionUsable();
+  // Jacobian and residuals at the solution (cached when Ceres evaluated them).
+  const std::size_t n = train_slots.size();
+  std::vector<double> r(n), j(n * m);
+  double* jac[1] = {j.data()};
+  const double* block[1] = {theta.data()};
+  fit.ok = fit.ok && cost->Evaluate(block, r.data(), jac);
+  Eigen::MatrixXd jtj = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(m), static_cast<Eigen::Index>(m));
+  for (std::size_t i = 0; i < n; ++i) {
+    fit.train_sum_of_squares += r[i] * r[i];
+    for (std::size_t a = 0; a < m; ++a) {
+      for (std::size_t b = 0; b < m; ++b) {
+        jtj(static_cast<Eigen::Index>(a), static_cast<Eigen::Index>(b)) += j[i * m + a] * j[i * m + b];
+      }
+    }
+  }
+  const double s2 = fit.train_sum_of_squares / std::max<double>(1.0, static_cast<double>(n) - static_cast<double>(m));
+  fit.values = cost->values_of(theta);
+  const Eigen::FullPivLU<Eigen::MatrixXd> lu(jtj);
+  const Eigen::MatrixXd covariance = lu.isInvertible() ? Eigen::MatrixXd(s2 * lu.inverse()) : Eigen::MatrixXd();
+  for (std::size_t k = 0; k < m; ++k) {
+    const double var = covariance.size() > 0 ? covariance(static_cast<Eigen::Index>(k), static_cast<Eigen::Index>(k)) : -1.0;
+    fit.standard_errors.push_back(var > 0.0 ? std::sqrt(var) * std::abs(evaluator.effects()[k]->typical)
+                                            : std::numeric_limits<double>::infinity());
+  }
+  fit.predictions = cost->at(theta);
+  return fit;
+}
+
+}  // namespace swum
