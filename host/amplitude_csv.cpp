@@ -34,18 +34,9 @@ std::string quoted_cell(std::string_view text) {
 std::optional<double> number_cell(std::string_view cell, std::string_view source, int line,
                                   int column, std::string_view name) {
   if (cell.empty()) return std::nullopt;
-  const char* first = cell.data();
-  const char* last = cell.data() + cell.size();
-  if (*first == '+') ++first;
   double value = 0.0;
-  const auto [end, error] = std::from_chars(first, last, value);
-  if (error != std::errc() || end != last) {
-    fail(source, line, column, "column " + std::string(name) + ": " + quoted_cell(cell) +
-                                   " is not a number");
-  }
-  if (!std::isfinite(value)) {
-    fail(source, line, column, "column " + std::string(name) + ": " + quoted_cell(cell) +
-                                   " is not finite");
+  if (const char* problem = parse_number_cell(cell, value)) {
+    fail(source, line, column, "column " + std::string(name) + ": " + quoted_cell(cell) + " " + problem);
   }
   return value;
 }

@@ -184,8 +184,8 @@ std::vector<std::string> write_plots(const fs::path& dir, const MeasurementSet& 
   return files;
 }
 
-std::string report_markdown(const DiscrepancyCommandOptions& o, const DiscrepancyResult& r,
-                            const std::vector<std::string>& plots) {
+std::string report_markdown(const DiscrepancyCommandOptions& o, const MeasurementSet& set,
+                            const DiscrepancyResult& r, const std::vector<std::string>& plots) {
   std::string md = "# Model discrepancy report\n\n";
   md += "`swum discrepancy --config " + o.config_path + " --measured " + o.measured_path + "`\n\n";
   md += "**Conclusion:** " + r.conclusion + "\n\n";
@@ -198,7 +198,7 @@ std::string report_markdown(const DiscrepancyCommandOptions& o, const Discrepanc
   }
   md += "\nLargest residuals (relative):\n\n| line | quantity | measured | baseline | r |\n|---|---|---|---|---|\n";
   for (const ResidualValue& v : r.baseline_map.largest) {
-    md += "| " + std::to_string(v.slot.row) + " | " + std::string(quantity_column(v.slot.quantity)) +
+    md += "| " + std::to_string(set.rows[v.slot.row].source_line) + " | " + std::string(quantity_column(v.slot.quantity)) +
           " | " + number(v.measured) + " | " + number(v.predicted) + " | " + percent(v.relative) + " |\n";
   }
   md += "\n## Selection\n\n";
@@ -239,6 +239,9 @@ void run_discrepancy_command(const DiscrepancyCommandOptions& o) {
   if (o.jobs < 0) throw std::invalid_argument("--jobs: must be >= 1 (0 = all cores)");
   DiscrepancyOptions options;
   options.candidates = split_list(o.effects);
+  if (!o.effects.empty() && options.candidates.empty()) {
+    throw std::invalid_argument("--effects: empty list (omit it to try every candidate)");
+  }
   for (const std::string& name : options.candidates) {
     if (find_candidate_effect(name) == nullptr) {
       throw std::invalid_argument("--effects: unknown effect '" + name + "' (known: " +
@@ -252,15 +255,25 @@ void run_discrepancy_command(const DiscrepancyCommandOptions& o) {
   } catch (const MeasurementError& e) {
     throw CommandError(e.what());
   }
-  const auto start = std::chrono::steady_clock::now();
-  const DiscrepancyResult r = run_discrepancy(baseline, measured, options,
-                                              make_parallel_for(static_cast<unsigned>(o.jobs)));
-  const double wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-
+  // A quarter of the operating points are held out and the noise is estimated from what the
+  // trends leave: fewer points than this cannot say anything either way.
+  constexpr std::size_t kMinOperatingPoints = 12;
+  const std::size_t operating_points = count_operating_points(measured);
+  if (operating_points < kMinOperatingPoints) {
+    throw CommandError(o.measured_path + ": " + std::to_string(operating_points) +
+                       " distinct operating points; the workflow needs at least " +
+                       std::to_string(kMinOperatingPoints) + " (a quarter are held out for scoring)");
+  }
+  // The output directory first: a bad path must not fail after a minute of fitting.
   const fs::path dir(o.out_dir);
   std::error_code ec;
   fs::create_directories(dir, ec);
   if (ec) throw CommandError("cannot create output directory " + dir.string() + ": " + ec.message());
+
+  const auto start = std::chrono::steady_clock::now();
+  const DiscrepancyResult r = run_discrepancy(baseline, measured, options,
+                                              make_parallel_for(static_cast<unsigned>(o.jobs)));
+  const double wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   std::string header = "# Written by `swum discrepancy --config " + o.config_path + " --measured " +
                        o.measured_path + "`: the baseline plus the named effects.\n";
   for (const NamedEffect& e : r.effects) {
@@ -270,7 +283,7 @@ void run_discrepancy_command(const DiscrepancyCommandOptions& o) {
   if (r.effects.empty()) header += "#   no effect named: identical to the baseline\n";
   write_text_file_atomically(dir / "augmented.toml", header + "\n" + format_motor_parameters(r.augmented));
   const std::vector<std::string> plots = write_plots(dir, measured, r);
-  write_text_file_atomically(dir / "report.md", report_markdown(o, r, plots));
+  write_text_file_atomically(dir / "report.md", report_markdown(o, measured, r, plots));
   write_text_file_atomically(dir / "summary.json", to_json(r, wall_s).dump(2) + "\n");
   if (o.json) {
     std::printf("%s\n", to_json(r, wall_s).dump(2).c_str());

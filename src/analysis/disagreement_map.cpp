@@ -170,6 +170,7 @@ DisagreementMap map_disagreement(const MeasurementSet& set, const Predictions& p
   } else {
     double ss = 0.0;
     int free = 0;
+    bool any_regression = false;  // false: too few values to separate trend from noise
     for (Quantity q : kQuantities) {
       std::vector<const ResidualValue*> sel;
       for (const auto& r : map.residuals) {
@@ -200,12 +201,14 @@ DisagreementMap map_disagreement(const MeasurementSet& set, const Predictions& p
       }
       Eigen::VectorXd y(m);
       for (Eigen::Index i = 0; i < m; ++i) y[i] = sel[static_cast<std::size_t>(i)]->relative;
+      any_regression = true;
       const Eigen::Index rank = design.colPivHouseholderQr().rank();
       ss += residual_sum_of_squares(design, y);
       free += static_cast<int>(m - rank);
     }
     map.noise = free > 0 ? std::sqrt(ss / free) : map.rms;
-    map.noise_source = "unstructured residual";
+    map.noise_source = any_regression ? "unstructured residual"
+                                      : "too few points to separate noise from trends: the whole residual";
   }
   map.excess = map.noise > 0.0 ? map.rms / map.noise : 0.0;
   // rms^2/noise^2 is ~chi^2_n/n under pure noise: 4 standard deviations above 1.

@@ -92,6 +92,7 @@ std::vector<Predictions> predict_points(std::span<const MotorParameters> paramet
       point.load_n = points[i].load_n;
       point.stator_temperature_rise_k = slow[m][i].temperature_rise_k;
       point.sliding_distance_m = slow[m][i].sliding_distance_m;
+      point.freeze_slow_states = true;  // the session history above sets them
       const bool final_pass = pass == passes[m] - 1;
       const SteadyStateResult r = run_to_steady_state(*models[m], point,
                                                       final_pass ? options.steady : options.history);

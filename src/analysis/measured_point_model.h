@@ -29,7 +29,7 @@ struct PredictionOptions {
   // Measurement protocol: from rest, settle 40 ms, average one 10 ms window (fixed length, so
   // the prediction is a smooth function of the parameters for finite differences).
   SteadyStateOptions steady = measurement_protocol();
-  int history_passes = 2;
+  int history_passes = 3;  // temperature error shrinks ~4x per pass (docs/discrepancy.md)
   // The passes before the last only feed power and speed into the history: a shorter run.
   SteadyStateOptions history = history_protocol();
 

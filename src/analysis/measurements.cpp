@@ -1,10 +1,12 @@
 #include "analysis/measurements.h"
 
+#include <array>
 #include <charconv>
 #include <cmath>
+#include <cstdio>
+#include <set>
 
 #include "config/csv_cells.h"
-#include <cstdio>
 
 namespace swum {
 namespace {
@@ -13,6 +15,24 @@ namespace {
 enum Column : int { kVpp, kFrequency, kLoad, kTime, kSpeed, kNormal, kTangential, kColumnCount };
 constexpr std::array<std::string_view, kColumnCount> kNames{
     "vpp", "frequency_hz", "load_n", "time_s", "speed_mm_s", "tip_normal_um", "tip_tangential_um"};
+struct PlausibleRange {
+  double max_abs;
+  const char* text;
+};
+constexpr std::array<PlausibleRange, 7> kPlausibleRange{{
+    {10000.0, "0..10000 Vpp"},
+    {200000.0, "1000..200000 Hz"},
+    {1000.0, "-1000..1000 N"},
+    {1.0e8, "0..1e8 s"},
+    {1.0e6, "-1e6..1e6 mm/s"},
+    {1000.0, "0..1000 um"},
+    {1000.0, "0..1000 um"},
+}};
+std::string format_cell(double value) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%g", value);
+  return text;
+}
 
 class Reader {
  public:
@@ -28,14 +48,10 @@ class Reader {
   std::optional<double> number(std::string_view cell, int line, int column,
                                std::string_view name) const {
     if (cell.empty()) return std::nullopt;
-    const char* first = cell.data();
-    const char* last = cell.data() + cell.size();
-    if (*first == '+') ++first;
     double value = 0.0;
-    const auto [end, error] = std::from_chars(first, last, value);
-    const std::string what = "column " + std::string(name) + ": '" + std::string(cell) + "' ";
-    if (error != std::errc() || end != last) fail(line, column, what + "is not a number");
-    if (!std::isfinite(value)) fail(line, column, what + "is not finite");
+    if (const char* problem = parse_number_cell(cell, value)) {
+      fail(line, column, "column " + std::string(name) + ": '" + std::string(cell) + "' " + problem);
+    }
     return value;
   }
 
@@ -130,8 +146,12 @@ MeasurementSet parse_csv(std::string_view text, std::string_view source, bool ne
       if ((k == kVpp || k == kTime || k == kNormal || k == kTangential) && *value < 0.0) {
         reader.fail(line_number, c + 1, "column " + std::string(name) + ": must be >= 0");
       }
-      if (k == kFrequency && *value <= 0.0) {
-        reader.fail(line_number, c + 1, "column frequency_hz: must be > 0");
+      // Ranges a measurement of this kind of motor can have (a typo like 4e10 for 40000 must
+      // not run a minute of fitting on nonsense); the same frequency range as `swum sweep`.
+      const auto& range = kPlausibleRange[static_cast<std::size_t>(k)];
+      if (std::abs(*value) > range.max_abs || (k == kFrequency && *value < 1000.0)) {
+        reader.fail(line_number, c + 1, "column " + std::string(name) + ": " + format_cell(*value) +
+                                            " is outside " + range.text);
       }
     }
     Measurement m;
@@ -197,6 +217,12 @@ std::string format_measurements_csv(const MeasurementSet& set) {
     out += "\n";
   }
   return out;
+}
+
+std::size_t count_operating_points(const MeasurementSet& set) {
+  std::set<std::array<double, 3>> points;
+  for (const Measurement& m : set.rows) points.insert({m.vpp, m.frequency_hz, m.load_n});
+  return points.size();
 }
 
 }  // namespace swum

@@ -52,9 +52,15 @@ struct MeasurementSet {
 // comment and blank lines skipped). Errors (MeasurementError naming line and column): unknown,
 // duplicate or missing columns, no quantity column, wrong cell count, non-numeric or
 // non-finite cells, vpp < 0, frequency <= 0, negative amplitudes, time_s < 0 or empty,
-// a row without any measured value, no data rows.
+// a row without any measured value, no data rows, values outside plausible ranges
+// (vpp <= 10000, frequency 1000..200000 Hz, |load| <= 1000 N, time_s <= 1e8 s,
+// |speed| <= 1e6 mm/s, amplitudes <= 1000 um).
+
 [[nodiscard]] MeasurementSet parse_measurements_csv(std::string_view text,
                                                     std::string_view source_name);
+
+// Distinct operating points (vpp, frequency_hz, load_n) among the rows.
+[[nodiscard]] std::size_t count_operating_points(const MeasurementSet& set);
 
 // Operating points only (the input of `swum synth`): the same rules, but quantity columns are
 // optional and ignored.

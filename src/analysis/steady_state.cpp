@@ -94,7 +94,7 @@ SteadyStateResult run_to_steady_state(const MotorModel& model, const OperatingPo
   drive.phase_deg = point.phase_deg;
   drive.load_n = point.load_n;
   sim.set_drive(drive);
-  sim.set_slow_states(point.stator_temperature_rise_k, point.sliding_distance_m, true);
+  sim.set_slow_states(point.stator_temperature_rise_k, point.sliding_distance_m, point.freeze_slow_states);
   const double dt = sim.time_step_s();
   const double g_tv = model.coefficients().g_tv;
   const double damping_factor =

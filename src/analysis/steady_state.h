@@ -15,10 +15,13 @@ struct OperatingPoint {
   double frequency_hz = 40000.0;
   double load_n = 0.0;
   double phase_deg = 90.0;
-  // Slow states of the thermal and wear effects, held fixed during the run (the quasi-static
-  // map of a measured point, docs/discrepancy.md); ignored when the effect is disabled.
+  // Slow states of the thermal and wear effects at the start of the run (ignored when the
+  // effect is disabled). They evolve during the run (swum simulate, sweeps), unless
+  // freeze_slow_states holds them fixed: the quasi-static map of a measured point whose
+  // history the caller has already integrated (docs/discrepancy.md).
   double stator_temperature_rise_k = 0.0;
   double sliding_distance_m = 0.0;
+  bool freeze_slow_states = false;
 };
 
 // One trace sample (the CLI writes these to CSV; src does no I/O).

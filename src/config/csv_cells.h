@@ -1,7 +1,10 @@
 // Splitting one CSV line into trimmed cells (no quoting: the project's data files are numeric).
 #pragma once
 
+#include <charconv>
+#include <cmath>
 #include <string_view>
+#include <system_error>
 #include <vector>
 
 namespace swum {
@@ -23,6 +26,18 @@ namespace swum {
     if (comma == std::string_view::npos) return cells;
     start = comma + 1;
   }
+}
+
+// A non-empty numeric cell (an optional leading '+'): nullptr and `value` set when it is a
+// finite number, else what is wrong with it ("is not a number", "is not finite").
+[[nodiscard]] inline const char* parse_number_cell(std::string_view cell, double& value) {
+  const char* first = cell.data();
+  const char* last = cell.data() + cell.size();
+  if (first != last && *first == '+') ++first;
+  const auto [end, error] = std::from_chars(first, last, value);
+  if (cell.empty() || error != std::errc() || end != last) return "is not a number";
+  if (!std::isfinite(value)) return "is not finite";
+  return nullptr;
 }
 
 }  // namespace swum

@@ -155,6 +155,14 @@ class MotorSplitSystem {
   [[nodiscard]] double damping_power_w(const Vector& v) const {
     return k_.c1_n_s_m * v[0] * v[0] + k_.c2_n_s_m * v[1] * v[1];
   }
+  // Cycle mean of damping_power_w from one sample of a steady vibration at w: for
+  // z = A sin(wt), v = A w cos(wt), C v^2 averages to C A^2 w^2 / 2 = C (v^2 + w^2 z^2) / 2,
+  // whatever the phase of the sample (z: modal displacements about their static values).
+  [[nodiscard]] double mean_damping_power_w(double z1, double z2, const Vector& v,
+                                            double angular_frequency_rad_s) const {
+    const double w2 = angular_frequency_rad_s * angular_frequency_rad_s;
+    return 0.5 * (k_.c1_n_s_m * (v[0] * v[0] + w2 * z1 * z1) + k_.c2_n_s_m * (v[1] * v[1] + w2 * z2 * z2));
+  }
 
   [[nodiscard]] const InterfaceForces& forces() const { return forces_; }
   [[nodiscard]] double contact_deflection_m() const { return deflection_m_; }

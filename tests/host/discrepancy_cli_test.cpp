@@ -86,6 +86,18 @@ TEST(SwumDiscrepancy, BadInputsAreOneLineErrorsWithExitCodes) {
   EXPECT_EQ(r.status, 2) << r.output;
   EXPECT_NE(r.output.find("unknown effect 'friction'"), std::string::npos) << r.output;
   EXPECT_FALSE(fs::exists(out));
+  // Too few operating points to hold any out: refused before any fitting, naming the count.
+  const fs::path few = scratch("few.csv");
+  write(few, "vpp,frequency_hz,load_n,speed_mm_s\n100,40000,0,12\n200,40100,0,30\n200,40100,0,31\n");
+  r = run_swum({"discrepancy", "--config", kConfig, "--measured", few.string(), "--out",
+                scratch("few_out").string()});
+  EXPECT_EQ(r.status, 1) << r.output;
+  EXPECT_NE(r.output.find("2 distinct operating points; the workflow needs at least 12"), std::string::npos)
+      << r.output;
+  r = run_swum({"discrepancy", "--config", kConfig, "--measured", few.string(), "--out",
+                scratch("few_out").string(), "--effects", ","});
+  EXPECT_EQ(r.status, 2) << r.output;
+  EXPECT_NE(r.output.find("--effects: empty list"), std::string::npos) << r.output;
 }
 
 TEST(SwumSynth, LinearRepeatsAndNoiseFreeDataAreReproducible) {

@@ -53,7 +53,11 @@ TEST(Measurements, ErrorsNameFileLineAndColumn) {
   EXPECT_EQ(error_of("vpp,frequency_hz,load_n,speed_mm_s\n-5,40000,0,1\n"),
             "data.csv:2:1: column vpp: must be >= 0");
   EXPECT_EQ(error_of("vpp,frequency_hz,load_n,speed_mm_s\n5,0,0,1\n"),
-            "data.csv:2:2: column frequency_hz: must be > 0");
+            "data.csv:2:2: column frequency_hz: 0 is outside 1000..200000 Hz");
+  EXPECT_EQ(error_of("vpp,frequency_hz,load_n,speed_mm_s\n5,4e10,0,1\n"),
+            "data.csv:2:2: column frequency_hz: 4e+10 is outside 1000..200000 Hz");
+  EXPECT_EQ(error_of("vpp,frequency_hz,load_n,speed_mm_s\n1e308,40000,0,1\n"),
+            "data.csv:2:1: column vpp: 1e+308 is outside 0..10000 Vpp");
   EXPECT_EQ(error_of("vpp,frequency_hz,load_n,speed_mm_s\n5,40000,0,inf\n"),
             "data.csv:2:4: column speed_mm_s: 'inf' is not finite");
   EXPECT_EQ(error_of("vpp,frequency_hz,load_n,speed_mm_s\n5,40000,0,\n"),

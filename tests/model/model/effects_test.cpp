@@ -21,10 +21,11 @@ MotorParameters jenkins_motor() {
   return p;
 }
 
-MotorState run(const MotorParameters& p, std::uint64_t steps, double* droop = nullptr) {
+MotorState run(const MotorParameters& p, std::uint64_t steps, double* droop = nullptr,
+               double frequency_hz = 40300.0) {
   const MotorModel model(p);
   MotorSimulator sim(model);
-  sim.set_drive(DriveInput{250.0, 40300.0, 90.0, 1.0});
+  sim.set_drive(DriveInput{250.0, frequency_hz, 90.0, 1.0});
   sim.advance(steps);
   if (droop != nullptr) *droop = sim.droop_gain();
   return sim.state();
@@ -43,18 +44,43 @@ TEST(Effects, DisabledEffectsLeaveTheSimulationBitwiseUnchanged) {
   EXPECT_EQ(b.stator_temperature_rise_k, 0.0);
 }
 
-TEST(Effects, ThermalStateHeatsTowardsRthTimesDampingPower) {
+class ThermalSteadyState : public ::testing::TestWithParam<double> {};
+
+// At 40 kHz the simulator's 64-step housekeeping block is exactly one drive period: a heating
+// power sampled once per block would always see the same phase of C v^2 (-57 %..+58 % of the
+// mean). The cycle-mean estimate must hold there as well as off it.
+TEST_P(ThermalSteadyState, HeatsTowardsRthTimesTheMeanDampingPower) {
+  const double frequency_hz = GetParam();
   MotorParameters p = jenkins_motor();
   p.effects.thermal.enabled = true;
   p.effects.thermal.thermal_resistance_k_per_w = 5.0;
-  p.effects.thermal.time_constant_s = 0.01;  // short, so the test sees it settle
-  const MotorState s = run(p, 200000);       // 52 ms
+  p.effects.thermal.time_constant_s = 0.01;               // short, so the test sees it settle
+  const MotorState s = run(p, 200000, nullptr, frequency_hz);  // 78 ms
   EXPECT_GT(s.stator_temperature_rise_k, 1.0);
-  // Steady state: T = R_th P with P the mean damping power at that temperature.
+  // Steady state: T = R_th P with P the time-averaged damping power at that temperature.
   const MotorModel model(p);
-  OperatingPoint point{250.0, 40300.0, 1.0, 90.0, s.stator_temperature_rise_k, 0.0};
+  OperatingPoint point{250.0, frequency_hz, 1.0, 90.0, s.stator_temperature_rise_k, 0.0, true};
   const SteadyStateResult r = run_to_steady_state(model, point);
-  EXPECT_NEAR(s.stator_temperature_rise_k, 5.0 * r.damping_power_w, 0.15 * s.stator_temperature_rise_k);
+  EXPECT_NEAR(s.stator_temperature_rise_k, 5.0 * r.damping_power_w, 0.05 * s.stator_temperature_rise_k);
+}
+
+INSTANTIATE_TEST_SUITE_P(DriveFrequencies, ThermalSteadyState, ::testing::Values(40000.0, 40300.0));
+
+TEST(Effects, SlowStatesEvolveInAFreeSteadyStateRunAndHoldWhenFrozen) {
+  MotorParameters p = jenkins_motor();
+  p.effects.thermal.enabled = true;
+  p.effects.thermal.thermal_resistance_k_per_w = 8.0;
+  p.effects.thermal.time_constant_s = 0.005;
+  const MotorModel hot(p);
+  const MotorModel cold(jenkins_motor());
+  OperatingPoint point{250.0, 40300.0, 1.0, 90.0, 0.0, 0.0, false};
+  const SteadyStateResult evolving = run_to_steady_state(hot, point);  // what `swum simulate` runs
+  point.freeze_slow_states = true;
+  const SteadyStateResult frozen = run_to_steady_state(hot, point);
+  const SteadyStateResult baseline = run_to_steady_state(cold, point);
+  EXPECT_EQ(frozen.speed_mm_s, baseline.speed_mm_s) << "frozen at 0 K = no effect";
+  EXPECT_GT(std::abs(evolving.tip_normal_um - baseline.tip_normal_um), 0.05 * baseline.tip_normal_um)
+      << "a heated stator must vibrate differently";
 }
 
 TEST(Effects, WearAccumulatesTheMoverTravelAndDroopLowersTheDrive) {
