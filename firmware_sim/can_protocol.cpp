@@ -140,8 +140,8 @@ Command to_command(const AuxFrame& a) {
   return cmd;
 }
 
-Reason AliveCounter::check(std::uint8_t alive) const {
-  if (!seen_) return Reason::none;
+Reason AliveCounter::check(std::uint8_t alive, std::int64_t now_ns) const {
+  if (!seen_ || now_ns - last_ns_ > kAliveResyncNs) return Reason::none;
   const unsigned delta = (static_cast<unsigned>(alive) - last_) & 0x0FU;
   return (delta >= 1 && delta <= 7) ? Reason::none : Reason::stale_alive_counter;
 }

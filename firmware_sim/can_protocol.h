@@ -16,7 +16,9 @@
 // (little-endian) followed by payload bytes 0..6; stored in byte 7.
 // Alive counter (4 bits): each accepted frame's counter must be 1..7 ahead (mod 16) of the last
 // accepted one of the same identifier; 0 ahead (repeat) or 8..15 ahead (older) is stale. The
-// first frame after start is accepted with any counter. Rejected frames change nothing.
+// first frame after start, and the first after more than 1 s without an accepted frame of that
+// identifier (a controller that restarted begins its own count), is accepted with any counter.
+// Rejected frames change nothing.
 #pragma once
 
 #include <cstdint>
@@ -64,17 +66,22 @@ Reason decode_aux(const io::CanFrame& frame, AuxFrame& out);
 Command to_command(const CommandFrame& c);
 Command to_command(const AuxFrame& a);
 
+inline constexpr std::int64_t kAliveResyncNs = 1'000'000'000;
+
 class AliveCounter {
  public:
-  [[nodiscard]] Reason check(std::uint8_t alive) const;
-  void accept(std::uint8_t alive) {
+  // now_ns: a monotonic clock (any epoch).
+  [[nodiscard]] Reason check(std::uint8_t alive, std::int64_t now_ns) const;
+  void accept(std::uint8_t alive, std::int64_t now_ns) {
     last_ = alive & 0x0FU;
     seen_ = true;
+    last_ns_ = now_ns;
   }
 
  private:
   std::uint8_t last_ = 0;
   bool seen_ = false;
+  std::int64_t last_ns_ = 0;
 };
 
 // Telemetry frames (counter: the sender's running count of status frames, mod 256).

@@ -118,7 +118,7 @@ void CanTransport::rx_loop() {
     if (frame.id == ids_.command && !frame.extended) {
       can::CommandFrame c;
       reason = can::decode_command(frame, c);
-      if (reason == Reason::none) reason = command_alive.check(c.alive);
+      if (reason == Reason::none) reason = command_alive.check(c.alive, stamp.monotonic_ns);
       if (reason == Reason::none) {
         command = can::to_command(c);
         reason = validate(command, limits_);
@@ -126,12 +126,12 @@ void CanTransport::rx_loop() {
       if (reason == Reason::none) {
         command.accepted_ns = static_cast<std::uint64_t>(stamp.monotonic_ns);
         reason = shared_.submit(command);
-        if (reason == Reason::none) command_alive.accept(c.alive);
+        if (reason == Reason::none) command_alive.accept(c.alive, stamp.monotonic_ns);
       }
     } else if (frame.id == ids_.aux && !frame.extended) {
       can::AuxFrame a;
       reason = can::decode_aux(frame, a);
-      if (reason == Reason::none) reason = aux_alive.check(a.alive);
+      if (reason == Reason::none) reason = aux_alive.check(a.alive, stamp.monotonic_ns);
       if (reason == Reason::none) {
         command = can::to_command(a);
         reason = validate(command, limits_);
@@ -139,7 +139,7 @@ void CanTransport::rx_loop() {
       if (reason == Reason::none) {
         command.accepted_ns = static_cast<std::uint64_t>(stamp.monotonic_ns);
         reason = shared_.submit(command);
-        if (reason == Reason::none) aux_alive.accept(a.alive);
+        if (reason == Reason::none) aux_alive.accept(a.alive, stamp.monotonic_ns);
       }
     } else {
       continue;  // not for us (filters normally keep these out)

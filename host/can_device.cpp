@@ -4,7 +4,9 @@
 // completed by the Motion, Drive, LoopStats, Clock and Output frames the emulator sends after it.
 #include "can_device.h"
 
+#include <algorithm>
 #include <charconv>
+#include <cmath>
 #include <stdexcept>
 
 #include "can_protocol.h"
@@ -114,8 +116,11 @@ void CanDevice::set_drive(const DriveSetpoint& s) {
 }
 
 void CanDevice::set_slew(double frequency_hz_per_s, double vpp_per_s) {
-  frequency_slew_hz_per_s_ = frequency_hz_per_s;
-  vpp_slew_per_s_ = vpp_per_s;
+  // The AuxCommand frame carries 100 Hz/s and 10 Vpp/s steps, 0 = unlimited: round down to a
+  // step, never to 0, so the device never slews faster than asked.
+  auto down = [](double v, double step) { return v > 0.0 ? std::max(step, std::floor(v / step) * step) : 0.0; };
+  frequency_slew_hz_per_s_ = down(frequency_hz_per_s, 100.0);
+  vpp_slew_per_s_ = down(vpp_per_s, 10.0);
   send_aux();
 }
 
@@ -132,6 +137,10 @@ DeviceTelemetry CanDevice::read() {
   const emu::can::Ids ids = emu::can::ids_for_node(node_);
   DeviceTelemetry t;
   bool have_status = false;
+  // Frames of the current set seen after its Status frame: a set with a frame lost is
+  // discarded (the status counter then shows the gap), never returned with zeros in it.
+  enum : unsigned { kMotion = 1, kDrive = 2, kLoopStats = 4, kClock = 8, kAll = 15 };
+  unsigned seen = 0;
   const auto deadline = std::chrono::steady_clock::now() + response_timeout_;
   for (;;) {
     const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now());
@@ -150,6 +159,7 @@ DeviceTelemetry CanDevice::read() {
       if (!emu::can::decode_status(f, s)) continue;
       t = DeviceTelemetry{};
       have_status = true;
+      seen = 0;
       t.sample_counter = s.status_counter;
       t.sample_counter_modulus = 256;
       t.state = s.state;
@@ -163,7 +173,11 @@ DeviceTelemetry CanDevice::read() {
       continue;  // the middle of a set whose status frame we missed
     } else if (f.id == ids.motion) {
       emu::can::MotionFields m;
-      if (emu::can::decode_motion(f, m)) { t.speed_mm_s = m.speed_mm_s; t.position_mm = m.position_mm; }
+      if (emu::can::decode_motion(f, m)) {
+        t.speed_mm_s = m.speed_mm_s;
+        t.position_mm = m.position_mm;
+        seen |= kMotion;
+      }
     } else if (f.id == ids.drive) {
       emu::can::DriveFields d;
       if (emu::can::decode_drive(f, d)) {
@@ -171,6 +185,7 @@ DeviceTelemetry CanDevice::read() {
         t.tip_tangential_um = d.tip_tangential_um;
         t.vpp = d.vpp;
         t.phase_deg = d.phase_deg;
+        seen |= kDrive;
       }
     } else if (f.id == ids.loop_stats) {
       emu::can::LoopStatsFields l;
@@ -178,12 +193,20 @@ DeviceTelemetry CanDevice::read() {
         t.lateness_p99_us = l.lateness_p99_us;
         t.lateness_max_us = l.lateness_max_us;
         t.overruns = l.overruns;
+        seen |= kLoopStats;
       }
     } else if (f.id == ids.clock) {
       emu::can::ClockFields c;
-      if (emu::can::decode_clock(f, c)) t.device_time_s = c.sim_time_s;
+      if (emu::can::decode_clock(f, c)) {
+        t.device_time_s = c.sim_time_s;
+        seen |= kClock;
+      }
     } else if (f.id == ids.output) {
       emu::can::OutputFields o;
+      if (seen != kAll) {
+        have_status = false;  // incomplete set: wait for the next Status frame
+        continue;
+      }
       if (emu::can::decode_output(f, o)) {
         t.frequency_hz = o.frequency_hz;
         t.load_n = o.load_n;

@@ -55,12 +55,20 @@ class Session {
   // Reads one sample, keeps the watchdog fed, raises on rejects and Ctrl-C.
   const DeviceTelemetry& read(double keep_alive_s) {
     check_stop();
-    std::this_thread::sleep_until(last_.received + std::chrono::duration_cast<Clock::duration>(
-                                                       std::chrono::duration<double>(poll_interval_s_)));
-    last_ = device_.read();
-    const bool host_due = Clock::now() - last_command_host_ >= std::chrono::duration<double>(keep_alive_s);
-    const bool device_due = time_of(last_) - last_command_device_s_ >= keep_alive_s;
-    if (host_due || device_due) command(DeviceAction::keep_alive);
+    // Polled devices (Modbus) are paced; streamed ones (CAN) pace themselves, and sleeping
+    // would only let their telemetry sets queue up.
+    if (!last_.sample_counter) {
+      std::this_thread::sleep_until(last_.received + std::chrono::duration_cast<Clock::duration>(
+                                                         std::chrono::duration<double>(poll_interval_s_)));
+    }
+    keep_alive_if_due(keep_alive_s);  // before a read that may block for a while ...
+    try {
+      last_ = device_.read();
+    } catch (const DeviceError&) {
+      check_stop();  // a call cut short by Ctrl-C is the stop, not a device failure
+      throw;
+    }
+    keep_alive_if_due(keep_alive_s);  // ... and after it
     if (last_.reject_count != reject_count_) {
       reject_count_ = last_.reject_count;
       // A keep-alive that crossed a fault is refused with "fault active": the fault itself is
@@ -86,6 +94,12 @@ class Session {
       const double host_s = std::chrono::duration<double>(Clock::now() - host_start).count();
       if (time_of(t) - start > timeout_s || host_s > 10.0 * timeout_s + 5.0) return false;
     }
+  }
+
+  void keep_alive_if_due(double keep_alive_s) {
+    const bool host_due = Clock::now() - last_command_host_ >= std::chrono::duration<double>(keep_alive_s);
+    const bool device_due = time_of(last_) - last_command_device_s_ >= keep_alive_s;
+    if (host_due || device_due) command(DeviceAction::keep_alive);
   }
 
   static void check_stop() {
@@ -208,19 +222,25 @@ class Sweeper {
   const DeviceSweepPlan& plan_;
 };
 
+}  // namespace
+
 void check_plan(const DeviceSweepPlan& plan) {
   if (plan.voltages.empty() || plan.frequencies_hz.empty() || plan.loads_n.empty()) {
     throw std::invalid_argument("sweep: need at least one voltage, frequency and load");
   }
-  if (!(plan.settle_s >= 0.0) || !(plan.dwell_s > 0.0)) throw std::invalid_argument("--settle-ms must be >= 0 and --dwell-ms > 0");
-  if (!(plan.ramp_vpp_per_s > 0.0)) throw std::invalid_argument("--ramp-vpp-per-s: must be > 0");
+  // Finite and bounded: a settle of "inf" would wait forever.
+  if (!(plan.settle_s >= 0.0 && plan.settle_s <= 60.0)) throw std::invalid_argument("--settle-ms: must be within 0..60000");
+  if (!(plan.dwell_s > 0.0 && plan.dwell_s <= 60.0)) throw std::invalid_argument("--dwell-ms: must be within (0, 60000]");
+  // The protocols carry the slew limit in 1 Vpp/s (Modbus) and 10 Vpp/s (CAN) steps and read 0
+  // as "unlimited": a slower ramp would silently become a voltage step.
+  if (!(plan.ramp_vpp_per_s >= 10.0 && plan.ramp_vpp_per_s <= 1e6)) {
+    throw std::invalid_argument("--ramp-vpp-per-s: must be within 10..1000000 (0 would mean no ramp at all)");
+  }
   if (!(plan.keep_alive_s > 0.0 && plan.keep_alive_s <= 0.05)) throw std::invalid_argument("keep-alive interval must be within (0, 50] ms");
   if (!(plan.poll_interval_s >= 0.0 && plan.poll_interval_s < plan.keep_alive_s)) {
     throw std::invalid_argument("poll interval must be >= 0 and shorter than the keep-alive interval");
   }
 }
-
-}  // namespace
 
 void sweep_device(Device& device, const DeviceSweepPlan& plan, std::vector<SweepRow>& rows, const PointDone& point_done) {
   check_plan(plan);

@@ -24,6 +24,11 @@ struct DeviceSweepPlan {
                                    // answers in ~0.1 ms: no need to poll it flat out)
 };
 
+// Throws std::invalid_argument naming the option of anything the sweep cannot do (empty lists,
+// unbounded settle/dwell, a ramp the protocols cannot carry). sweep_device calls it first;
+// commands call it before they open the device or touch any file.
+void check_plan(const DeviceSweepPlan& plan);
+
 // Called after each point (progress).
 using PointDone = std::function<void(const SweepRow&)>;
 

@@ -65,7 +65,8 @@ std::string format_row(double host_s, const DeviceTelemetry& t) {
 
 void run_log(const LogOptions& o) {
   if (!(o.duration_s > 0.0)) throw std::invalid_argument("--duration: must be > 0");
-  if (!(o.rate_hz > 0.0 && o.rate_hz <= 10000.0)) throw std::invalid_argument("--rate-hz: must be within (0, 10000]");
+  if (!(o.duration_s <= 1e7)) throw std::invalid_argument("--duration: must be <= 1e7 s");
+  if (!(o.rate_hz >= 0.01 && o.rate_hz <= 10000.0)) throw std::invalid_argument("--rate-hz: must be within 0.01..10000");
   StopSignal stop;
   const auto device = open_device(o.device.address, o.device.timeouts());
   CsvFile out(o.out_path);
@@ -79,6 +80,7 @@ void run_log(const LogOptions& o) {
   std::size_t samples = 0, gaps = 0, missing = 0;
   std::optional<std::uint32_t> last_counter;
   auto next = start;
+  const auto end = start + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(o.duration_s));
   auto last_flush = start;
   std::string stop_reason;
   while (Clock::now() - start < std::chrono::duration<double>(o.duration_s)) {
@@ -105,7 +107,14 @@ void run_log(const LogOptions& o) {
         }
       }
       last_counter = t.sample_counter;
-    } else {
+    }
+    out.write(format_row(host_s, t));
+    ++samples;
+    if (Clock::now() - last_flush > std::chrono::milliseconds(200)) {
+      out.flush();
+      last_flush = Clock::now();
+    }
+    if (!t.sample_counter) {
       next += std::chrono::duration_cast<Clock::duration>(period);
       const auto now = Clock::now();
       if (now > next + std::chrono::duration_cast<Clock::duration>(period)) {
@@ -114,15 +123,13 @@ void run_log(const LogOptions& o) {
         ++gaps;
         missing += behind;
         next += behind * std::chrono::duration_cast<Clock::duration>(period);
-      } else if (now < next) {
-        std::this_thread::sleep_until(next);
       }
-    }
-    out.write(format_row(host_s, t));
-    ++samples;
-    if (Clock::now() - last_flush > std::chrono::milliseconds(200)) {
+      // Wait for the next poll in short naps: Ctrl-C and the end of --duration end it at once.
       out.flush();
       last_flush = Clock::now();
+      while (Clock::now() < next && Clock::now() < end && !StopSignal::requested()) {
+        std::this_thread::sleep_for(std::min<Clock::duration>(next - Clock::now(), std::chrono::milliseconds(20)));
+      }
     }
   }
   out.close();

@@ -5,6 +5,7 @@
 
 #include <modbus.h>
 
+#include <algorithm>
 #include <array>
 #include <cerrno>
 #include <cmath>
@@ -61,9 +62,10 @@ ModbusDevice::ModbusDevice(const std::string& endpoint_text, const DeviceTimeout
     throw DeviceError("modbus " + endpoint_text + ": cannot connect: " + std::strerror(error) +
                       (error == ECONNREFUSED ? " (is swum-emu or the board listening there?)" : ""));
   }
-  set_timeout(timeouts.response);
-  // Prove the device answers before anyone relies on it.
+  // Prove the device answers before anyone relies on it: the first answer gets the connect
+  // timeout (a device that has just been started may still be busy), later ones the response one.
   (void)read();
+  set_timeout(timeouts.response);
 }
 
 ModbusDevice::~ModbusDevice() {
@@ -122,8 +124,10 @@ void ModbusDevice::set_slew(double frequency_hz_per_s, double vpp_per_s) {
   for (double v : {frequency_hz_per_s, vpp_per_s}) {
     if (!std::isfinite(v) || v < 0.0 || v > 4294967295.0) throw DeviceError("slew limit out of range");
   }
-  put_u32(r.data(), 0, static_cast<std::uint32_t>(std::lround(frequency_hz_per_s)));
-  put_u32(r.data(), 2, static_cast<std::uint32_t>(std::lround(vpp_per_s)));
+  // Rounded down, never to 0 (0 = unlimited): the device must never ramp faster than asked.
+  auto units = [](double v) { return v > 0.0 ? std::max<std::uint32_t>(1, static_cast<std::uint32_t>(v)) : 0U; };
+  put_u32(r.data(), 0, units(frequency_hz_per_s));
+  put_u32(r.data(), 2, units(vpp_per_s));
   write_holding(holding::kFrequencySlew, r.data(), static_cast<int>(r.size()), "slew limit write");
 }
 

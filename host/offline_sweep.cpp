@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <atomic>
+#include <stdexcept>
+#include <string>
 #include <thread>
 
 #include "analysis/steady_state.h"
@@ -32,6 +34,21 @@ SweepRow run_point(const MotorModel& model, const SweepRow& at, double phase_deg
 }
 
 }  // namespace
+
+void check_grid(const OfflineGrid& grid) {
+  auto check = [](const std::vector<double>& values, double lo, double hi, const char* option, const char* range) {
+    if (values.empty()) throw std::invalid_argument(std::string(option) + ": no values");
+    for (double v : values) {
+      if (!(v >= lo && v <= hi)) {
+        throw std::invalid_argument(std::string(option) + ": " + std::to_string(v) + " is outside " + range);
+      }
+    }
+  };
+  check(grid.voltages, 0.0, 10000.0, "--vpp", "0..10000 Vpp");
+  check(grid.frequencies_hz, 1000.0, 200000.0, "--frequency", "1000..200000 Hz");
+  check(grid.loads_n, -1000.0, 1000.0, "--load", "-1000..1000 N");
+  check({grid.phase_deg}, -180.0, 180.0, "--phase", "-180..180 deg");
+}
 
 std::vector<SweepRow> sweep_model(const MotorModel& model, const OfflineGrid& grid) {
   std::vector<SweepRow> rows;

@@ -17,6 +17,11 @@ struct OfflineGrid {
   int jobs = 0;  // 0 = all cores
 };
 
+// Throws std::invalid_argument naming the option (--vpp, --frequency, --load, --phase) of a
+// value no sweep can use: voltages 0..10000 Vpp, frequencies 1000..200000 Hz, |load| <= 1000 N,
+// phase -180..180 deg, every value finite.
+void check_grid(const OfflineGrid& grid);
+
 // Rows in (voltage, load, frequency) order; failed points have ok = false and a status.
 std::vector<SweepRow> sweep_model(const MotorModel& model, const OfflineGrid& grid);
 

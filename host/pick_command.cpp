@@ -63,20 +63,33 @@ class Source {
     return o_.sweep_path;
   }
 
-  std::vector<SweepRow> measure(const std::vector<double>& voltages, const std::vector<double>& frequencies,
-                                const std::vector<double>& loads) {
-    if (model_) return sweep_model(*model_, OfflineGrid{voltages, frequencies, loads});
-    DeviceSweepPlan plan;
-    plan.voltages = voltages;
-    plan.frequencies_hz = frequencies;
-    plan.loads_n = loads;
-    plan.settle_s = o_.settle_ms * 1e-3;
-    plan.dwell_s = o_.dwell_ms * 1e-3;
-    plan.ramp_vpp_per_s = o_.ramp_vpp_per_s;
-    std::vector<SweepRow> rows;
+  // Appends to `rows` as points are measured, so a Ctrl-C or device error keeps them.
+  void measure(const std::vector<double>& voltages, const std::vector<double>& frequencies,
+               const std::vector<double>& loads, std::vector<SweepRow>& rows) {
+    if (model_) {
+      const auto measured = sweep_model(*model_, OfflineGrid{voltages, frequencies, loads});
+      rows.insert(rows.end(), measured.begin(), measured.end());
+      return;
+    }
+    const DeviceSweepPlan p = plan(voltages, frequencies, loads);
     ProgressBar progress("sweep " + device_->name(), voltages.size() * frequencies.size() * loads.size());
-    sweep_device(*device_, plan, rows, [&](const SweepRow&) { progress.advance(); });
-    return rows;
+    sweep_device(*device_, p, rows, [&](const SweepRow&) { progress.advance(); });
+  }
+
+  DeviceSweepPlan plan(const std::vector<double>& voltages, const std::vector<double>& frequencies,
+                       const std::vector<double>& loads) const {
+    return plan_for(o_, voltages, frequencies, loads);
+  }
+  static DeviceSweepPlan plan_for(const PickCommandOptions& o_, const std::vector<double>& voltages,
+                                  const std::vector<double>& frequencies, const std::vector<double>& loads) {
+    DeviceSweepPlan p;
+    p.voltages = voltages;
+    p.frequencies_hz = frequencies;
+    p.loads_n = loads;
+    p.settle_s = o_.settle_ms * 1e-3;
+    p.dwell_s = o_.dwell_ms * 1e-3;
+    p.ramp_vpp_per_s = o_.ramp_vpp_per_s;
+    return p;
   }
 
  private:
@@ -99,6 +112,9 @@ std::vector<CurveSample> curve_at(const std::vector<SweepRow>& rows, double vpp,
   std::vector<CurveSample> curve;
   for (const SweepRow& r : rows) {
     if (!same(r.vpp, vpp) || !same(r.load_n, load_n)) continue;
+    // A point the device never measured (watchdog hiccup, timeout) is a hole in the curve, not
+    // a collapse of the resonance; a blow-up of the model or the motor is.
+    if (!r.ok && r.status != "diverged" && r.status != "fault_numerical") continue;
     CurveSample s;
     s.frequency_hz = r.frequency_hz;
     s.ok = r.ok;
@@ -176,8 +192,7 @@ void write_plots(const PickCommandOptions& o, Source& source, const std::vector<
     const std::vector<double> loads = parse_number_list(o.plot_loads, "--plot-loads");
     for (const auto& p : picks) {
       if (!p.result.decided) continue;
-      auto rows = source.measure({p.vpp}, {options.naive_frequency_hz, p.result.frequency_hz}, loads);
-      load_rows.insert(load_rows.end(), rows.begin(), rows.end());
+      source.measure({p.vpp}, {options.naive_frequency_hz, p.result.frequency_hz}, loads, load_rows);
     }
   } else {
     load_rows = sweep;
@@ -194,12 +209,26 @@ void write_plots(const PickCommandOptions& o, Source& source, const std::vector<
 
 void run_pick(const PickCommandOptions& o) {
   const std::vector<double> voltages = parse_number_list(o.vpp_list, "--vpp");
-  if (o.margin_hz < 0.0) throw std::invalid_argument("--margin-hz: must be >= 0");
+  if (!(o.margin_hz >= 0.0 && o.margin_hz <= 10000.0)) throw std::invalid_argument("--margin-hz: must be within 0..10000");
+  OfflineGrid grid{voltages, {40000.0}, {o.load_n}};
+  const bool measuring = o.sweep_path.empty();
+  if (measuring) grid.frequencies_hz = parse_range_or_value(o.frequency_range, "--frequency");
+  check_grid(grid);  // every bad value named before a device or a file is touched
+  if (measuring) check_plan(Source::plan_for(o, grid.voltages, grid.frequencies_hz, grid.loads_n));
   StopSignal stop;
   Source source(o);
   std::vector<SweepRow> sweep;
   if (source.measures()) {
-    sweep = source.measure(voltages, parse_range_or_value(o.frequency_range, "--frequency"), {o.load_n});
+    try {
+      source.measure(voltages, grid.frequencies_hz, {o.load_n}, sweep);
+    } catch (...) {
+      if (!o.save_sweep_path.empty() && !sweep.empty()) {
+        write_text_file_atomically(o.save_sweep_path, format_sweep_csv(sweep));
+        std::fprintf(stderr, "swum: %zu points measured before the stop were written to %s\n", sweep.size(),
+                     o.save_sweep_path.c_str());
+      }
+      throw;
+    }
     if (!o.save_sweep_path.empty()) write_text_file_atomically(o.save_sweep_path, format_sweep_csv(sweep));
   } else {
     sweep = read_sweep(o.sweep_path);

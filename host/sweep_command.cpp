@@ -48,12 +48,7 @@ void run_sweep(const SweepOptions& o) {
   grid.loads_n = parse_number_list(o.load_list, "--load");
   grid.phase_deg = o.phase_deg;
   grid.jobs = o.jobs;
-  for (double v : grid.voltages) {
-    if (v < 0.0) throw std::invalid_argument("--vpp: voltages must be >= 0");
-  }
-  for (double f : grid.frequencies_hz) {
-    if (f < 1000.0 || f > 200000.0) throw std::invalid_argument("--frequency: must be within 1000..200000 Hz");
-  }
+  check_grid(grid);
   if (o.jobs < 0) throw std::invalid_argument("--jobs: must be >= 1 (0 = all cores)");
   const bool live = !o.device.address.empty();
   if (live == !o.config_path.empty()) {
@@ -72,6 +67,7 @@ void run_sweep(const SweepOptions& o) {
     plan.settle_s = o.settle_ms * 1e-3;
     plan.dwell_s = o.dwell_ms * 1e-3;
     plan.ramp_vpp_per_s = o.ramp_vpp_per_s;
+    check_plan(plan);  // before the device is touched or --out is written
     StopSignal stop;
     const auto device = open_device(o.device.address, o.device.timeouts());
     ProgressBar progress("sweep " + device->name(),
@@ -79,10 +75,13 @@ void run_sweep(const SweepOptions& o) {
     try {
       sweep_device(*device, plan, rows, [&](const SweepRow&) { progress.advance(); });
     } catch (...) {
-      // Ctrl-C or a device error: keep what was measured (the drive is already off).
-      write_outputs(o, rows);
-      std::fprintf(stderr, "swum: %zu points measured before the stop were written to %s\n", rows.size(),
-                   o.out_path.c_str());
+      // Ctrl-C or a device error: keep what was measured (the drive is already off); an
+      // existing --out is left alone when nothing was measured.
+      if (!rows.empty()) {
+        write_outputs(o, rows);
+        std::fprintf(stderr, "swum: %zu points measured before the stop were written to %s\n", rows.size(),
+                     o.out_path.c_str());
+      }
       throw;
     }
   }

@@ -89,7 +89,8 @@ std::vector<SweepRow> parse_sweep_csv(const std::string& text, const std::string
     row.frequency_hz = value(cf);
     row.load_n = cl >= 0 ? value(cl) : 0.0;
     row.status = cst >= 0 ? cell(cst) : "ok";
-    row.ok = row.status == "ok" && !cell(cs).empty();
+    // "unsettled": the model's windows had not quite agreed, the values are still its best.
+    row.ok = (row.status == "ok" || row.status == "unsettled") && !cell(cs).empty();
     if (row.ok) {
       row.speed_mm_s = value(cs);
       if (cn >= 0 && !cell(cn).empty()) row.tip_normal_um = value(cn);

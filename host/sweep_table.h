@@ -28,7 +28,8 @@ struct SweepRow {
 std::string format_sweep_csv(const std::vector<SweepRow>& rows);
 
 /// Reads a sweep CSV (the layout above; columns found by name, `speed_spread_mm_s` and
-/// `status` optional). A row is ok when status is "ok" (or absent) and the speed is present.
+/// `status` optional). A row is ok when status is "ok", "unsettled" (or absent) and the speed
+/// is present.
 /// Throws std::runtime_error naming `source`, the line and the column of a bad cell.
 std::vector<SweepRow> parse_sweep_csv(const std::string& text, const std::string& source);
 /// Speed vs frequency, one curve per (voltage, load); or speed vs voltage when the sweep

@@ -216,13 +216,17 @@ TEST(CanProtocol, BadFramesAreRejectedWithTheirReason) {
 
 TEST(CanProtocol, AliveCounterRules) {
   AliveCounter a;
-  EXPECT_EQ(a.check(9), Reason::none);  // first frame: anything
-  a.accept(9);
-  EXPECT_EQ(a.check(9), Reason::stale_alive_counter);   // repeat
-  EXPECT_EQ(a.check(8), Reason::stale_alive_counter);   // older
-  EXPECT_EQ(a.check(10), Reason::none);
-  EXPECT_EQ(a.check(0), Reason::none);                  // wrap, 7 ahead
-  EXPECT_EQ(a.check(1), Reason::stale_alive_counter);   // 8 ahead
+  const std::int64_t t = 5'000'000'000;
+  EXPECT_EQ(a.check(9, t), Reason::none);  // first frame: anything
+  a.accept(9, t);
+  EXPECT_EQ(a.check(9, t), Reason::stale_alive_counter);   // repeat
+  EXPECT_EQ(a.check(8, t), Reason::stale_alive_counter);   // older
+  EXPECT_EQ(a.check(10, t), Reason::none);
+  EXPECT_EQ(a.check(0, t), Reason::none);                  // wrap, 7 ahead
+  EXPECT_EQ(a.check(1, t), Reason::stale_alive_counter);   // 8 ahead
+  // A controller that restarts counts from its own start: after 1 s of silence any counter goes.
+  EXPECT_EQ(a.check(1, t + kAliveResyncNs), Reason::stale_alive_counter);
+  EXPECT_EQ(a.check(1, t + kAliveResyncNs + 1), Reason::none);
 }
 
 TEST(CanProtocol, ToCommandMapsModes) {

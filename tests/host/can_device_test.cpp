@@ -52,8 +52,8 @@ class FakeNode {
       if (bus_->receive(f, std::chrono::milliseconds(1)).ok() && f.id == ids_.command) {
         Received r{};
         r.reason = can::decode_command(f, r.frame);
-        if (r.reason == emu::Reason::none) r.reason = alive.check(r.frame.alive);
-        if (r.reason == emu::Reason::none) alive.accept(r.frame.alive);
+        if (r.reason == emu::Reason::none) r.reason = alive.check(r.frame.alive, 0);
+        if (r.reason == emu::Reason::none) alive.accept(r.frame.alive, 0);
         std::lock_guard lock(mutex_);
         commands_.push_back(r);
       }
@@ -132,6 +132,18 @@ TEST(CanDevice, AnAbsentNodeIsNamedInTheError) {
   } catch (const DeviceError& e) {
     EXPECT_NE(std::string(e.what()).find("no answer from node 4"), std::string::npos) << e.what();
   }
+}
+
+TEST(CanDevice, ASetWithAFrameLostIsDroppedNotFilledWithZeros) {
+  auto network = io::FakeCanNetwork::create();
+  FakeNode node(network, 7);
+  CanDevice device(network->attach("host"), 7, kTimeouts);
+  const std::uint32_t motion = can::ids_for_node(7).motion;
+  network->drop_if([motion](const io::CanFrame& f) { return f.id == motion; });
+  EXPECT_THROW((void)device.read(), DeviceError) << "every set lacks its Motion frame";
+  network->drop_if(nullptr);
+  const DeviceTelemetry t = device.read();
+  EXPECT_NEAR(t.speed_mm_s, 321.0, 1e-3);
 }
 
 TEST(CanDevice, BusOffIsAnError) {

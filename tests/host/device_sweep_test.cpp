@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <csignal>
+#include <limits>
 
 #include "command_error.h"
 #include "fake_device.h"
@@ -145,6 +146,12 @@ TEST(DeviceSweep, RefusesAnEmptyOrSillyPlan) {
   EXPECT_THROW(sweep_device(device, p, rows), std::invalid_argument);
   p = plan_for({100}, {40000});
   p.keep_alive_s = 0.2;  // longer than the 50 ms the protocol allows
+  EXPECT_THROW(sweep_device(device, p, rows), std::invalid_argument);
+  p = plan_for({100}, {40000});
+  p.ramp_vpp_per_s = 0.4;  // would be sent as 0 = "unlimited": a voltage step
+  EXPECT_THROW(sweep_device(device, p, rows), std::invalid_argument);
+  p = plan_for({100}, {40000});
+  p.settle_s = std::numeric_limits<double>::infinity();  // would wait forever
   EXPECT_THROW(sweep_device(device, p, rows), std::invalid_argument);
   EXPECT_TRUE(device.actions.empty()) << "a bad plan must not touch the device";
 }

@@ -261,6 +261,12 @@ def pick_can():
                                 "--connect-timeout-ms", "5000", "--timeout-ms", "2000", timeout=1200)
         check(status == 0, f"CAN pick failed ({status}): {err}\n{out}")
         compare_with_offline(picks(out), grid, 50.0)
+        # A second controller session on the same node (its alive counter starts afresh; the
+        # offline pick above took well over the 1 s resync time).
+        status, out, err = swum("sweep", "--can", "vcan0:5", "--vpp", "200", "--frequency", "40300:40400:100",
+                                "--connect-timeout-ms", "5000", "--timeout-ms", "2000",
+                                "--out", os.path.join(OUT, "second.csv"), timeout=600)
+        check(status == 0, f"second CAN session failed ({status}): {err}")
     status, out, err = swum("log", "--can", "vcan0:6", "--connect-timeout-ms", "300", "--duration", "1",
                             "--out", os.path.join(OUT, "x.csv"), timeout=60)
     check(status == 1 and "no answer from node 6" in err, f"absent node: exit {status}, stderr {err!r}")
