@@ -155,7 +155,7 @@ struct ThermalEffect {
 // distance accumulated since the start of the session.
 struct WearEffect {
   bool enabled = false;
-  double friction_change = -0.25;    // free: d (relative change of mu_c after run-in)
+  double friction_change = 0.3;      // free: d (relative change of mu_c after run-in; + = wear roughens)
   double run_in_distance_m = 20.0;   // fixed: s0
 };
 
