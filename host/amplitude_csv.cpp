@@ -25,7 +25,7 @@ constexpr std::array<std::string_view, 4> kColumns = {"vpp", "frequency_hz", "ti
 
 std::string quoted_cell(std::string_view text) {
   std::string q = "'";
-  q.append(text);
+  q += printable_cell(text);
   q += "'";
   return q;
 }

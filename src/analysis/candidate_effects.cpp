@@ -1,5 +1,7 @@
 #include "analysis/candidate_effects.h"
 
+#include "config/csv_cells.h"
+
 #include <array>
 #include <charconv>
 #include <cmath>
@@ -96,10 +98,11 @@ void apply_effect_argument(MotorParameters& p, std::string_view argument) {
     throw std::invalid_argument("effect '" + std::string(name) +
                                 "': expected key=value after ':' (keys: " + keys + ")");
   }
-  while (!rest.empty()) {
+  for (bool more = true; more;) {
     const std::size_t comma = rest.find(',');
     const std::string_view item = rest.substr(0, comma);
-    rest = comma == std::string_view::npos ? std::string_view{} : rest.substr(comma + 1);
+    more = comma != std::string_view::npos;  // "k=v," ends in an empty item: an error below
+    rest = more ? rest.substr(comma + 1) : std::string_view{};
     const std::size_t equals = item.find('=');
     const std::string_view key = item.substr(0, equals);
     const ParameterSpec* spec = find_parameter_spec(section, key);
@@ -110,11 +113,7 @@ void apply_effect_argument(MotorParameters& p, std::string_view argument) {
     }
     const std::string_view text = item.substr(equals + 1);
     double value = 0.0;
-    const char* first = text.data();
-    const char* last = text.data() + text.size();
-    if (first != last && *first == '+') ++first;
-    const auto [end, error] = std::from_chars(first, last, value);
-    if (text.empty() || error != std::errc() || end != last || !std::isfinite(value)) {
+    if (parse_number_cell(text, value) != nullptr) {
       throw std::invalid_argument("effect '" + std::string(name) + "': " + std::string(key) +
                                   " = '" + std::string(text) + "' is not a finite number");
     }

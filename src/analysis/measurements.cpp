@@ -50,7 +50,7 @@ class Reader {
     if (cell.empty()) return std::nullopt;
     double value = 0.0;
     if (const char* problem = parse_number_cell(cell, value)) {
-      fail(line, column, "column " + std::string(name) + ": '" + std::string(cell) + "' " + problem);
+      fail(line, column, "column " + std::string(name) + ": '" + printable_cell(cell) + "' " + problem);
     }
     return value;
   }

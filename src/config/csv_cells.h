@@ -3,6 +3,7 @@
 
 #include <charconv>
 #include <cmath>
+#include <string>
 #include <string_view>
 #include <system_error>
 #include <vector>
@@ -26,6 +27,24 @@ namespace swum {
     if (comma == std::string_view::npos) return cells;
     start = comma + 1;
   }
+}
+
+// A cell as it may appear in a one-line error: control bytes (a NUL would cut the message
+// short) shown as \xNN.
+[[nodiscard]] inline std::string printable_cell(std::string_view cell) {
+  static constexpr char kHex[] = "0123456789abcdef";
+  std::string out;
+  for (const char ch : cell) {
+    const auto byte = static_cast<unsigned char>(ch);
+    if (byte < 0x20 || byte == 0x7f) {
+      out += "\\x";
+      out += kHex[byte >> 4];
+      out += kHex[byte & 15];
+    } else {
+      out += ch;
+    }
+  }
+  return out;
 }
 
 // A non-empty numeric cell (an optional leading '+'): nullptr and `value` set when it is a

@@ -58,6 +58,7 @@ TEST(CandidateEffects, BadArgumentsAreNamed) {
   EXPECT_NE(error_of("thermal:tau=3").find("'tau=3' is not key=value with a key of effects.thermal"),
             std::string::npos);
   EXPECT_NE(error_of("thermal:time_constant_s").find("is not key=value"), std::string::npos);
+  EXPECT_NE(error_of("thermal:time_constant_s=20,").find("'' is not key=value"), std::string::npos);
   EXPECT_EQ(error_of("preload:preload_factor=abc"),
             "effect 'preload': preload_factor = 'abc' is not a finite number");
   EXPECT_NE(error_of("preload:preload_factor=99").find("out of range"), std::string::npos);

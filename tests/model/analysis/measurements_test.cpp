@@ -60,6 +60,10 @@ TEST(Measurements, ErrorsNameFileLineAndColumn) {
             "data.csv:2:1: column vpp: 1e+308 is outside 0..10000 Vpp");
   EXPECT_EQ(error_of("vpp,frequency_hz,load_n,speed_mm_s\n5,40000,0,inf\n"),
             "data.csv:2:4: column speed_mm_s: 'inf' is not finite");
+  std::string with_nul = "vpp,frequency_hz,load_n,speed_mm_s\n5,4";
+  with_nul += '\0';
+  with_nul += "0000,0,1\n";  // a NUL must not cut the message short
+  EXPECT_EQ(error_of(with_nul), "data.csv:2:2: column frequency_hz: '4\\x000000' is not a number");
   EXPECT_EQ(error_of("vpp,frequency_hz,load_n,speed_mm_s\n5,40000,0,\n"),
             "data.csv:2: no measured value in this row");
   EXPECT_EQ(error_of("vpp,frequency_hz,load_n,time_s,speed_mm_s\n5,40000,0,,3\n"),
