@@ -1,12 +1,11 @@
 #include "offline_sweep.h"
 
 #include <algorithm>
-#include <atomic>
 #include <stdexcept>
 #include <string>
-#include <thread>
 
 #include "analysis/steady_state.h"
+#include "parallel_for.h"
 #include "progress_bar.h"
 
 namespace swum::host {
@@ -57,22 +56,11 @@ std::vector<SweepRow> sweep_model(const MotorModel& model, const OfflineGrid& gr
       for (double f : grid.frequencies_hz) rows.push_back(SweepRow{v, f, load});
     }
   }
-  if (rows.empty()) return rows;
-  const unsigned cores = std::max(1u, std::thread::hardware_concurrency());
-  const unsigned jobs = std::min<unsigned>(grid.jobs > 0 ? static_cast<unsigned>(grid.jobs) : cores,
-                                           static_cast<unsigned>(rows.size()));
   ProgressBar progress("sweep", rows.size());
-  std::atomic<std::size_t> next{0};
-  auto worker = [&] {
-    for (std::size_t i = next++; i < rows.size(); i = next++) {
-      rows[i] = run_point(model, rows[i], grid.phase_deg);
-      progress.advance();
-    }
-  };
-  std::vector<std::thread> threads;
-  for (unsigned t = 1; t < jobs; ++t) threads.emplace_back(worker);
-  worker();
-  for (auto& thread : threads) thread.join();
+  make_parallel_for(static_cast<unsigned>(std::max(grid.jobs, 0)))(rows.size(), [&](std::size_t i) {
+    rows[i] = run_point(model, rows[i], grid.phase_deg);
+    progress.advance();
+  });
   return rows;
 }
 

@@ -1,5 +1,6 @@
 // The host's ParallelFor for the model library (src/ starts no threads): a batch of
-// independent tasks on `jobs` threads pulling indices from a shared counter.
+// independent tasks on `jobs` threads pulling indices from a shared counter. The first
+// exception a task throws stops the batch and is rethrown to the caller.
 #pragma once
 
 #include "analysis/measured_point_model.h"

@@ -114,7 +114,7 @@ std::vector<CurveSample> curve_at(const std::vector<SweepRow>& rows, double vpp,
     if (!same(r.vpp, vpp) || !same(r.load_n, load_n)) continue;
     // A point the device never measured (watchdog hiccup, timeout) is a hole in the curve, not
     // a collapse of the resonance; a blow-up of the model or the motor is.
-    if (!r.ok && r.status != "diverged" && r.status != "fault_numerical") continue;
+    if (!r.ok && !is_physical_failure(r)) continue;
     CurveSample s;
     s.frequency_hz = r.frequency_hz;
     s.ok = r.ok;

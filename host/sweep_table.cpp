@@ -23,6 +23,10 @@ std::string label_for(double vpp, double load_n, bool several_loads) {
 
 }  // namespace
 
+bool is_physical_failure(const SweepRow& row) {
+  return !row.ok && (row.status == "diverged" || row.status == "fault_numerical");
+}
+
 std::string format_sweep_csv(const std::vector<SweepRow>& rows) {
   bool with_spread = false;
   for (const SweepRow& row : rows) with_spread = with_spread || row.speed_spread_mm_s >= 0.0;

@@ -22,6 +22,12 @@ struct SweepRow {
   double speed_spread_mm_s = -1.0;
 };
 
+/// Statuses (the one-word `status` column): `ok`; from the model `unsettled` (values are its
+/// best estimate) and `diverged`; from a device `fault_numerical`, `fault_command_timeout`,
+/// `fault_<code>`, `timeout`, `no_drive`. True when the motor (or model) itself failed at the
+/// point — for the picking rule a collapse — false when the point was simply not measured.
+bool is_physical_failure(const SweepRow& row);
+
 /// CSV text: header `vpp,frequency_hz,load_n,speed_mm_s,tip_normal_um,tip_tangential_um,status`
 /// then one line per row; a failed row has empty numeric cells, never made-up numbers. When
 /// any row has a measured spread, a `speed_spread_mm_s` column follows `tip_tangential_um`.
