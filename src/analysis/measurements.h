@@ -1,11 +1,16 @@
 // Measured operating points of a real motor (the input of the discrepancy workflow,
 // docs/discrepancy.md): CSV with the columns vpp,frequency_hz,load_n, at least one of
-// speed_mm_s, tip_normal_um, tip_tangential_um, and optionally time_s (elapsed session time).
+// speed_mm_s, tip_normal_um, tip_tangential_um, and optionally time_s (elapsed session time)
+// and sweep (id of the continuous sweep a row belongs to). The outputs of `swum sweep` and
+// `swum log` are read as they are (docs/host.md, "Sweep and log files as measurements"):
+// their informational columns are ignored, rows the device did not measure are left out and
+// counted by reason.
 // The text is handed in by the caller (src/ does no I/O).
 #pragma once
 
 #include <array>
 #include <cstddef>
+#include <map>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -34,6 +39,11 @@ struct Measurement {
   double frequency_hz = 0.0;
   double load_n = 0.0;
   std::optional<double> time_s;
+  // Continuous sweep this row belongs to (column `sweep`): rows of one sweep were taken one
+  // after the other in session order without stopping the drive, so each starts from the
+  // state the previous one left (docs/discrepancy.md, "What a prediction of a measured point
+  // is"). Absent: the point was approached from rest.
+  std::optional<int> sweep;
   std::array<std::optional<double>, kQuantityCount> values{};  // by Quantity
   int source_line = 0;
 
@@ -46,18 +56,43 @@ struct MeasurementSet {
   std::vector<Measurement> rows;
   std::array<bool, kQuantityCount> has_quantity{};  // the column exists
   bool has_time = false;                            // time_s given on every row
+  bool has_sweep = false;                           // the sweep column exists
+
+  // What the parser read past, so a command can say so in one line (measurement_note):
+  std::vector<std::string> ignored_columns;     // informational columns, never read
+  int skipped_rows = 0;                         // rows left out of `rows` ...
+  std::map<std::string, int> skipped_by_reason;  // ... by reason (a status word, "drive_off", ...)
+  std::string time_column;                      // the column time_s came from, if any
+  bool sweeps_from_state = false;               // sweep ids = running stretches of a log
 };
 
 // Parses `text` (named `source_name` in errors). Header required (any column order; '#'
 // comment and blank lines skipped). Errors (MeasurementError naming line and column): unknown,
 // duplicate or missing columns, no quantity column, wrong cell count, non-numeric or
 // non-finite cells, vpp < 0, frequency <= 0, negative amplitudes, time_s < 0 or empty,
-// a row without any measured value, no data rows, values outside plausible ranges
-// (vpp <= 10000, frequency 1000..200000 Hz, |load| <= 1000 N, time_s <= 1e8 s,
-// |speed| <= 1e6 mm/s, amplitudes <= 1000 um).
+// sweep not a whole number >= 0, a row without any measured value, no data rows, values
+// outside plausible ranges (vpp <= 10000, frequency 1000..200000 Hz, |load| <= 1000 N,
+// time_s <= 1e8 s, |speed| <= 1e6 mm/s, amplitudes <= 1000 um), an unknown `status` word or
+// `state` value, no row left to use.
+//
+// Sweep and log files: `device_time_s` is read as time_s (the device clock); the columns in
+// kInformationalColumns are ignored (listed in ignored_columns). Rows are left out (counted in
+// skipped_by_reason) when `status` is not ok/unsettled (diverged, fault_numerical,
+// fault_command_timeout, fault_<n>, timeout, no_drive: the reason is the status word), when a
+// `state` column says the drive was not running (state 0 or vpp 0: "drive_off"; state 2: the
+// fault, named from `fault_code` as in a sweep's status), or when `phase_deg` is not 90
+// ("phase_not_90_deg": predictions are made at 90 deg). Without a `sweep` column, a file with
+// a `state` column (a log) gets sweep ids: each stretch of consecutive rows used is one sweep.
+inline constexpr std::array<std::string_view, 7> kInformationalColumns{
+    "speed_spread_mm_s", "host_time_s",     "position_mm", "last_reject",
+    "lateness_p99_us",   "lateness_max_us", "overruns"};
 
 [[nodiscard]] MeasurementSet parse_measurements_csv(std::string_view text,
                                                     std::string_view source_name);
+
+// One line for the user about what was read past ("note: ignored columns a, b; 3 rows left out
+// (2 fault_numerical, 1 timeout)"), or "" when the whole file was used as it is.
+[[nodiscard]] std::string measurement_note(const MeasurementSet& set);
 
 // Distinct operating points (vpp, frequency_hz, load_n) among the rows.
 [[nodiscard]] std::size_t count_operating_points(const MeasurementSet& set);
