@@ -30,12 +30,16 @@ class Session {
     last_ = t;
     last_command_host_ = Clock::now();
     last_command_device_s_ = time_of(t);
+    start_s_ = time_of(t);
   }
 
   double time_of(const DeviceTelemetry& t) const {
     if (t.device_time_s) return *t.device_time_s;
     return std::chrono::duration<double>(t.received - origin_).count();
   }
+
+  // Device time since the session began (the first telemetry read).
+  double session_time() const { return time_of(last_) - start_s_; }
 
   void noted_command() {
     last_command_host_ = Clock::now();
@@ -117,6 +121,7 @@ class Session {
   DeviceTelemetry last_;
   Clock::time_point last_command_host_;
   double last_command_device_s_ = 0.0;
+  double start_s_ = 0.0;
 };
 
 // The drive goes off however the sweep ends (normal end, device error, Ctrl-C).
@@ -153,7 +158,9 @@ class Sweeper {
         2.0 * ramp_s + 1.0, plan_.keep_alive_s);
   }
 
+  // Starts the drive from rest: the points measured after it are a new continuous sweep.
   bool start_voltage(double vpp, double frequency_hz, double load_n) {
+    ++sweep_id_;
     if (session_.last().state == 2) session_.command(DeviceAction::reset_fault);
     session_.set_drive({frequency_hz, 0.0, plan_.phase_deg, load_n});
     session_.command(DeviceAction::enable);
@@ -166,10 +173,7 @@ class Sweeper {
   }
 
   SweepRow measure(double vpp, double frequency_hz, double load_n) {
-    SweepRow row;
-    row.vpp = vpp;
-    row.frequency_hz = frequency_hz;
-    row.load_n = load_n;
+    SweepRow row = unmeasured(vpp, frequency_hz, load_n, "timeout");
     session_.set_drive({frequency_hz, vpp, plan_.phase_deg, load_n});
     const bool reached = session_.read_until(
         [&](const DeviceTelemetry& t) { return std::abs(t.frequency_hz - frequency_hz) <= kFrequencyReachedHz; }, 1.0,
@@ -181,6 +185,7 @@ class Sweeper {
       return failed(row);
     }
     const double dwell_end = session_.time_of(session_.last()) + plan_.dwell_s;
+    row.time_s = session_.session_time();
     double sum = 0.0, sum2 = 0.0, normal = 0.0, tangential = 0.0;
     int n = 0;
     const bool dwelt = session_.read_until(
@@ -204,11 +209,20 @@ class Sweeper {
     return row;
   }
 
+  // A row of the current sweep at the current device time, not (yet) measured.
+  SweepRow unmeasured(double vpp, double frequency_hz, double load_n, const std::string& status) const {
+    SweepRow row{vpp, frequency_hz, load_n, false, status};
+    row.time_s = session_.session_time();
+    row.sweep = sweep_id_;
+    return row;
+  }
+
   Session& session() { return session_; }
 
  private:
   SweepRow failed(SweepRow row) {
     row.ok = false;
+    row.time_s = session_.session_time();  // when it was given up
     // One word per status (CSV column): fault_command_timeout, fault_numerical, timeout.
     const int fault = session_.last().fault_code;
     row.status = session_.last().state != 2 ? "timeout"
@@ -220,6 +234,7 @@ class Sweeper {
 
   Session session_;
   const DeviceSweepPlan& plan_;
+  int sweep_id_ = -1;  // continuous sweeps started so far, minus one
 };
 
 }  // namespace
@@ -261,7 +276,7 @@ void sweep_device(Device& device, const DeviceSweepPlan& plan, std::vector<Sweep
         if (on) {
           row = sweeper.measure(vpp, f, load);
         } else {
-          row = SweepRow{vpp, f, load, false, "no_drive"};
+          row = sweeper.unmeasured(vpp, f, load, "no_drive");
         }
         if (!row.ok) on = false;
         rows.push_back(row);

@@ -13,6 +13,7 @@
 #include "command_error.h"
 #include "commands.h"
 #include "device_options.h"
+#include "log_table.h"
 #include "stop_signal.h"
 
 namespace swum::host {
@@ -52,17 +53,6 @@ class CsvFile {
   std::FILE* file_;
 };
 
-std::string format_row(double host_s, const DeviceTelemetry& t) {
-  char line[512];
-  char device_time[32] = "";
-  if (t.device_time_s) std::snprintf(device_time, sizeof device_time, "%.3f", *t.device_time_s);
-  std::snprintf(line, sizeof line, "%.6f,%s,%.3f,%.3f,%.3f,%.3f,%.3f,%.1f,%.2f,%.3f,%d,%d,%d,%.0f,%.0f,%u\n", host_s,
-                device_time, t.speed_mm_s, t.position_mm, t.tip_normal_um, t.tip_tangential_um, t.frequency_hz,
-                t.vpp, t.phase_deg, t.load_n, t.state, t.fault_code, t.last_reject, t.lateness_p99_us,
-                t.lateness_max_us, t.overruns);
-  return line;
-}
-
 void run_log(const LogOptions& o) {
   if (!(o.duration_s > 0.0)) throw std::invalid_argument("--duration: must be > 0");
   if (!(o.duration_s <= 1e7)) throw std::invalid_argument("--duration: must be <= 1e7 s");
@@ -70,8 +60,7 @@ void run_log(const LogOptions& o) {
   StopSignal stop;
   const auto device = open_device(o.device.address, o.device.timeouts());
   CsvFile out(o.out_path);
-  out.write("host_time_s,device_time_s,speed_mm_s,position_mm,tip_normal_um,tip_tangential_um,frequency_hz,vpp,"
-            "phase_deg,load_n,state,fault_code,last_reject,lateness_p99_us,lateness_max_us,overruns\n");
+  out.write(kLogCsvHeader);
   using Clock = std::chrono::steady_clock;
   const auto start = Clock::now();
   const auto period = std::chrono::duration<double>(1.0 / o.rate_hz);
@@ -108,7 +97,7 @@ void run_log(const LogOptions& o) {
       }
       last_counter = t.sample_counter;
     }
-    out.write(format_row(host_s, t));
+    out.write(format_log_row(host_s, t));
     ++samples;
     if (Clock::now() - last_flush > std::chrono::milliseconds(200)) {
       out.flush();

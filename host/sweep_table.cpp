@@ -1,5 +1,6 @@
 #include "sweep_table.h"
 
+#include <cmath>
 #include <cstdio>
 #include <map>
 #include <set>
@@ -28,12 +29,26 @@ bool is_physical_failure(const SweepRow& row) {
 }
 
 std::string format_sweep_csv(const std::vector<SweepRow>& rows) {
-  bool with_spread = false;
-  for (const SweepRow& row : rows) with_spread = with_spread || row.speed_spread_mm_s >= 0.0;
-  std::string csv = "vpp,frequency_hz,load_n,speed_mm_s,tip_normal_um,tip_tangential_um,";
+  bool with_spread = false, with_time = false, with_sweep = false;
+  for (const SweepRow& row : rows) {
+    with_spread = with_spread || row.speed_spread_mm_s >= 0.0;
+    with_time = with_time || row.time_s.has_value();
+    with_sweep = with_sweep || row.sweep.has_value();
+  }
+  std::string csv = "vpp,frequency_hz,load_n,";
+  if (with_time) csv += "time_s,";
+  if (with_sweep) csv += "sweep,";
+  csv += "speed_mm_s,tip_normal_um,tip_tangential_um,";
   csv += with_spread ? "speed_spread_mm_s,status\n" : "status\n";
+  char time_cell[32];
   for (const SweepRow& row : rows) {
     csv += number(row.vpp) + "," + number(row.frequency_hz) + "," + number(row.load_n) + ",";
+    if (with_time) {
+      // Milliseconds: the resolution of the device clocks (Modbus sim_time, CAN Clock frame).
+      if (row.time_s) std::snprintf(time_cell, sizeof time_cell, "%.3f", *row.time_s);
+      csv += (row.time_s ? std::string(time_cell) : std::string()) + ",";
+    }
+    if (with_sweep) csv += (row.sweep ? std::to_string(*row.sweep) : std::string()) + ",";
     if (row.ok) {
       csv += number(row.speed_mm_s) + "," + number(row.tip_normal_um) + "," +
              number(row.tip_tangential_um);
@@ -69,7 +84,7 @@ std::vector<SweepRow> parse_sweep_csv(const std::string& text, const std::string
   };
   const int cv = column("vpp"), cf = column("frequency_hz"), cl = column("load_n"), cs = column("speed_mm_s"),
             cn = column("tip_normal_um"), ct = column("tip_tangential_um"), cst = column("status"),
-            csp = column("speed_spread_mm_s");
+            csp = column("speed_spread_mm_s"), ctime = column("time_s"), csweep = column("sweep");
   if (cv < 0 || cf < 0 || cs < 0) {
     throw std::runtime_error(source + ": not a sweep table (header needs vpp, frequency_hz, speed_mm_s)");
   }
@@ -85,13 +100,23 @@ std::vector<SweepRow> parse_sweep_csv(const std::string& text, const std::string
                                " cells, the header has " + std::to_string(header.size()));
     }
     auto cell = [&](int c) { return c >= 0 ? cells[static_cast<std::size_t>(c)] : std::string(); };
-    auto value = [&](int c) {
-      return parse_finite_number(cell(c), source + " line " + std::to_string(number) + " column " + header[c]);
-    };
+    auto where = [&](int c) { return source + " line " + std::to_string(number) + " column " + header[c]; };
+    auto value = [&](int c) { return parse_finite_number(cell(c), where(c)); };
     SweepRow row;
     row.vpp = value(cv);
     row.frequency_hz = value(cf);
     row.load_n = cl >= 0 ? value(cl) : 0.0;
+    if (ctime >= 0 && !cell(ctime).empty()) {
+      row.time_s = value(ctime);
+      if (*row.time_s < 0.0) throw std::runtime_error(where(ctime) + ": must be >= 0");
+    }
+    if (csweep >= 0 && !cell(csweep).empty()) {
+      const double id = value(csweep);
+      if (id < 0.0 || id != std::floor(id) || id > 1e9) {
+        throw std::runtime_error(where(csweep) + ": " + cell(csweep) + " is not a sweep id (a whole number >= 0)");
+      }
+      row.sweep = static_cast<int>(id);
+    }
     row.status = cst >= 0 ? cell(cst) : "ok";
     // "unsettled": the model's windows had not quite agreed, the values are still its best.
     row.ok = (row.status == "ok" || row.status == "unsettled") && !cell(cs).empty();

@@ -1,9 +1,11 @@
 // The sweep table shared by the offline model sweep and the live-device sweep:
 // one row per operating point, the CSV layout, and the speed plot.
-// (The live sweep adds a per-point spread column.)
+// (The live sweep adds a per-point spread column and records when and in which continuous
+// sweep each point was taken.)
 #pragma once
 
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -20,6 +22,12 @@ struct SweepRow {
   double tip_tangential_um = 0.0;
   // Live sweeps: standard deviation of the speed samples over the dwell (< 0: not measured).
   double speed_spread_mm_s = -1.0;
+  // Live sweeps: device clock at the start of the point's dwell window (for a point that
+  // failed, when it was given up), counted from the start of the sweep session ...
+  std::optional<double> time_s = std::nullopt;
+  // ... and the continuous curve it belongs to: one per (load, voltage) pass from the top
+  // frequency down, a new one whenever the drive had to be started again after a fault.
+  std::optional<int> sweep = std::nullopt;
 };
 
 /// Statuses (the one-word `status` column): `ok`; from the model `unsettled` (values are its
@@ -29,13 +37,14 @@ struct SweepRow {
 bool is_physical_failure(const SweepRow& row);
 
 /// CSV text: header `vpp,frequency_hz,load_n,speed_mm_s,tip_normal_um,tip_tangential_um,status`
-/// then one line per row; a failed row has empty numeric cells, never made-up numbers. When
+/// then one line per row; a failed row has empty measured cells, never made-up numbers. When
+/// any row has a time or a sweep id (live sweeps), `time_s` and `sweep` follow `load_n`; when
 /// any row has a measured spread, a `speed_spread_mm_s` column follows `tip_tangential_um`.
 std::string format_sweep_csv(const std::vector<SweepRow>& rows);
 
-/// Reads a sweep CSV (the layout above; columns found by name, `speed_spread_mm_s` and
-/// `status` optional). A row is ok when status is "ok", "unsettled" (or absent) and the speed
-/// is present.
+/// Reads a sweep CSV (the layouts above; columns found by name, `time_s`, `sweep`,
+/// `speed_spread_mm_s` and `status` optional). A row is ok when status is "ok", "unsettled"
+/// (or absent) and the speed is present.
 /// Throws std::runtime_error naming `source`, the line and the column of a bad cell.
 std::vector<SweepRow> parse_sweep_csv(const std::string& text, const std::string& source);
 /// Speed vs frequency, one curve per (voltage, load); or speed vs voltage when the sweep

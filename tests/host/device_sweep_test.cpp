@@ -92,6 +92,56 @@ TEST(DeviceSweep, AFaultMarksThePointAndTheSweepRecovers) {
   EXPECT_EQ(device.state, 0);
 }
 
+// time_s: the device clock at the start of each dwell window, counted from the first read of the
+// session; sweep: one id per (load, voltage) curve, in session order.
+TEST(DeviceSweep, RecordsTheDeviceClockAndTheContinuousSweepOfEachPoint) {
+  FakeDevice device;
+  device.time_s = 1000.0;  // the device has been up for a while: the session still starts at 0
+  DeviceSweepPlan p = plan_for({100, 300}, {40000, 40400, 40200});
+  p.loads_n = {0.0, 1.0};
+  std::vector<SweepRow> rows;
+  sweep_device(device, p, rows);
+  ASSERT_EQ(rows.size(), 12u);
+  const double session_start_s = 1000.0 + device.read_step_s;
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    const SweepRow& r = rows[i];
+    ASSERT_TRUE(r.ok) << r.status;
+    ASSERT_TRUE(r.time_s && r.sweep);
+    EXPECT_EQ(*r.sweep, static_cast<int>(i / 3)) << "one sweep per (load, voltage) curve";
+    // The dwell began once the settle had passed on the device clock after the setpoint of
+    // this point arrived (the last setpoint for it), within the fake's read step.
+    std::size_t k = device.setpoints.size();
+    while (k-- > 0) {
+      const DriveSetpoint& s = device.setpoints[k];
+      if (s.frequency_hz == r.frequency_hz && s.vpp == r.vpp && s.load_n == r.load_n) break;
+    }
+    ASSERT_LT(k, device.setpoints.size());
+    const double after_setpoint_s = session_start_s + *r.time_s - device.setpoint_times_s[k];
+    EXPECT_GE(after_setpoint_s, p.settle_s - 1e-9) << i;
+    EXPECT_LE(after_setpoint_s, p.settle_s + 3 * device.read_step_s + 1e-9) << i;
+    if (i > 0) {
+      EXPECT_GE(*r.time_s - *rows[i - 1].time_s, p.settle_s + p.dwell_s - 1e-9) << i;
+    }
+  }
+  EXPECT_LT(*rows.back().time_s, device.time_s - session_start_s);
+}
+
+TEST(DeviceSweep, ARestartAfterAFaultStartsANewSweep) {
+  FakeDevice device;
+  device.fault_at_frequency_hz = 40200.0;
+  std::vector<SweepRow> rows;
+  sweep_device(device, plan_for({200, 250}, {40400, 40300, 40200, 40100}), rows);
+  ASSERT_EQ(rows.size(), 8u);
+  std::vector<int> sweeps;
+  for (const SweepRow& r : rows) sweeps.push_back(r.sweep.value_or(-1));
+  // 200 Vpp: two points, the fault (still the first curve), the restarted rest; then 250 Vpp.
+  EXPECT_EQ(sweeps, (std::vector<int>{0, 0, 0, 1, 2, 2, 2, 2}));
+  EXPECT_EQ(rows[2].status, "fault_numerical");
+  ASSERT_TRUE(rows[2].time_s && rows[3].time_s);
+  EXPECT_GT(*rows[2].time_s, *rows[1].time_s);
+  EXPECT_GT(*rows[3].time_s, *rows[2].time_s);
+}
+
 TEST(DeviceSweep, ARejectedSetpointIsAnErrorNamingTheReasonAndTheDriveGoesOff) {
   FakeDevice device;
   device.max_frequency_hz = 40500.0;

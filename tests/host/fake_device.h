@@ -37,6 +37,7 @@ class FakeDevice : public Device {
     if (s.frequency_hz > max_frequency_hz) return reject(1);
     setpoint_ = s;
     setpoints.push_back(s);
+    setpoint_times_s.push_back(time_s);
     commanded();
   }
   void set_slew(double, double vpp_per_s) override {
@@ -87,6 +88,7 @@ class FakeDevice : public Device {
     t.speed_mm_s = speed;
     t.frequency_hz = setpoint_.frequency_hz;
     t.vpp = vpp_out;
+    t.phase_deg = setpoint_.phase_deg;
     t.load_n = setpoint_.load_n;
     longest_command_gap_s = std::max(longest_command_gap_s, state == 1 ? time_s - last_command_s_ : 0.0);
     return t;
@@ -105,6 +107,7 @@ class FakeDevice : public Device {
   double max_vpp_seen = 0.0;
   double longest_command_gap_s = 0.0;
   std::vector<DriveSetpoint> setpoints;
+  std::vector<double> setpoint_times_s;  // device clock when each setpoint arrived
   std::vector<DeviceAction> actions;
 
  private:

@@ -120,9 +120,15 @@ def sweep_log_modbus():
             live = list(csv.DictReader(f))
         with open(offline_csv) as f:
             offline = list(csv.DictReader(f))
-        check(list(live[0].keys()) == ["vpp", "frequency_hz", "load_n", "speed_mm_s", "tip_normal_um",
+        check(list(live[0].keys()) == ["vpp", "frequency_hz", "load_n", "time_s", "sweep", "speed_mm_s", "tip_normal_um",
                                        "tip_tangential_um", "speed_spread_mm_s", "status"], f"columns {list(live[0])}")
-        check(list(offline[0].keys()) == [k for k in live[0].keys() if k != "speed_spread_mm_s"], "offline columns")
+        check(list(offline[0].keys()) == [k for k in live[0].keys() if k not in ("time_s", "sweep", "speed_spread_mm_s")],
+              "offline columns")
+        # One continuous sweep per voltage, timed on the device clock from the session start.
+        check([r["sweep"] for r in live] == ["0"] * 11 + ["1"] * 11, f"sweep ids {[r['sweep'] for r in live]}")
+        times = [float(r["time_s"]) for r in live]
+        check(all(b - a >= 0.060 + 0.030 - 0.0015 for a, b in zip(times, times[1:])),
+              f"time_s does not advance by settle + dwell per point: {times}")
         # Downward per voltage.
         for vpp in ("150", "350"):
             f = [float(r["frequency_hz"]) for r in live if r["vpp"] == vpp]
