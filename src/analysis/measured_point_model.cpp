@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
+#include <optional>
 #include <memory>
 #include <numeric>
 
@@ -56,6 +58,21 @@ std::vector<std::size_t> session_order(std::span<const Measurement> points) {
   return order;
 }
 
+std::vector<std::vector<std::size_t>> prediction_chains(std::span<const Measurement> points) {
+  std::vector<std::vector<std::size_t>> chains;
+  std::map<int, std::size_t> chain_of_sweep;
+  for (std::size_t i : session_order(points)) {
+    if (!points[i].sweep) {
+      chains.push_back({i});
+      continue;
+    }
+    const auto [it, added] = chain_of_sweep.try_emplace(*points[i].sweep, chains.size());
+    if (added) chains.emplace_back();
+    chains[it->second].push_back(i);
+  }
+  return chains;
+}
+
 std::vector<Predictions> predict_points(std::span<const MotorParameters> parameters,
                                         std::span<const Measurement> points,
                                         const PredictionOptions& options,
@@ -66,6 +83,11 @@ std::vector<Predictions> predict_points(std::span<const MotorParameters> paramet
   const bool timed = std::all_of(points.begin(), points.end(),
                                  [](const Measurement& m) { return m.time_s.has_value(); });
   const std::vector<std::size_t> order = session_order(points);
+  // Longest chains first, so the last task to start is a short one.
+  std::vector<std::vector<std::size_t>> chains = prediction_chains(points);
+  std::stable_sort(chains.begin(), chains.end(),
+                   [](const auto& a, const auto& b) { return a.size() > b.size(); });
+  const std::size_t chain_count = chains.size();
   std::vector<Predictions> out(models.size(), Predictions(n));
   std::vector<std::vector<SlowState>> slow(models.size(), std::vector<SlowState>(n));
   std::vector<int> passes(models.size(), 1);
@@ -83,25 +105,31 @@ std::vector<Predictions> predict_points(std::span<const MotorParameters> paramet
         slow[m] = session_history(models[m]->coefficients().effects, points, order, out[m]);
       }
     }
-    parallel(active.size() * n, [&](std::size_t task) {
-      const std::size_t m = active[task / n];
-      const std::size_t i = task % n;
-      OperatingPoint point;
-      point.vpp = points[i].vpp;
-      point.frequency_hz = points[i].frequency_hz;
-      point.load_n = points[i].load_n;
-      point.stator_temperature_rise_k = slow[m][i].temperature_rise_k;
-      point.sliding_distance_m = slow[m][i].sliding_distance_m;
-      point.freeze_slow_states = true;  // the session history above sets them
+    // One task per (model, chain): the points of a sweep run one after the other, each from
+    // the state the previous one left; a diverged point hands on the rest state.
+    parallel(active.size() * chain_count, [&](std::size_t task) {
+      const std::size_t m = active[task / chain_count];
       const bool final_pass = pass == passes[m] - 1;
-      const SteadyStateResult r = run_to_steady_state(*models[m], point,
-                                                      final_pass ? options.steady : options.history);
-      PredictedPoint& p = out[m][i];
-      p.ok = !r.diverged;
-      p.values = {r.speed_mm_s, r.tip_normal_um, r.tip_tangential_um};
-      p.damping_power_w = r.damping_power_w;
-      p.stator_temperature_rise_k = point.stator_temperature_rise_k;
-      p.sliding_distance_m = point.sliding_distance_m;
+      std::optional<MotorState> carried;
+      for (std::size_t i : chains[task % chain_count]) {
+        OperatingPoint point;
+        point.vpp = points[i].vpp;
+        point.frequency_hz = points[i].frequency_hz;
+        point.load_n = points[i].load_n;
+        point.stator_temperature_rise_k = slow[m][i].temperature_rise_k;
+        point.sliding_distance_m = slow[m][i].sliding_distance_m;
+        point.freeze_slow_states = true;  // the session history above sets them
+        point.initial_state = carried;
+        const SteadyStateResult r = run_to_steady_state(*models[m], point,
+                                                        final_pass ? options.steady : options.history);
+        PredictedPoint& p = out[m][i];
+        p.ok = !r.diverged;
+        p.values = {r.speed_mm_s, r.tip_normal_um, r.tip_tangential_um};
+        p.damping_power_w = r.damping_power_w;
+        p.stator_temperature_rise_k = point.stator_temperature_rise_k;
+        p.sliding_distance_m = point.sliding_distance_m;
+        carried = r.final_state;
+      }
     });
   }
   return out;

@@ -67,6 +67,11 @@ using Predictions = std::vector<PredictedPoint>;
                                                       const PredictionOptions& options,
                                                       const ParallelFor& parallel);
 
+// The runs a prediction makes, in session order: each sweep (rows sharing a `sweep` id) is one
+// chain whose points start from the state the previous point left; every other row is a chain
+// of its own, from rest (docs/discrepancy.md, "What a prediction of a measured point is").
+[[nodiscard]] std::vector<std::vector<std::size_t>> prediction_chains(std::span<const Measurement> points);
+
 // Points in session order (stable sort by time_s; rows without time keep file order).
 [[nodiscard]] std::vector<std::size_t> session_order(std::span<const Measurement> points);
 

@@ -94,6 +94,7 @@ SteadyStateResult run_to_steady_state(const MotorModel& model, const OperatingPo
   drive.phase_deg = point.phase_deg;
   drive.load_n = point.load_n;
   sim.set_drive(drive);
+  if (point.initial_state) sim.set_state(*point.initial_state);
   sim.set_slow_states(point.stator_temperature_rise_k, point.sliding_distance_m, point.freeze_slow_states);
   const double dt = sim.time_step_s();
   const double g_tv = model.coefficients().g_tv;
@@ -131,7 +132,9 @@ SteadyStateResult run_to_steady_state(const MotorModel& model, const OperatingPo
     }
     return true;
   };
-  return window_loop(opt, run, [&] { return sim.state().mover_position_m; });
+  SteadyStateResult result = window_loop(opt, run, [&] { return sim.state().mover_position_m; });
+  result.final_state = sim.state();
+  return result;
 }
 
 SteadyStateResult run_to_steady_state_reference(const MotorModel& model,

@@ -4,6 +4,7 @@
 
 #include <cstdint>
 #include <functional>
+#include <optional>
 #include <string>
 
 #include "model/motor_model.h"
@@ -22,6 +23,10 @@ struct OperatingPoint {
   double stator_temperature_rise_k = 0.0;
   double sliding_distance_m = 0.0;
   bool freeze_slow_states = false;
+  // Start here instead of at rest: the state a previous point of the same sweep left (its
+  // SteadyStateResult::final_state). The drive changes phase-continuously, as on a real
+  // amplifier that retunes its oscillator; the slow states above replace the snapshot's.
+  std::optional<MotorState> initial_state = std::nullopt;
 };
 
 // One trace sample (the CLI writes these to CSV; src does no I/O).
@@ -64,6 +69,7 @@ struct SteadyStateResult {
   double sim_s = 0.0;               // simulated time in total
   std::uint64_t steps = 0;          // solver steps in total (accepted steps for the reference)
   int windows = 0;
+  MotorState final_state;  // where the run ended (fixed-step solver only): the next point of a sweep starts here
 };
 
 // Fixed-step semi-implicit solver (the HIL scheme, model.time_step_s()).

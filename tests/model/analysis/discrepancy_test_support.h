@@ -1,0 +1,37 @@
+// Shared by the discrepancy tests: the calibrated motor and the held-out gap to a noise-free truth.
+#pragma once
+
+#include <cmath>
+#include <fstream>
+#include <sstream>
+#include <vector>
+
+#include "analysis/discrepancy.h"
+#include "config/parameter_file.h"
+
+namespace swum::test {
+
+inline MotorParameters calibrated_motor() {
+  std::ifstream in(SWUM_SOURCE_DIR "/config/li2019.toml");
+  std::stringstream text;
+  text << in.rdbuf();
+  return parse_motor_parameters(text.str(), "config/li2019.toml");
+}
+
+// RMS relative gap between a model's predictions and `truth` (the noise-free values of the same
+// rows) on the held-out rows.
+inline double held_out_gap(const MeasurementSet& truth, const Predictions& predicted,
+                           const std::vector<bool>& held_out) {
+  const ResidualModel model(truth, DiscrepancyOptions{}.floor_fraction);
+  const std::vector<double> r = model.residuals(predicted);
+  double sum = 0.0;
+  int n = 0;
+  for (std::size_t k = 0; k < r.size(); ++k) {
+    if (!held_out[model.slots()[k].row]) continue;
+    sum += r[k] * r[k];
+    ++n;
+  }
+  return std::sqrt(sum / n);
+}
+
+}  // namespace swum::test
