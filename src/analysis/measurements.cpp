@@ -68,6 +68,14 @@ std::string_view quantity_column(Quantity q) {
   return kNames[static_cast<std::size_t>(kSpeed) + static_cast<std::size_t>(q)];
 }
 
+std::optional<Quantity> quantity_from_name(std::string_view name) {
+  constexpr std::array<std::string_view, kQuantityCount> kShort{"speed", "tip_normal", "tip_tangential"};
+  for (Quantity q : kQuantities) {
+    if (name == quantity_column(q) || name == kShort[static_cast<std::size_t>(q)]) return q;
+  }
+  return std::nullopt;
+}
+
 std::string_view quantity_label(Quantity q) {
   switch (q) {
     case Quantity::speed: return "speed (mm/s)";

@@ -33,6 +33,9 @@ inline constexpr std::array<Quantity, kQuantityCount> kQuantities{
 
 [[nodiscard]] std::string_view quantity_column(Quantity q);  // "speed_mm_s", ...
 [[nodiscard]] std::string_view quantity_label(Quantity q);   // "speed (mm/s)", ...
+// "speed" or "speed_mm_s" -> Quantity::speed (likewise tip_normal, tip_tangential); nullopt if
+// unknown.
+[[nodiscard]] std::optional<Quantity> quantity_from_name(std::string_view name);
 
 struct Measurement {
   double vpp = 0.0;

@@ -1,5 +1,6 @@
 #include "analysis/synthetic_measurements.h"
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 
@@ -29,28 +30,47 @@ double GaussianNoise::next() {
 MeasurementSet synthesize_measurements(const MotorParameters& parameters,
                                        std::span<const Measurement> points,
                                        const SynthOptions& options, const ParallelFor& parallel) {
+  const int repeats = std::max(1, options.repeats);
+  GaussianNoise noise(options.seed);
+  // Every reading is a point of its own for the model (repeats follow each other in time and,
+  // within a sweep, by continuation); its drive frequency carries the jitter.
+  std::vector<Measurement> readings;
+  readings.reserve(points.size() * static_cast<std::size_t>(repeats));
+  GaussianNoise jitter(options.seed ^ 0x6A09E667F3BCC909ULL);  // own stream: jitter 0 keeps old data
+  for (const Measurement& m : points) {
+    for (int k = 0; k < repeats; ++k) {
+      Measurement reading = m;
+      if (options.frequency_jitter_hz > 0.0) reading.frequency_hz += options.frequency_jitter_hz * jitter.next();
+      readings.push_back(reading);
+    }
+  }
   const std::vector<Predictions> predicted =
-      predict_points(std::span(&parameters, 1), points, options.prediction, parallel);
+      predict_points(std::span(&parameters, 1), readings, options.prediction, parallel);
   MeasurementSet set;
   set.has_quantity = options.quantities;
   set.has_time = !points.empty();
-  for (const Measurement& m : points) set.has_time &= m.time_s.has_value();
-  GaussianNoise noise(options.seed);
-  for (std::size_t i = 0; i < points.size(); ++i) {
-    const PredictedPoint& p = predicted[0][i];
+  set.has_sweep = !points.empty();
+  for (const Measurement& m : points) {
+    set.has_time &= m.time_s.has_value();
+    set.has_sweep &= m.sweep.has_value();
+  }
+  for (std::size_t r = 0; r < readings.size(); ++r) {
+    const PredictedPoint& p = predicted[0][r];
+    const Measurement& point = points[r / static_cast<std::size_t>(repeats)];
     if (!p.ok) continue;
-    for (int k = 0; k < std::max(1, options.repeats); ++k) {
-      Measurement row = points[i];
-      if (!set.has_time) row.time_s.reset();
-      for (Quantity q : kQuantities) {
-        const std::size_t j = static_cast<std::size_t>(q);
-        const double e = noise.next();
-        row.values[j] = options.quantities[j]
-                            ? std::optional<double>(p.value(q) * (1.0 + options.relative_noise * e))
-                            : std::nullopt;
-      }
-      set.rows.push_back(row);
+    Measurement row = point;  // the nominal frequency: what the user set
+    if (!set.has_time) row.time_s.reset();
+    if (!set.has_sweep) row.sweep.reset();
+    for (Quantity q : kQuantities) {
+      const std::size_t j = static_cast<std::size_t>(q);
+      const double e = noise.next();
+      const double floor = q == Quantity::speed ? options.speed_floor_mm_s : options.amplitude_floor_um;
+      const double f = floor > 0.0 ? floor * noise.next() : 0.0;
+      double value = p.value(q) * (1.0 + options.relative_noise * e) + f;
+      if (q != Quantity::speed) value = std::abs(value);  // an amplitude reads >= 0
+      row.values[j] = options.quantities[j] ? std::optional<double>(value) : std::nullopt;
     }
+    set.rows.push_back(row);
   }
   return set;
 }

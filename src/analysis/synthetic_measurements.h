@@ -1,6 +1,9 @@
 // Measurement-like data from any parameter set (effects enabled or not): the model's
-// prediction of each point (measured_point_model.h) with multiplicative Gaussian noise
-// value * (1 + noise * N(0,1)), optionally repeated. `swum synth` and the tests use it.
+// prediction of each point (measured_point_model.h, sweeps by continuation) with the noise of
+// a real bench: multiplicative Gaussian noise value * (1 + noise N(0,1)), an additive sensor
+// floor (a laser vibrometer or encoder reads a few mm/s or nm even at standstill) and drive
+// frequency jitter (each reading taken at frequency_hz + jitter N(0,1), recorded as
+// frequency_hz); optionally repeated. `swum synth` and the tests use it.
 #pragma once
 
 #include <cstdint>
@@ -13,14 +16,20 @@ namespace swum {
 
 struct SynthOptions {
   double relative_noise = 0.02;
+  // Additive noise floor (standard deviation) per quantity, in its unit: speed mm/s, tip
+  // amplitudes um. 0: none.
+  double speed_floor_mm_s = 0.0;
+  double amplitude_floor_um = 0.0;
+  double frequency_jitter_hz = 0.0;  // standard deviation of the drive frequency error
   std::uint64_t seed = 1;
   int repeats = 1;  // readings per point (same operating point and time_s)
   std::array<bool, kQuantityCount> quantities{true, true, true};
   PredictionOptions prediction;
 };
 
-// `points` carry vpp, frequency_hz, load_n and optionally time_s (their values are ignored).
-// Diverged points are left out. The result keeps the points' order (repeats adjacent).
+// `points` carry vpp, frequency_hz, load_n and optionally time_s and sweep (their values are
+// ignored). Diverged points are left out. The result keeps the points' order (repeats adjacent;
+// with frequency jitter each repeat is a reading of its own, at its own jittered frequency).
 [[nodiscard]] MeasurementSet synthesize_measurements(const MotorParameters& parameters,
                                                      std::span<const Measurement> points,
                                                      const SynthOptions& options,
