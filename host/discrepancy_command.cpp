@@ -1,5 +1,7 @@
 // `swum discrepancy`: where the model and measurements disagree, which candidate effect
 // explains it, the augmented config and the gap before -> after (docs/discrepancy.md).
+#include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -29,6 +31,7 @@ struct DiscrepancyCommandOptions {
   std::string measured_path;
   std::string out_dir;
   std::string effects;
+  std::string quantities;  // comma list; empty: every quantity column of the file
   bool json = false;
   int jobs = 0;
 };
@@ -54,6 +57,26 @@ std::vector<std::string> split_list(const std::string& text) {
   return out;
 }
 
+nlohmann::ordered_json evidence_json(const HeldOutEvidence& e) {
+  return {{"points", e.points},
+          {"improved", e.improved},
+          {"signed_rank", e.signed_rank},
+          {"p_value", e.p_value},
+          {"rms_before", e.rms_before},
+          {"rms_after", e.rms_after},
+          {"reduction", e.reduction},
+          {"reduction_interval_90", {e.reduction_low, e.reduction_high}}};
+}
+
+// "delta BIC -725; 14 of 15 held-out points better (signed-rank p 6.1e-05); reduction 93 % (90 % interval 88..96 %)"
+std::string evidence_text(double delta_bic, const HeldOutEvidence& e) {
+  return "delta BIC " + number(delta_bic, "%+.1f") + "; " + std::to_string(e.improved) + " of " +
+         std::to_string(e.points) + " held-out points better (signed-rank p " + number(e.p_value, "%.2g") +
+         "); held-out RMS " + percent(e.rms_before) + " -> " + percent(e.rms_after) + ", reduction " +
+         number(100.0 * e.reduction, "%.0f") + " % (90 % interval " + number(100.0 * e.reduction_low, "%.0f") +
+         ".." + number(100.0 * e.reduction_high, "%.0f") + " %)";
+}
+
 nlohmann::ordered_json to_json(const DiscrepancyResult& r, double wall_s) {
   nlohmann::ordered_json j;
   j["effects"] = nlohmann::ordered_json::array();
@@ -64,11 +87,11 @@ nlohmann::ordered_json to_json(const DiscrepancyResult& r, double wall_s) {
                                    {"standard_error", e.standard_error},
                                    {"unit", e.unit}};
     effect["delta_bic"] = e.delta_bic;
-    effect["held_out_t"] = e.held_out_t;
-    effect["held_out_rms_before"] = e.held_out_rms_before;
-    effect["held_out_rms_after"] = e.held_out_rms_after;
+    effect["held_out"] = evidence_json(e.held_out);
     j["effects"].push_back(effect);
   }
+  j["held_out_points"] = r.held_out_points;
+  j["operating_points"] = r.operating_points;
   j["rms_before"] = r.rms_before;
   j["rms_after"] = r.rms_after;
   nlohmann::ordered_json gaps;
@@ -91,6 +114,12 @@ nlohmann::ordered_json to_json(const DiscrepancyResult& r, double wall_s) {
   for (const DiscrepancyRound& round : r.rounds) {
     nlohmann::ordered_json jr;
     jr["verdict"] = round.verdict;
+    if (round.fitted) {
+      jr["fitted"] = round.candidates[*round.fitted].name;
+      jr["named"] = round.accepted;
+      jr["delta_bic"] = round.fitted_delta_bic;
+      jr["held_out"] = evidence_json(round.held_out);
+    }
     jr["candidates"] = nlohmann::ordered_json::array();
     for (const CandidateScore& c : round.candidates) {
       nlohmann::ordered_json jc{{"name", c.name}, {"skipped", c.skipped}};
@@ -112,6 +141,33 @@ nlohmann::ordered_json to_json(const DiscrepancyResult& r, double wall_s) {
   return j;
 }
 
+// --quantities: analyse only these columns (e.g. speed, as a board without a vibrometer
+// measures); rows left without a value are dropped.
+void keep_quantities(MeasurementSet& set, const std::vector<std::string>& names) {
+  std::array<bool, kQuantityCount> keep{};
+  if (names.empty()) throw std::invalid_argument("--quantities: empty list (omit it to use every column)");
+  for (const std::string& name : names) {
+    const std::optional<Quantity> q = quantity_from_name(name);
+    if (!q) {
+      throw std::invalid_argument("--quantities: unknown quantity '" + name + "' (known: speed, tip_normal, tip_tangential)");
+    }
+    keep[static_cast<std::size_t>(*q)] = true;
+  }
+  for (Quantity q : kQuantities) {
+    const auto j = static_cast<std::size_t>(q);
+    if (keep[j] && !set.has_quantity[j]) {
+      throw std::invalid_argument("--quantities: the file has no " + std::string(quantity_column(q)) + " column");
+    }
+    set.has_quantity[j] = set.has_quantity[j] && keep[j];
+    if (!keep[j]) {
+      for (Measurement& m : set.rows) m.values[j].reset();
+    }
+  }
+  std::erase_if(set.rows, [](const Measurement& m) {
+    return std::none_of(m.values.begin(), m.values.end(), [](const auto& v) { return v.has_value(); });
+  });
+}
+
 std::string summary_text(const DiscrepancyResult& r) {
   std::string out = "baseline: " + r.baseline_map.summary + "\n";
   for (std::size_t k = 0; k < r.rounds.size(); ++k) {
@@ -131,8 +187,8 @@ std::string summary_text(const DiscrepancyResult& r) {
   if (r.effects.empty()) out += "named effects: none\n";
   for (const NamedEffect& e : r.effects) {
     out += "named effect: " + e.name + "  " + e.key + " = " + number(e.value) + " +- " +
-           number(e.standard_error, "%.2g") + " " + e.unit + "  (held-out RMS " +
-           percent(e.held_out_rms_before) + " -> " + percent(e.held_out_rms_after) + ")\n";
+           number(e.standard_error, "%.2g") + " " + e.unit + "\n    evidence: " +
+           evidence_text(e.delta_bic, e.held_out) + "\n";
   }
   out += "held-out gap (relative RMS / max): " + percent(r.rms_before) + " -> " + percent(r.rms_after) + "\n";
   for (Quantity q : kQuantities) {
@@ -188,6 +244,7 @@ std::string report_markdown(const DiscrepancyCommandOptions& o, const Measuremen
                             const DiscrepancyResult& r, const std::vector<std::string>& plots) {
   std::string md = "# Model discrepancy report\n\n";
   md += "`swum discrepancy --config " + o.config_path + " --measured " + o.measured_path + "`\n\n";
+  if (const std::string note = measurement_note(set); !note.empty()) md += "Input: " + note + "\n\n";
   md += "**Conclusion:** " + r.conclusion + "\n\n";
   md += "## Disagreement map of the baseline\n\n" + r.baseline_map.summary + "\n\n";
   md += "| variable | F (quadratic trend) | R^2 | quantity | structured |\n|---|---|---|---|---|\n";
@@ -216,9 +273,13 @@ std::string report_markdown(const DiscrepancyCommandOptions& o, const Measuremen
   if (r.effects.empty()) md += "None.\n";
   for (const NamedEffect& e : r.effects) {
     md += "- **" + e.name + "**: `" + e.key + " = " + number(e.value) + "` +- " +
-          number(e.standard_error, "%.2g") + " " + e.unit + " (delta BIC " +
-          number(e.delta_bic, "%+.1f") + ", held-out t " + number(e.held_out_t, "%.3g") + ")\n";
+          number(e.standard_error, "%.2g") + " " + e.unit + "; evidence: " +
+          evidence_text(e.delta_bic, e.held_out) + "\n";
   }
+  md += "\nNamed when both hold: delta BIC on the " + std::to_string(r.operating_points - r.held_out_points) +
+        " training points below -" + number(DiscrepancyOptions{}.bic_margin, "%g") +
+        ", and the one-sided Wilcoxon signed-rank test on the " + std::to_string(r.held_out_points) +
+        " held-out points below p = " + number(DiscrepancyOptions{}.significance, "%g") + " (docs/discrepancy.md).\n";
   md += "\n## Gap on held-out points (relative)\n\n| quantity | n | RMS before | RMS after | max before | max after |\n|---|---|---|---|---|---|\n";
   for (Quantity q : kQuantities) {
     const QuantityGap& g = r.gaps[static_cast<std::size_t>(q)];
@@ -255,6 +316,10 @@ void run_discrepancy_command(const DiscrepancyCommandOptions& o) {
   } catch (const MeasurementError& e) {
     throw CommandError(e.what());
   }
+  if (const std::string note = measurement_note(measured); !note.empty()) {
+    std::fprintf(stderr, "%s: %s\n", o.measured_path.c_str(), note.c_str());
+  }
+  if (!o.quantities.empty()) keep_quantities(measured, split_list(o.quantities));
   // A quarter of the operating points are held out and the noise is estimated from what the
   // trends leave: fewer points than this cannot say anything either way.
   constexpr std::size_t kMinOperatingPoints = 12;
@@ -302,10 +367,12 @@ void add_discrepancy_command(CLI::App& app) {
       "discrepancy", "Name the effect missing from a model, add it, show the gap shrink");
   sub->add_option("--config", o->config_path, "baseline motor parameter file (TOML)")->required();
   sub->add_option("--measured", o->measured_path,
-                  "CSV: vpp,frequency_hz,load_n[,time_s] + speed_mm_s/tip_normal_um/tip_tangential_um")
+                  "CSV: vpp,frequency_hz,load_n[,time_s][,sweep] + speed_mm_s/tip_normal_um/tip_tangential_um; or a swum sweep / swum log file as it is")
       ->required();
   sub->add_option("--out", o->out_dir, "directory for report.md, plots, augmented.toml")->required();
   sub->add_option("--effects", o->effects, "candidate effects, comma list (default: all)");
+  sub->add_option("--quantities", o->quantities,
+                  "measured columns to use, comma list of speed, tip_normal, tip_tangential (default: all in the file)");
   sub->add_flag("--json", o->json, "print one JSON object instead of the text summary");
   sub->add_option("--jobs", o->jobs, "worker threads (default: all cores)");
   sub->callback([o] { run_discrepancy_command(*o); });

@@ -145,14 +145,21 @@ DisagreementMap map_disagreement(const MeasurementSet& set, const Predictions& p
     map.trends.push_back(best);
   }
 
-  // Noise: pooled scatter of repeated readings (same point and time), else the scatter left by
-  // a full quadratic surface in (vpp, frequency, load[, time]) per quantity.
-  std::map<std::tuple<int, double, double, double, double>, std::vector<double>> groups;
+  // Noise, in this order of preference (docs/discrepancy.md, "Disagreement map"):
+  // 1. the pooled scatter of repeated readings of one operating point (whatever their time: the
+  //    residual, not the reading, so a drift the model predicts cancels);
+  // 2. along each curve (readings of one voltage, load and sweep, ordered by frequency): the
+  //    robust scale of successive residual differences, 1.4826 median|dr| / sqrt(2) - a smooth
+  //    model error cancels in the differences, and the median ignores the few steps across a
+  //    resonance peak or a dead-zone edge, so structure is not counted as noise;
+  // 3. what a quadratic surface in (vpp, frequency, load[, time]) leaves (an upper bound: any
+  //    structure a quadratic cannot follow counts as noise).
+  std::map<std::tuple<int, double, double, double>, std::vector<double>> groups;
+  std::map<std::tuple<int, double, double, int>, std::vector<std::pair<double, double>>> curves;
   for (const auto& r : map.residuals) {
     const Measurement& m = set.rows[r.slot.row];
-    groups[{static_cast<int>(r.slot.quantity), m.vpp, m.frequency_hz, m.load_n,
-            m.time_s.value_or(0.0)}]
-        .push_back(r.relative);
+    groups[{static_cast<int>(r.slot.quantity), m.vpp, m.frequency_hz, m.load_n}].push_back(r.relative);
+    curves[{static_cast<int>(r.slot.quantity), m.vpp, m.load_n, m.sweep.value_or(-1)}].emplace_back(m.frequency_hz, r.relative);
   }
   double within = 0.0;
   int dof = 0;
@@ -164,9 +171,22 @@ DisagreementMap map_disagreement(const MeasurementSet& set, const Predictions& p
     for (double x : values) within += (x - mean) * (x - mean);
     dof += static_cast<int>(values.size()) - 1;
   }
+  std::vector<double> steps;  // |successive differences| along curves of distinct frequencies
+  for (auto& [key, points] : curves) {
+    std::sort(points.begin(), points.end());
+    for (std::size_t i = 1; i < points.size(); ++i) {
+      if (points[i].first != points[i - 1].first) steps.push_back(std::abs(points[i].second - points[i - 1].second));
+    }
+  }
+  constexpr std::size_t kMinSteps = 12;
   if (dof >= 5) {
     map.noise = std::sqrt(within / dof);
     map.noise_source = "repeats";
+  } else if (steps.size() >= kMinSteps) {
+    auto mid = steps.begin() + static_cast<std::ptrdiff_t>(steps.size() / 2);
+    std::nth_element(steps.begin(), mid, steps.end());
+    map.noise = 1.4826 * *mid / std::sqrt(2.0);
+    map.noise_source = "differences along the sweeps";
   } else {
     double ss = 0.0;
     int free = 0;
@@ -207,13 +227,21 @@ DisagreementMap map_disagreement(const MeasurementSet& set, const Predictions& p
       free += static_cast<int>(m - rank);
     }
     map.noise = free > 0 ? std::sqrt(ss / free) : map.rms;
-    map.noise_source = any_regression ? "unstructured residual"
+    map.noise_source = any_regression ? "what a quadratic surface leaves, an upper bound"
                                       : "too few points to separate noise from trends: the whole residual";
   }
-  map.excess = map.noise > 0.0 ? map.rms / map.noise : 0.0;
-  // rms^2/noise^2 is ~chi^2_n/n under pure noise: 4 standard deviations above 1.
+  // The residual's own scale, robustly (1.4826 median|r|: a few wild readings near a collapse
+  // do not make noise look like structure), against the noise: (scale/noise)^2 is ~1 under
+  // pure noise, with a relative variance of about 5.44/n for the median estimate (asymptotic
+  // efficiency 37 %); structured when 4 of its standard deviations above 1.
+  std::vector<double> magnitudes;
+  for (const ResidualValue& r : map.residuals) magnitudes.push_back(std::abs(r.relative));
+  auto middle = magnitudes.begin() + static_cast<std::ptrdiff_t>(magnitudes.size() / 2);
+  std::nth_element(magnitudes.begin(), middle, magnitudes.end());
+  map.robust_scale = 1.4826 * *middle;
+  map.excess = map.noise > 0.0 ? map.robust_scale / map.noise : 0.0;
   const bool above_noise =
-      map.excess * map.excess > 1.0 + 4.0 * std::sqrt(2.0 / static_cast<double>(n));
+      map.excess * map.excess > 1.0 + 4.0 * std::sqrt(5.44 / static_cast<double>(n));
   const TrendTest* strongest = nullptr;
   for (const TrendTest& t : map.trends) {
     if (t.structured && (strongest == nullptr || t.f_statistic > strongest->f_statistic)) strongest = &t;
@@ -222,14 +250,14 @@ DisagreementMap map_disagreement(const MeasurementSet& set, const Predictions& p
   char text[400];
   if (map.structured) {
     std::snprintf(text, sizeof text,
-                  "structured: RMS %.3g %% vs noise %.3g %% (%s)%s%s%s", 100.0 * map.rms,
-                  100.0 * map.noise, map.noise_source.c_str(),
+                  "structured: RMS %.3g %% (robust scale %.3g %%) vs noise %.3g %% (%s)%s%s%s", 100.0 * map.rms,
+                  100.0 * map.robust_scale, 100.0 * map.noise, map.noise_source.c_str(),
                   strongest != nullptr ? "; strongest trend of " : "",
                   strongest != nullptr ? std::string(quantity_column(strongest->quantity)).c_str() : "",
                   strongest != nullptr ? (" against " + std::string(strongest->variable)).c_str() : "");
   } else {
-    std::snprintf(text, sizeof text, "within the noise: RMS %.3g %% vs noise %.3g %% (%s), no trend",
-                  100.0 * map.rms, 100.0 * map.noise, map.noise_source.c_str());
+    std::snprintf(text, sizeof text, "within the noise: RMS %.3g %% (robust scale %.3g %%) vs noise %.3g %% (%s), no trend",
+                  100.0 * map.rms, 100.0 * map.robust_scale, 100.0 * map.noise, map.noise_source.c_str());
   }
   map.summary = text;
   return map;

@@ -1,7 +1,8 @@
 // Where a model and measurements disagree (docs/discrepancy.md): relative residuals of every
 // measured value, where they are largest, trend tests against voltage, frequency, load,
-// session time and measured amplitude, and a noise estimate (from repeated readings, else from
-// the part of the residual a smooth quadratic surface in the operating point cannot explain).
+// session time and measured amplitude, and a noise estimate (from repeated readings of one
+// operating point, else from successive differences along each sweep, else from what a smooth
+// quadratic surface in the operating point cannot explain).
 #pragma once
 
 #include <array>
@@ -32,6 +33,7 @@ class ResidualModel {
   [[nodiscard]] double residual(std::size_t slot, const Predictions& predicted) const;
   [[nodiscard]] std::vector<double> residuals(const Predictions& predicted) const;
   [[nodiscard]] double measured(std::size_t slot) const;
+  [[nodiscard]] const MeasurementSet& set() const { return *set_; }
 
  private:
   const MeasurementSet* set_;
@@ -70,8 +72,9 @@ struct DisagreementMap {
   std::vector<ResidualValue> largest;  // the 5 largest |r|
   std::vector<TrendTest> trends;
   double noise = 0.0;               // relative noise estimate (standard deviation)
-  std::string noise_source;         // "repeats" or "unstructured residual"
-  double excess = 0.0;              // rms / noise
+  std::string noise_source;         // repeats, differences along the sweeps, or a quadratic surface
+  double robust_scale = 0.0;        // 1.4826 median |r|
+  double excess = 0.0;              // robust_scale / noise
   bool structured = false;          // a trend, or rms clearly above the noise
   std::string summary;              // one sentence: structured (where) or within the noise
 };

@@ -20,28 +20,31 @@ std::string format(const char* pattern, double a, double b = 0.0, double c = 0.0
   return text;
 }
 
-// Held-out rows: operating points (a point's repeats stay together) in a seeded random order,
-// every `every`-th held out.
-std::vector<bool> held_out_rows(const MeasurementSet& set, int every, std::uint64_t seed) {
-  std::map<std::tuple<double, double, double, double>, std::size_t> group_of;
+// Held-out rows: operating points (vpp, frequency, load; a point's repeats stay together,
+// whatever their time) in a seeded random order; the first `count` of them are held out.
+std::vector<bool> held_out_rows(const MeasurementSet& set, const DiscrepancyOptions& options,
+                                int& held_points, int& point_count) {
+  std::map<std::tuple<double, double, double>, std::size_t> group_of;
   std::vector<std::size_t> group(set.rows.size());
   for (std::size_t i = 0; i < set.rows.size(); ++i) {
     const Measurement& m = set.rows[i];
-    const auto key = std::make_tuple(m.vpp, m.frequency_hz, m.load_n, m.time_s.value_or(0.0));
-    group[i] = group_of.try_emplace(key, group_of.size()).first->second;
+    group[i] = group_of.try_emplace(std::make_tuple(m.vpp, m.frequency_hz, m.load_n), group_of.size()).first->second;
   }
-  std::vector<std::size_t> permutation(group_of.size());
+  const std::size_t points = group_of.size();
+  std::vector<std::size_t> permutation(points);
   std::iota(permutation.begin(), permutation.end(), std::size_t{0});
-  std::mt19937_64 rng(seed);
+  std::mt19937_64 rng(options.split_seed);
   for (std::size_t i = permutation.size(); i > 1; --i) {  // Fisher-Yates, portable
     std::swap(permutation[i - 1], permutation[rng() % i]);
   }
-  std::vector<bool> held_group(group_of.size(), false);
-  for (std::size_t k = 0; k < permutation.size(); ++k) {
-    held_group[permutation[k]] = every > 1 && k % static_cast<std::size_t>(every) == static_cast<std::size_t>(every) - 1;
-  }
+  const auto by_fraction = static_cast<std::size_t>(std::ceil(options.held_out_fraction * static_cast<double>(points)));
+  const std::size_t count = std::max(by_fraction, std::min(static_cast<std::size_t>(std::max(options.min_held_out_points, 0)), points / 2));
+  std::vector<bool> held_group(points, false);
+  for (std::size_t k = 0; k < std::min(count, points); ++k) held_group[permutation[k]] = true;
   std::vector<bool> held(set.rows.size());
   for (std::size_t i = 0; i < held.size(); ++i) held[i] = held_group[group[i]];
+  held_points = static_cast<int>(std::min(count, points));
+  point_count = static_cast<int>(points);
   return held;
 }
 
@@ -55,33 +58,71 @@ double rms(const std::vector<double>& r, const std::vector<std::size_t>& slots) 
   return slots.empty() ? 0.0 : std::sqrt(sum_of_squares(r, slots) / static_cast<double>(slots.size()));
 }
 
-// Paired t statistic of r0^2 - r1^2 over the held-out slots (> 0: the candidate is better).
-double held_out_t(const std::vector<double>& r0, const std::vector<double>& r1,
-                  const std::vector<std::size_t>& slots) {
-  const double m = static_cast<double>(slots.size());
-  if (slots.size() < 3) return 0.0;
-  double mean = 0.0;
-  for (std::size_t k : slots) mean += r0[k] * r0[k] - r1[k] * r1[k];
-  mean /= m;
-  double var = 0.0;
-  for (std::size_t k : slots) {
-    const double d = r0[k] * r0[k] - r1[k] * r1[k] - mean;
-    var += d * d;
-  }
-  var /= m - 1.0;
-  if (var <= 0.0) return mean > 0.0 ? 1e9 : 0.0;
-  return mean / std::sqrt(var / m);
-}
-
 // Schwarz criterion difference for `added` extra parameters: n ln(SSE1/SSE0) + added ln n.
 double delta_bic(double sse_new, double sse_old, std::size_t n, int added) {
   const double nd = static_cast<double>(n);
   return nd * std::log(std::max(sse_new, 1e-300) / std::max(sse_old, 1e-300)) + added * std::log(nd);
 }
 
+std::string describe_evidence(double bic, const HeldOutEvidence& e) {
+  return format("delta BIC %+.4g; held-out: ", bic) + std::to_string(e.improved) + " of " + std::to_string(e.points) +
+         format(" points better, signed-rank p = %.2g; RMS gap %.3g %%", e.p_value, 100.0 * e.rms_before) +
+         format(" -> %.3g %% (reduction %.0f %%", 100.0 * e.rms_after, 100.0 * e.reduction) +
+         format(", 90 %% interval %.0f..%.0f %%)", 100.0 * e.reduction_low, 100.0 * e.reduction_high);
+}
+
+// The Cauchy M-estimate (effect_fit.h) from a first fit `ls` (at the round's scale), rescaled
+// by what that fit leaves. Its cost is not convex where a reading sits on a step of the model (a dead-zone edge,
+// a jump across the fold): the last parameter is first scanned around the least-squares value
+// (+-10, 25, 50 % of its offset from neutral, one batch) and the fit starts at the lowest
+// robust cost.
+EffectFit robust_refit(const EffectEvaluator& eval, const ResidualModel& model,
+                       const std::vector<std::size_t>& train, const EffectFit& ls, int max_iterations) {
+  const double scale = kCauchyEfficiencyScale * robust_sigma(model.residuals(ls.predictions), train);
+  if (!(scale > 0.0)) return ls;
+  auto cauchy_cost = [&](const Predictions& p) {
+    double cost = 0.0;
+    for (std::size_t k : train) {
+      const double r = model.residual(k, p);
+      cost += scale * scale * std::log1p(r * r / (scale * scale));
+    }
+    return cost;
+  };
+  const CandidateEffect& e = *eval.effects().back();
+  const double offset = ls.values.back() - e.neutral;
+  std::vector<std::vector<double>> starts;
+  for (double f : {-0.5, -0.25, -0.1, 0.1, 0.25, 0.5}) {
+    std::vector<double> v = ls.values;
+    v.back() = std::clamp(ls.values.back() + f * offset, std::min(e.lower, e.upper), std::max(e.lower, e.upper));
+    starts.push_back(v);
+  }
+  const std::vector<Predictions> scanned = eval.evaluate(starts);
+  std::vector<double> start = ls.values;
+  const Predictions* start_predictions = &ls.predictions;
+  double best = cauchy_cost(ls.predictions);
+  for (std::size_t k = 0; k < starts.size(); ++k) {
+    const double cost = cauchy_cost(scanned[k]);
+    if (cost < best) {
+      best = cost;
+      start = starts[k];
+      start_predictions = &scanned[k];
+    }
+  }
+  EffectFit robust = fit_effect(eval, model, train, start, max_iterations, start_predictions, scale);
+  return robust.ok ? robust : ls;
+}
+
+// Cauchy cost sum a^2 ln(1 + r^2/a^2) over `slots` (effect_fit.h).
+double cauchy_cost(const std::vector<double>& r, const std::vector<std::size_t>& slots, double a) {
+  double cost = 0.0;
+  for (std::size_t k : slots) cost += a * a * std::log1p(r[k] * r[k] / (a * a));
+  return cost;
+}
+
 struct Screened {
   double theta = 0.0;
   double sse = 0.0;
+  double robust = 0.0;  // Cauchy cost at the round's scale
   Predictions predictions;
   std::vector<double> residuals;
 };
@@ -104,7 +145,7 @@ DiscrepancyResult run_discrepancy(const MotorParameters& baseline, const Measure
     }
   }
   DiscrepancyResult result;
-  result.held_out = held_out_rows(set, options.held_out_every, options.split_seed);
+  result.held_out = held_out_rows(set, options, result.held_out_points, result.operating_points);
   const ResidualModel model(set, options.floor_fraction);
   std::vector<std::size_t> train, test;
   for (std::size_t k = 0; k < model.slots().size(); ++k) {
@@ -122,10 +163,16 @@ DiscrepancyResult run_discrepancy(const MotorParameters& baseline, const Measure
   Predictions current_predictions = result.baseline_predictions;
   std::vector<double> current_r = model.residuals(current_predictions);
 
+  const bool robust_fit = options.robust;
   std::vector<bool> used(candidates.size(), false);
   while (static_cast<int>(result.effects.size()) < options.max_effects) {
     DiscrepancyRound round;
     const double sse0 = sum_of_squares(current_r, train);
+    // Candidates are screened, ranked and first fitted by the Cauchy cost at a scale set by
+    // what the current model leaves: a few readings on the other side of a fold or a dead-zone
+    // edge (residuals of 100 % and more) must not choose the effect.
+    const double round_scale = kCauchyEfficiencyScale * robust_sigma(current_r, train);
+    const double robust0 = cauchy_cost(current_r, train, round_scale);
     // Screening: a probe at the typical magnitude, then Gauss-Newton / secant steps, every
     // candidate of a step in one parallel batch.
     std::vector<std::size_t> active;
@@ -143,7 +190,7 @@ DiscrepancyResult run_discrepancy(const MotorParameters& baseline, const Measure
         score.note = "needs time_s (builds up over a session)";
       } else {
         active.push_back(c);
-        best[c] = {0.0, sse0, current_predictions, current_r};
+        best[c] = {0.0, sse0, robust0, current_predictions, current_r};
         previous[c] = best[c];
       }
       round.candidates.push_back(score);
@@ -161,22 +208,27 @@ DiscrepancyResult run_discrepancy(const MotorParameters& baseline, const Measure
       for (std::size_t a = 0; a < active.size(); ++a) {
         const std::size_t c = active[a];
         const CandidateEffect& e = *candidates[c];
-        Screened s{thetas[c], 0.0, batch[a], model.residuals(batch[a])};
+        Screened s{thetas[c], 0.0, 0.0, batch[a], model.residuals(batch[a])};
         s.sse = sum_of_squares(s.residuals, train);
-        if (s.sse < best[c].sse) best[c] = s;
+        s.robust = cauchy_cost(s.residuals, train, round_scale);
+        if (s.robust < best[c].robust) best[c] = s;
         // Secant through the last two evaluations (the first: the current model at theta 0).
         const Screened& from = step == 0 ? previous[c] : last[c];
         const double dtheta = s.theta - from.theta;
-        double jr = 0.0, jj = 0.0;
+        // Iteratively reweighted Gauss-Newton step of the Cauchy cost (weights 1/(1 + r^2/a^2)).
+        double jr = 0.0, jj = 0.0, wjr = 0.0, wjj = 0.0;
         for (std::size_t k : train) {
           const double j = (s.residuals[k] - from.residuals[k]) / dtheta;
+          const double w = 1.0 / (1.0 + s.residuals[k] * s.residuals[k] / (round_scale * round_scale));
           jr += j * s.residuals[k];
           jj += j * j;
+          wjr += w * j * s.residuals[k];
+          wjj += w * j * j;
         }
         double lo = (e.lower - e.neutral) / e.typical;
         double hi = (e.upper - e.neutral) / e.typical;
         if (lo > hi) std::swap(lo, hi);
-        double next = jj > 0.0 ? s.theta - jr / jj : s.theta;
+        double next = wjj > 0.0 ? s.theta - wjr / wjj : s.theta;
         next = std::clamp(next, lo, hi);
         if (std::abs(next - s.theta) < 1e-3) next = s.theta + 1e-3;
         thetas[c] = next;
@@ -195,6 +247,8 @@ DiscrepancyResult run_discrepancy(const MotorParameters& baseline, const Measure
     for (std::size_t c = 0; c < candidates.size(); ++c) {
       if (!round.candidates[c].skipped) active.push_back(c);
     }
+    // The winner: the lowest robust cost among the candidates that pass the BIC margin; when
+    // none does, the lowest BIC (for the verdict).
     std::optional<std::size_t> winner;
     for (std::size_t c : active) {
       CandidateScore& score = round.candidates[c];
@@ -202,7 +256,15 @@ DiscrepancyResult run_discrepancy(const MotorParameters& baseline, const Measure
       score.train_rms = std::sqrt(best[c].sse / static_cast<double>(std::max<std::size_t>(n, 1)));
       score.held_out_rms = rms(best[c].residuals, test);
       score.delta_bic = delta_bic(best[c].sse, sse0, n, 1);
-      if (!winner || best[c].sse < best[*winner].sse) winner = c;
+    }
+    for (std::size_t c : active) {
+      const bool passes = round.candidates[c].delta_bic < -options.bic_margin;
+      const bool winner_passes = winner && round.candidates[*winner].delta_bic < -options.bic_margin;
+      if (!winner || (passes && !winner_passes) ||
+          (passes && best[c].robust < best[*winner].robust) ||
+          (!passes && !winner_passes && round.candidates[c].delta_bic < round.candidates[*winner].delta_bic)) {
+        winner = c;
+      }
     }
     if (!winner || round.candidates[*winner].delta_bic > -options.bic_margin) {
       round.verdict = winner ? "no candidate lowers the BIC by more than " +
@@ -221,13 +283,14 @@ DiscrepancyResult run_discrepancy(const MotorParameters& baseline, const Measure
     for (std::size_t k : active) {
       if (round.candidates[k].delta_bic < -options.bic_margin) ranked.push_back(k);
     }
-    std::sort(ranked.begin(), ranked.end(), [&](std::size_t x, std::size_t y) { return best[x].sse < best[y].sse; });
+    std::sort(ranked.begin(), ranked.end(), [&](std::size_t x, std::size_t y) { return best[x].robust < best[y].robust; });
     ranked.resize(std::min<std::size_t>(ranked.size(), result.effects.empty() ? 1 : 3));
     struct Trial {
       std::size_t c;
       EffectFit fit;
       std::vector<double> residuals;
-      double bic, t;
+      double bic;
+      HeldOutEvidence evidence;
       bool passes;
     };
     std::optional<Trial> chosen;
@@ -242,11 +305,15 @@ DiscrepancyResult run_discrepancy(const MotorParameters& baseline, const Measure
       fitted_effects[last_index] = candidates[c];
       const EffectEvaluator eval(current, fitted_effects, set, options.prediction, parallel,
                                  result.model_evaluations);
-      Trial trial{c, fit_effect(eval, model, train, start, options.max_fit_iterations, &best[c].predictions), {}, 0.0, 0.0, false};
+      Trial trial{c, fit_effect(eval, model, train, start, options.max_fit_iterations, &best[c].predictions,
+                                robust_fit ? round_scale : 0.0), {}, 0.0, {}, false};
+      if (trial.fit.ok && robust_fit) {
+        trial.fit = robust_refit(eval, model, train, trial.fit, options.max_fit_iterations);
+      }
       trial.residuals = model.residuals(trial.fit.predictions);
       trial.bic = delta_bic(trial.fit.train_sum_of_squares, sse0, n, 1);
-      trial.t = held_out_t(current_r, trial.residuals, test);
-      trial.passes = trial.fit.ok && trial.bic < -options.bic_margin && trial.t > options.held_out_t;
+      trial.evidence = compare_held_out(set, model, current_r, trial.residuals, test, options.split_seed);
+      trial.passes = trial.fit.ok && trial.bic < -options.bic_margin && trial.evidence.p_value < options.significance;
       CandidateScore& score = round.candidates[c];
       score.value = trial.fit.values[last_index];
       score.train_rms = std::sqrt(trial.fit.train_sum_of_squares / static_cast<double>(n));
@@ -261,15 +328,28 @@ DiscrepancyResult run_discrepancy(const MotorParameters& baseline, const Measure
     const EffectFit& fit = chosen->fit;
     const std::vector<double>& fit_r = chosen->residuals;
     const double bic = chosen->bic;
-    const double t = chosen->t;
+    const HeldOutEvidence& evidence = chosen->evidence;
     fitted_effects[last_index] = &e;
     const EffectEvaluator eval(current, fitted_effects, set, options.prediction, parallel,
                                result.model_evaluations);
     round.fitted = c;
     round.accepted = chosen->passes;
+    round.held_out = evidence;
+    round.fitted_delta_bic = bic;
     if (!round.accepted) {
-      round.verdict = std::string(e.name) + " fitted but not named: " +
-                      format("delta BIC %+.3g, held-out t %.3g", bic, t);
+      std::string why;
+      if (!fit.ok) why = "the fit did not converge to a usable solution; ";
+      if (!(bic < -options.bic_margin)) {
+        why += format("delta BIC %+.3g is not below -%.3g; ", bic, options.bic_margin);
+      }
+      if (!(evidence.p_value < options.significance)) {
+        why += format("held-out signed-rank p = %.3g is not below %.3g", evidence.p_value, options.significance) +
+               " (" + std::to_string(evidence.improved) + " of " + std::to_string(evidence.points) +
+               " held-out points better)";
+      }
+      if (why.size() >= 2 && why.compare(why.size() - 2, 2, "; ") == 0) why.resize(why.size() - 2);
+      round.verdict = std::string(e.name) + " fitted but not named: " + why +
+                      format("; held-out RMS %.3g %% -> %.3g %%", 100.0 * evidence.rms_before, 100.0 * evidence.rms_after);
       result.rounds.push_back(round);
       break;
     }
@@ -280,10 +360,8 @@ DiscrepancyResult run_discrepancy(const MotorParameters& baseline, const Measure
     named.value = fit.values[last_index];
     named.standard_error = fit.standard_errors[last_index];
     named.delta_bic = bic;
-    named.held_out_t = t;
-    named.held_out_rms_before = rms(current_r, test);
-    named.held_out_rms_after = rms(fit_r, test);
-    round.verdict = "named " + named.name;
+    named.held_out = evidence;
+    round.verdict = "named " + named.name + ": " + describe_evidence(bic, evidence);
     for (std::size_t k = 0; k < result.effects.size(); ++k) {  // refined jointly
       result.effects[k].value = fit.values[k];
       result.effects[k].standard_error = fit.standard_errors[k];

@@ -11,6 +11,7 @@
 
 #include "analysis/candidate_effects.h"
 #include "analysis/disagreement_map.h"
+#include "analysis/held_out_test.h"
 #include "analysis/measured_point_model.h"
 #include "analysis/measurements.h"
 
@@ -19,14 +20,20 @@ namespace swum {
 struct DiscrepancyOptions {
   PredictionOptions prediction;
   std::vector<std::string> candidates;  // effect names; empty = all of candidate_effects()
-  int held_out_every = 4;               // one operating point (with its repeats) in 4 held out
+  // Held out: a quarter of the operating points (a point's repeats with it), but at least
+  // min_held_out_points (never more than half), so the held-out test has power on small sessions.
+  double held_out_fraction = 0.25;
+  int min_held_out_points = 12;
   std::uint64_t split_seed = 2019;
   double floor_fraction = 0.05;         // residual floor (ResidualModel)
-  // A candidate is named only if its BIC is lower by more than this (Kass-Raftery "very
-  // strong": 10) AND it lowers the held-out squared residuals with a paired t above
-  // held_out_t; it must also cut the training residual by min_improvement (relative SSE).
+  // A candidate is named only if both: its BIC on the training points is lower by more than
+  // bic_margin (Kass-Raftery "very strong": 10), AND on the held-out points it predicts better
+  // by the one-sided Wilcoxon signed-rank test of the per-point errors at this significance
+  // level (held_out_test.h).
   double bic_margin = 10.0;
-  double held_out_t = 2.0;
+  double significance = 0.01;
+  // The named value is the Cauchy M-estimate started from the least-squares fit (effect_fit.h).
+  bool robust = true;
   int max_effects = 3;
   int max_fit_iterations = 8;
   int screening_steps = 2;  // Gauss-Newton/secant steps per candidate before the full fit
@@ -49,16 +56,16 @@ struct NamedEffect {
   double value = 0.0;
   double standard_error = 0.0;
   double delta_bic = 0.0;
-  double held_out_t = 0.0;
-  double held_out_rms_before = 0.0;
-  double held_out_rms_after = 0.0;
+  HeldOutEvidence held_out;  // against the model before this effect was added
 };
 
 struct DiscrepancyRound {
   std::vector<CandidateScore> candidates;  // in candidate order
   std::optional<std::size_t> fitted;       // index of the fully fitted candidate
   bool accepted = false;
-  std::string verdict;
+  HeldOutEvidence held_out;                // of the fitted candidate (when there is one)
+  double fitted_delta_bic = 0.0;
+  std::string verdict;                     // named, or which criterion failed and by how much
 };
 
 struct QuantityGap {
@@ -75,6 +82,8 @@ struct DiscrepancyResult {
   Predictions baseline_predictions;
   Predictions augmented_predictions;
   std::vector<bool> held_out;  // per row
+  int held_out_points = 0;     // operating points held out
+  int operating_points = 0;
   double rms_before = 0.0;  // held-out, relative, all quantities
   double rms_after = 0.0;
   std::array<QuantityGap, kQuantityCount> gaps{};

@@ -3,7 +3,7 @@
 // the new effect is corrected;
 // bounded Levenberg-Marquardt (Ceres, as identification.cpp) on the relative residuals of the
 // training points, forward-difference Jacobian evaluated in the same parallel batch as the
-// residuals, standard error from the Gauss-Newton covariance s^2 (J^T J)^-1.
+// residuals, cluster-robust sandwich standard errors (fit_effect).
 #pragma once
 
 #include <functional>
@@ -47,11 +47,24 @@ struct EffectFit {
 };
 
 // Starts at `start` (whose predictions may be passed in to save one evaluation); bounds of
-// the candidate; at most `max_iterations` LM iterations.
+// the candidate; at most `max_iterations` LM iterations. robust_scale > 0: Cauchy loss
+// rho(s) = a^2 ln(1 + s/a^2) with a = robust_scale (Ceres' CauchyLoss), an M-estimator that
+// heavy-tailed residuals (a reading at the dead-zone edge or across the fold) cannot drag;
+// 0: least squares. Standard errors: the cluster-robust sandwich over operating points (the
+// quantities and repeats of one point are one cluster; weights w = 1/(1 + r^2/a^2) for the
+// M-estimate, 1 for least squares).
 [[nodiscard]] EffectFit fit_effect(const EffectEvaluator& evaluator,
                                    const ResidualModel& residuals,
                                    std::span<const std::size_t> train_slots,
                                    std::vector<double> start, int max_iterations,
-                                   const Predictions* start_predictions = nullptr);
+                                   const Predictions* start_predictions = nullptr,
+                                   double robust_scale = 0.0);
+
+// Cauchy scale for 95 % efficiency at Gaussian residuals of standard deviation sigma.
+inline constexpr double kCauchyEfficiencyScale = 2.385;
+
+// Robust standard deviation of the residuals at `slots`: 1.4826 x median |r| (consistent for
+// zero-mean Gaussian residuals; structure and a few wild readings do not inflate it much).
+[[nodiscard]] double robust_sigma(std::span<const double> r, std::span<const std::size_t> slots);
 
 }  // namespace swum

@@ -12,6 +12,7 @@
 #include "analysis/discrepancy.h"
 #include "analysis/synthetic_measurements.h"
 #include "config/parameter_file.h"
+#include "discrepancy_test_support.h"
 #include "thread_pool_for.h"
 
 #include <fstream>
@@ -20,12 +21,7 @@
 namespace swum {
 namespace {
 
-MotorParameters calibrated() {
-  std::ifstream in(SWUM_SOURCE_DIR "/config/li2019.toml");
-  std::stringstream text;
-  text << in.rdbuf();
-  return parse_motor_parameters(text.str(), "config/li2019.toml");
-}
+MotorParameters calibrated() { return test::calibrated_motor(); }
 
 // Realistic session: 100-400 Vpp, 40.0-41.0 kHz (above the softening peak, where a drive
 // operates), loads 0-3 N, one point every 3 s.
@@ -54,20 +50,7 @@ MeasurementSet synth(const MotorParameters& p, const std::vector<Measurement>& p
   return synthesize_measurements(p, points, o, test::two_thread_for);
 }
 
-// RMS relative gap between a model's predictions and the noise-free truth on held-out rows.
-double held_out_gap(const MeasurementSet& truth, const Predictions& predicted,
-                    const std::vector<bool>& held_out) {
-  const ResidualModel model(truth, DiscrepancyOptions{}.floor_fraction);
-  const std::vector<double> r = model.residuals(predicted);
-  double sum = 0.0;
-  int n = 0;
-  for (std::size_t k = 0; k < r.size(); ++k) {
-    if (!held_out[model.slots()[k].row]) continue;
-    sum += r[k] * r[k];
-    ++n;
-  }
-  return std::sqrt(sum / n);
-}
+using test::held_out_gap;
 
 // RMS relative size of an effect: the model with it against the model without (noise-free).
 double effect_size(const MeasurementSet& without, const MeasurementSet& with) {

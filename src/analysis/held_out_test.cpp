@@ -1,0 +1,119 @@
+#include "analysis/held_out_test.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <map>
+#include <numeric>
+#include <random>
+
+namespace swum {
+
+double signed_rank_p_value(std::span<const double> differences, double* w_plus) {
+  std::vector<double> d;
+  for (double x : differences) {
+    if (x != 0.0 && std::isfinite(x)) d.push_back(x);
+  }
+  if (w_plus != nullptr) *w_plus = 0.0;
+  const std::size_t m = d.size();
+  if (m == 0) return 1.0;
+  std::vector<std::size_t> order(m);
+  std::iota(order.begin(), order.end(), std::size_t{0});
+  std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return std::abs(d[a]) < std::abs(d[b]); });
+  // Doubled mid-ranks (whole numbers), so the exact distribution can be counted on integers.
+  std::vector<int> rank2(m);
+  double tie_correction = 0.0;  // sum of t^3 - t over tie groups
+  for (std::size_t i = 0; i < m;) {
+    std::size_t j = i;
+    while (j + 1 < m && std::abs(d[order[j + 1]]) == std::abs(d[order[i]])) ++j;
+    const int mid2 = static_cast<int>(i + j + 2);  // 2 x ((i+1 + j+1) / 2)
+    for (std::size_t k = i; k <= j; ++k) rank2[order[k]] = mid2;
+    const double t = static_cast<double>(j - i + 1);
+    tie_correction += t * t * t - t;
+    i = j + 1;
+  }
+  int w2 = 0;
+  for (std::size_t i = 0; i < m; ++i) {
+    if (d[i] > 0.0) w2 += rank2[i];
+  }
+  if (w_plus != nullptr) *w_plus = 0.5 * w2;
+  const double md = static_cast<double>(m);
+  if (m <= 300) {
+    // P(W+ >= w) with each sign + or - with probability 1/2: distribution of the doubled sum.
+    const int total = std::accumulate(rank2.begin(), rank2.end(), 0);
+    std::vector<double> p(static_cast<std::size_t>(total) + 1, 0.0);
+    p[0] = 1.0;
+    int reach = 0;
+    for (int r : rank2) {
+      reach += r;
+      for (int s = reach; s >= 0; --s) {
+        const double with = s >= r ? p[static_cast<std::size_t>(s - r)] : 0.0;
+        p[static_cast<std::size_t>(s)] = 0.5 * (p[static_cast<std::size_t>(s)] + with);
+      }
+    }
+    double tail = 0.0;
+    for (int s = w2; s <= total; ++s) tail += p[static_cast<std::size_t>(s)];
+    return std::clamp(tail, 0.0, 1.0);
+  }
+  const double mean = md * (md + 1.0) / 4.0;
+  const double var = md * (md + 1.0) * (2.0 * md + 1.0) / 24.0 - tie_correction / 48.0;
+  if (var <= 0.0) return 1.0;
+  const double z = (0.5 * w2 - 0.5 - mean) / std::sqrt(var);  // continuity correction
+  return 0.5 * std::erfc(z / std::sqrt(2.0));
+}
+
+HeldOutEvidence compare_held_out(const MeasurementSet& set, const ResidualModel& model,
+                                 std::span<const double> r0, std::span<const double> r1,
+                                 std::span<const std::size_t> held_out_slots, std::uint64_t seed) {
+  HeldOutEvidence e;
+  // Per operating point: sums of squares of its values before and after, and their count.
+  std::map<std::array<double, 3>, std::array<double, 3>> points;
+  double ss0 = 0.0, ss1 = 0.0;
+  for (std::size_t k : held_out_slots) {
+    const Measurement& m = set.rows[model.slots()[k].row];
+    auto& p = points[{m.vpp, m.frequency_hz, m.load_n}];
+    p[0] += r0[k] * r0[k];
+    p[1] += r1[k] * r1[k];
+    p[2] += 1.0;
+    ss0 += r0[k] * r0[k];
+    ss1 += r1[k] * r1[k];
+  }
+  if (held_out_slots.empty()) return e;
+  const double n = static_cast<double>(held_out_slots.size());
+  e.rms_before = std::sqrt(ss0 / n);
+  e.rms_after = std::sqrt(ss1 / n);
+  e.reduction = ss0 > 0.0 ? 1.0 - std::sqrt(ss1 / ss0) : 0.0;
+  std::vector<double> differences;
+  std::vector<std::array<double, 3>> sums;
+  for (const auto& [key, p] : points) {
+    const double before = std::sqrt(p[0] / p[2]);
+    const double after = std::sqrt(p[1] / p[2]);
+    differences.push_back(before - after);
+    sums.push_back(p);
+    ++e.points;
+    if (after < before) ++e.improved;
+    if (after == before) ++e.unchanged;
+  }
+  e.p_value = signed_rank_p_value(differences, &e.signed_rank);
+  // Percentile bootstrap of the reduction over operating points (2000 resamples).
+  std::mt19937_64 rng(seed);
+  constexpr int kResamples = 2000;
+  std::vector<double> reductions;
+  reductions.reserve(kResamples);
+  const std::size_t count = sums.size();
+  for (int b = 0; b < kResamples; ++b) {
+    double a0 = 0.0, a1 = 0.0;
+    for (std::size_t i = 0; i < count; ++i) {
+      const auto& p = sums[rng() % count];
+      a0 += p[0];
+      a1 += p[1];
+    }
+    reductions.push_back(a0 > 0.0 ? 1.0 - std::sqrt(a1 / a0) : 0.0);
+  }
+  std::sort(reductions.begin(), reductions.end());
+  e.reduction_low = reductions[static_cast<std::size_t>(0.05 * (kResamples - 1))];
+  e.reduction_high = reductions[static_cast<std::size_t>(0.95 * (kResamples - 1))];
+  return e;
+}
+
+}  // namespace swum

@@ -1,0 +1,48 @@
+// Does a fitted candidate predict held-out operating points better than the current model?
+// (docs/discrepancy.md, "Selection"): the residuals of one operating point (its quantities and
+// repeats, which share the point's errors) are pooled into one error per point, and the paired
+// per-point differences are tested with the one-sided Wilcoxon signed-rank test. Ranks make
+// the test robust to the heavy tails of residuals near the resonance collapse, where a handful
+// of points would dominate any mean of squares; its null distribution (every sign equally
+// likely: the candidate is no better than the current model) is exact, counted over the 2^m
+// sign patterns, for up to 300 points, and the normal approximation with tie correction above.
+// A percentile bootstrap over the held-out points gives an interval of the relative RMS
+// reduction, reported as the size of the improvement.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "analysis/disagreement_map.h"
+#include "analysis/measurements.h"
+
+namespace swum {
+
+struct HeldOutEvidence {
+  int points = 0;           // held-out operating points compared
+  int improved = 0;         // points whose pooled error went down
+  int unchanged = 0;        // points whose error did not change at all (left out of the ranks)
+  double signed_rank = 0.0; // W+: sum of the ranks of the improvements
+  double p_value = 1.0;     // one-sided P(W+ >= observed) under "no better"
+  double rms_before = 0.0;  // relative, over the held-out values
+  double rms_after = 0.0;
+  double reduction = 0.0;       // 1 - rms_after / rms_before
+  double reduction_low = 0.0;   // 90 % percentile-bootstrap interval of the reduction
+  double reduction_high = 0.0;
+};
+
+// One-sided exact (m <= 300) or normal-approximation p-value of the signed-rank statistic of
+// `differences` (> 0: improvement). Zero differences are dropped (Wilcoxon's convention); ties
+// get mid-ranks. Returns 1 when nothing is left.
+[[nodiscard]] double signed_rank_p_value(std::span<const double> differences, double* w_plus = nullptr);
+
+// Compares residuals r0 (current model) and r1 (candidate) over the held-out slots; values are
+// grouped by operating point (vpp, frequency, load). `seed` fixes the bootstrap.
+[[nodiscard]] HeldOutEvidence compare_held_out(const MeasurementSet& set, const ResidualModel& model,
+                                               std::span<const double> r0, std::span<const double> r1,
+                                               std::span<const std::size_t> held_out_slots,
+                                               std::uint64_t seed = 2019);
+
+}  // namespace swum
