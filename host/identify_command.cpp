@@ -1,5 +1,5 @@
 // `swum identify`: the four non-linear constants from measured free-stator tip amplitudes
-// (paper §4, MODEL_SPEC §6.5). Writes a new parameter file; the input config is not touched.
+// (paper Sec. 4, model_spec §6.5). Writes a new parameter file; the input config is not touched.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -95,7 +95,8 @@ std::string summary_text(const IdentificationResult& r) {
 std::string fitted_file_text(const IdentifyOptions& o, const MotorParameters& fitted,
                              const IdentificationResult& r) {
   std::string header = "# Written by `swum identify --config " + o.config_path + " --amplitudes " +
-                       o.amplitudes_path + "`.\n# Non-linear constants (paper §4, MODEL_SPEC §6.5):\n";
+                       o.amplitudes_path +
+                       "`.\n# Non-linear constants (paper Sec. 4, docs/model_spec.md §6.5):\n";
   for (const ParameterEstimate& e : r.parameters) {
     header += "#   " + std::string(e.key) + " = " + number(e.value, "%.6g");
     header += e.identifiable ? " +- " + number(e.standard_error, "%.2g") + " (fitted)"

@@ -1,5 +1,6 @@
-// `swum stator`: harmonic balance of the free stator (paper §4, eqs. 26-32; MODEL_SPEC §6.2-6.3)
-// over voltages x frequencies: every real branch with its stability, and the backbone.
+// `swum stator`: harmonic balance of the free stator (paper Sec. 4, eqs. 26-32;
+// model_spec §6.2-6.3) over voltages x frequencies: every real branch with its stability, and
+// the backbone.
 #include <cstdio>
 #include <filesystem>
 #include <memory>

@@ -1,4 +1,4 @@
-// `swum validate`: the paper's facts (MODEL_SPEC §8) on a motor config and its linear
+// `swum validate`: the paper's facts (model_spec §8) on a motor config and its linear
 // variant, as a markdown table plus the paper-style plots (Figs. 10-11, 13-16). This is
 // what produces docs/validation.md's evidence; the same criteria run as tests in
 // tests/validation.

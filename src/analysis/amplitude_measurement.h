@@ -1,5 +1,5 @@
 // One measured (or synthesised) free-stator operating point: the data of paper Figs. 7-8 and
-// the input of the identification (MODEL_SPEC §6.5). Either amplitude may be missing.
+// the input of the identification (model_spec §6.5). Either amplitude may be missing.
 #pragma once
 
 #include <optional>

@@ -1,5 +1,5 @@
 // First-harmonic balance of the free stator (mover removed): paper eqs. (26)-(32), done as
-// MODEL_SPEC §6.2 (alternating-frequency-time, DC + first harmonic per mode) seeded by the
+// model_spec §6.2 (alternating-frequency-time, DC + first harmonic per mode) seeded by the
 // closed form of §6.3 (every real root of the cubic in A^2). docs/harmonic_balance.md has
 // the derivation, the stability criterion and the verification against time-domain runs.
 #pragma once

@@ -226,7 +226,7 @@ IdentificationResult identify_nonlinear_parameters(const MotorParameters& prior,
   ctx.constants = model.constants();
   ctx.prior = prior.stator;
   ctx.hb_options = options.harmonic_balance;
-  const StatorParameters table2{};  // Table-2 magnitudes (MODEL_SPEC §7.2) set the scale floor
+  const StatorParameters table2{};  // Table-2 magnitudes (model_spec §7.2) set the scale floor
   std::array<double, kP> theta_prior{};
   for (int p = 0; p < kP; ++p) {
     ParameterEstimate& e = result.parameters[p];

@@ -1,5 +1,5 @@
 // Identification of the four non-linear electroelastic constants c111, c1111, e311, e3111 from
-// free-stator tip amplitudes (paper §4, MODEL_SPEC §6.5): bounded non-linear least squares
+// free-stator tip amplitudes (paper Sec. 4, model_spec §6.5): bounded non-linear least squares
 // (Ceres, Levenberg-Marquardt) on the harmonic balance of harmonic_balance.h, several starts,
 // standard errors from the Jacobian, and an identifiability test that keeps parameters the
 // data cannot determine at their prior values. docs/identification.md.

@@ -30,7 +30,7 @@ struct SpeedPeak {
 };
 
 /// Frequency of maximum forward speed of the motor resonance at `vpp`, found as the paper's
-/// experiments find it (MODEL_SPEC §8 E9-E10): approaching from above, walking the grid
+/// experiments find it (model_spec §8 E9-E10): approaching from above, walking the grid
 /// stop:start:-step down until the speed collapses below half the best speed seen (the
 /// softening resonance jumps down there), then refined on a grid of step/4 within one
 /// coarse step either side. Lobes below the collapse (a second regime under the stator

@@ -127,7 +127,7 @@ std::vector<FactResult> PaperFacts::all() {
 
 FactResult literal_reading_cross_check(const MotorModel& literal) {
   PaperFacts facts(literal, literal);
-  FactResult r{"literal reading", "MODEL_SPEC §9: friction lock at low voltage, downward drift",
+  FactResult r{"literal reading", "model_spec §9: friction lock at low voltage, downward drift",
                "0 mm/s at 40 kHz up to 200 Vpp; peak(400) <= peak(250)", "", false};
   const double v50 = facts.speed_mm_s(literal, 50, 40000), v100 = facts.speed_mm_s(literal, 100, 40000);
   const double v200 = facts.speed_mm_s(literal, 200, 40000);

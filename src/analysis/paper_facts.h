@@ -1,4 +1,4 @@
-// The paper's quantitative experimental facts (MODEL_SPEC §8, E1-E12) as checks on a
+// The paper's quantitative experimental facts (model_spec §8, E1-E12) as checks on a
 // model: one place defines each criterion and its tolerance, used by the validation
 // tests and by `swum validate` (docs/validation.md). Each check reports the paper's
 // value, the model's value and whether the fact holds.
@@ -49,7 +49,7 @@ class PaperFacts {
   std::map<std::pair<const MotorModel*, double>, SpeedPeak> peaks_;
 };
 
-// MODEL_SPEC §9 cross-check of the literal reading: B2 friction-locked at 40 kHz up to
+// model_spec §9 cross-check of the literal reading: B2 friction-locked at 40 kHz up to
 // 200 Vpp, and the frequency of maximum speed does not rise from 250 to 400 Vpp.
 FactResult literal_reading_cross_check(const MotorModel& literal);
 

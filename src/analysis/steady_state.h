@@ -1,5 +1,5 @@
 // Steady-state operating point of the motor: start at the static preload equilibrium, settle,
-// then average over windows until two consecutive windows agree (MODEL_SPEC §10: tau ~ 5-10 ms).
+// then average over windows until two consecutive windows agree (model_spec §10: tau ~ 5-10 ms).
 #pragma once
 
 #include <cstdint>

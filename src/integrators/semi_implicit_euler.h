@@ -1,5 +1,5 @@
 // Semi-implicit (symplectic) Euler with an implicit velocity correction for stiff dissipative
-// forces (MODEL_SPEC §10, generalised). Knows nothing about motors.
+// forces (model_spec §10, generalised). Knows nothing about motors.
 //
 //   v* = v + dt a_explicit(t, q, v)
 //   v_new = system.implicit_velocity_correction(t, dt, q, v, v*)   (in place on v*)

@@ -1,4 +1,4 @@
-// Stator/mover interface (MODEL_SPEC §2): normal force with separation (eq. 16) and the erf
+// Stator/mover interface (model_spec §2): normal force with separation (eq. 16) and the erf
 // friction law (eqs. 21-22), plus the implicit friction solves of the fixed-step scheme (§10).
 #pragma once
 

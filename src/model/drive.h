@@ -1,4 +1,4 @@
-// Two-phase drive V_A = V0 sin(theta), V_B = V0 sin(theta + phase) (MODEL_SPEC §4; with the
+// Two-phase drive V_A = V0 sin(theta), V_B = V0 sin(theta + phase) (model_spec §4; with the
 // default phase +90 deg V_B = V0 cos(theta)). The fixed-step simulator advances
 // (sin theta, cos theta) by a rotation exp(i w dt) per step instead of calling sin().
 #pragma once

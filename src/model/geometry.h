@@ -1,4 +1,4 @@
-// Stator geometry (MODEL_SPEC §1.1, §5). The paper gives only f1 and f2; L and hs follow from
+// Stator geometry (model_spec §1.1, §5). The paper gives only f1 and f2; L and hs follow from
 // them for a chosen ts, tp.
 #pragma once
 

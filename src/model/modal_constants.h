@@ -1,4 +1,4 @@
-// Modal constants of eqs. (14)-(15) (Appendix A, MODEL_SPEC §1.5-1.6), computed by
+// Modal constants of eqs. (14)-(15) (Appendix A, model_spec §1.5-1.6), computed by
 // Gauss-Legendre quadrature from geometry and material.
 #pragma once
 

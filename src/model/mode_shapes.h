@@ -1,4 +1,4 @@
-// Free-free mode shapes of eq. (11) (MODEL_SPEC §1.2) and their derivatives.
+// Free-free mode shapes of eq. (11) (model_spec §1.2) and their derivatives.
 #pragma once
 
 namespace swum {

@@ -1,5 +1,5 @@
 // Composition of stator (eqs. 14-15), interface (16, 21-22) and mover (23-25) into the
-// complete state-space model of MODEL_SPEC §4, in the two forms the integrators need:
+// complete state-space model of model_spec §4, in the two forms the integrators need:
 //  * MotorSplitSystem: explicit smooth accelerations + implicit friction velocity correction
 //    (semi-implicit Euler, §10);
 //  * MotorOde: the full first-order system with the erf friction law (reference solver).

@@ -11,7 +11,7 @@
 
 namespace swum {
 
-// Mutable simulation data (MODEL_SPEC §4 state y plus time and the drive phasor).
+// Mutable simulation data (model_spec §4 state y plus time and the drive phasor).
 struct MotorState {
   double q1_m = 0.0;        // L1 modal coordinate (u_tip = -q1)
   double q1_dot_m_s = 0.0;

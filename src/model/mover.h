@@ -1,4 +1,4 @@
-// Mover on its linear guide, eqs. (23)-(25) (MODEL_SPEC §3).
+// Mover on its linear guide, eqs. (23)-(25) (model_spec §3).
 #pragma once
 
 #include <cmath>

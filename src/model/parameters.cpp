@@ -106,7 +106,7 @@ const std::array kSpecs{
     SWUM_REAL(stator, StatorParameters, piezo_e31_c_m2, "C/m^2", -1e3, 1e3,
               "Piezoelectric constant e31 (Table 1; physical sign negative)"),
     SWUM_REAL(stator, StatorParameters, c111_pa, "Pa", -1e22, 1e22,
-              "Second-order elastic constant c111 (Table 2, MODEL_SPEC 7.2)"),
+              "Second-order elastic constant c111 (Table 2, model_spec §7.2)"),
     SWUM_REAL(stator, StatorParameters, c1111_pa, "Pa", -1e22, 1e22,
               "Third-order elastic constant c1111 (Table 2; negative = softening)"),
     SWUM_REAL(stator, StatorParameters, e311_c_per_v_m, "C/(V m)", -1e6, 1e6,
@@ -118,11 +118,11 @@ const std::array kSpecs{
     SWUM_REAL(stator, StatorParameters, damping_b2_n_s_m, "N s/m", 0.0, 1e6,
               "B2 modal damping C2 (Table 1)"),
     SWUM_REAL(stator, StatorParameters, substrate_thickness_mm, "mm", 1e-3, 1e3,
-              "Substrate thickness ts (free choice, MODEL_SPEC 5)"),
+              "Substrate thickness ts (free choice, model_spec §5)"),
     SWUM_REAL(stator, StatorParameters, piezo_thickness_mm, "mm", 1e-3, 1e3,
-              "Piezo patch thickness tp (free choice, MODEL_SPEC 5)"),
+              "Piezo patch thickness tp (free choice, model_spec §5)"),
     SWUM_CHOICE(stator, StatorParameters, geometry, kGeometryChoices,
-                "L and hs from the target frequencies (MODEL_SPEC 5) or explicit"),
+                "L and hs from the target frequencies (model_spec §5) or explicit"),
     SWUM_REAL(stator, StatorParameters, target_l1_frequency_hz, "Hz", 1.0, 1e8,
               "Free-stator L1 natural frequency f1 used to compute L (paper: 39516 Hz)"),
     SWUM_REAL(stator, StatorParameters, target_b2_frequency_hz, "Hz", 1.0, 1e8,
@@ -350,8 +350,8 @@ std::string render_parameters_markdown() {
          "(`swum::render_parameters_markdown()`); a test checks that this file matches it.\n"
          "Parameter files are TOML with one table per section; unknown keys, wrong types, "
          "NaN/Inf and out-of-range values are errors. Integers are accepted for real keys.\n"
-         "Equation numbers refer to Li et al. 2019 (MSSP), sections to "
-         "MODEL_SPEC.md.\n"
+         "Equation numbers refer to Li et al. 2019 (MSSP), sections (§) to "
+         "[model_spec.md](model_spec.md).\n"
          "The `[effects.*]` tables are the candidate effects of the discrepancy workflow "
          "([discrepancy.md](discrepancy.md)); all are off by default.\n";
   std::string_view section;

@@ -1,4 +1,4 @@
-// Parameters of the swum motor model (MODEL_SPEC.md §7, §5, §11) and the single table of
+// Parameters of the swum motor model (docs/model_spec.md §7, §5, §11) and the single table of
 // parameter specifications used for validation, TOML parsing and docs/parameters.md.
 #pragma once
 
@@ -61,7 +61,7 @@ enum class PreloadApplication {
 
 // Linear-guide friction of the mover (eqs. 24-25, §11.9).
 enum class GuideFrictionModel {
-  smoothed_sign,     // literal eqs. 24-25 with sign(v_m) ~ tanh(v_m/w) (MODEL_SPEC default)
+  smoothed_sign,     // literal eqs. 24-25 with sign(v_m) ~ tanh(v_m/w) (model_spec §11.9 default)
   implicit_coulomb,  // exact Coulomb mu_s (F_N + g m) with a stuck state, solved implicitly
                      // (projection); the reference ODE uses -f_g tanh(v_m/w) for it
 };

@@ -1,4 +1,4 @@
-// Gauss-Legendre quadrature (MODEL_SPEC §1.5: modal and electrical integrals).
+// Gauss-Legendre quadrature (model_spec §1.5: modal and electrical integrals).
 #pragma once
 
 #include <vector>

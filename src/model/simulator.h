@@ -1,5 +1,5 @@
 // Fixed-step simulation of one motor (the HIL core): semi-implicit Euler with implicit
-// friction (MODEL_SPEC §10), drive phasor, NaN/runaway guard. No allocation, no virtual call,
+// friction (model_spec §10), drive phasor, NaN/runaway guard. No allocation, no virtual call,
 // no I/O and no throw in step()/advance().
 #pragma once
 

@@ -1,4 +1,4 @@
-// Stator modal forces, eqs. (14)-(15) (MODEL_SPEC §1.4-1.5), without damping and interface
+// Stator modal forces, eqs. (14)-(15) (model_spec §1.4-1.5), without damping and interface
 // forces. Each mode's force is a cubic in its coordinate whose coefficients are linear or
 // quadratic in the two phase voltages; the products with c111, c1111, e311, e3111 are folded
 // once so the per-step cost is ~20 flops.

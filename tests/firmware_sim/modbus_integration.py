@@ -124,7 +124,7 @@ def scenario_enable_speed():
 
 
 def scenario_frequency_change():
-    # Up, not down: below the peak the softening resonance is bistable (MODEL_SPEC §9.1), so
+    # Up, not down: below the peak the softening resonance is bistable (model_spec §9.1), so
     # the branch a live change lands on depends on when it arrives; above it the speed
     # has one steady value, the one run_to_steady_state finds from rest.
     first, second = steady_reference(400, 40000), steady_reference(400, 40400)

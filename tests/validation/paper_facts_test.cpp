@@ -1,6 +1,6 @@
-// The paper's experimental facts (MODEL_SPEC §8) on the calibrated motor
+// The paper's experimental facts (model_spec §8) on the calibrated motor
 // (config/li2019.toml) and its linear variant, and the literal reading's cross-check
-// (MODEL_SPEC §9). The criteria live in src/analysis/paper_facts (shared with
+// (model_spec §9). The criteria live in src/analysis/paper_facts (shared with
 // `swum validate`, which writes docs/validation.md's table). A fact the calibrated model
 // does not reproduce stays here as a DISABLED_ test whose name says so.
 #include <gtest/gtest.h>

@@ -12,7 +12,7 @@
 namespace swum {
 namespace {
 
-// Library defaults = Tables 1-3 with the Table-2 reading of MODEL_SPEC §7.2 (not li2019.toml).
+// Library defaults = Tables 1-3 with the Table-2 reading of model_spec §7.2 (not li2019.toml).
 const MotorModel& table2_model() {
   static const MotorModel model{MotorParameters{}};
   return model;
@@ -72,7 +72,7 @@ TEST(HarmonicBalance, AftProjectionIsExactFromFiveSamples) {
   }
 }
 
-TEST(HarmonicBalance, ClosedFormAgreesWithAftToFiveDigits) {  // MODEL_SPEC §6.3
+TEST(HarmonicBalance, ClosedFormAgreesWithAftToFiveDigits) {  // model_spec §6.3
   const FreeStatorHarmonicBalance hb(table2_model());
   for (double vpp : {50.0, 250.0, 400.0}) {
     for (StatorMode mode : {StatorMode::l1, StatorMode::b2}) {
@@ -87,7 +87,7 @@ TEST(HarmonicBalance, ClosedFormAgreesWithAftToFiveDigits) {  // MODEL_SPEC §6.
   }
 }
 
-// MODEL_SPEC §9.1 (independent implementation): free stator at 39.5 kHz.
+// model_spec §9.1 (independent implementation): free stator at 39.5 kHz.
 TEST(HarmonicBalance, ReproducesModelSpecSection91) {
   const FreeStatorHarmonicBalance hb(table2_model());
   const FreeStatorHarmonicBalance lin(linear_model());

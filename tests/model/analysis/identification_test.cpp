@@ -12,7 +12,7 @@
 namespace swum {
 namespace {
 
-// 10 voltages x 3 frequencies = 30 points (60 amplitudes), MODEL_SPEC §6.5 / paper Figs. 7-8.
+// 10 voltages x 3 frequencies = 30 points (60 amplitudes), model_spec §6.5 / paper Figs. 7-8.
 const std::vector<double> kVoltages = {50, 85, 120, 155, 190, 225, 260, 295, 330, 365};
 const std::vector<double> kFrequencies = {39250.0, 39500.0, 39750.0};
 

@@ -39,7 +39,7 @@ TEST(ParameterFile, CalibratedConfigIsReferencePlusTheCalibration) {
   EXPECT_EQ(p.contact.preload_application, PreloadApplication::back_end_constant);
   EXPECT_GT(p.contact.tangential_stiffness_n_m, 0.0);
   EXPECT_EQ(p.mover.guide_friction_model, GuideFrictionModel::implicit_coulomb);
-  // Undo the calibrated keys: what remains is the MODEL_SPEC reference set (the defaults).
+  // Undo the calibrated keys: what remains is the model_spec §9 reference set (the defaults).
   const MotorParameters d{};
   p.options.voltage_convention = d.options.voltage_convention;
   p.contact.preload_application = d.contact.preload_application;

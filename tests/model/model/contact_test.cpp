@@ -42,7 +42,7 @@ TEST(ErfImplicitFriction, SolvesTheImplicitEquation) {
     const double v = v_star - compliance * f;
     EXPECT_NEAR(f, limit * std::erf(kappa * v), 1e-9 * limit) << v_star;
     EXPECT_LE(std::abs(f), limit);
-    // Within 1e-6 relative (of the cone) of the Coulomb projection, as MODEL_SPEC §10 states.
+    // Within 1e-6 relative (of the cone) of the Coulomb projection, as model_spec §10 states.
     EXPECT_NEAR(f, coulomb_projection_friction_n(v_star, compliance, limit), 2e-2 * limit) << v_star;
   }
   EXPECT_EQ(erf_implicit_friction_n(0.0, compliance, limit, kappa), 0.0);

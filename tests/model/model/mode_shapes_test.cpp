@@ -33,8 +33,8 @@ TEST(ModeShapes, B2RootIsSecondFreeFreeRoot) {
 TEST(ModeShapes, TipValuesAndNodes) {
   const double L = 0.061632;
   const ModeShapes m(L);
-  // MODEL_SPEC quotes 1.998449; the 40-digit value (mpmath) is 1.99844658367, i.e. the spec's
-  // figure is good to 1.2e-6 relative.
+  // The older rounding 1.998449 (model_spec §1.2); the 40-digit value (mpmath) is 1.99844658367,
+  // i.e. that figure is good to 1.2e-6 relative.
   EXPECT_NEAR(m.phi_b(L), 1.998449, 3e-6);
   EXPECT_NEAR(m.phi_b(L), 1.99844658367, 1e-9);
   EXPECT_NEAR(m.phi_l(0.0), 1.0, 1e-15);
