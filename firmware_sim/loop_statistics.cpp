@@ -83,4 +83,33 @@ std::string format_summary(const LoopStatsSummary& s, double tick_hz) {
   return buffer;
 }
 
+const char* to_string(Drop d) {
+  switch (d) {
+    case Drop::no_slot: return "no slot";
+    case Drop::evicted: return "evicted";
+    case Drop::idle: return "idle";
+    case Drop::frame_timeout: return "frame timeout";
+    case Drop::reply_timeout: return "reply timeout";
+    case Drop::other_unit: return "other unit";
+    case Drop::bad_crc: return "bad crc";
+    case Drop::bad_length: return "bad length";
+    case Drop::partial_frame: return "partial frame";
+    case Drop::kCount: break;
+  }
+  return "?";
+}
+
+std::string format_drops(const char* label, const DropCounters& counts, std::initializer_list<Drop> shown) {
+  std::string line = std::string("  ") + label + " ";
+  const char* separator = "";
+  for (const Drop d : shown) {
+    line += separator;
+    line += to_string(d);
+    line += ' ';
+    line += std::to_string(counts[d]);
+    separator = ", ";
+  }
+  return line + "\n";
+}
+
 }  // namespace swum::emu

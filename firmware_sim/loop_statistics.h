@@ -5,7 +5,9 @@
 #pragma once
 
 #include <array>
+#include <atomic>
 #include <cstdint>
+#include <initializer_list>
 #include <string>
 
 namespace swum::emu {
@@ -67,5 +69,37 @@ class LoopStatistics {
 
 // Multi-line human-readable report (printed at exit).
 std::string format_summary(const LoopStatsSummary& s, double tick_hz);
+
+// What a transport threw away on its own, by reason: Modbus TCP connections it closed and Modbus
+// RTU frames it discarded (docs/emulator.md, "Modbus: no client locks the others out"). Counted
+// by the transport threads, printed with the loop statistics at exit.
+enum class Drop : std::uint8_t {
+  no_slot,        // TCP: every slot busy, no holder idle long enough to evict: closed at once
+  evicted,        // TCP: the longest-idle holder, closed to make room for a new connection
+  idle,           // TCP: no request for --modbus-idle-timeout-ms
+  frame_timeout,  // TCP, RTU: a request still incomplete at its deadline (first byte + frame timeout)
+  reply_timeout,  // TCP: a reply the client did not take within the frame timeout
+  other_unit,     // RTU: a well-formed frame for another unit id (not an error: a shared line)
+  bad_crc,        // RTU: CRC mismatch (garbage, noise, a frame cut short)
+  bad_length,     // RTU: a frame that would exceed 256 bytes
+  partial_frame,  // RTU: a frame that stopped: silence before its last byte
+  kCount
+};
+const char* to_string(Drop d);
+
+class DropCounters {
+ public:
+  // Returns the count of `d` including this one (callers log the first few).
+  std::uint64_t count(Drop d) { return counts_[static_cast<std::size_t>(d)].fetch_add(1, std::memory_order_relaxed) + 1; }
+  [[nodiscard]] std::uint64_t operator[](Drop d) const {
+    return counts_[static_cast<std::size_t>(d)].load(std::memory_order_relaxed);
+  }
+
+ private:
+  std::array<std::atomic<std::uint64_t>, static_cast<std::size_t>(Drop::kCount)> counts_{};
+};
+
+// One report line: "  LABEL  no slot 3, evicted 1, ..." over the reasons in `shown`, in that order.
+std::string format_drops(const char* label, const DropCounters& counts, std::initializer_list<Drop> shown);
 
 }  // namespace swum::emu

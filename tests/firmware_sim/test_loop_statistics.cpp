@@ -40,5 +40,17 @@ TEST(LoopStatistics, SummaryCountsOverruns) {
   EXPECT_NE(format_summary(sum, 10000).find("overruns  10"), std::string::npos);
 }
 
+TEST(DropCounters, CountAndReportInTheOrderAsked) {
+  DropCounters drops;
+  EXPECT_EQ(drops.count(Drop::no_slot), 1U);
+  EXPECT_EQ(drops.count(Drop::no_slot), 2U);
+  drops.count(Drop::frame_timeout);
+  EXPECT_EQ(drops[Drop::no_slot], 2U);
+  EXPECT_EQ(drops[Drop::idle], 0U);
+  EXPECT_EQ(format_drops("tcp closed:", drops, {Drop::no_slot, Drop::idle, Drop::frame_timeout}),
+            "  tcp closed: no slot 2, idle 0, frame timeout 1\n");
+  for (int d = 0; d < static_cast<int>(Drop::kCount); ++d) EXPECT_STRNE(to_string(static_cast<Drop>(d)), "?");
+}
+
 }  // namespace
 }  // namespace swum::emu
