@@ -17,6 +17,7 @@
 #include <sstream>
 #include <string>
 #include <thread>
+#include <tuple>
 
 #include "can_transport.h"
 #include "config/parameter_file.h"
@@ -76,12 +77,31 @@ int main(int argc, char** argv) {
   int ready_fd = -1;
   int cpu = -1;
   AmplifierConfig amp;
+  // Modbus connection limits: taken as text and parsed whole here (one-line errors).
+  ModbusTcpOptions modbus_options;
+  std::string modbus_idle_text = std::to_string(modbus_options.idle_timeout_ms);
+  std::string modbus_frame_text = std::to_string(modbus_options.frame_timeout_ms);
+  std::string modbus_evict_text = std::to_string(modbus_options.evict_idle_ms);
   app.add_option("--config", config_path, "motor parameter file (TOML)")->required()->check(CLI::ExistingFile);
   app.add_option("--can", can_interface, "SocketCAN interface (e.g. vcan0); CAN off when absent");
   app.add_option("--node", node, "CAN node id")->check(CLI::Range(1, 127));
   app.add_option("--modbus", modbus_spec, "tcp://HOST:PORT (port 0: any free port), rtu:/dev/TTY:BAUD, or none")
       ->capture_default_str();
   app.add_option("--modbus-unit", modbus_unit, "Modbus RTU unit id")->check(CLI::Range(1, 247));
+  app.add_option("--modbus-idle-timeout-ms", modbus_idle_text,
+                 "Modbus TCP: close a connection without a request for this long (0 = never)")
+      ->type_name("MS")
+      ->capture_default_str();
+  app.add_option("--modbus-frame-timeout-ms", modbus_frame_text,
+                 "Modbus: a request must be complete this long after its first byte (RTU: plus a 256-byte "
+                 "frame's time on the line); TCP: its reply taken within as long again")
+      ->type_name("MS")
+      ->capture_default_str();
+  app.add_option("--modbus-evict-idle-ms", modbus_evict_text,
+                 "Modbus TCP: when all 16 slots are taken, the longest-idle holder idle at least this long "
+                 "is closed to make room (0 = any idle holder)")
+      ->type_name("MS")
+      ->capture_default_str();
   app.add_option("--gpio", gpio_spec, "CHIP:enable=N,fault=M[,a=K,b=L] (GPIO off when absent)");
   app.add_option("--encoder-resolution-um", encoder_resolution_um, "encoder: mover travel per count")
       ->check(CLI::PositiveNumber)->capture_default_str();
@@ -119,6 +139,15 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   app.add_option("--ready-fd", ready_fd, "also write the ready line to this file descriptor");
   CLI11_PARSE(app, argc, argv);
+  for (const auto& [option, text, min_ms, value] :
+       {std::tuple{"--modbus-idle-timeout-ms", &modbus_idle_text, 0, &modbus_options.idle_timeout_ms},
+        std::tuple{"--modbus-frame-timeout-ms", &modbus_frame_text, 1, &modbus_options.frame_timeout_ms},
+        std::tuple{"--modbus-evict-idle-ms", &modbus_evict_text, 0, &modbus_options.evict_idle_ms}}) {
+    if (const std::string e = parse_milliseconds(*text, min_ms, kMaxTimeoutMs, *value); !e.empty()) {
+      std::fprintf(stderr, "swum-emu: %s: %s\n", option, e.c_str());
+      return 1;
+    }
+  }
 
   // SIGINT/SIGTERM are handled by one thread; block them before any other thread exists.
   sigset_t signals;
@@ -175,10 +204,11 @@ int main(int argc, char** argv) {
       if (endpoint.tcp) {
         if (endpoint.host == "0.0.0.0")
           std::fprintf(stderr, "swum-emu: warning: Modbus TCP bound to all interfaces (0.0.0.0) as asked\n");
-        modbus_tcp = std::make_unique<ModbusTcpServer>(endpoint.host, endpoint.port, *shared, amp.limits);
+        modbus_tcp = std::make_unique<ModbusTcpServer>(endpoint.host, endpoint.port, *shared, amp.limits, modbus_options);
         ready += " modbus=tcp://" + endpoint.host + ":" + std::to_string(modbus_tcp->port());
       } else {
-        modbus_rtu = std::make_unique<ModbusRtuServer>(endpoint.device, endpoint.baud, modbus_unit, *shared, amp.limits);
+        modbus_rtu = std::make_unique<ModbusRtuServer>(endpoint.device, endpoint.baud, modbus_unit, *shared, amp.limits,
+                                                       modbus_options.frame_timeout_ms);
         ready += " modbus=rtu:" + endpoint.device + ":" + std::to_string(endpoint.baud);
       }
     }
@@ -269,6 +299,21 @@ int main(int argc, char** argv) {
                   static_cast<unsigned long long>(modbus_tcp->stats().requests.load()),
                   static_cast<unsigned long long>(modbus_tcp->stats().exceptions.load()),
                   static_cast<unsigned long long>(modbus_tcp->stats().connections.load()));
+    if (modbus_tcp)
+      std::printf("%s", format_drops("modbus tcp closed:", modbus_tcp->stats().drops,
+                                     {Drop::no_slot, Drop::evicted, Drop::idle, Drop::frame_timeout,
+                                      Drop::reply_timeout})
+                            .c_str());
+    if (modbus_rtu) {
+      std::printf("  modbus    %llu requests, %llu exceptions, %llu line errors\n",
+                  static_cast<unsigned long long>(modbus_rtu->stats().requests.load()),
+                  static_cast<unsigned long long>(modbus_rtu->stats().exceptions.load()),
+                  static_cast<unsigned long long>(modbus_rtu->stats().receive_errors.load()));
+      std::printf("%s", format_drops("modbus rtu discarded:", modbus_rtu->stats().drops,
+                                     {Drop::other_unit, Drop::bad_crc, Drop::bad_length, Drop::partial_frame,
+                                      Drop::frame_timeout})
+                            .c_str());
+    }
     if (can)
       std::printf("  can       rx %llu (accepted %llu, rejected %llu, receive errors %llu), tx %llu (dropped %llu, "
                   "send errors %llu), error frames %llu, bus-off %llu\n",

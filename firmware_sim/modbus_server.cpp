@@ -10,9 +10,14 @@
 #include <time.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
+#include <charconv>
+#include <cstdio>
 #include <cstring>
+#include <optional>
 #include <stdexcept>
+#include <system_error>
 
 #include "register_map.h"
 
@@ -26,6 +31,34 @@ std::uint64_t monotonic_ns() {
   timespec ts{};
   clock_gettime(CLOCK_MONOTONIC, &ts);
   return static_cast<std::uint64_t>(ts.tv_sec) * 1'000'000'000ULL + static_cast<std::uint64_t>(ts.tv_nsec);
+}
+
+std::uint64_t ms_to_ns(int ms) { return static_cast<std::uint64_t>(ms) * 1'000'000ULL; }
+
+// Phases of a TCP connection (ModbusTcpServer::Connection::phase).
+constexpr int kIdle = 0;       // waiting for a request's first byte: the idle timeout runs
+constexpr int kReceiving = 1;  // inside a request: the frame timeout runs from its first byte
+constexpr int kReplying = 2;   // serving and sending: the frame timeout runs again
+constexpr int kClosing = 3;    // shut down by the server (or ended); no longer holds a slot
+
+void wake(int eventfd_fd) {
+  const std::uint64_t one = 1;
+  if (::write(eventfd_fd, &one, sizeof one) < 0 && errno != EAGAIN)  // EAGAIN: a wake-up is pending anyway
+    std::fprintf(stderr, "swum-emu: Modbus TCP: %s\n", errno_text("write(eventfd)", errno).c_str());
+}
+
+// Ends every blocking call on the socket in its client thread (ENOTCONN: the peer is gone already).
+void shut(int fd) {
+  if (fd >= 0 && ::shutdown(fd, SHUT_RDWR) != 0 && errno != ENOTCONN)
+    std::fprintf(stderr, "swum-emu: Modbus TCP: %s\n", errno_text("shutdown", errno).c_str());
+}
+
+// The first few connections closed for each reason go to stderr; all are counted.
+void log_drop(std::uint64_t nth, Drop reason, const std::string& peer) {
+  constexpr std::uint64_t kLogged = 5;
+  if (nth > kLogged) return;
+  std::fprintf(stderr, "swum-emu: Modbus TCP: closed %s: %s%s\n", peer.c_str(), to_string(reason),
+               nth == kLogged ? " (further ones counted only)" : "");
 }
 
 // One request: validate, queue writes, serve reads. False when the connection should close.
@@ -72,8 +105,8 @@ bool serve(modbus_t* ctx, const std::uint8_t* adu, int length, int checksum_leng
 }  // namespace
 
 ModbusTcpServer::ModbusTcpServer(const std::string& host, std::uint16_t port, SharedState& shared,
-                                 AmplifierLimits limits, int max_clients)
-    : host_(host), shared_(shared), limits_(limits), max_clients_(max_clients) {
+                                 AmplifierLimits limits, ModbusTcpOptions options)
+    : host_(host), shared_(shared), limits_(limits), options_(options) {
   sockaddr_in address{};
   address.sin_family = AF_INET;
   address.sin_port = htons(port);
@@ -93,7 +126,7 @@ ModbusTcpServer::ModbusTcpServer(const std::string& host, std::uint16_t port, Sh
     throw std::runtime_error("Modbus TCP: cannot bind " + host + ":" + std::to_string(port) + ": " +
                              errno_text("bind", e));
   }
-  if (::listen(listen_fd_, 16) != 0) {
+  if (::listen(listen_fd_, 64) != 0) {  // a burst of connections waits here to be sorted, not dropped
     const int e = errno;
     ::close(listen_fd_);
     throw std::runtime_error("Modbus TCP: " + errno_text("listen", e));
@@ -113,94 +146,241 @@ ModbusTcpServer::ModbusTcpServer(const std::string& host, std::uint16_t port, Sh
   }
 }
 
+// One client connection. phase, since_ns, reason and fd are guarded by the server's mutex_.
+struct ModbusTcpServer::Connection {
+  int fd = -1;            // closed (and -1) once the client thread has ended
+  std::string peer;       // "ADDRESS:PORT", for the log
+  int phase = kIdle;      // kIdle, kReceiving, kReplying, kClosing
+  std::uint64_t since_ns = 0;  // start of the phase (kIdle: accept or last reply)
+  std::optional<Drop> reason;  // why the server closes it; none when the client hung up
+  bool ended = false;     // the thread is done with the connection (join it)
+  std::thread thread;
+};
+
 ModbusTcpServer::~ModbusTcpServer() {
   stop();
   if (listen_fd_ >= 0) ::close(listen_fd_);
   if (wake_fd_ >= 0) ::close(wake_fd_);
 }
 
-void ModbusTcpServer::start() { acceptor_ = std::thread([this] { accept_loop(); }); }
+void ModbusTcpServer::start() { acceptor_ = std::thread([this] { supervise(); }); }
 
 void ModbusTcpServer::stop() {
   if (stopping_.exchange(true)) return;
-  const std::uint64_t one = 1;
-  if (::write(wake_fd_, &one, sizeof one) < 0) { /* eventfd write cannot block; nothing else to do */ }
+  wake(wake_fd_);
   if (acceptor_.joinable()) acceptor_.join();
   {
     std::lock_guard lock(mutex_);
-    for (int fd : client_fds_) ::shutdown(fd, SHUT_RDWR);  // wakes modbus_receive in the client threads
+    for (auto& c : connections_) {
+      c->phase = kClosing;
+      if (!c->ended) shut(c->fd);  // wakes poll / modbus_receive / send in the client thread
+    }
   }
-  for (auto& t : clients_) t.join();
-  clients_.clear();
+  for (auto& c : connections_) {
+    if (c->thread.joinable()) c->thread.join();
+  }
+  connections_.clear();
 }
 
-void ModbusTcpServer::accept_loop() {
+void ModbusTcpServer::supervise() {
+  int timeout_ms = -1;
   for (;;) {
     pollfd fds[2] = {{listen_fd_, POLLIN, 0}, {wake_fd_, POLLIN, 0}};
-    const int rc = ::poll(fds, 2, -1);
-    if (rc < 0) {
-      if (errno == EINTR) continue;
-      std::fprintf(stderr, "swum-emu: Modbus TCP: %s\n", errno_text("poll", errno).c_str());
+    const int rc = ::poll(fds, 2, timeout_ms);
+    if (rc < 0 && errno != EINTR) {
+      std::fprintf(stderr, "swum-emu: Modbus TCP: %s (no longer accepting)\n", errno_text("poll", errno).c_str());
       return;
     }
-    if (fds[1].revents || stopping_.load()) return;
-    if (!(fds[0].revents & POLLIN)) continue;
-    const int fd = ::accept4(listen_fd_, nullptr, nullptr, SOCK_CLOEXEC);
-    if (fd < 0) {
-      const int e = errno;
-      if (e != EINTR && e != EAGAIN && e != ECONNABORTED)
-        std::fprintf(stderr, "swum-emu: Modbus TCP: %s\n", errno_text("accept", e).c_str());
-      if (e == EMFILE || e == ENFILE) ::poll(nullptr, 0, 10);
-      continue;
+    if (stopping_.load()) return;
+    if (rc > 0 && (fds[1].revents & POLLIN)) {
+      std::uint64_t count = 0;
+      if (::read(wake_fd_, &count, sizeof count) < 0 && errno != EAGAIN)
+        std::fprintf(stderr, "swum-emu: Modbus TCP: %s\n", errno_text("read(eventfd)", errno).c_str());
     }
-    if (active_.load() >= max_clients_) {
-      stats_.refused_connections.fetch_add(1);
-      ::close(fd);
-      continue;
-    }
-    const int one = 1;
-    if (setsockopt(fd, IPPROTO_TCP, TCP_NODELAY, &one, sizeof one) != 0)
-      std::fprintf(stderr, "swum-emu: Modbus TCP: %s\n", errno_text("setsockopt(TCP_NODELAY)", errno).c_str());
-    stats_.connections.fetch_add(1);
-    active_.fetch_add(1);
-    std::lock_guard lock(mutex_);
-    client_fds_.push_back(fd);
-    clients_.emplace_back([this, fd] { client_loop(fd); });
+    reap();
+    if (rc > 0 && (fds[0].revents & POLLIN)) accept_one(monotonic_ns());
+    timeout_ms = enforce_deadlines(monotonic_ns());
   }
 }
 
-void ModbusTcpServer::client_loop(int fd) {
+void ModbusTcpServer::accept_one(std::uint64_t now) {
+  sockaddr_in address{};
+  socklen_t length = sizeof address;
+  const int fd = ::accept4(listen_fd_, reinterpret_cast<sockaddr*>(&address), &length, SOCK_CLOEXEC);
+  if (fd < 0) {
+    const int e = errno;
+    if (e != EINTR && e != EAGAIN && e != ECONNABORTED)
+      std::fprintf(stderr, "swum-emu: Modbus TCP: %s\n", errno_text("accept", e).c_str());
+    if (e == EMFILE || e == ENFILE) ::poll(nullptr, 0, 10);  // out of descriptors: do not spin
+    return;
+  }
+  char text[INET_ADDRSTRLEN] = "?";
+  if (!inet_ntop(AF_INET, &address.sin_addr, text, sizeof text))
+    std::fprintf(stderr, "swum-emu: Modbus TCP: %s\n", errno_text("inet_ntop", errno).c_str());
+  const std::string peer = std::string(text) + ":" + std::to_string(ntohs(address.sin_port));
+
+  std::unique_lock lock(mutex_);
+  const auto holders = std::count_if(connections_.begin(), connections_.end(),
+                                     [](const auto& c) { return c->phase != kClosing; });
+  if (holders >= options_.max_clients) {
+    // Every slot taken: the longest-idle holder makes room if it has been idle long enough;
+    // otherwise the newcomer is closed at once (a bound on threads: at most as many connections
+    // again may still be closing).
+    Connection* victim = nullptr;
+    const std::uint64_t guard = ms_to_ns(options_.evict_idle_ms);
+    for (auto& c : connections_) {
+      if (c->phase == kIdle && now - c->since_ns >= guard && (!victim || c->since_ns < victim->since_ns))
+        victim = c.get();
+    }
+    if (!victim || connections_.size() >= 2 * static_cast<std::size_t>(options_.max_clients)) {
+      lock.unlock();
+      if (::close(fd) != 0)
+        std::fprintf(stderr, "swum-emu: Modbus TCP: %s\n", errno_text("close", errno).c_str());
+      log_drop(stats_.drops.count(Drop::no_slot), Drop::no_slot, peer);
+      return;
+    }
+    victim->phase = kClosing;
+    victim->reason = Drop::evicted;
+    shut(victim->fd);
+  }
+  const int one = 1;
+  if (setsockopt(fd, IPPROTO_TCP, TCP_NODELAY, &one, sizeof one) != 0)
+    std::fprintf(stderr, "swum-emu: Modbus TCP: %s\n", errno_text("setsockopt(TCP_NODELAY)", errno).c_str());
+  auto connection = std::make_unique<Connection>();
+  connection->fd = fd;
+  connection->peer = peer;
+  connection->since_ns = now;
+  Connection& c = *connection;
+  connections_.push_back(std::move(connection));
+  try {
+    c.thread = std::thread([this, &c] { client_loop(c); });
+  } catch (const std::system_error& e) {
+    std::fprintf(stderr, "swum-emu: Modbus TCP: cannot start a client thread: %s\n", e.what());
+    if (::close(fd) != 0) std::fprintf(stderr, "swum-emu: Modbus TCP: %s\n", errno_text("close", errno).c_str());
+    connections_.pop_back();
+    return;
+  }
+  stats_.connections.fetch_add(1);
+}
+
+int ModbusTcpServer::enforce_deadlines(std::uint64_t now) {
+  const std::uint64_t frame = ms_to_ns(options_.frame_timeout_ms);
+  const std::uint64_t idle = ms_to_ns(options_.idle_timeout_ms);
+  std::lock_guard lock(mutex_);
+  // A client thread changes phase without telling this thread, so while any connection is open
+  // look again at least every half frame timeout: a request that starts just after a check is
+  // then seen before its deadline, and the next wake-up is set to that deadline.
+  std::uint64_t next = connections_.empty() ? ~std::uint64_t{0} : now + frame / 2;
+  for (auto& c : connections_) {
+    if (c->phase == kClosing) continue;
+    std::uint64_t deadline = 0;
+    Drop reason = Drop::frame_timeout;
+    if (c->phase == kIdle) {
+      if (idle == 0) continue;
+      deadline = c->since_ns + idle;
+      reason = Drop::idle;
+    } else {
+      deadline = c->since_ns + frame;
+      reason = c->phase == kReceiving ? Drop::frame_timeout : Drop::reply_timeout;
+    }
+    if (now >= deadline) {
+      c->phase = kClosing;
+      c->reason = reason;
+      shut(c->fd);
+    } else {
+      next = std::min(next, deadline);
+    }
+  }
+  if (next == ~std::uint64_t{0}) return -1;
+  return static_cast<int>((next - now + 999'999) / 1'000'000);  // round up: never wake before it
+}
+
+void ModbusTcpServer::reap() {
+  std::vector<std::unique_ptr<Connection>> ended;
+  {
+    std::lock_guard lock(mutex_);
+    for (auto it = connections_.begin(); it != connections_.end();) {
+      if ((*it)->ended) {
+        ended.push_back(std::move(*it));
+        it = connections_.erase(it);
+      } else {
+        ++it;
+      }
+    }
+  }
+  for (auto& c : ended) c->thread.join();  // it has set `ended` as its last act: returns at once
+}
+
+bool ModbusTcpServer::enter(Connection& c, int phase) {
+  std::lock_guard lock(mutex_);
+  if (c.phase == kClosing) return false;
+  c.phase = phase;
+  c.since_ns = monotonic_ns();
+  return true;
+}
+
+void ModbusTcpServer::client_loop(Connection& c) {
   modbus_t* ctx = modbus_new_tcp("127.0.0.1", 0);  // only a framing context: the socket is ours
   modbus_mapping_t* map = modbus_mapping_new(0, 0, modbus::holding::kCount, modbus::input::kCount);
   if (ctx && map) {
-    modbus_set_socket(ctx, fd);
+    modbus_set_socket(ctx, c.fd);
+    // libmodbus restarts its byte timeout at every byte, so only the deadline enforced by the
+    // acceptor thread bounds a whole frame; a longer gap between two bytes ends it here.
+    if (modbus_set_byte_timeout(ctx, static_cast<std::uint32_t>(options_.frame_timeout_ms / 1000),
+                                static_cast<std::uint32_t>(options_.frame_timeout_ms % 1000) * 1000U) != 0)
+      std::fprintf(stderr, "swum-emu: Modbus TCP: modbus_set_byte_timeout: %s\n", modbus_strerror(errno));
     std::uint8_t adu[MODBUS_TCP_MAX_ADU_LENGTH];
-    while (!stopping_.load(std::memory_order_relaxed)) {
-      const int rc = modbus_receive(ctx, adu);
-      if (rc == 0) continue;
-      if (rc < 0) {
-        // EMBBADDATA etc.: a malformed frame breaks the TCP stream framing; close the connection.
-        if (errno != ECONNRESET && errno != 0 && !stopping_.load()) stats_.receive_errors.fetch_add(1);
+    for (;;) {
+      // Idle until the first byte of a request (or end of stream, or a shutdown from the acceptor
+      // thread or stop()).
+      pollfd p{c.fd, POLLIN, 0};
+      if (::poll(&p, 1, -1) < 0) {
+        if (errno == EINTR) continue;
+        std::fprintf(stderr, "swum-emu: Modbus TCP: %s\n", errno_text("poll", errno).c_str());
         break;
       }
-      if (!serve(ctx, adu, rc, 0, map, shared_, limits_, stats_)) break;
+      if (!enter(c, kReceiving)) break;
+      const int rc = modbus_receive(ctx, adu);
+      if (rc < 0) {
+        const int e = errno;
+        std::lock_guard lock(mutex_);
+        if (c.phase != kClosing) {
+          // ETIMEDOUT: libmodbus's byte timeout (= the frame timeout) passed inside a frame.
+          // ECONNRESET: the client hung up. EMBBADDATA etc.: a malformed frame breaks the TCP
+          // stream framing; close the connection.
+          if (e == ETIMEDOUT)
+            c.reason = Drop::frame_timeout;
+          else if (e != ECONNRESET && e != 0 && !stopping_.load())
+            stats_.receive_errors.fetch_add(1);
+        }
+        break;
+      }
+      if (!enter(c, kReplying)) break;  // the deadline passed just as the frame completed
+      if (rc > 0 && !serve(ctx, adu, rc, 0, map, shared_, limits_, stats_)) break;
+      if (!enter(c, kIdle)) break;
     }
   } else {
     std::fprintf(stderr, "swum-emu: Modbus TCP: cannot allocate a libmodbus context\n");
   }
   if (map) modbus_mapping_free(map);
   if (ctx) modbus_free(ctx);  // does not close the socket set with modbus_set_socket
+  std::optional<Drop> reason;
   {
     std::lock_guard lock(mutex_);
-    std::erase(client_fds_, fd);
-    ::close(fd);
+    if (::close(c.fd) != 0)
+      std::fprintf(stderr, "swum-emu: Modbus TCP: %s\n", errno_text("close", errno).c_str());
+    c.fd = -1;
+    c.phase = kClosing;
+    reason = c.reason;
+    if (reason) log_drop(stats_.drops.count(*reason), *reason, c.peer);
+    c.ended = true;  // from here on `c` belongs to reap()
   }
-  active_.fetch_sub(1);
+  wake(wake_fd_);
 }
 
 ModbusRtuServer::ModbusRtuServer(const std::string& device, int baud, int unit, SharedState& shared,
-                                 AmplifierLimits limits)
-    : device_(device), shared_(shared), limits_(limits) {
+                                 AmplifierLimits limits, int frame_timeout_ms)
+    : device_(device), baud_(baud), unit_(unit), frame_timeout_ms_(frame_timeout_ms), shared_(shared), limits_(limits) {
   modbus_t* ctx = modbus_new_rtu(device.c_str(), baud, 'N', 8, 1);
   if (!ctx) throw std::runtime_error("Modbus RTU: " + errno_text("modbus_new_rtu", errno));
   if (modbus_set_slave(ctx, unit) != 0) {
@@ -213,11 +393,14 @@ ModbusRtuServer::ModbusRtuServer(const std::string& device, int baud, int unit, 
     modbus_free(ctx);
     throw std::runtime_error("Modbus RTU: cannot open " + device + ": " + modbus_strerror(e));
   }
-  // A bounded wait lets stop() end the thread.
-  modbus_set_indication_timeout(ctx, 0, 200000);
-  // libmodbus sleeps this long and then flushes after a frame for another unit (to skip that
-  // unit's answer); a request to us arriving meanwhile would be lost, so keep it short.
-  modbus_set_response_timeout(ctx, 0, 20000);
+  // Frames are read here (loop()); libmodbus only builds and sends the replies. Should it ever
+  // flush the line after a reply (it does after some refusals), it first sleeps this long.
+  if (modbus_set_response_timeout(ctx, 0, 20000) != 0) {
+    const int e = errno;
+    modbus_close(ctx);
+    modbus_free(ctx);
+    throw std::runtime_error("Modbus RTU: modbus_set_response_timeout: " + std::string(modbus_strerror(e)));
+  }
   ctx_ = ctx;
 }
 
@@ -236,38 +419,140 @@ void ModbusRtuServer::stop() {
   if (thread_.joinable()) thread_.join();
 }
 
+namespace {
+
+// 8N1: ten bits a character.
+std::uint64_t character_ns(int baud) { return 10'000'000'000ULL / static_cast<std::uint64_t>(baud); }
+
+// Waits until `fd` is readable or `timeout_ns` passed (bounded so that stop() is seen). 1:
+// readable, 0: not (yet), -1: the line failed (hang-up, error; errno set).
+int wait_readable(int fd, std::uint64_t timeout_ns) {
+  timeout_ns = std::min<std::uint64_t>(timeout_ns, 200'000'000ULL);
+  const timespec ts{static_cast<time_t>(timeout_ns / 1'000'000'000ULL), static_cast<long>(timeout_ns % 1'000'000'000ULL)};
+  pollfd p{fd, POLLIN, 0};
+  const int r = ::ppoll(&p, 1, &ts, nullptr);
+  if (r < 0) return errno == EINTR ? 0 : -1;
+  if (r == 0) return 0;
+  if (p.revents & POLLIN) return 1;
+  errno = (p.revents & POLLHUP) ? EPIPE : EIO;  // hang-up or error without data
+  return -1;
+}
+
+}  // namespace
+
+void ModbusRtuServer::drain(int fd) {
+  // Resynchronise on the RTU inter-frame gap: a frame for another unit (and that unit's
+  // answer), garbage, the tail of a cut frame are discarded until the line has been silent
+  // for max(3.5 characters, 5 ms).
+  const std::uint64_t silence = std::max<std::uint64_t>(35 * character_ns(baud_) / 10, 5'000'000ULL);
+  std::uint64_t last = monotonic_ns();
+  while (!stopping_.load(std::memory_order_relaxed)) {
+    const std::uint64_t now = monotonic_ns();
+    if (now >= last + silence) return;
+    const int r = wait_readable(fd, last + silence - now);
+    if (r < 0) return;  // the next read reports it
+    if (r == 0) continue;
+    std::uint8_t junk[256];
+    const ssize_t got = ::read(fd, junk, sizeof junk);
+    if (got > 0) last = monotonic_ns();
+    else if (got < 0 && errno != EAGAIN && errno != EINTR) return;
+  }
+}
+
 void ModbusRtuServer::loop() {
   auto* ctx = static_cast<modbus_t*>(ctx_);
   modbus_mapping_t* map = modbus_mapping_new(0, 0, modbus::holding::kCount, modbus::input::kCount);
-  if (!map) return;
-  std::uint8_t adu[MODBUS_RTU_MAX_ADU_LENGTH];
-  // Resynchronise on the RTU inter-frame gap: discard bytes until the line is silent for
-  // a few character times (libmodbus may stop reading a frame for another unit early, and a
-  // bad frame's tail must not be taken for the start of the next one).
+  if (!map) {
+    std::fprintf(stderr, "swum-emu: Modbus RTU: cannot allocate a libmodbus mapping\n");
+    return;
+  }
   const int fd = modbus_get_socket(ctx);
-  auto drain_until_idle = [&] {
-    for (;;) {
-      pollfd p{fd, POLLIN, 0};
-      const int r = ::poll(&p, 1, 5);
-      if (r <= 0) return;  // silent for 5 ms (or poll failed: nothing better to do)
-      std::uint8_t junk[256];
-      if (::read(fd, junk, sizeof junk) <= 0) return;
-    }
+  const std::uint64_t character = character_ns(baud_);
+  // Inside a frame a silence this long ends it (Modbus over serial line: 1.5 characters; USB
+  // adapters deliver in bursts up to their latency timer, FTDI's 16 ms by default).
+  const std::uint64_t gap = std::max<std::uint64_t>(35 * character / 10, 20'000'000ULL);
+  // From its first byte a request has the frame timeout plus the time of a 256-byte frame.
+  const std::uint64_t budget = ms_to_ns(frame_timeout_ms_) + 256 * character;
+  std::uint8_t adu[MODBUS_RTU_MAX_ADU_LENGTH];
+  std::uint64_t line_errors = 0;
+  auto line_failed = [&](int e) {
+    if (++line_errors <= 5)
+      std::fprintf(stderr, "swum-emu: Modbus RTU: %s: %s%s\n", device_.c_str(), std::strerror(e),
+                   line_errors == 5 ? " (further errors counted only)" : "");
+    stats_.receive_errors.fetch_add(1);
+    ::poll(nullptr, 0, 100);  // a hung-up line stays readable: do not spin
+  };
+  auto discard = [&](Drop why, bool then_drain) {
+    stats_.drops.count(why);
+    if (then_drain) drain(fd);
   };
   while (!stopping_.load(std::memory_order_relaxed)) {
-    const int rc = modbus_receive(ctx, adu);
-    if (rc == 0) {  // addressed to another unit
-      drain_until_idle();
+    // Idle: wait for the first byte.
+    const int first = wait_readable(fd, 200'000'000ULL);
+    if (first < 0) {
+      line_failed(errno);
       continue;
     }
-    if (rc < 0) {
-      if (errno != ETIMEDOUT) {
-        stats_.receive_errors.fetch_add(1);
-        drain_until_idle();  // bad CRC / garbage
+    if (first == 0) continue;
+    const std::uint64_t deadline = monotonic_ns() + budget;
+    std::uint64_t last_byte = monotonic_ns();
+    std::size_t have = 0;
+    bool failed = false;
+    std::optional<Drop> dropped;
+    for (;;) {
+      const int need = rtu::request_length(std::span<const std::uint8_t>(adu, have));
+      if (need < 0) {
+        dropped = Drop::bad_length;
+        break;
       }
+      if (static_cast<std::size_t>(need) == have) break;  // complete
+      const std::uint64_t now = monotonic_ns();
+      if (now >= deadline) {
+        dropped = Drop::frame_timeout;
+        break;
+      }
+      if (have > 0 && now >= last_byte + gap) {
+        dropped = Drop::partial_frame;
+        break;
+      }
+      if (stopping_.load(std::memory_order_relaxed)) break;
+      const int r = wait_readable(fd, std::min(deadline, have > 0 ? last_byte + gap : deadline) - now);
+      if (r < 0) {
+        failed = true;
+        break;
+      }
+      if (r == 0) continue;
+      // Read no further than this frame: the next one may already be behind it.
+      const ssize_t got = ::read(fd, adu + have, static_cast<std::size_t>(need) - have);
+      if (got < 0) {
+        if (errno == EAGAIN || errno == EINTR) continue;
+        failed = true;
+        break;
+      }
+      if (got == 0) continue;
+      have += static_cast<std::size_t>(got);
+      last_byte = monotonic_ns();
+    }
+    if (failed) {
+      line_failed(errno);
       continue;
     }
-    serve(ctx, adu, rc, 2, map, shared_, limits_, stats_);
+    if (stopping_.load(std::memory_order_relaxed)) break;
+    if (dropped) {
+      // A partial frame ended in silence: the line is quiet already, the next byte starts a frame.
+      discard(*dropped, *dropped != Drop::partial_frame);
+      continue;
+    }
+    const std::uint16_t crc = rtu::crc16(std::span<const std::uint8_t>(adu, have - 2));
+    if (adu[have - 2] != (crc & 0xFF) || adu[have - 1] != (crc >> 8)) {
+      discard(Drop::bad_crc, true);
+      continue;
+    }
+    if (adu[0] != unit_ && adu[0] != 0) {  // 0: broadcast, served without an answer (libmodbus)
+      discard(Drop::other_unit, true);     // and skip that unit's answer
+      continue;
+    }
+    serve(ctx, adu, static_cast<int>(have), 2, map, shared_, limits_, stats_);
   }
   modbus_mapping_free(map);
 }
@@ -308,5 +593,51 @@ std::string parse_modbus_endpoint(const std::string& text, ModbusEndpoint& out) 
   }
   return "expected tcp://HOST:PORT or rtu:/dev/DEVICE:BAUD, got '" + text + "'";
 }
+
+std::string parse_milliseconds(std::string_view text, int min_ms, int max_ms, int& out) {
+  const std::string range = " (" + std::to_string(min_ms) + " to " + std::to_string(max_ms) + " ms)";
+  long long value = 0;
+  const char* begin = text.data();
+  const char* end = begin + text.size();
+  const auto [ptr, ec] = std::from_chars(begin, end, value);
+  if (text.empty() || ec == std::errc::invalid_argument || ptr != end)
+    return "'" + std::string(text) + "' is not a whole number of milliseconds" + range;
+  if (ec == std::errc::result_out_of_range || value < min_ms || value > max_ms)
+    return "'" + std::string(text) + "' is out of range" + range;
+  out = static_cast<int>(value);
+  return {};
+}
+
+namespace rtu {
+
+int request_length(std::span<const std::uint8_t> frame) {
+  // Unit id, function code; then as libmodbus (_modbus_receive_msg, MSG_INDICATION): a fixed
+  // part after the function code, a byte count for the multiple writes, the CRC.
+  constexpr int kMax = MODBUS_RTU_MAX_ADU_LENGTH;
+  if (frame.size() < 2) return 2;
+  const int function = frame[1];
+  int fixed = 0;
+  if (function <= 6) fixed = 4;                           // reads, single writes: address, count/value
+  else if (function == 15 || function == 16) fixed = 5;  // + byte count
+  else if (function == 22) fixed = 6;                     // mask write
+  else if (function == 23) fixed = 9;                     // read/write multiple registers
+  if (frame.size() < static_cast<std::size_t>(2 + fixed)) return 2 + fixed;
+  int data = 0;
+  if (function == 15 || function == 16) data = frame[6];
+  else if (function == 23) data = frame[10];
+  const int total = 2 + fixed + data + 2;
+  return total > kMax ? -1 : total;
+}
+
+std::uint16_t crc16(std::span<const std::uint8_t> bytes) {
+  std::uint16_t crc = 0xFFFF;
+  for (const std::uint8_t b : bytes) {
+    crc ^= b;
+    for (int i = 0; i < 8; ++i) crc = (crc & 1) ? static_cast<std::uint16_t>((crc >> 1) ^ 0xA001) : static_cast<std::uint16_t>(crc >> 1);
+  }
+  return crc;
+}
+
+}  // namespace rtu
 
 }  // namespace swum::emu

@@ -73,9 +73,9 @@ def main():
         # Another unit, a bad CRC: no answer at all.
         m.transact(8, struct.pack(">BHH", 4, 0, 1), expect_reply=False)
         m.transact(7, None, expect_reply=False, raw=bytes([7, 4, 0, 0, 0, 1, 0x12, 0x34]))
-        # Still serving. After a CRC error libmodbus' server sleeps for its response timeout and
-        # flushes the line (error recovery), so a request that arrives in that window is dropped
-        # like on a real bus: retry as a real master would, with a fresh timeout each time.
+        # Still serving. After a bad frame the emulator discards bytes until the line has been
+        # silent for a few ms (docs/emulator.md), so a request that arrives in that window is
+        # dropped like on a real bus: retry as a real master would, with a fresh timeout each time.
         pdu = None
         for _ in range(3):
             try:
