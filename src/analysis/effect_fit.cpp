@@ -40,16 +40,15 @@ namespace {
 using Theta = std::vector<double>;
 
 // theta_k = (value_k - neutral_k) / typical_k: each free parameter in units of its typical
-// magnitude.
-class EffectCost final : public ceres::CostFunction {
+// magnitude. The predictions of every point at the parameter sets the solver asks for, computed
+// in one parallel batch per request and cached (Ceres re-evaluates accepted points, and every
+// residual block of one evaluation reads the same batch).
+class PredictionCache {
  public:
-  EffectCost(const EffectEvaluator& evaluator, const ResidualModel& residuals,
-             std::span<const std::size_t> slots, double step, Theta upper_theta)
-      : evaluator_(evaluator), residuals_(residuals), slots_(slots), step_(step),
-        upper_theta_(std::move(upper_theta)) {
-    set_num_residuals(static_cast<int>(slots.size()));
-    mutable_parameter_block_sizes()->push_back(static_cast<int>(upper_theta_.size()));
-  }
+  PredictionCache(const EffectEvaluator& evaluator, double step, Theta upper_theta)
+      : evaluator_(evaluator), step_(step), upper_theta_(std::move(upper_theta)) {}
+
+  [[nodiscard]] std::size_t size() const { return upper_theta_.size(); }
 
   [[nodiscard]] std::vector<double> values_of(const Theta& theta) const {
     std::vector<double> v(theta.size());
@@ -60,13 +59,7 @@ class EffectCost final : public ceres::CostFunction {
     return v;
   }
 
-  void remember(const Theta& theta, const Predictions& p) const { cache_.emplace(theta, p); }
-
-  // Predictions at theta (cached: Ceres re-evaluates accepted points).
-  const Predictions& at(const Theta& theta) const {
-    ensure({theta});
-    return cache_.find(theta)->second;
-  }
+  void remember(const Theta& theta, const Predictions& p) { cache_.emplace(theta, p); }
 
   // Signed finite-difference step of parameter k that stays inside the bounds.
   [[nodiscard]] Theta shifted(const Theta& theta, std::size_t k) const {
@@ -75,53 +68,67 @@ class EffectCost final : public ceres::CostFunction {
     return t;
   }
 
-  bool Evaluate(double const* const* parameters, double* residuals,
-                double** jacobians) const override {
-    const std::size_t m = upper_theta_.size();
-    const Theta theta(parameters[0], parameters[0] + m);
-    const bool want_jacobian = jacobians != nullptr && jacobians[0] != nullptr;
+  // Predictions at theta, and with `jacobian` also at the shifted points (one batch).
+  const Predictions& at(const Theta& theta, bool jacobian = false) {
     std::vector<Theta> needed{theta};
-    if (want_jacobian) {
-      for (std::size_t k = 0; k < m; ++k) needed.push_back(shifted(theta, k));
+    if (jacobian) {
+      for (std::size_t k = 0; k < size(); ++k) needed.push_back(shifted(theta, k));
     }
-    ensure(needed);  // one parallel batch
-    const Predictions& p0 = cache_.find(theta)->second;
-    for (std::size_t i = 0; i < slots_.size(); ++i) residuals[i] = residuals_.residual(slots_[i], p0);
-    if (want_jacobian) {
-      for (std::size_t k = 0; k < m; ++k) {
-        const Theta t = shifted(theta, k);
-        const Predictions& p1 = cache_.find(t)->second;
-        const double h = t[k] - theta[k];
-        for (std::size_t i = 0; i < slots_.size(); ++i) {
-          jacobians[0][i * m + k] = (residuals_.residual(slots_[i], p1) - residuals[i]) / h;
-        }
-      }
-    }
-    return std::all_of(residuals, residuals + slots_.size(), [](double r) { return std::isfinite(r); });
-  }
-
- private:
-  void ensure(const std::vector<Theta>& thetas) const {
     std::vector<Theta> missing;
-    for (const Theta& t : thetas) {
-      if (cache_.find(t) == cache_.end() &&
-          std::find(missing.begin(), missing.end(), t) == missing.end()) {
+    for (const Theta& t : needed) {
+      if (cache_.find(t) == cache_.end() && std::find(missing.begin(), missing.end(), t) == missing.end()) {
         missing.push_back(t);
       }
     }
-    if (missing.empty()) return;
-    std::vector<std::vector<double>> values;
-    for (const Theta& t : missing) values.push_back(values_of(t));
-    std::vector<Predictions> batch = evaluator_.evaluate(values);
-    for (std::size_t k = 0; k < missing.size(); ++k) cache_.emplace(missing[k], std::move(batch[k]));
+    if (!missing.empty()) {
+      std::vector<std::vector<double>> values;
+      for (const Theta& t : missing) values.push_back(values_of(t));
+      std::vector<Predictions> batch = evaluator_.evaluate(values);
+      for (std::size_t k = 0; k < missing.size(); ++k) cache_.emplace(missing[k], std::move(batch[k]));
+    }
+    return cache_.find(theta)->second;
   }
 
+  // Residual of `slot` at theta and, if asked, its forward-difference gradient (size() values).
+  double residual(const ResidualModel& model, std::size_t slot, const Theta& theta, double* gradient) {
+    const double r = model.residual(slot, at(theta, gradient != nullptr));
+    if (gradient != nullptr) {
+      for (std::size_t k = 0; k < size(); ++k) {
+        const Theta t = shifted(theta, k);
+        gradient[k] = (model.residual(slot, cache_.find(t)->second) - r) / (t[k] - theta[k]);
+      }
+    }
+    return r;
+  }
+
+ private:
   const EffectEvaluator& evaluator_;
-  const ResidualModel& residuals_;
-  std::span<const std::size_t> slots_;
   double step_;
   Theta upper_theta_;
-  mutable std::map<Theta, Predictions> cache_;
+  std::map<Theta, Predictions> cache_;
+};
+
+// One measured value as a Ceres residual block, so a loss function acts on each residual (a
+// loss on one block of all residuals would act on their sum of squares: least squares again).
+class SlotResidual final : public ceres::CostFunction {
+ public:
+  SlotResidual(PredictionCache& cache, const ResidualModel& model, std::size_t slot)
+      : cache_(cache), model_(model), slot_(slot) {
+    set_num_residuals(1);
+    mutable_parameter_block_sizes()->push_back(static_cast<int>(cache.size()));
+  }
+
+  bool Evaluate(double const* const* parameters, double* residuals, double** jacobians) const override {
+    const Theta theta(parameters[0], parameters[0] + cache_.size());
+    const bool want_jacobian = jacobians != nullptr && jacobians[0] != nullptr;
+    residuals[0] = cache_.residual(model_, slot_, theta, want_jacobian ? jacobians[0] : nullptr);
+    return std::isfinite(residuals[0]);
+  }
+
+ private:
+  PredictionCache& cache_;
+  const ResidualModel& model_;
+  std::size_t slot_;
 };
 
 }  // namespace
@@ -140,12 +147,13 @@ EffectFit fit_effect(const EffectEvaluator& evaluator, const ResidualModel& resi
     theta[k] = std::clamp((start[k] - e.neutral) / e.typical, lo[k], hi[k]);
   }
   constexpr double kStep = 0.1;  // 10 % of the typical magnitude: far above the steady-state noise
-  auto* cost = new EffectCost(evaluator, residuals, train_slots, kStep, hi);
-  if (start_predictions != nullptr && cost->values_of(theta) == start) {
-    cost->remember(theta, *start_predictions);
-  }
+  PredictionCache cache(evaluator, kStep, hi);
+  if (start_predictions != nullptr && cache.values_of(theta) == start) cache.remember(theta, *start_predictions);
   ceres::Problem problem;
-  problem.AddResidualBlock(cost, robust_scale > 0.0 ? new ceres::CauchyLoss(robust_scale) : nullptr, theta.data());
+  for (std::size_t slot : train_slots) {
+    problem.AddResidualBlock(new SlotResidual(cache, residuals, slot),
+                             robust_scale > 0.0 ? new ceres::CauchyLoss(robust_scale) : nullptr, theta.data());
+  }
   for (std::size_t k = 0; k < m; ++k) {
     problem.SetParameterLowerBound(theta.data(), static_cast<int>(k), lo[k]);
     problem.SetParameterUpperBound(theta.data(), static_cast<int>(k), hi[k]);
@@ -172,9 +180,10 @@ EffectFit fit_effect(const EffectEvaluator& evaluator, const ResidualModel& resi
   // Jacobian and residuals at the solution (cached when Ceres evaluated them).
   const std::size_t n = train_slots.size();
   std::vector<double> r(n), j(n * m);
-  double* jac[1] = {j.data()};
-  const double* block[1] = {theta.data()};
-  fit.ok = fit.ok && cost->Evaluate(block, r.data(), jac);
+  for (std::size_t i = 0; i < n; ++i) {
+    r[i] = cache.residual(residuals, train_slots[i], theta, &j[i * m]);
+    fit.ok = fit.ok && std::isfinite(r[i]);
+  }
   // Standard errors: the cluster-robust sandwich B^-1 M B^-1, B = sum psi'(r_i) J_i J_i', with
   // the meat summed over operating points, M = G/(G-1) (n-1)/(n-k) sum_g u_g u_g',
   // u_g = sum_{i in g} psi(r_i) J_i, psi(r) = w r:
@@ -209,13 +218,13 @@ EffectFit fit_effect(const EffectEvaluator& evaluator, const ResidualModel& resi
     const Eigen::MatrixXd inverse = lu.inverse();
     covariance = inverse * meat * inverse;
   }
-  fit.values = cost->values_of(theta);
+  fit.values = cache.values_of(theta);
   for (std::size_t k = 0; k < m; ++k) {
     const double var = covariance.size() > 0 ? covariance(static_cast<Eigen::Index>(k), static_cast<Eigen::Index>(k)) : -1.0;
     fit.standard_errors.push_back(var > 0.0 ? std::sqrt(var) * std::abs(evaluator.effects()[k]->typical)
                                             : std::numeric_limits<double>::infinity());
   }
-  fit.predictions = cost->at(theta);
+  fit.predictions = cache.at(theta);
   return fit;
 }
 
