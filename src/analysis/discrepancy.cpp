@@ -66,7 +66,9 @@ double delta_bic(double sse_new, double sse_old, std::size_t n, int added) {
 
 std::string describe_evidence(double bic, const HeldOutEvidence& e) {
   return format("delta BIC %+.4g; held-out: ", bic) + std::to_string(e.improved) + " of " + std::to_string(e.points) +
-         format(" points better, signed-rank p = %.2g; RMS gap %.3g %%", e.p_value, 100.0 * e.rms_before) +
+         format(" points better, p = %.2g", e.p_value) +
+         format(" (signed-rank %.2g, sign-flip %.2g)", e.signed_rank_p, e.sign_flip_p) +
+         format("; RMS gap %.3g %%", 100.0 * e.rms_before) +
          format(" -> %.3g %% (reduction %.0f %%", 100.0 * e.rms_after, 100.0 * e.reduction) +
          format(", 90 %% interval %.0f..%.0f %%)", 100.0 * e.reduction_low, 100.0 * e.reduction_high);
 }
@@ -113,9 +115,10 @@ EffectFit robust_refit(const EffectEvaluator& eval, const ResidualModel& model,
 }
 
 // Cauchy cost sum a^2 ln(1 + r^2/a^2) over `slots` (effect_fit.h).
+// (a = 0, a model that leaves exactly nothing: the sum of squares.)
 double cauchy_cost(const std::vector<double>& r, const std::vector<std::size_t>& slots, double a) {
   double cost = 0.0;
-  for (std::size_t k : slots) cost += a * a * std::log1p(r[k] * r[k] / (a * a));
+  for (std::size_t k : slots) cost += a > 0.0 ? a * a * std::log1p(r[k] * r[k] / (a * a)) : r[k] * r[k];
   return cost;
 }
 
@@ -219,7 +222,7 @@ DiscrepancyResult run_discrepancy(const MotorParameters& baseline, const Measure
         double jr = 0.0, jj = 0.0, wjr = 0.0, wjj = 0.0;
         for (std::size_t k : train) {
           const double j = (s.residuals[k] - from.residuals[k]) / dtheta;
-          const double w = 1.0 / (1.0 + s.residuals[k] * s.residuals[k] / (round_scale * round_scale));
+          const double w = round_scale > 0.0 ? 1.0 / (1.0 + s.residuals[k] * s.residuals[k] / (round_scale * round_scale)) : 1.0;
           jr += j * s.residuals[k];
           jj += j * j;
           wjr += w * j * s.residuals[k];
@@ -312,17 +315,20 @@ DiscrepancyResult run_discrepancy(const MotorParameters& baseline, const Measure
       }
       trial.residuals = model.residuals(trial.fit.predictions);
       trial.bic = delta_bic(trial.fit.train_sum_of_squares, sse0, n, 1);
-      trial.evidence = compare_held_out(set, model, current_r, trial.residuals, test, options.split_seed);
-      trial.passes = trial.fit.ok && trial.bic < -options.bic_margin && trial.evidence.p_value < options.significance;
+
       CandidateScore& score = round.candidates[c];
       score.value = trial.fit.values[last_index];
       score.train_rms = std::sqrt(trial.fit.train_sum_of_squares / static_cast<double>(n));
       score.held_out_rms = rms(trial.residuals, test);
       score.delta_bic = trial.bic;
-      const bool better = !chosen || (trial.passes && !chosen->passes) ||
-                          (trial.passes == chosen->passes && trial.bic < chosen->bic);
+      // Chosen on the training points alone (the lowest BIC of a usable fit); only the chosen
+      // one is tested on the held-out points, so their test is not spent on the choice.
+      const bool better = !chosen || (trial.fit.ok && !chosen->fit.ok) ||
+                          (trial.fit.ok == chosen->fit.ok && trial.bic < chosen->bic);
       if (better) chosen = std::move(trial);
     }
+    chosen->evidence = compare_held_out(set, model, current_r, chosen->residuals, test, options.split_seed);
+    chosen->passes = chosen->fit.ok && chosen->bic < -options.bic_margin && chosen->evidence.p_value < options.significance;
     const std::size_t c = chosen->c;
     const CandidateEffect& e = *candidates[c];
     const EffectFit& fit = chosen->fit;
@@ -343,8 +349,9 @@ DiscrepancyResult run_discrepancy(const MotorParameters& baseline, const Measure
         why += format("delta BIC %+.3g is not below -%.3g; ", bic, options.bic_margin);
       }
       if (!(evidence.p_value < options.significance)) {
-        why += format("held-out signed-rank p = %.3g is not below %.3g", evidence.p_value, options.significance) +
-               " (" + std::to_string(evidence.improved) + " of " + std::to_string(evidence.points) +
+        why += format("held-out p = %.3g is not below %.3g", evidence.p_value, options.significance) +
+               format(" (signed-rank %.3g, sign-flip %.3g; ", evidence.signed_rank_p, evidence.sign_flip_p) +
+               std::to_string(evidence.improved) + " of " + std::to_string(evidence.points) +
                " held-out points better)";
       }
       if (why.size() >= 2 && why.compare(why.size() - 2, 2, "; ") == 0) why.resize(why.size() - 2);
@@ -394,11 +401,17 @@ DiscrepancyResult run_discrepancy(const MotorParameters& baseline, const Measure
     g.rms_after = std::sqrt(g.rms_after / g.count);
   }
   if (result.effects.empty()) {
-    result.conclusion = result.baseline_map.structured
-                            ? "no candidate explains the residual; unexplained residual, " +
-                                  result.baseline_map.summary
-                            : "no significant missing effect: the residual is " +
-                                  result.baseline_map.summary;
+    const DiscrepancyRound& last = result.rounds.back();
+    if (last.fitted && last.held_out.reduction > 0.0) {
+      // A fit that helped but did not pass: say so rather than "nothing explains it".
+      result.conclusion = "nothing named: " + last.verdict + "; baseline residual " + result.baseline_map.summary;
+    } else {
+      result.conclusion = result.baseline_map.structured
+                              ? "no candidate explains the residual; unexplained residual, " +
+                                    result.baseline_map.summary
+                              : "no significant missing effect: the residual is " +
+                                    result.baseline_map.summary;
+    }
   } else {
     result.conclusion = "named";
     for (const NamedEffect& e : result.effects) result.conclusion += " " + e.name;

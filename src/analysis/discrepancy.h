@@ -21,7 +21,9 @@ struct DiscrepancyOptions {
   PredictionOptions prediction;
   std::vector<std::string> candidates;  // effect names; empty = all of candidate_effects()
   // Held out: a quarter of the operating points (a point's repeats with it), but at least
-  // min_held_out_points (never more than half), so the held-out test has power on small sessions.
+  // min_held_out_points (never more than half), so the held-out tests have power on small
+  // sessions while the training points keep the power of the screening and of later rounds
+  // (docs/discrepancy.md, "Selection").
   double held_out_fraction = 0.25;
   int min_held_out_points = 12;
   std::uint64_t split_seed = 2019;

@@ -62,6 +62,42 @@ double signed_rank_p_value(std::span<const double> differences, double* w_plus) 
   return 0.5 * std::erfc(z / std::sqrt(2.0));
 }
 
+double sign_flip_p_value(std::span<const double> differences, std::uint64_t seed) {
+  std::vector<double> d;
+  for (double x : differences) {
+    if (std::isfinite(x)) d.push_back(x);
+  }
+  const std::size_t m = d.size();
+  if (m == 0) return 1.0;
+  double observed = 0.0;
+  for (double x : d) observed += x;
+  // Ties with the observed sum count as at least as extreme (a small tolerance for rounding).
+  const double tolerance = 1e-12 * std::max(1.0, std::abs(observed));
+  std::uint64_t at_least = 0, total = 0;
+  if (m <= 20) {
+    const std::uint64_t patterns = std::uint64_t{1} << m;
+    for (std::uint64_t bits = 0; bits < patterns; ++bits) {
+      double sum = 0.0;
+      for (std::size_t i = 0; i < m; ++i) sum += (bits >> i) & 1U ? -std::abs(d[i]) : std::abs(d[i]);
+      if (sum >= observed - tolerance) ++at_least;
+    }
+    return static_cast<double>(at_least) / static_cast<double>(patterns);
+  }
+  std::mt19937_64 rng(seed);
+  constexpr std::uint64_t kDraws = 200000;
+  for (total = 0; total < kDraws; ++total) {
+    double sum = 0.0;
+    std::uint64_t bits = 0;
+    for (std::size_t i = 0; i < m; ++i) {
+      if (i % 64 == 0) bits = rng();
+      sum += (bits >> (i % 64)) & 1U ? -std::abs(d[i]) : std::abs(d[i]);
+    }
+    if (sum >= observed - tolerance) ++at_least;
+  }
+  // The observed pattern counts as one of the draws: never p = 0 from a finite sample.
+  return static_cast<double>(at_least + 1) / static_cast<double>(total + 1);
+}
+
 HeldOutEvidence compare_held_out(const MeasurementSet& set, const ResidualModel& model,
                                  std::span<const double> r0, std::span<const double> r1,
                                  std::span<const std::size_t> held_out_slots, std::uint64_t seed) {
@@ -83,18 +119,21 @@ HeldOutEvidence compare_held_out(const MeasurementSet& set, const ResidualModel&
   e.rms_before = std::sqrt(ss0 / n);
   e.rms_after = std::sqrt(ss1 / n);
   e.reduction = ss0 > 0.0 ? 1.0 - std::sqrt(ss1 / ss0) : 0.0;
-  std::vector<double> differences;
+  std::vector<double> differences, squared_differences;
   std::vector<std::array<double, 3>> sums;
   for (const auto& [key, p] : points) {
     const double before = std::sqrt(p[0] / p[2]);
     const double after = std::sqrt(p[1] / p[2]);
     differences.push_back(before - after);
+    squared_differences.push_back((p[0] - p[1]) / p[2]);
     sums.push_back(p);
     ++e.points;
     if (after < before) ++e.improved;
     if (after == before) ++e.unchanged;
   }
-  e.p_value = signed_rank_p_value(differences, &e.signed_rank);
+  e.signed_rank_p = signed_rank_p_value(differences, &e.signed_rank);
+  e.sign_flip_p = sign_flip_p_value(squared_differences, seed);
+  e.p_value = std::min(1.0, 2.0 * std::min(e.signed_rank_p, e.sign_flip_p));
   // Percentile bootstrap of the reduction over operating points (2000 resamples).
   std::mt19937_64 rng(seed);
   constexpr int kResamples = 2000;

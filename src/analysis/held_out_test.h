@@ -6,6 +6,13 @@
 // of points would dominate any mean of squares; its null distribution (every sign equally
 // likely: the candidate is no better than the current model) is exact, counted over the 2^m
 // sign patterns, for up to 300 points, and the normal approximation with tie correction above.
+// Ranks weigh every point alike: an effect that removes a large residual at a few points and
+// leaves the rest to the noise goes unseen. The second test, Fisher-Pitman's sign-flip test of
+// S = sum (e0^2 - e1^2) (the reduction of the squared error itself), sees exactly that; its null
+// distribution is the same sign symmetry, exact over all 2^m patterns up to m = 20 and from
+// 200 000 seeded random patterns above. A single wild point cannot carry it: flipping that
+// point's sign is half of its null distribution. The two are combined by Bonferroni: the
+// evidence p is twice the smaller one, so the level of the combination is the stated one.
 // A percentile bootstrap over the held-out points gives an interval of the relative RMS
 // reduction, reported as the size of the improvement.
 #pragma once
@@ -25,7 +32,9 @@ struct HeldOutEvidence {
   int improved = 0;         // points whose pooled error went down
   int unchanged = 0;        // points whose error did not change at all (left out of the ranks)
   double signed_rank = 0.0; // W+: sum of the ranks of the improvements
-  double p_value = 1.0;     // one-sided P(W+ >= observed) under "no better"
+  double signed_rank_p = 1.0;  // one-sided P(W+ >= observed) under "no better"
+  double sign_flip_p = 1.0;    // one-sided P(S >= observed), S = sum of e0^2 - e1^2, random signs
+  double p_value = 1.0;        // combined: 2 min(signed_rank_p, sign_flip_p), at most 1
   double rms_before = 0.0;  // relative, over the held-out values
   double rms_after = 0.0;
   double reduction = 0.0;       // 1 - rms_after / rms_before
@@ -37,6 +46,10 @@ struct HeldOutEvidence {
 // `differences` (> 0: improvement). Zero differences are dropped (Wilcoxon's convention); ties
 // get mid-ranks. Returns 1 when nothing is left.
 [[nodiscard]] double signed_rank_p_value(std::span<const double> differences, double* w_plus = nullptr);
+
+// One-sided p-value of the sign-flip test of sum(differences) (> 0: improvement); `seed` fixes
+// the random patterns used above 20 values. Returns 1 for no values.
+[[nodiscard]] double sign_flip_p_value(std::span<const double> differences, std::uint64_t seed = 2019);
 
 // Compares residuals r0 (current model) and r1 (candidate) over the held-out slots; values are
 // grouped by operating point (vpp, frequency, load). `seed` fixes the bootstrap.

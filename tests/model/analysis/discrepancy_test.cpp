@@ -150,7 +150,14 @@ TEST(Discrepancy, TwoHiddenEffectsAreNamedInOrderOfSize) {
 
   const DiscrepancyResult r =
       run_discrepancy(baseline, synth(both, points, 0.02, 9), {}, test::two_thread_for);
-  ASSERT_GE(r.effects.size(), 2u) << r.conclusion;
+  std::string rounds;
+  for (const auto& round : r.rounds) {
+    rounds += "\n  " + round.verdict;
+    for (const auto& c : round.candidates) {
+      rounds += "\n    " + c.name + " " + std::to_string(c.value) + " dBIC " + std::to_string(c.delta_bic);
+    }
+  }
+  ASSERT_GE(r.effects.size(), 2u) << r.conclusion << rounds;
   EXPECT_EQ(r.effects[0].name, larger) << "sizes " << size_guide << " / " << size_droop;
   EXPECT_EQ(r.effects[1].name, smaller);
 }

@@ -41,19 +41,48 @@ TEST(SignedRank, TiesGetMidRanks) {
 }
 
 TEST(SignedRank, NormalApproximationAgreesWithTheExactTailAtTheBoundary) {
-  // 300 points is still exact; 301 uses the normal approximation. Alternating signs with a
-  // slight excess of improvements: both tails near the middle and close to each other.
+  // The same statistic near p = 0.05 counted exactly (300 points) and approximated (301: the
+  // extra point is the smallest, worse, so it barely moves W+): the two tails agree closely.
   std::vector<double> d;
-  for (int i = 1; i <= 301; ++i) d.push_back((i % 3 == 0 ? -1.0 : 1.0) * i);
+  for (int i = 1; i <= 300; ++i) d.push_back((i % 2 == 0 ? 1.0 : -1.0) * (i + 10));
+  // Flip worse points to better, largest first, until the one-sided p is a few per cent.
+  double exact = signed_rank_p_value(d);
+  for (std::size_t i = d.size(); i-- > 0 && exact > 0.05;) {
+    if (d[i] < 0.0) d[i] = -d[i];
+    exact = signed_rank_p_value(d);
+  }
+  ASSERT_GT(exact, 0.005);
+  ASSERT_LT(exact, 0.2);
+  d.push_back(-0.5);
   const double approx = signed_rank_p_value(d);
-  d.pop_back();
-  const double exact = signed_rank_p_value(d);
-  EXPECT_GT(exact, 0.0);
-  EXPECT_LT(exact, 1e-6);  // two thirds improved, over 300 points: overwhelming
-  EXPECT_LT(approx, 1e-6);
+  EXPECT_NEAR(approx, exact, 0.15 * exact);
   std::vector<double> balanced;
   for (int i = 1; i <= 400; ++i) balanced.push_back((i % 2 == 0 ? -1.0 : 1.0) * i);
   EXPECT_NEAR(signed_rank_p_value(balanced), 0.5, 0.1);
+}
+
+TEST(SignFlip, ExactTailCountsSignPatterns) {
+  // Sums of +-1, +-2, +-4: the 8 patterns give 8 distinct sums; 7 is the largest (p = 1/8);
+  // 3 (= 1 - 2 + 4) is reached or beaten by 3, 5 and 7 (p = 3/8).
+  EXPECT_DOUBLE_EQ(sign_flip_p_value(std::vector<double>{1.0, 2.0, 4.0}), 1.0 / 8.0);
+  EXPECT_DOUBLE_EQ(sign_flip_p_value(std::vector<double>{1.0, -2.0, 4.0}), 3.0 / 8.0);  // 3, 5, 7
+  EXPECT_DOUBLE_EQ(sign_flip_p_value(std::vector<double>{}), 1.0);
+}
+
+TEST(SignFlip, OneWildPointCannotCarryIt) {
+  // One large improvement among small balanced differences: the patterns that keep its sign
+  // (half of them) and do not lose on the rest (P(at least 7 of 14 positive) = 0.605) reach it,
+  // p = 0.30 - far from any level.
+  std::vector<double> d{50.0};
+  for (int i = 0; i < 14; ++i) d.push_back(i % 2 == 0 ? 0.1 : -0.1);
+  EXPECT_NEAR(sign_flip_p_value(d), 0.5 * 0.6047, 0.001);
+}
+
+TEST(SignFlip, RandomPatternsAgreeWithTheExactCountAbove20) {
+  // 21 equal improvements but 7 worse: the exact tail is P(Binomial(21, 1/2) <= 7) = 0.0946.
+  std::vector<double> d;
+  for (int i = 0; i < 21; ++i) d.push_back(i < 7 ? -1.0 : 1.0);
+  EXPECT_NEAR(sign_flip_p_value(d), 0.0946, 0.004);
 }
 
 TEST(HeldOut, PoolsTheValuesOfOnePointAndBootstrapsTheReduction) {
