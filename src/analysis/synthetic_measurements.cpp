@@ -1,6 +1,7 @@
 #include "analysis/synthetic_measurements.h"
 
 #include <algorithm>
+#include <map>
 #include <cmath>
 #include <numbers>
 
@@ -54,11 +55,24 @@ MeasurementSet synthesize_measurements(const MotorParameters& parameters,
     set.has_time &= m.time_s.has_value();
     set.has_sweep &= m.sweep.has_value();
   }
+  // A diverged reading is left out, and it handed the rest state on to the next reading of its
+  // sweep: the rest of that sweep gets a fresh id, so a prediction of the file starts it from
+  // rest too (as a device restarts a curve after a fault).
+  int next_sweep = 0;
+  for (const Measurement& m : points) next_sweep = std::max(next_sweep, m.sweep.value_or(-1) + 1);
+  std::map<int, int> renamed;
   for (std::size_t r = 0; r < readings.size(); ++r) {
     const PredictedPoint& p = predicted[0][r];
     const Measurement& point = points[r / static_cast<std::size_t>(repeats)];
-    if (!p.ok) continue;
+    if (!p.ok) {
+      if (point.sweep) renamed[*point.sweep] = next_sweep++;
+      continue;
+    }
     Measurement row = point;  // the nominal frequency: what the user set
+    if (row.sweep) {
+      const auto it = renamed.find(*row.sweep);
+      if (it != renamed.end()) row.sweep = it->second;
+    }
     if (!set.has_time) row.time_s.reset();
     if (!set.has_sweep) row.sweep.reset();
     for (Quantity q : kQuantities) {
