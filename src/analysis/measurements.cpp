@@ -270,6 +270,12 @@ MeasurementSet parse_csv(std::string_view text, std::string_view source, bool ne
       const std::string name = k == kTime ? set.time_column : std::string(kNames[static_cast<std::size_t>(k)]);
       auto& value = v[static_cast<std::size_t>(k)];
       value = reader.number(cells[static_cast<std::size_t>(c)], line_number, c + 1, name);
+      // A log's first rows can come before the device clock does (CAN: the first Clock frame):
+      // such a row is left out with its reason, not the whole file refused.
+      if (k == kTime && !value && set.time_column == kDeviceTime) {
+        if (reason.empty()) reason = "no_device_time";
+        continue;
+      }
       const bool required = k == kVpp || k == kFrequency || k == kLoad || k == kTime || k == kSweep;
       if (required && !value) reader.fail(line_number, c + 1, "column " + name + " is empty");
       if (!value) continue;

@@ -189,8 +189,11 @@ TEST(UsersDataNegativeControl, NamesNothingInAtLeast95PercentOfSessions) {
   }
   int named = 0;
   std::string namings;
+  std::vector<int> named_by_design(designs.size(), 0), sessions_by_design(designs.size(), 0);
   for (int s = 0; s < sessions; ++s) {
-    const Design& d = designs[static_cast<std::size_t>(s) % designs.size()];
+    const std::size_t which = static_cast<std::size_t>(s) % designs.size();
+    const Design& d = designs[which];
+    ++sessions_by_design[which];
     const auto seed = static_cast<std::uint64_t>(7919 * (s + 1));
     const std::vector<Measurement> points = design_points(d, seed);
     const MeasurementSet data =
@@ -198,6 +201,7 @@ TEST(UsersDataNegativeControl, NamesNothingInAtLeast95PercentOfSessions) {
     const DiscrepancyResult r = run_discrepancy(baseline, data, {}, test::two_thread_for);
     if (!r.effects.empty()) {
       ++named;
+      ++named_by_design[which];
       namings += std::string("\n  ") + d.name + " seed " + std::to_string(seed) + ": " + r.conclusion;
     }
   }
@@ -214,6 +218,9 @@ TEST(UsersDataNegativeControl, NamesNothingInAtLeast95PercentOfSessions) {
   }
   std::printf("negative control: %d of %d sessions named an effect (rate %.3f, 95 %% upper bound %.3f)\n",
               named, sessions, static_cast<double>(named) / sessions, hi);
+  for (std::size_t k = 0; k < designs.size(); ++k) {
+    std::printf("  %-36s %d of %d named\n", designs[k].name, named_by_design[k], sessions_by_design[k]);
+  }
   EXPECT_LE(named * 20, sessions) << namings;
 }
 

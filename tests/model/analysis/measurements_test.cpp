@@ -197,7 +197,15 @@ TEST(Measurements, SweepAndLogColumnsAreCheckedToo) {
             "data.csv:2:7: column state: 1.5 is not a whole number");
   EXPECT_EQ(error_of(log_header + "1.0,250,40500,0,120,90,2,\n"), "data.csv:2:8: column fault_code is empty");
   EXPECT_EQ(error_of(log_header + "1.0,250,40500,0,120,,1,0\n"), "data.csv:2:6: column phase_deg is empty");
-  EXPECT_EQ(error_of(log_header + ",250,40500,0,120,90,1,0\n"), "data.csv:2:1: column device_time_s is empty");
+  // A log row before the device clock arrived is left out with its reason; the file is refused
+  // only when no row is left.
+  EXPECT_EQ(error_of(log_header + ",250,40500,0,120,90,1,0\n"),
+            "data.csv:3: no usable rows: 1 row left out (1 no_device_time)");
+  const MeasurementSet set =
+      parse_measurements_csv(log_header + ",250,40500,0,120,90,1,0\n0.5,250,40500,0,121,90,1,0\n", "data.csv");
+  ASSERT_EQ(set.rows.size(), 1u);
+  EXPECT_EQ(set.skipped_by_reason.at("no_device_time"), 1);
+  EXPECT_EQ(*set.rows[0].time_s, 0.5);
 }
 
 TEST(Measurements, OperatingPointsNeedNoQuantities) {
