@@ -324,14 +324,15 @@ void run_discrepancy_command(const DiscrepancyCommandOptions& o) {
     std::fprintf(stderr, "%s: %s\n", o.measured_path.c_str(), note.c_str());
   }
   if (o.quantities) keep_quantities(measured, split_list(*o.quantities));
-  // A quarter of the operating points (at least 12, at most half) are held out for scoring:
-  // fewer points than this cannot say anything either way.
-  constexpr std::size_t kMinOperatingPoints = 12;
+  // A quarter of the operating points (at least 12, at most half) are held out for scoring. The
+  // smallest combined held-out p is 2 x 2^-m for m held-out points: below 16 points (8 held
+  // out) no effect could ever reach 0.01, so such a file cannot say anything either way.
+  constexpr std::size_t kMinOperatingPoints = 16;
   const std::size_t operating_points = count_operating_points(measured);
   if (operating_points < kMinOperatingPoints) {
     throw CommandError(o.measured_path + ": " + std::to_string(operating_points) +
                        " distinct operating points; the workflow needs at least " +
-                       std::to_string(kMinOperatingPoints) + " (at least 6 are held out for scoring)");
+                       std::to_string(kMinOperatingPoints) + " (8 held out, the fewest whose held-out tests can reach p < 0.01)");
   }
   // The output directory first: a bad path must not fail after a minute of fitting.
   const fs::path dir(o.out_dir);

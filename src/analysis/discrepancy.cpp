@@ -280,8 +280,8 @@ DiscrepancyResult run_discrepancy(const MotorParameters& baseline, const Measure
     }
     // Full fit of the best screened candidate, jointly with the effects named before it. From
     // the second round on, an earlier fit may have absorbed part of the new effect, which can
-    // misrank the screening: the three best screened candidates are fitted and the one with
-    // the lowest BIC among those passing both tests is named.
+    // misrank the screening: the three best screened candidates are fitted, the one with the
+    // lowest training BIC is chosen, and only that one is tested on the held-out points.
     std::vector<std::size_t> ranked;
     for (std::size_t k : active) {
       if (round.candidates[k].delta_bic < -options.bic_margin) ranked.push_back(k);
@@ -326,6 +326,11 @@ DiscrepancyResult run_discrepancy(const MotorParameters& baseline, const Measure
       const bool better = !chosen || (trial.fit.ok && !chosen->fit.ok) ||
                           (trial.fit.ok == chosen->fit.ok && trial.bic < chosen->bic);
       if (better) chosen = std::move(trial);
+    }
+    if (!chosen) {  // nothing ranked (a delta BIC exactly at the margin, or not a number)
+      round.verdict = "no candidate lowers the BIC by more than " + format("%.3g", options.bic_margin);
+      result.rounds.push_back(round);
+      break;
     }
     chosen->evidence = compare_held_out(set, model, current_r, chosen->residuals, test, options.split_seed);
     chosen->passes = chosen->fit.ok && chosen->bic < -options.bic_margin && chosen->evidence.p_value < options.significance;
@@ -401,8 +406,8 @@ DiscrepancyResult run_discrepancy(const MotorParameters& baseline, const Measure
     g.rms_after = std::sqrt(g.rms_after / g.count);
   }
   if (result.effects.empty()) {
-    const DiscrepancyRound& last = result.rounds.back();
-    if (last.fitted && last.held_out.reduction > 0.0) {
+    if (!result.rounds.empty() && result.rounds.back().fitted && result.rounds.back().held_out.reduction > 0.0) {
+      const DiscrepancyRound& last = result.rounds.back();
       // A fit that helped but did not pass: say so rather than "nothing explains it".
       result.conclusion = "nothing named: " + last.verdict + "; baseline residual " + result.baseline_map.summary;
     } else {

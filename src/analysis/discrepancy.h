@@ -30,8 +30,8 @@ struct DiscrepancyOptions {
   double floor_fraction = 0.05;         // residual floor (ResidualModel)
   // A candidate is named only if both: its BIC on the training points is lower by more than
   // bic_margin (Kass-Raftery "very strong": 10), AND on the held-out points it predicts better
-  // by the one-sided Wilcoxon signed-rank test of the per-point errors at this significance
-  // level (held_out_test.h).
+  // by the one-sided signed-rank and sign-flip tests of the per-point errors, Bonferroni-
+  // combined, at this significance level (held_out_test.h).
   double bic_margin = 10.0;
   double significance = 0.01;
   // The named value is the Cauchy M-estimate started from the least-squares fit (effect_fit.h).

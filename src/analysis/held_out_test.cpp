@@ -71,8 +71,11 @@ double sign_flip_p_value(std::span<const double> differences, std::uint64_t seed
   if (m == 0) return 1.0;
   double observed = 0.0;
   for (double x : d) observed += x;
-  // Ties with the observed sum count as at least as extreme (a small tolerance for rounding).
-  const double tolerance = 1e-12 * std::max(1.0, std::abs(observed));
+  // Ties with the observed sum count as at least as extreme (a tolerance for the rounding of
+  // sums of these magnitudes).
+  double magnitude = 0.0;
+  for (double x : d) magnitude += std::abs(x);
+  const double tolerance = 1e-12 * std::max(1.0, magnitude);
   std::uint64_t at_least = 0, total = 0;
   if (m <= 20) {
     const std::uint64_t patterns = std::uint64_t{1} << m;
@@ -132,7 +135,7 @@ HeldOutEvidence compare_held_out(const MeasurementSet& set, const ResidualModel&
     if (after == before) ++e.unchanged;
   }
   e.signed_rank_p = signed_rank_p_value(differences, &e.signed_rank);
-  e.sign_flip_p = sign_flip_p_value(squared_differences, seed);
+  e.sign_flip_p = sign_flip_p_value(squared_differences, seed ^ 0x9E3779B97F4A7C15ULL);  // own stream
   e.p_value = std::min(1.0, 2.0 * std::min(e.signed_rank_p, e.sign_flip_p));
   // Percentile bootstrap of the reduction over operating points (2000 resamples).
   std::mt19937_64 rng(seed);

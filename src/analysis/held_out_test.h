@@ -6,9 +6,10 @@
 // of points would dominate any mean of squares; its null distribution (every sign equally
 // likely: the candidate is no better than the current model) is exact, counted over the 2^m
 // sign patterns, for up to 300 points, and the normal approximation with tie correction above.
-// Ranks weigh every point alike: an effect that removes a large residual at a few points and
-// leaves the rest to the noise goes unseen. The second test, Fisher-Pitman's sign-flip test of
-// S = sum (e0^2 - e1^2) (the reduction of the squared error itself), sees exactly that; its null
+// Ranks weigh every point alike. The second test, Fisher-Pitman's sign-flip test of
+// S = sum (e0^2 - e1^2) (the reduction of the squared error itself), weighs each point by the
+// squared error it removed, so large gains with small losses elsewhere count more (it still
+// needs some 7 gaining points to reach 0.005: with k carrying the gain, p >~ 2^-(k+1)); its null
 // distribution is the same sign symmetry, exact over all 2^m patterns up to m = 20 and from
 // 200 000 seeded random patterns above. A single wild point cannot carry it: flipping that
 // point's sign is half of its null distribution. The two are combined by Bonferroni: the

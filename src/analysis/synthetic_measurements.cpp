@@ -56,23 +56,27 @@ MeasurementSet synthesize_measurements(const MotorParameters& parameters,
     set.has_sweep &= m.sweep.has_value();
   }
   // A diverged reading is left out, and it handed the rest state on to the next reading of its
-  // sweep: the rest of that sweep gets a fresh id, so a prediction of the file starts it from
-  // rest too (as a device restarts a curve after a fault).
+  // sweep (in session order): the rest of that sweep gets a fresh id, so a prediction of the file
+  // starts it from rest too (as a device restarts a curve after a fault).
   int next_sweep = 0;
   for (const Measurement& m : points) next_sweep = std::max(next_sweep, m.sweep.value_or(-1) + 1);
+  std::vector<std::optional<int>> sweep_of(readings.size());
   std::map<int, int> renamed;
+  for (std::size_t r : session_order(readings)) {
+    sweep_of[r] = readings[r].sweep;
+    if (!readings[r].sweep) continue;
+    if (!predicted[0][r].ok) {
+      renamed[*readings[r].sweep] = next_sweep++;
+    } else if (const auto it = renamed.find(*readings[r].sweep); it != renamed.end()) {
+      sweep_of[r] = it->second;
+    }
+  }
   for (std::size_t r = 0; r < readings.size(); ++r) {
     const PredictedPoint& p = predicted[0][r];
     const Measurement& point = points[r / static_cast<std::size_t>(repeats)];
-    if (!p.ok) {
-      if (point.sweep) renamed[*point.sweep] = next_sweep++;
-      continue;
-    }
+    if (!p.ok) continue;
     Measurement row = point;  // the nominal frequency: what the user set
-    if (row.sweep) {
-      const auto it = renamed.find(*row.sweep);
-      if (it != renamed.end()) row.sweep = it->second;
-    }
+    row.sweep = sweep_of[r];
     if (!set.has_time) row.time_s.reset();
     if (!set.has_sweep) row.sweep.reset();
     for (Quantity q : kQuantities) {

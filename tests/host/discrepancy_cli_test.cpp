@@ -92,7 +92,7 @@ TEST(SwumDiscrepancy, BadInputsAreOneLineErrorsWithExitCodes) {
   r = run_swum({"discrepancy", "--config", kConfig, "--measured", few.string(), "--out",
                 scratch("few_out").string()});
   EXPECT_EQ(r.status, 1) << r.output;
-  EXPECT_NE(r.output.find("2 distinct operating points; the workflow needs at least 12"), std::string::npos)
+  EXPECT_NE(r.output.find("2 distinct operating points; the workflow needs at least 16"), std::string::npos)
       << r.output;
   r = run_swum({"discrepancy", "--config", kConfig, "--measured", few.string(), "--out",
                 scratch("few_out").string(), "--effects", ","});
