@@ -173,7 +173,13 @@ def interrupt_modbus():
         os.kill(proc.pid, signal.SIGINT)
         out, err = proc.communicate(timeout=30)
         check(proc.returncode == 130, f"exit {proc.returncode} after Ctrl-C: {err}")
-        regs = MAP.decode_inputs(c.read_input_registers(0, MAP.input_count, slave=1).registers)
+        # The disable swum sent on its way out takes effect at the emulator's next loop tick:
+        # poll for it with a deadline instead of reading once.
+        deadline = time.monotonic() + 5
+        while True:
+            regs = MAP.decode_inputs(c.read_input_registers(0, MAP.input_count, slave=1).registers)
+            if regs["state"] == 0 or time.monotonic() > deadline:
+                break
         check(regs["state"] == 0, f"drive not disabled after Ctrl-C: state {regs['state']}")
         with open(out_csv) as f:
             rows = list(csv.DictReader(f))
