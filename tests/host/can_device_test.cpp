@@ -4,6 +4,8 @@
 #include "can_device.h"
 
 #include <gtest/gtest.h>
+
+#include <chrono>
 #include <linux/can/error.h>
 
 #include <atomic>
@@ -107,8 +109,13 @@ TEST(CanDevice, SendsValidCommandFramesWithAdvancingAliveCounters) {
     for (int i = 0; i < 40; ++i) device.command(DeviceAction::keep_alive);  // wraps the 4-bit counter
     device.command(DeviceAction::disable);
     device.command(DeviceAction::reset_fault);
-    (void)device.read();  // the node has seen our frames by the time its next set arrives
     (void)device.read();
+  }
+  // The node's thread takes the frames off the bus on its own schedule (slow on a loaded
+  // machine): wait until it has all 44, with a deadline, rather than assume it has.
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(10);
+  while (node.commands().size() < 44u && std::chrono::steady_clock::now() < deadline) {
+    std::this_thread::yield();
   }
   const auto commands = node.commands();
   ASSERT_EQ(commands.size(), 44u);
