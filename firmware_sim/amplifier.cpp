@@ -5,74 +5,13 @@
 
 namespace swum::emu {
 
-const char* to_string(AmpState state) {
-  switch (state) {
-    case AmpState::disabled: return "disabled";
-    case AmpState::enabled: return "enabled";
-    case AmpState::fault: return "fault";
-  }
-  return "?";
-}
-
-const char* to_string(FaultCode fault) {
-  switch (fault) {
-    case FaultCode::none: return "none";
-    case FaultCode::command_timeout: return "command timeout";
-    case FaultCode::numerical: return "numerical blow-up";
-  }
-  return "?";
-}
-
-const char* to_string(Reason reason) {
-  switch (reason) {
-    case Reason::none: return "none";
-    case Reason::frequency_out_of_range: return "frequency out of range";
-    case Reason::amplitude_out_of_range: return "amplitude out of range";
-    case Reason::phase_out_of_range: return "phase out of range";
-    case Reason::load_out_of_range: return "load out of range";
-    case Reason::slew_out_of_range: return "slew limit out of range";
-    case Reason::unknown_command: return "unknown command";
-    case Reason::bad_checksum: return "bad checksum";
-    case Reason::stale_alive_counter: return "stale alive counter";
-    case Reason::wrong_length: return "wrong length";
-    case Reason::illegal_address: return "illegal address";
-    case Reason::split_value: return "split 32-bit value";
-    case Reason::fault_active: return "fault active";
-    case Reason::enable_line_low: return "enable line low";
-    case Reason::queue_full: return "queue full";
-    case Reason::reserved_bits: return "reserved bits set";
-    case Reason::illegal_function: return "illegal function";
-  }
-  return "?";
-}
-
 namespace {
-bool in_range(double x, double lo, double hi) { return std::isfinite(x) && x >= lo && x <= hi; }
-
 double slew(double current, double target, double rate_per_s, double dt) {
   if (rate_per_s <= 0.0) return target;
   const double step = rate_per_s * dt;
   return current + std::clamp(target - current, -step, step);
 }
 }  // namespace
-
-Reason validate(const Command& c, const AmplifierLimits& l) {
-  if ((c.fields & Command::kAction) && static_cast<std::uint8_t>(c.action) > kMaxAction) return Reason::unknown_command;
-  if ((c.fields & Command::kFrequency) && !in_range(c.frequency_hz, l.min_frequency_hz, l.max_frequency_hz))
-    return Reason::frequency_out_of_range;
-  if ((c.fields & Command::kAmplitude) && !in_range(c.amplitude_vpp, 0.0, l.max_amplitude_vpp))
-    return Reason::amplitude_out_of_range;
-  if ((c.fields & Command::kPhase) && !in_range(c.phase_deg, -l.max_abs_phase_deg, l.max_abs_phase_deg))
-    return Reason::phase_out_of_range;
-  if ((c.fields & Command::kLoad) && !in_range(c.load_n, -l.max_abs_load_n, l.max_abs_load_n))
-    return Reason::load_out_of_range;
-  if ((c.fields & Command::kFrequencySlew) && !in_range(c.frequency_slew_hz_per_s, 0.0, l.max_frequency_slew_hz_per_s))
-    return Reason::slew_out_of_range;
-  if ((c.fields & Command::kAmplitudeSlew) &&
-      !in_range(c.amplitude_slew_vpp_per_s, 0.0, l.max_amplitude_slew_vpp_per_s))
-    return Reason::slew_out_of_range;
-  return Reason::none;
-}
 
 Amplifier::Amplifier(const AmplifierConfig& config) : config_(config) {
   setpoints_.frequency_hz = config.frequency_hz;

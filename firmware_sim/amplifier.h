@@ -6,87 +6,29 @@
 //   disabled --enable--> enabled --disable / enable line low--> disabled
 //   enabled --watchdog timeout / numerical blow-up--> fault --reset_fault--> disabled
 //
-// Reason and fault codes are part of the wire protocols (docs/protocols.md): never renumber.
 #pragma once
 
 #include <cstdint>
 
+#include "codes.h"
+#include "command.h"
 #include "model/motor_model.h"
 
 namespace swum::emu {
 
-enum class AmpState : std::uint8_t { disabled = 0, enabled = 1, fault = 2 };
-
-enum class FaultCode : std::uint8_t {
-  none = 0,
-  command_timeout = 1,  // watchdog: no valid command for longer than the timeout while enabled
-  numerical = 2,        // the model blew up (NaN/Inf, runaway amplitude or speed)
-};
-
-// Why a command was rejected (0 = accepted).
-enum class Reason : std::uint8_t {
-  none = 0,
-  frequency_out_of_range = 1,
-  amplitude_out_of_range = 2,
-  phase_out_of_range = 3,
-  load_out_of_range = 4,
-  slew_out_of_range = 5,
-  unknown_command = 6,       // action / mode code not defined
-  bad_checksum = 7,          // CAN CRC
-  stale_alive_counter = 8,   // CAN alive counter repeated or went backwards
-  wrong_length = 9,          // CAN DLC, Modbus quantity / byte count
-  illegal_address = 10,      // Modbus address range not in the map / read-only
-  split_value = 11,          // Modbus write covering half of a 32-bit value
-  fault_active = 12,         // enable while in fault (reset the fault first)
-  enable_line_low = 13,      // enable while the hardware enable input is low
-  queue_full = 14,           // command queue full (transport refused it on the spot)
-  reserved_bits = 15,        // CAN reserved bits not zero
-  illegal_function = 16,     // Modbus function code not supported
-};
-
-const char* to_string(AmpState state);
-const char* to_string(FaultCode fault);
-const char* to_string(Reason reason);
-
-enum class Action : std::uint8_t { none = 0, enable = 1, disable = 2, reset_fault = 3 };
-inline constexpr std::uint8_t kMaxAction = 3;
-
-enum class CommandSource : std::uint8_t { modbus = 0, can = 1, internal = 2 };
-
-// A (partial) command: only the fields flagged in `fields` are changed. Action `none` with no
-// fields is a keep-alive (feeds the watchdog).
-struct Command {
-  static constexpr std::uint32_t kAction = 1U << 0;
-  static constexpr std::uint32_t kFrequency = 1U << 1;
-  static constexpr std::uint32_t kAmplitude = 1U << 2;
-  static constexpr std::uint32_t kPhase = 1U << 3;
-  static constexpr std::uint32_t kLoad = 1U << 4;
-  static constexpr std::uint32_t kFrequencySlew = 1U << 5;
-  static constexpr std::uint32_t kAmplitudeSlew = 1U << 6;
-
-  std::uint32_t fields = 0;
-  Action action = Action::none;
-  CommandSource source = CommandSource::internal;
-  double frequency_hz = 0.0;
-  double amplitude_vpp = 0.0;
-  double phase_deg = 0.0;
-  double load_n = 0.0;
-  double frequency_slew_hz_per_s = 0.0;   // 0 = unlimited
-  double amplitude_slew_vpp_per_s = 0.0;  // 0 = unlimited
-  std::uint64_t sequence = 0;             // set by the transport (for latency measurement)
-  std::uint64_t accepted_ns = 0;          // CLOCK_MONOTONIC receive time: Modbus when the transport
-                                          // accepted it, CAN the bus's (kernel's) rx timestamp
-};
-
-struct AmplifierLimits {
-  double min_frequency_hz = 30000.0;
-  double max_frequency_hz = 50000.0;
-  double max_amplitude_vpp = 600.0;
-  double max_abs_phase_deg = 180.0;
-  double max_abs_load_n = 30.0;
-  double max_frequency_slew_hz_per_s = 1.0e7;
-  double max_amplitude_slew_vpp_per_s = 1.0e7;
-};
+// The codes, the command value and the limits are the protocol's (protocol/): the amplifier
+// implements them.
+using protocol::Action;
+using protocol::AmplifierLimits;
+using protocol::AmplifierSetpoints;
+using protocol::AmpState;
+using protocol::Command;
+using protocol::CommandSource;
+using protocol::FaultCode;
+using protocol::kMaxAction;
+using protocol::Reason;
+using protocol::to_string;
+using protocol::validate;
 
 struct AmplifierConfig {
   AmplifierLimits limits;
@@ -97,18 +39,6 @@ struct AmplifierConfig {
   double phase_deg = 90.0;
   double frequency_slew_hz_per_s = 1.0e6;   // 1 kHz/ms; 0 = unlimited
   double amplitude_slew_vpp_per_s = 1.0e5;  // 100 Vpp/ms; 0 = unlimited
-};
-
-// Static validation (ranges, codes): what every transport checks before queueing a command.
-Reason validate(const Command& command, const AmplifierLimits& limits);
-
-struct AmplifierSetpoints {
-  double frequency_hz = 0.0;
-  double amplitude_vpp = 0.0;
-  double phase_deg = 0.0;
-  double load_n = 0.0;
-  double frequency_slew_hz_per_s = 0.0;
-  double amplitude_slew_vpp_per_s = 0.0;
 };
 
 class Amplifier {

@@ -50,13 +50,13 @@ CanTransport::CanTransport(std::unique_ptr<io::CanBus> rx_bus, std::unique_ptr<i
     : rx_bus_(std::move(rx_bus)),
       tx_bus_(std::move(tx_bus)),
       config_(config),
-      ids_(can::ids_for_node(config.node)),
+      ids_(protocol::can::ids_for_node(config.node)),
       shared_(shared),
       limits_(limits) {
-  if (config.node < can::kMinNode || config.node > can::kMaxNode)
+  if (config.node < protocol::can::kMinNode || config.node > protocol::can::kMaxNode)
     throw std::invalid_argument("CAN node id must be 1..127");
-  const std::array<io::CanFilter, 2> filters{io::CanFilter{ids_.command, 0x7FF, false},
-                                             io::CanFilter{ids_.aux, 0x7FF, false}};
+  const std::array<io::CanFilter, 2> filters{io::CanFilter{ids_.command, io::kCanStandardIdMax, false},
+                                             io::CanFilter{ids_.aux, io::kCanStandardIdMax, false}};
   const io::CanResult r = rx_bus_->set_filters(filters);
   if (!r.ok()) throw std::runtime_error("CAN: cannot set receive filters on " + rx_bus_->name() + ": " + r.message);
 }
@@ -75,7 +75,7 @@ void CanTransport::stop() {
 }
 
 void CanTransport::rx_loop() {
-  can::AliveCounter command_alive, aux_alive;
+  protocol::can::AliveCounter command_alive, aux_alive;
   io::CanFrame frame;
   std::uint64_t reported_errors = 0;
   while (!stopping_.load(std::memory_order_relaxed)) {
@@ -116,11 +116,11 @@ void CanTransport::rx_loop() {
     Reason reason = Reason::none;
     Command command;
     if (frame.id == ids_.command && !frame.extended) {
-      can::CommandFrame c;
-      reason = can::decode_command(frame, c);
+      protocol::can::CommandFrame c;
+      reason = protocol::can::decode_command(frame, c);
       if (reason == Reason::none) reason = command_alive.check(c.alive, stamp.monotonic_ns);
       if (reason == Reason::none) {
-        command = can::to_command(c);
+        command = protocol::can::to_command(c);
         reason = validate(command, limits_);
       }
       if (reason == Reason::none) {
@@ -129,11 +129,11 @@ void CanTransport::rx_loop() {
         if (reason == Reason::none) command_alive.accept(c.alive, stamp.monotonic_ns);
       }
     } else if (frame.id == ids_.aux && !frame.extended) {
-      can::AuxFrame a;
-      reason = can::decode_aux(frame, a);
+      protocol::can::AuxFrame a;
+      reason = protocol::can::decode_aux(frame, a);
       if (reason == Reason::none) reason = aux_alive.check(a.alive, stamp.monotonic_ns);
       if (reason == Reason::none) {
-        command = can::to_command(a);
+        command = protocol::can::to_command(a);
         reason = validate(command, limits_);
       }
       if (reason == Reason::none) {
@@ -174,19 +174,19 @@ void CanTransport::tx_loop() {
   std::uint8_t counter = 0;
   while (!stopping_.load(std::memory_order_relaxed)) {
     const Telemetry t = shared_.telemetry.load();
-    const modbus::RejectSnapshot rejects{static_cast<Reason>(shared_.rejects.last_reason.load()),
+    const RejectSnapshot rejects{static_cast<Reason>(shared_.rejects.last_reason.load()),
                                          shared_.rejects.count.load()};
     if (config_.telemetry_hz > 0) {
-      send(can::encode_status(t, rejects, counter++, ids_.status));
-      send(can::encode_motion(t, ids_.motion));
-      send(can::encode_drive(t, ids_.drive));
-      send(can::encode_loop_stats(t, ids_.loop_stats));
-      send(can::encode_clock(t, ids_.clock));
-      send(can::encode_output(t, ids_.output));
+      send(protocol::can::encode_status(t, rejects, counter++, ids_.status));
+      send(protocol::can::encode_motion(t, ids_.motion));
+      send(protocol::can::encode_drive(t, ids_.drive));
+      send(protocol::can::encode_loop_stats(t, ids_.loop_stats));
+      send(protocol::can::encode_clock(t, ids_.clock));
+      send(protocol::can::encode_output(t, ids_.output));
     }
     const std::int64_t now = monotonic_ns();
     if (heartbeat > 0 && now >= next_heartbeat) {
-      send(can::encode_heartbeat(ids_.heartbeat));
+      send(protocol::can::encode_heartbeat(ids_.heartbeat));
       next_heartbeat += heartbeat;
       if (next_heartbeat < now) next_heartbeat = now + heartbeat;
     }

@@ -15,9 +15,9 @@
 
 #include "amplifier.h"
 #include "can_bus.h"
-#include "can_protocol.h"
+#include "can_codec.h"
 #include "loop_statistics.h"
-#include "telemetry.h"
+#include "shared_state.h"
 
 namespace swum::emu {
 
@@ -80,7 +80,7 @@ class CanTransport {
   std::unique_ptr<io::CanBus> rx_bus_;
   std::unique_ptr<io::CanBus> tx_bus_;
   CanTransportConfig config_;
-  can::Ids ids_;
+  protocol::can::Ids ids_;
   SharedState& shared_;
   AmplifierLimits limits_;
   std::atomic<bool> stopping_{false};

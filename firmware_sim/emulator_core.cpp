@@ -47,7 +47,7 @@ void EmulatorCore::shut_down() {
   DriveInput drive = amplifier_.tick(tick_, shared_.enable_line.load(std::memory_order_relaxed));
   simulator_.set_drive(drive);
   telemetry_.state = amplifier_.state();
-  telemetry_.output = drive;
+  telemetry_.output = drive_values(drive);
   shared_.telemetry.store(telemetry_);
 }
 
@@ -115,7 +115,7 @@ const Telemetry& EmulatorCore::tick() {
   telemetry_.enable_line = amplifier_.enable_line();
   telemetry_.at_setpoint = amplifier_.at_setpoint();
   telemetry_.setpoints = amplifier_.setpoints();
-  telemetry_.output = amplifier_.output();
+  telemetry_.output = drive_values(amplifier_.output());
   telemetry_.position_m = position;
   telemetry_.tick_speed_m_s = (position - start_position) / tick_s_;
   telemetry_.speed_m_s = ring_filled_ ? (position - position_ring_[oldest]) / (static_cast<double>(ring_filled_) * tick_s_)

@@ -9,10 +9,18 @@
 #include <vector>
 
 #include "amplifier.h"
+#include "loop_statistics.h"
 #include "model/simulator.h"
-#include "telemetry.h"
+#include "shared_state.h"
 
 namespace swum::emu {
+
+// The model's drive and the loop's statistics as the protocol's telemetry carries them.
+inline protocol::DriveValues drive_values(const DriveInput& d) { return {d.vpp, d.frequency_hz, d.phase_deg, d.load_n}; }
+inline protocol::LoopTiming loop_timing(const LoopStatsSummary& s) {
+  return {s.overruns,        s.lateness_p50_ns, s.lateness_p99_ns, s.lateness_p999_ns, s.lateness_max_ns,
+          s.compute_p99_ns, s.compute_max_ns};
+}
 
 struct CoreConfig {
   double tick_hz = 10000.0;
@@ -30,7 +38,7 @@ class EmulatorCore {
   // Drive off (end of run): disable at the next tick boundary, then publish.
   void shut_down();
 
-  void set_stats(const LoopStatsSummary& s) { telemetry_.stats = s; }
+  void set_stats(const LoopStatsSummary& s) { telemetry_.stats = loop_timing(s); }
   [[nodiscard]] const Amplifier& amplifier() const { return amplifier_; }
   [[nodiscard]] const Telemetry& telemetry() const { return telemetry_; }
   [[nodiscard]] std::uint64_t ticks() const { return tick_; }

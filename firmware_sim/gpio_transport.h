@@ -13,7 +13,7 @@
 #include <thread>
 
 #include "gpio_lines.h"
-#include "telemetry.h"
+#include "shared_state.h"
 
 namespace swum::emu {
 

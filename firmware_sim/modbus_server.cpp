@@ -19,7 +19,7 @@
 #include <stdexcept>
 #include <system_error>
 
-#include "register_map.h"
+#include "modbus_codec.h"
 
 namespace swum::emu {
 
@@ -70,34 +70,34 @@ bool serve(modbus_t* ctx, const std::uint8_t* adu, int length, int checksum_leng
   if (pdu_length < 1) return true;
   const std::span<const std::uint8_t> pdu(adu + header, static_cast<std::size_t>(pdu_length));
 
-  modbus::Request request;
+  protocol::modbus::Request request;
   Reason reason = Reason::none;
-  std::uint8_t exception = modbus::parse_request(pdu, request, &reason);
-  modbus::Decision decision;
-  if (exception == modbus::kNoException) {
-    decision = modbus::decide(request, limits);
+  std::uint8_t exception = protocol::modbus::parse_request(pdu, request, &reason);
+  protocol::modbus::Decision decision;
+  if (exception == protocol::modbus::kNoException) {
+    decision = protocol::modbus::decide(request, limits);
     exception = decision.exception;
     reason = decision.reason;
   }
-  if (exception == modbus::kNoException && decision.has_command) {
+  if (exception == protocol::modbus::kNoException && decision.has_command) {
     decision.command.accepted_ns = monotonic_ns();
-    if (shared.submit(decision.command) != Reason::none) exception = modbus::kServerDeviceBusy;
+    if (shared.submit(decision.command) != Reason::none) exception = protocol::modbus::kServerDeviceBusy;
   }
-  if (exception != modbus::kNoException) {
+  if (exception != protocol::modbus::kNoException) {
     stats.exceptions.fetch_add(1, std::memory_order_relaxed);
-    if (exception != modbus::kServerDeviceBusy) shared.rejects.record(reason, CommandSource::modbus);
+    if (exception != protocol::modbus::kServerDeviceBusy) shared.rejects.record(reason, CommandSource::modbus);
     return modbus_reply_exception(ctx, adu, exception) != -1;
   }
   const Telemetry t = shared.telemetry.load();
-  if (request.function == modbus::kReadInputRegisters) {
-    const modbus::RejectSnapshot rejects{
+  if (request.function == protocol::modbus::kReadInputRegisters) {
+    const RejectSnapshot rejects{
         static_cast<Reason>(shared.rejects.last_reason.load(std::memory_order_relaxed)),
         shared.rejects.count.load(std::memory_order_acquire)};
-    modbus::fill_input(t, rejects, std::span<std::uint16_t, modbus::input::kCount>(map->tab_input_registers,
-                                                                                   modbus::input::kCount));
+    protocol::modbus::fill_input(t, rejects, std::span<std::uint16_t, protocol::modbus::input::kCount>(map->tab_input_registers,
+                                                                                   protocol::modbus::input::kCount));
   } else {
-    modbus::fill_holding(t, std::span<std::uint16_t, modbus::holding::kCount>(map->tab_registers,
-                                                                             modbus::holding::kCount));
+    protocol::modbus::fill_holding(t, std::span<std::uint16_t, protocol::modbus::holding::kCount>(map->tab_registers,
+                                                                             protocol::modbus::holding::kCount));
   }
   return modbus_reply(ctx, adu, length, map) != -1;
 }
@@ -321,7 +321,7 @@ bool ModbusTcpServer::enter(Connection& c, int phase) {
 
 void ModbusTcpServer::client_loop(Connection& c) {
   modbus_t* ctx = modbus_new_tcp("127.0.0.1", 0);  // only a framing context: the socket is ours
-  modbus_mapping_t* map = modbus_mapping_new(0, 0, modbus::holding::kCount, modbus::input::kCount);
+  modbus_mapping_t* map = modbus_mapping_new(0, 0, protocol::modbus::holding::kCount, protocol::modbus::input::kCount);
   if (ctx && map) {
     modbus_set_socket(ctx, c.fd);
     // libmodbus restarts its byte timeout at every byte, so only the deadline enforced by the
@@ -461,7 +461,7 @@ void ModbusRtuServer::drain(int fd) {
 
 void ModbusRtuServer::loop() {
   auto* ctx = static_cast<modbus_t*>(ctx_);
-  modbus_mapping_t* map = modbus_mapping_new(0, 0, modbus::holding::kCount, modbus::input::kCount);
+  modbus_mapping_t* map = modbus_mapping_new(0, 0, protocol::modbus::holding::kCount, protocol::modbus::input::kCount);
   if (!map) {
     std::fprintf(stderr, "swum-emu: Modbus RTU: cannot allocate a libmodbus mapping\n");
     return;
@@ -555,43 +555,6 @@ void ModbusRtuServer::loop() {
     serve(ctx, adu, static_cast<int>(have), 2, map, shared_, limits_, stats_);
   }
   modbus_mapping_free(map);
-}
-
-std::string parse_modbus_endpoint(const std::string& text, ModbusEndpoint& out) {
-  if (text.rfind("tcp://", 0) == 0) {
-    const std::string rest = text.substr(6);
-    const auto colon = rest.rfind(':');
-    if (colon == std::string::npos) return "expected tcp://HOST:PORT";
-    out.tcp = true;
-    out.host = rest.substr(0, colon);
-    try {
-      const int port = std::stoi(rest.substr(colon + 1));
-      if (port < 0 || port > 65535) return "port out of range";
-      out.port = static_cast<std::uint16_t>(port);
-    } catch (const std::exception&) {
-      return "bad port in '" + text + "'";
-    }
-    if (out.host == "localhost") out.host = "127.0.0.1";
-    return {};
-  }
-  if (text.rfind("rtu:", 0) == 0) {
-    const std::string rest = text.substr(4);
-    const auto colon = rest.rfind(':');
-    out.tcp = false;
-    if (colon == std::string::npos) {
-      out.device = rest;
-      return {};
-    }
-    out.device = rest.substr(0, colon);
-    try {
-      out.baud = std::stoi(rest.substr(colon + 1));
-    } catch (const std::exception&) {
-      return "bad baud rate in '" + text + "'";
-    }
-    if (out.baud <= 0) return "bad baud rate in '" + text + "'";
-    return {};
-  }
-  return "expected tcp://HOST:PORT or rtu:/dev/DEVICE:BAUD, got '" + text + "'";
 }
 
 std::string parse_milliseconds(std::string_view text, int min_ms, int max_ms, int& out) {

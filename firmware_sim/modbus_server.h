@@ -1,7 +1,7 @@
 // Modbus transports on libmodbus: a TCP server (one thread accepting and enforcing the
 // connection deadlines, one thread per client, up to max_clients at once) and an RTU server on
 // a serial device (one thread, its own framing with deadlines; libmodbus builds the replies).
-// Requests are checked by register_map (pure); accepted writes go to the command queue, reads
+// Requests are checked by protocol/modbus_codec (pure); accepted writes go to the command queue, reads
 // are served from the latest telemetry snapshot. The loop never waits for these threads.
 // Who gets a slot and what is cut off: docs/emulator.md, "Modbus: no client locks the others out".
 #pragma once
@@ -17,10 +17,15 @@
 #include <vector>
 
 #include "amplifier.h"
+#include "endpoint.h"
 #include "loop_statistics.h"
-#include "telemetry.h"
+#include "shared_state.h"
 
 namespace swum::emu {
+
+// The server listens where a protocol::ModbusEndpoint says (--modbus).
+using protocol::ModbusEndpoint;
+using protocol::parse_modbus_endpoint;
 
 struct ModbusStats {
   std::atomic<std::uint64_t> requests{0};
@@ -108,16 +113,6 @@ class ModbusRtuServer {
   std::thread thread_;
   ModbusStats stats_;
 };
-
-// Parses "tcp://HOST:PORT" or "rtu:/dev/DEVICE:BAUD". Returns an error text, empty when fine.
-struct ModbusEndpoint {
-  bool tcp = true;
-  std::string host = "127.0.0.1";
-  std::uint16_t port = 1502;
-  std::string device;
-  int baud = 115200;
-};
-std::string parse_modbus_endpoint(const std::string& text, ModbusEndpoint& out);
 
 // A whole decimal number of milliseconds in [min_ms, max_ms] ("250"; not "2.5e2", "250ms", "-1",
 // " 250"). Returns an error text naming the bad text, empty when fine.

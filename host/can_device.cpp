@@ -9,11 +9,13 @@
 #include <cmath>
 #include <stdexcept>
 
-#include "can_protocol.h"
+#include "can_codec.h"
 #include "can_telemetry_decode.h"
 #include "socketcan_bus.h"
 
 namespace swum::host {
+
+namespace can = protocol::can;
 namespace {
 
 std::uint8_t parse_node(const std::string& address, std::string& interface) {
@@ -24,8 +26,8 @@ std::uint8_t parse_node(const std::string& address, std::string& interface) {
   const std::string text = address.substr(colon + 1);
   int node = 0;
   const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), node);
-  if (error != std::errc{} || end != text.data() + text.size() || node < emu::can::kMinNode ||
-      node > emu::can::kMaxNode) {
+  if (error != std::errc{} || end != text.data() + text.size() || node < can::kMinNode ||
+      node > can::kMaxNode) {
     throw std::invalid_argument("--can: node must be an integer 1..127, got '" + text + "'");
   }
   return static_cast<std::uint8_t>(node);
@@ -54,10 +56,10 @@ CanDevice::CanDevice(std::unique_ptr<io::CanBus> bus, std::uint8_t node, const D
 }
 
 void CanDevice::start(const DeviceTimeouts& timeouts) {
-  const emu::can::Ids ids = emu::can::ids_for_node(node_);
-  const io::CanFilter filters[] = {{ids.status, 0x7FF, false}, {ids.motion, 0x7FF, false},
-                                   {ids.drive, 0x7FF, false},  {ids.loop_stats, 0x7FF, false},
-                                   {ids.output, 0x7FF, false}, {ids.clock, 0x7FF, false}};
+  const can::Ids ids = can::ids_for_node(node_);
+  auto exact = [](std::uint32_t id) { return io::CanFilter{id, io::kCanStandardIdMax, false}; };
+  const io::CanFilter filters[] = {exact(ids.status), exact(ids.motion),     exact(ids.drive),
+                                   exact(ids.loop_stats), exact(ids.output), exact(ids.clock)};
   const io::CanResult r = bus_->set_filters(filters);
   if (!r.ok()) throw DeviceError(name() + ": cannot set receive filters: " + r.message);
   // The node must be talking before anyone relies on it.
@@ -88,24 +90,24 @@ void CanDevice::send(const io::CanFrame& frame, const char* what) {
 }
 
 void CanDevice::send_command(std::uint8_t mode) {
-  emu::can::CommandFrame c;
+  can::CommandFrame c;
   c.mode = mode;
-  command_alive_ = static_cast<std::uint8_t>((command_alive_ + 1) & 0x0F);
+  command_alive_ = can::next_alive(command_alive_);
   c.alive = command_alive_;
   c.frequency_hz = setpoint_.frequency_hz;
   c.phase_deg = setpoint_.phase_deg;
   c.amplitude_vpp = setpoint_.vpp;
-  send(emu::can::encode_command(c, emu::can::ids_for_node(node_).command), "command");
+  send(can::encode_command(c, can::ids_for_node(node_).command), "command");
 }
 
 void CanDevice::send_aux() {
-  emu::can::AuxFrame a;
-  aux_alive_ = static_cast<std::uint8_t>((aux_alive_ + 1) & 0x0F);
+  can::AuxFrame a;
+  aux_alive_ = can::next_alive(aux_alive_);
   a.alive = aux_alive_;
   a.load_n = setpoint_.load_n;
   a.frequency_slew_hz_per_s = frequency_slew_hz_per_s_;
   a.amplitude_slew_vpp_per_s = vpp_slew_per_s_;
-  send(emu::can::encode_aux(a, emu::can::ids_for_node(node_).aux), "aux command");
+  send(can::encode_aux(a, can::ids_for_node(node_).aux), "aux command");
 }
 
 void CanDevice::set_drive(const DriveSetpoint& s) {
@@ -119,22 +121,22 @@ void CanDevice::set_slew(double frequency_hz_per_s, double vpp_per_s) {
   // The AuxCommand frame carries 100 Hz/s and 10 Vpp/s steps, 0 = unlimited: round down to a
   // step, never to 0, so the device never slews faster than asked.
   auto down = [](double v, double step) { return v > 0.0 ? std::max(step, std::floor(v / step) * step) : 0.0; };
-  frequency_slew_hz_per_s_ = down(frequency_hz_per_s, 100.0);
-  vpp_slew_per_s_ = down(vpp_per_s, 10.0);
+  frequency_slew_hz_per_s_ = down(frequency_hz_per_s, can::signals::kAuxFrequencySlew.factor);
+  vpp_slew_per_s_ = down(vpp_per_s, can::signals::kAuxAmplitudeSlew.factor);
   send_aux();
 }
 
 void CanDevice::command(DeviceAction action) {
   switch (action) {
     case DeviceAction::keep_alive: send_command(mode_); break;
-    case DeviceAction::enable: mode_ = 1; send_command(mode_); break;
-    case DeviceAction::disable: mode_ = 0; send_command(mode_); break;
-    case DeviceAction::reset_fault: mode_ = 0; send_command(2); break;
+    case DeviceAction::enable: mode_ = can::mode::kEnable; send_command(mode_); break;
+    case DeviceAction::disable: mode_ = can::mode::kDisable; send_command(mode_); break;
+    case DeviceAction::reset_fault: mode_ = can::mode::kDisable; send_command(can::mode::kResetFault); break;
   }
 }
 
 DeviceTelemetry CanDevice::read() {
-  const emu::can::Ids ids = emu::can::ids_for_node(node_);
+  const can::Ids ids = can::ids_for_node(node_);
   DeviceTelemetry t;
   bool have_status = false;
   // Frames of the current set seen after its Status frame: a set with a frame lost is
@@ -155,8 +157,8 @@ DeviceTelemetry CanDevice::read() {
     }
     if (!r.ok()) throw DeviceError(name() + ": receive failed: " + r.message);
     if (f.id == ids.status) {
-      emu::can::StatusFields s;
-      if (!emu::can::decode_status(f, s)) continue;
+      can::StatusFields s;
+      if (!can::decode_status(f, s)) continue;
       t = DeviceTelemetry{};
       have_status = true;
       seen = 0;
@@ -172,15 +174,15 @@ DeviceTelemetry CanDevice::read() {
     } else if (!have_status) {
       continue;  // the middle of a set whose status frame we missed
     } else if (f.id == ids.motion) {
-      emu::can::MotionFields m;
-      if (emu::can::decode_motion(f, m)) {
+      can::MotionFields m;
+      if (can::decode_motion(f, m)) {
         t.speed_mm_s = m.speed_mm_s;
         t.position_mm = m.position_mm;
         seen |= kMotion;
       }
     } else if (f.id == ids.drive) {
-      emu::can::DriveFields d;
-      if (emu::can::decode_drive(f, d)) {
+      can::DriveFields d;
+      if (can::decode_drive(f, d)) {
         t.tip_normal_um = d.tip_normal_um;
         t.tip_tangential_um = d.tip_tangential_um;
         t.vpp = d.vpp;
@@ -188,26 +190,26 @@ DeviceTelemetry CanDevice::read() {
         seen |= kDrive;
       }
     } else if (f.id == ids.loop_stats) {
-      emu::can::LoopStatsFields l;
-      if (emu::can::decode_loop_stats(f, l)) {
+      can::LoopStatsFields l;
+      if (can::decode_loop_stats(f, l)) {
         t.lateness_p99_us = l.lateness_p99_us;
         t.lateness_max_us = l.lateness_max_us;
         t.overruns = l.overruns;
         seen |= kLoopStats;
       }
     } else if (f.id == ids.clock) {
-      emu::can::ClockFields c;
-      if (emu::can::decode_clock(f, c)) {
+      can::ClockFields c;
+      if (can::decode_clock(f, c)) {
         t.device_time_s = c.sim_time_s;
         seen |= kClock;
       }
     } else if (f.id == ids.output) {
-      emu::can::OutputFields o;
+      can::OutputFields o;
       if (seen != kAll) {
         have_status = false;  // incomplete set: wait for the next Status frame
         continue;
       }
-      if (emu::can::decode_output(f, o)) {
+      if (can::decode_output(f, o)) {
         t.frequency_hz = o.frequency_hz;
         t.load_n = o.load_n;
         t.received = std::chrono::steady_clock::now();

@@ -2,7 +2,7 @@
 
 #include <stdexcept>
 
-#include "amplifier.h"
+#include "codes.h"
 #include "can_device.h"
 #include "modbus_device.h"
 
@@ -22,7 +22,7 @@ std::unique_ptr<Device> open_device(const DeviceAddress& address, const DeviceTi
 
 std::string reject_reason_name(int code) {
   if (code < 0 || code > 255) return "reason " + std::to_string(code);
-  const char* text = emu::to_string(static_cast<emu::Reason>(code));
+  const char* text = protocol::to_string(static_cast<protocol::Reason>(code));
   if (text == nullptr || std::string(text) == "?" || std::string(text).empty()) return "reason " + std::to_string(code);
   return text;
 }

@@ -1,49 +1,31 @@
-// The Modbus adapter of host/device.h (libmodbus client, TCP or RTU). Register addresses and
-// scaling come from the emulator's register map (firmware_sim/register_map.h), which a test
-// keeps in agreement with config/modbus_registers.json: one definition for both ends.
+// The Modbus adapter of host/device.h (libmodbus client, TCP or RTU). Register addresses,
+// scales and both directions of the encoding come from the protocol library
+// (protocol/modbus_codec.h), the same code the emulator's server runs; a test keeps it in
+// agreement with config/modbus_registers.json.
 #include "modbus_device.h"
 
 #include <modbus.h>
 
-#include <algorithm>
 #include <array>
 #include <cerrno>
-#include <cmath>
 #include <cstring>
 
-#include "modbus_server.h"  // parse_modbus_endpoint
-#include "register_map.h"
+#include "endpoint.h"
+#include "modbus_codec.h"
 
 namespace swum::host {
 namespace {
 
-namespace holding = emu::modbus::holding;
-namespace input = emu::modbus::input;
-
-std::uint32_t get_u32(const std::uint16_t* r, std::uint16_t address) {
-  return (static_cast<std::uint32_t>(r[address]) << 16) | r[address + 1];
-}
-std::int32_t get_i32(const std::uint16_t* r, std::uint16_t address) {
-  return static_cast<std::int32_t>(get_u32(r, address));
-}
-void put_u32(std::uint16_t* r, std::uint16_t address, std::uint32_t value) {
-  r[address] = static_cast<std::uint16_t>(value >> 16);
-  r[address + 1] = static_cast<std::uint16_t>(value & 0xFFFFU);
-}
-std::uint16_t to_register(double value, double lo, double hi, const char* what) {
-  if (!std::isfinite(value) || value < lo || value > hi) {
-    throw DeviceError(std::string(what) + " " + std::to_string(value) + " does not fit the register (" +
-                      std::to_string(lo) + ".." + std::to_string(hi) + ")");
-  }
-  return static_cast<std::uint16_t>(static_cast<std::int32_t>(std::lround(value)) & 0xFFFF);
-}
+namespace modbus = protocol::modbus;
+namespace holding = modbus::holding;
+namespace input = modbus::input;
 
 }  // namespace
 
 ModbusDevice::ModbusDevice(const std::string& endpoint_text, const DeviceTimeouts& timeouts)
     : endpoint_text_(endpoint_text) {
-  emu::ModbusEndpoint endpoint;
-  const std::string problem = emu::parse_modbus_endpoint(endpoint_text, endpoint);
+  protocol::ModbusEndpoint endpoint;
+  const std::string problem = protocol::parse_modbus_endpoint(endpoint_text, endpoint);
   if (!problem.empty()) throw std::invalid_argument("--modbus: " + problem);
   if (endpoint.tcp && endpoint.port == 0) throw std::invalid_argument("--modbus: port 0 is not a device address");
   context_ = endpoint.tcp ? modbus_new_tcp(endpoint.host.c_str(), endpoint.port)
@@ -107,39 +89,29 @@ void ModbusDevice::write_holding(std::uint16_t address, const std::uint16_t* val
 }
 
 void ModbusDevice::set_drive(const DriveSetpoint& s) {
-  std::array<std::uint16_t, 5> r{};  // holding 1..5: frequency (2), amplitude, phase, load
-  const double frequency_mhz = std::round(s.frequency_hz * 1e3);
-  if (!std::isfinite(frequency_mhz) || frequency_mhz < 0.0 || frequency_mhz > 4294967295.0) {
-    throw DeviceError("frequency " + std::to_string(s.frequency_hz) + " Hz does not fit the register");
-  }
-  put_u32(r.data(), 0, static_cast<std::uint32_t>(frequency_mhz));
-  r[2] = to_register(s.vpp * 10.0, 0.0, 65535.0, "amplitude (0.1 Vpp)");
-  r[3] = to_register(s.phase_deg * 100.0, -32768.0, 32767.0, "phase (0.01 deg)");
-  r[4] = to_register(s.load_n * 1000.0, -32768.0, 32767.0, "load (mN)");
+  std::array<std::uint16_t, modbus::kDriveWriteCount> r{};
+  const std::string problem = modbus::encode_drive_write(s.frequency_hz, s.vpp, s.phase_deg, s.load_n, r);
+  if (!problem.empty()) throw DeviceError(problem);
   write_holding(holding::kFrequency, r.data(), static_cast<int>(r.size()), "drive setpoint write");
 }
 
 void ModbusDevice::set_slew(double frequency_hz_per_s, double vpp_per_s) {
-  std::array<std::uint16_t, 4> r{};
-  for (double v : {frequency_hz_per_s, vpp_per_s}) {
-    if (!std::isfinite(v) || v < 0.0 || v > 4294967295.0) throw DeviceError("slew limit out of range");
-  }
-  // Rounded down, never to 0 (0 = unlimited): the device must never ramp faster than asked.
-  auto units = [](double v) { return v > 0.0 ? std::max<std::uint32_t>(1, static_cast<std::uint32_t>(v)) : 0U; };
-  put_u32(r.data(), 0, units(frequency_hz_per_s));
-  put_u32(r.data(), 2, units(vpp_per_s));
+  std::array<std::uint16_t, modbus::kSlewWriteCount> r{};
+  const std::string problem = modbus::encode_slew_write(frequency_hz_per_s, vpp_per_s, r);
+  if (!problem.empty()) throw DeviceError(problem);
   write_holding(holding::kFrequencySlew, r.data(), static_cast<int>(r.size()), "slew limit write");
 }
 
 void ModbusDevice::command(DeviceAction action) {
-  std::uint16_t code = 0;
+  protocol::Action code = protocol::Action::none;
   switch (action) {
-    case DeviceAction::keep_alive: code = 0; break;
-    case DeviceAction::enable: code = 1; break;
-    case DeviceAction::disable: code = 2; break;
-    case DeviceAction::reset_fault: code = 3; break;
+    case DeviceAction::keep_alive: code = protocol::Action::none; break;
+    case DeviceAction::enable: code = protocol::Action::enable; break;
+    case DeviceAction::disable: code = protocol::Action::disable; break;
+    case DeviceAction::reset_fault: code = protocol::Action::reset_fault; break;
   }
-  write_holding(holding::kCommand, &code, 1, "command write");
+  const std::uint16_t value = modbus::command_code(code);
+  write_holding(holding::kCommand, &value, 1, "command write");
 }
 
 DeviceTelemetry ModbusDevice::read() {
@@ -147,27 +119,29 @@ DeviceTelemetry ModbusDevice::read() {
   if (modbus_read_input_registers(context_, 0, input::kCount, r.data()) != input::kCount) {
     fail("telemetry read");
   }
+  const modbus::InputImage image = modbus::decode_input(r);
+  const protocol::Telemetry& d = image.telemetry;
   DeviceTelemetry t;
   t.received = std::chrono::steady_clock::now();
-  t.device_time_s = get_u32(r.data(), input::kSimTime) * 1e-3;
-  t.state = r[input::kState];
-  t.fault_code = r[input::kFault];
-  t.enable_line = (r[input::kStatus] & (1U << 2)) != 0;
-  t.drive_on = (r[input::kStatus] & (1U << 3)) != 0;
-  t.last_reject = r[input::kLastReject];
-  t.reject_count = get_u32(r.data(), input::kRejectCount);
+  t.device_time_s = d.sim_time_s;
+  t.state = static_cast<int>(d.state);
+  t.fault_code = static_cast<int>(d.fault);
+  t.enable_line = d.enable_line;
+  t.drive_on = (image.status_bits & protocol::kStatusDriveOn) != 0;
+  t.last_reject = static_cast<int>(image.rejects.last);
+  t.reject_count = static_cast<std::uint32_t>(image.rejects.count);
   t.reject_count_modulus = 0;  // full 32 bits
-  t.speed_mm_s = get_i32(r.data(), input::kSpeed) * 1e-3;
-  t.position_mm = get_i32(r.data(), input::kPosition) * 1e-3;
-  t.tip_normal_um = r[input::kTipNormal] * 1e-3;
-  t.tip_tangential_um = r[input::kTipTangential] * 1e-3;
-  t.frequency_hz = get_u32(r.data(), input::kFrequencyOut) * 1e-3;
-  t.vpp = r[input::kAmplitudeOut] * 0.1;
-  t.phase_deg = static_cast<std::int16_t>(r[input::kPhaseOut]) * 0.01;
-  t.load_n = static_cast<std::int16_t>(r[input::kLoadOut]) * 1e-3;
-  t.lateness_p99_us = r[input::kLatenessP99];
-  t.lateness_max_us = r[input::kLatenessMax];
-  t.overruns = get_u32(r.data(), input::kOverruns);
+  t.speed_mm_s = d.speed_m_s * 1e3;
+  t.position_mm = d.position_m * 1e3;
+  t.tip_normal_um = d.tip_normal_um;
+  t.tip_tangential_um = d.tip_tangential_um;
+  t.frequency_hz = d.output.frequency_hz;
+  t.vpp = d.output.vpp;
+  t.phase_deg = d.output.phase_deg;
+  t.load_n = d.output.load_n;
+  t.lateness_p99_us = static_cast<double>(d.stats.lateness_p99_ns) / modbus::kTimingNsPerCount;
+  t.lateness_max_us = static_cast<double>(d.stats.lateness_max_ns) / modbus::kTimingNsPerCount;
+  t.overruns = static_cast<std::uint32_t>(d.stats.overruns);
   return t;
 }
 

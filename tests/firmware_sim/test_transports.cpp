@@ -5,7 +5,7 @@
 #include <functional>
 #include <thread>
 
-#include "can_protocol.h"
+#include "can_codec.h"
 #include "can_transport.h"
 #include "fake_can_bus.h"
 #include "fake_gpio_lines.h"
@@ -30,7 +30,7 @@ class CanTransportTest : public ::testing::Test {
   std::shared_ptr<io::FakeCanNetwork> network = io::FakeCanNetwork::create();
   std::unique_ptr<io::FakeCanBus> peer = network->attach("peer");
   SharedState shared;
-  can::Ids ids = can::ids_for_node(3);
+  protocol::can::Ids ids = protocol::can::ids_for_node(3);
   std::unique_ptr<CanTransport> transport;
 
   void SetUp() override {
@@ -44,12 +44,12 @@ class CanTransportTest : public ::testing::Test {
   void TearDown() override { transport->stop(); }
 
   void send_command(std::uint8_t alive, double frequency = 40000, std::uint8_t mode = 1) {
-    can::CommandFrame c;
+    protocol::can::CommandFrame c;
     c.mode = mode;
     c.alive = alive;
     c.frequency_hz = frequency;
     c.amplitude_vpp = 400;
-    ASSERT_TRUE(peer->send(can::encode_command(c, ids.command)).ok());
+    ASSERT_TRUE(peer->send(protocol::can::encode_command(c, ids.command)).ok());
   }
   Reason wait_reject(std::uint64_t before) {
     EXPECT_TRUE(eventually([&] { return shared.rejects.count.load() > before; }));
@@ -147,12 +147,12 @@ StampedCommand command_through(const StampRewritingBus::Rewrite& rewrite) {
                          shared, AmplifierLimits{});
   transport.start();
   StampedCommand out;
-  can::CommandFrame c;
+  protocol::can::CommandFrame c;
   c.mode = 1;
   c.alive = 1;
   c.amplitude_vpp = 100;
   out.sent_ns = monotonic_now_ns();
-  EXPECT_TRUE(peer->send(can::encode_command(c, can::ids_for_node(3).command)).ok());
+  EXPECT_TRUE(peer->send(protocol::can::encode_command(c, protocol::can::ids_for_node(3).command)).ok());
   EXPECT_TRUE(eventually([&] { return shared.commands.try_pop(out.command); }, 2000ms));
   out.popped_ns = monotonic_now_ns();
   transport.stop();
@@ -199,14 +199,14 @@ TEST_F(CanTransportTest, InvalidFramesAreRejectedWithTheirReasonAndNotQueued) {
   send_command(1);  // repeated counter
   EXPECT_EQ(wait_reject(n), Reason::stale_alive_counter);
   n = shared.rejects.count.load();
-  can::CommandFrame cf;
+  protocol::can::CommandFrame cf;
   cf.alive = 2;
-  io::CanFrame bad = can::encode_command(cf, ids.command);
+  io::CanFrame bad = protocol::can::encode_command(cf, ids.command);
   bad.data[1] ^= 0xFF;
   ASSERT_TRUE(peer->send(bad).ok());
   EXPECT_EQ(wait_reject(n), Reason::bad_checksum);
   n = shared.rejects.count.load();
-  bad = can::encode_command(cf, ids.command);
+  bad = protocol::can::encode_command(cf, ids.command);
   bad.dlc = 4;
   ASSERT_TRUE(peer->send(bad).ok());
   EXPECT_EQ(wait_reject(n), Reason::wrong_length);
@@ -228,8 +228,8 @@ TEST_F(CanTransportTest, TelemetryAndHeartbeatAreSent) {
   ASSERT_TRUE(eventually([&] {
     io::CanFrame f;
     while (peer->receive(f, 1ms).ok()) {
-      if (f.id == ids.status && can::get_bits(f, 0, 2) == 1) status = true;
-      if (f.id == ids.motion && can::get_bits(f, 0, 32) == 198500) motion = true;
+      if (f.id == ids.status && protocol::can::get_bits(f, 0, 2) == 1) status = true;
+      if (f.id == ids.motion && protocol::can::get_bits(f, 0, 32) == 198500) motion = true;
       if (f.id == ids.heartbeat && f.dlc == 1 && f.data[0] == 5) heartbeat = true;
     }
     return status && motion && heartbeat;

@@ -28,36 +28,40 @@
 
 // ============================== ADAPTER ==============================
 // Emulator side (firmware_sim/ today):
-#include "amplifier.h"             // Reason, AmpState, FaultCode, Action, CommandSource, Command, AmplifierLimits, to_string()
-#include "can_protocol.h"          // ids_for_node, crc8, CommandFrame/AuxFrame encode/decode/to_command, AliveCounter, encode_<telemetry>
+#include "codes.h"                 // Reason, AmpState, FaultCode, Action, CommandSource, to_string()
+#include "command.h"               // Command, AmplifierLimits
+#include "telemetry.h"             // Telemetry, RejectSnapshot
+#include "can_codec.h"             // ids_for_node, crc8, CommandFrame/AuxFrame encode/decode/to_command, AliveCounter, encode_<telemetry>
 #include "can_telemetry_decode.h"  // decode_status/motion/drive/output/clock
-#include "modbus_server.h"         // ModbusTcpServer (the emulator's Modbus TCP framing), parse_modbus_endpoint
-#include "register_map.h"          // parse_request, decide, fill_holding, fill_input, holding::/input:: addresses
-#include "telemetry.h"             // Telemetry, SharedState
+#include "endpoint.h"              // parse_modbus_endpoint
+#include "modbus_server.h"         // ModbusTcpServer (the emulator's Modbus TCP framing)
+#include "modbus_codec.h"          // parse_request, decide, fill_holding, fill_input, holding::/input:: addresses
+#include "shared_state.h"          // SharedState
 // Host side (host/ today):
 #include "can_device.h"     // CanDevice (CAN client: command/aux frames out, telemetry sets in)
 #include "device.h"         // DeviceTelemetry, DriveSetpoint, DeviceAction, DeviceTimeouts, reject_reason_name
 #include "log_table.h"      // format_log_row (one `swum log` CSV row)
 #include "modbus_device.h"  // ModbusDevice (Modbus client: register writes out, input registers in)
-// Frames (firmware_sim/io today):
+// Frames (protocol/can_frame.h, carried by io/):
 #include "can_bus.h"  // io::CanFrame, io::CanBus, io::CanFilter, io::CanResult, io::CanStatus
 
 namespace swum::golden::adapter {
 namespace emu = swum::emu;
-namespace mb = swum::emu::modbus;
-namespace can = swum::emu::can;
+namespace protocol = swum::protocol;
+namespace mb = swum::protocol::modbus;
+namespace can = swum::protocol::can;
 namespace host = swum::host;
 namespace io = swum::io;
 
-using emu::Command;
-using emu::Reason;
-using emu::Telemetry;
-using Limits = emu::AmplifierLimits;
+using protocol::Command;
+using protocol::Reason;
+using protocol::Telemetry;
+using Limits = protocol::AmplifierLimits;
 using ModbusRequest = mb::Request;
-using RejectSnapshot = mb::RejectSnapshot;
+using RejectSnapshot = protocol::RejectSnapshot;
 using EmulatorShared = emu::SharedState;
 using EmulatorModbusServer = emu::ModbusTcpServer;
-using Endpoint = emu::ModbusEndpoint;
+using Endpoint = protocol::ModbusEndpoint;
 constexpr std::size_t kHoldingCount = mb::holding::kCount;
 constexpr std::size_t kInputCount = mb::input::kCount;
 // Timing input registers (lateness, compute time, overruns): not reproducible, never captured.
@@ -72,10 +76,10 @@ inline void fill_holding(const Telemetry& t, std::span<std::uint16_t, kHoldingCo
 inline void fill_input(const Telemetry& t, const RejectSnapshot& s, std::span<std::uint16_t, kInputCount> r) {
   mb::fill_input(t, s, r);
 }
-inline std::string parse_endpoint(const std::string& text, Endpoint& out) { return emu::parse_modbus_endpoint(text, out); }
-inline const char* reason_name(Reason r) { return emu::to_string(r); }
-inline const char* state_name(emu::AmpState s) { return emu::to_string(s); }
-inline const char* fault_name(emu::FaultCode f) { return emu::to_string(f); }
+inline std::string parse_endpoint(const std::string& text, Endpoint& out) { return protocol::parse_modbus_endpoint(text, out); }
+inline const char* reason_name(Reason r) { return protocol::to_string(r); }
+inline const char* state_name(protocol::AmpState s) { return protocol::to_string(s); }
+inline const char* fault_name(protocol::FaultCode f) { return protocol::to_string(f); }
 inline std::string host_reject_name(int code) { return host::reject_reason_name(code); }
 inline std::string log_row(double host_s, const host::DeviceTelemetry& t) { return host::format_log_row(host_s, t); }
 }  // namespace swum::golden::adapter

@@ -1,5 +1,5 @@
 // The host's CAN adapter against a node on the in-process fake bus that speaks the emulator's
-// frames (encoders and command decoder of firmware_sim/can_protocol.h): telemetry sets with the
+// frames (encoders and command decoder of protocol/can_codec.h): telemetry sets with the
 // device clock, valid command frames (CRC, alive counter), absent node, bus-off.
 #include "can_device.h"
 
@@ -12,19 +12,19 @@
 #include <mutex>
 #include <thread>
 
-#include "can_protocol.h"
+#include "can_codec.h"
 #include "fake_can_bus.h"
 
 namespace swum::host {
 namespace {
 
-namespace can = emu::can;
+namespace can = protocol::can;
 
 class FakeNode {
  public:
   FakeNode(std::shared_ptr<io::FakeCanNetwork> network, std::uint8_t node)
-      : bus_(network->attach("node")), ids_(can::ids_for_node(node)) {
-    telemetry_.state = emu::AmpState::enabled;
+      : bus_(network->attach("node")), ids_(protocol::can::ids_for_node(node)) {
+    telemetry_.state = protocol::AmpState::enabled;
     telemetry_.output.vpp = 250.0;
     telemetry_.output.frequency_hz = 40123.0;
     telemetry_.speed_m_s = 0.321;
@@ -36,8 +36,8 @@ class FakeNode {
     thread_.join();
   }
   struct Received {
-    emu::Reason reason;
-    can::CommandFrame frame;
+    protocol::Reason reason;
+    protocol::can::CommandFrame frame;
   };
   std::vector<Received> commands() {
     std::lock_guard lock(mutex_);
@@ -47,33 +47,33 @@ class FakeNode {
  private:
   void run() {
     std::uint8_t counter = 0;
-    can::AliveCounter alive;
+    protocol::can::AliveCounter alive;
     auto next = std::chrono::steady_clock::now();
     while (!stop_) {
       io::CanFrame f;
       if (bus_->receive(f, std::chrono::milliseconds(1)).ok() && f.id == ids_.command) {
         Received r{};
-        r.reason = can::decode_command(f, r.frame);
-        if (r.reason == emu::Reason::none) r.reason = alive.check(r.frame.alive, 0);
-        if (r.reason == emu::Reason::none) alive.accept(r.frame.alive, 0);
+        r.reason = protocol::can::decode_command(f, r.frame);
+        if (r.reason == protocol::Reason::none) r.reason = alive.check(r.frame.alive, 0);
+        if (r.reason == protocol::Reason::none) alive.accept(r.frame.alive, 0);
         std::lock_guard lock(mutex_);
         commands_.push_back(r);
       }
       if (std::chrono::steady_clock::now() >= next) {
         next += std::chrono::milliseconds(2);
         telemetry_.sim_time_s += 0.002;
-        (void)bus_->send(can::encode_status(telemetry_, {}, counter++, ids_.status));
-        (void)bus_->send(can::encode_motion(telemetry_, ids_.motion));
-        (void)bus_->send(can::encode_drive(telemetry_, ids_.drive));
-        (void)bus_->send(can::encode_loop_stats(telemetry_, ids_.loop_stats));
-        (void)bus_->send(can::encode_clock(telemetry_, ids_.clock));
-        (void)bus_->send(can::encode_output(telemetry_, ids_.output));
+        (void)bus_->send(protocol::can::encode_status(telemetry_, {}, counter++, ids_.status));
+        (void)bus_->send(protocol::can::encode_motion(telemetry_, ids_.motion));
+        (void)bus_->send(protocol::can::encode_drive(telemetry_, ids_.drive));
+        (void)bus_->send(protocol::can::encode_loop_stats(telemetry_, ids_.loop_stats));
+        (void)bus_->send(protocol::can::encode_clock(telemetry_, ids_.clock));
+        (void)bus_->send(protocol::can::encode_output(telemetry_, ids_.output));
       }
     }
   }
   std::unique_ptr<io::FakeCanBus> bus_;
-  can::Ids ids_;
-  emu::Telemetry telemetry_;
+  protocol::can::Ids ids_;
+  protocol::Telemetry telemetry_;
   std::atomic<bool> stop_{false};
   std::mutex mutex_;
   std::vector<Received> commands_;
@@ -119,7 +119,7 @@ TEST(CanDevice, SendsValidCommandFramesWithAdvancingAliveCounters) {
   }
   const auto commands = node.commands();
   ASSERT_EQ(commands.size(), 44u);
-  for (const auto& c : commands) EXPECT_EQ(c.reason, emu::Reason::none) << emu::to_string(c.reason);
+  for (const auto& c : commands) EXPECT_EQ(c.reason, protocol::Reason::none) << protocol::to_string(c.reason);
   EXPECT_EQ(commands[0].frame.mode, 0);  // setpoint while disabled
   EXPECT_NEAR(commands[0].frame.frequency_hz, 39876.5, 0.05);
   EXPECT_NEAR(commands[0].frame.amplitude_vpp, 321.25, 0.125);
@@ -145,7 +145,7 @@ TEST(CanDevice, ASetWithAFrameLostIsDroppedNotFilledWithZeros) {
   auto network = io::FakeCanNetwork::create();
   FakeNode node(network, 7);
   CanDevice device(network->attach("host"), 7, kTimeouts);
-  const std::uint32_t motion = can::ids_for_node(7).motion;
+  const std::uint32_t motion = protocol::can::ids_for_node(7).motion;
   network->drop_if([motion](const io::CanFrame& f) { return f.id == motion; });
   // Sets the node completed before the filter went in may still be queued: those come back
   // whole (never zero-filled); then every set lacks its Motion frame and reading must fail.

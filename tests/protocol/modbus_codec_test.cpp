@@ -1,4 +1,4 @@
-#include "register_map.h"
+#include "modbus_codec.h"
 
 #include <gtest/gtest.h>
 
@@ -7,7 +7,7 @@
 #include <nlohmann/json.hpp>
 #include <vector>
 
-namespace swum::emu::modbus {
+namespace swum::protocol::modbus {
 namespace {
 
 std::vector<std::uint8_t> read_pdu(std::uint8_t function, std::uint16_t address, std::uint16_t quantity) {
@@ -225,4 +225,4 @@ TEST(RegisterMapJson, ReasonCodesAgree) {
 }
 
 }  // namespace
-}  // namespace swum::emu::modbus
+}  // namespace swum::protocol::modbus

@@ -1,5 +1,5 @@
-// What the loop publishes once per tick (Seqlock<Telemetry>) and what the transports share
-// with it: the command queue and the reject log.
+// What the loop and the transports share: the per-tick telemetry snapshot (a Seqlock of the
+// protocol's Telemetry), the command queue and the reject log.
 #pragma once
 
 #include <atomic>
@@ -7,30 +7,14 @@
 
 #include "amplifier.h"
 #include "lockfree.h"
-#include "loop_statistics.h"
+#include "telemetry.h"
 
 namespace swum::emu {
 
-struct Telemetry {
-  std::uint64_t tick = 0;
-  double sim_time_s = 0.0;
-  AmpState state = AmpState::disabled;
-  FaultCode fault = FaultCode::none;
-  bool enable_line = true;
-  bool at_setpoint = true;
-  AmplifierSetpoints setpoints;
-  DriveInput output;                 // what the amplifier drives this tick
-  double speed_m_s = 0.0;            // mover speed, mean over the last speed window (10 ms)
-  double tick_speed_m_s = 0.0;       // mean over the last tick
-  double position_m = 0.0;
-  double tip_normal_um = 0.0;        // (max - min)/2 of u_tip over the last tick
-  double tip_tangential_um = 0.0;    // (max - min)/2 of w_tip over the last tick
-  std::uint64_t applied_commands = 0;
-  std::uint64_t amplifier_rejects = 0;
-  std::uint64_t last_sequence = 0;   // sequence of the last command applied
-  std::uint64_t divergences = 0;
-  LoopStatsSummary stats;            // refreshed about 10 times per second
-};
+// The per-tick snapshot is the protocol's telemetry value (protocol/telemetry.h): what the
+// interfaces encode is exactly what the loop publishes.
+using protocol::RejectSnapshot;
+using protocol::Telemetry;
 
 // Last reject reason and counts, written by any thread (transports and the loop).
 struct RejectLog {

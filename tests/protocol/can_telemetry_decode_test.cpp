@@ -4,9 +4,9 @@
 
 #include <gtest/gtest.h>
 
-#include "can_protocol.h"
+#include "can_codec.h"
 
-namespace swum::emu::can {
+namespace swum::protocol::can {
 namespace {
 
 Telemetry sample_telemetry() {
@@ -80,7 +80,7 @@ TEST(CanTelemetryDecode, InvertsEveryEncoder) {
 }
 
 TEST(CanTelemetryDecode, RefusesShortFrames) {
-  io::CanFrame f = encode_motion(sample_telemetry(), 0x281);
+  CanFrame f = encode_motion(sample_telemetry(), 0x281);
   f.dlc = 4;
   MotionFields m;
   EXPECT_FALSE(decode_motion(f, m));
@@ -90,4 +90,4 @@ TEST(CanTelemetryDecode, RefusesShortFrames) {
 }
 
 }  // namespace
-}  // namespace swum::emu::can
+}  // namespace swum::protocol::can

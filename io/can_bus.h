@@ -10,33 +10,19 @@
 #include <string>
 #include <string_view>
 
+#include "can_frame.h"
+
 namespace swum::io {
 
-inline constexpr std::uint32_t kCanStandardIdMax = 0x7FF;
-inline constexpr std::uint32_t kCanExtendedIdMax = 0x1FFFFFFF;
-
-struct CanFrame {
-  std::uint32_t id = 0;   // 11-bit (standard) or 29-bit (extended) identifier; for error
-                          // frames the error class bits (linux/can/error.h CAN_ERR_*)
-  bool extended = false;  // 29-bit identifier
-  std::uint8_t dlc = 0;   // 0..8 payload bytes
-  std::array<std::uint8_t, 8> data{};
-  // Receive time, CLOCK_REALTIME since the epoch: the kernel's receive timestamp on a real
-  // bus (SO_TIMESTAMPNS; zero if the kernel attached none, never made up), the delivery time
-  // on the fake. Ignored by send().
-  std::chrono::nanoseconds timestamp{0};
-};
-
-// Same identifier kind, identifier, length and the first dlc payload bytes (not the timestamp).
-bool same_content(const CanFrame& a, const CanFrame& b);
-
-// Empty when the frame can be sent; otherwise what is wrong with it.
-std::string validate(const CanFrame& frame);
-
-// can-utils' cansend notation: "123#DEADBEEF" (3 hex digits: standard), "1ABCDEF0#00" (8 hex
-// digits: extended).
-std::string to_cansend(const CanFrame& frame);
-std::optional<CanFrame> parse_cansend(std::string_view text, std::string* error = nullptr);
+// The frame type and its text form live with the protocol (protocol/can_frame.h); the bus
+// adapters carry them.
+using protocol::CanFrame;
+using protocol::kCanExtendedIdMax;
+using protocol::kCanStandardIdMax;
+using protocol::parse_cansend;
+using protocol::same_content;
+using protocol::to_cansend;
+using protocol::validate;
 
 // A receive filter: a frame passes when its identifier kind equals `extended` and
 // (frame.id & mask) == (id & mask). Same semantics as the kernel's CAN_RAW_FILTER.

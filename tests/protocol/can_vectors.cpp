@@ -4,10 +4,10 @@
 #include <map>
 #include <string>
 
-#include "can_protocol.h"
+#include "can_codec.h"
 
 namespace {
-void print(const char* message, const swum::io::CanFrame& f, const std::map<std::string, double>& values) {
+void print(const char* message, const swum::protocol::CanFrame& f, const std::map<std::string, double>& values) {
   std::printf("{\"message\": \"%s\", \"id\": %u, \"data\": \"", message, f.id);
   for (unsigned i = 0; i < f.dlc; ++i) std::printf("%02x", f.data[i]);
   std::printf("\", \"values\": {");
@@ -21,7 +21,7 @@ void print(const char* message, const swum::io::CanFrame& f, const std::map<std:
 }  // namespace
 
 int main() {
-  using namespace swum::emu;
+  using namespace swum::protocol;
   const can::Ids ids = can::ids_for_node(1);
   can::CommandFrame c;
   c.mode = 1;
@@ -58,7 +58,7 @@ int main() {
   t.stats.lateness_p999_ns = 70000;
   t.stats.lateness_max_ns = 180000;
   t.stats.overruns = 3;
-  const modbus::RejectSnapshot r{Reason::bad_checksum, 1234};
+  const RejectSnapshot r{Reason::bad_checksum, 1234};
   print("Status", can::encode_status(t, r, 17, ids.status),
         {{"State", 1}, {"EnableLine", 1}, {"DriveOn", 1}, {"AtSetpoint", 0}, {"FaultCode", 0}, {"LastReject", 7},
          {"RejectCount", 1234 % 256}, {"AppliedCount", 1000 % 256}, {"StatusCounter", 17}});

@@ -1,4 +1,4 @@
-#include "can_protocol.h"
+#include "can_codec.h"
 
 #include <gtest/gtest.h>
 
@@ -8,7 +8,7 @@
 #include <regex>
 #include <sstream>
 
-namespace swum::emu::can {
+namespace swum::protocol::can {
 namespace {
 
 // --- A small DBC reader (BO_ / SG_ lines), enough for little-endian integer signals. ---
@@ -54,13 +54,13 @@ std::map<std::string, DbcMessage> load_dbc() {
   }
   return messages;
 }
-double dbc_decode(const DbcSignal& s, const io::CanFrame& f) {
+double dbc_decode(const DbcSignal& s, const CanFrame& f) {
   std::uint64_t raw = get_bits(f, s.start, s.length);
   double value = static_cast<double>(raw);
   if (s.is_signed && (raw >> (s.length - 1)) & 1U) value -= std::ldexp(1.0, static_cast<int>(s.length));
   return value * s.factor + s.offset;
 }
-void dbc_encode(const DbcSignal& s, io::CanFrame& f, double physical) {
+void dbc_encode(const DbcSignal& s, CanFrame& f, double physical) {
   const auto raw = static_cast<std::int64_t>(std::llround((physical - s.offset) / s.factor));
   put_bits(f, s.start, s.length, static_cast<std::uint64_t>(raw));
 }
@@ -69,7 +69,7 @@ class CanDbc : public ::testing::Test {
  protected:
   std::map<std::string, DbcMessage> dbc = load_dbc();
   Ids ids = ids_for_node(1);
-  void expect_frame(const std::string& message, const io::CanFrame& f, const std::map<std::string, double>& values,
+  void expect_frame(const std::string& message, const CanFrame& f, const std::map<std::string, double>& values,
                     double tolerance = 1e-9) {
     ASSERT_TRUE(dbc.contains(message)) << message;
     const DbcMessage& m = dbc.at(message);
@@ -104,12 +104,12 @@ TEST_F(CanDbc, CommandEncodingAgrees) {
   c.frequency_hz = 40123.4;
   c.phase_deg = -90.5;
   c.amplitude_vpp = 399.75;
-  const io::CanFrame f = encode_command(c, ids.command);
+  const CanFrame f = encode_command(c, ids.command);
   expect_frame("Command", f,
                {{"Mode", 1}, {"Reserved1", 0}, {"AliveCounter", 9}, {"Frequency", 40123.4}, {"Phase", -90.5},
                 {"Amplitude", 399.75}, {"Reserved2", 0}, {"Crc", f.data[7]}}, 1e-6);
   // The other way: a frame built from the DBC decodes to the same values in the code.
-  io::CanFrame g;
+  CanFrame g;
   g.id = ids.command;
   g.dlc = 8;
   const auto& s = dbc.at("Command").signals;
@@ -134,7 +134,7 @@ TEST_F(CanDbc, AuxEncodingAgrees) {
   a.load_n = -1.5;
   a.frequency_slew_hz_per_s = 1e6;
   a.amplitude_slew_vpp_per_s = 1e5;
-  const io::CanFrame f = encode_aux(a, ids.aux);
+  const CanFrame f = encode_aux(a, ids.aux);
   expect_frame("AuxCommand", f,
                {{"Reserved1", 0}, {"AliveCounter", 3}, {"Load", -1.5}, {"FrequencySlew", 1e6},
                 {"AmplitudeSlew", 1e5}, {"Crc", f.data[7]}}, 1e-9);
@@ -163,7 +163,7 @@ TEST_F(CanDbc, TelemetryEncodingAgrees) {
   t.stats.lateness_p999_ns = 45000;
   t.stats.lateness_max_ns = 90000;
   t.stats.overruns = 7;
-  const modbus::RejectSnapshot r{Reason::stale_alive_counter, 258};
+  const RejectSnapshot r{Reason::stale_alive_counter, 258};
   expect_frame("Status", encode_status(t, r, 200, ids.status),
                {{"State", 2}, {"EnableLine", 1}, {"DriveOn", 0}, {"AtSetpoint", 1}, {"FaultCode", 2},
                 {"LastReject", 8}, {"RejectCount", 2}, {"AppliedCount", 300 % 256}, {"StatusCounter", 200}});
@@ -191,10 +191,10 @@ TEST(CanProtocol, BadFramesAreRejectedWithTheirReason) {
   const Ids ids = ids_for_node(1);
   CommandFrame c;
   c.mode = 1;
-  io::CanFrame f = encode_command(c, ids.command);
+  CanFrame f = encode_command(c, ids.command);
   CommandFrame out;
   EXPECT_EQ(decode_command(f, out), Reason::none);
-  io::CanFrame bad = f;
+  CanFrame bad = f;
   bad.data[2] ^= 0x01;
   EXPECT_EQ(decode_command(bad, out), Reason::bad_checksum);
   bad = f;
@@ -240,4 +240,4 @@ TEST(CanProtocol, ToCommandMapsModes) {
 }
 
 }  // namespace
-}  // namespace swum::emu::can
+}  // namespace swum::protocol::can

@@ -1,5 +1,7 @@
-// The Modbus register map (pure: no sockets). config/modbus_registers.json is the
-// machine-readable description; tests keep the two in agreement.
+// The Modbus register map and both directions of its encoding (pure: no sockets). The device
+// (swum-emu's server) uses parse_request / decide / fill_*; a controller (the host tool's
+// client) uses encode_* / decode_input. config/modbus_registers.json is the machine-readable
+// description; tests keep the two in agreement.
 //  - Holding registers (FC 03 read, FC 06 / FC 16 write): setpoints and commands. A write is
 //    validated here and becomes one Command (all registers of one request apply together).
 //  - Input registers (FC 04): telemetry, refreshed from the latest tick's snapshot.
@@ -14,11 +16,13 @@
 #include <array>
 #include <cstdint>
 #include <span>
+#include <string>
 
-#include "amplifier.h"
+#include "codes.h"
+#include "command.h"
 #include "telemetry.h"
 
-namespace swum::emu::modbus {
+namespace swum::protocol::modbus {
 
 enum Exception : std::uint8_t {
   kNoException = 0,
@@ -77,6 +81,26 @@ inline constexpr std::uint16_t kLastSequence = 33;      // u32 (33-34): sequence
 inline constexpr std::uint16_t kCount = 35;
 }  // namespace input
 
+// Scales (docs/protocols.md): physical = register * unit_per_count, register = physical *
+// count_per_unit (both written out so each direction is one exact multiplication).
+struct Scale {
+  double unit_per_count;
+  double count_per_unit;
+};
+inline constexpr Scale kFrequencyScale{1e-3, 1e3};  // mHz
+inline constexpr Scale kAmplitudeScale{0.1, 10.0};  // 0.1 Vpp
+inline constexpr Scale kPhaseScale{0.01, 100.0};    // 0.01 deg
+inline constexpr Scale kLoadScale{1e-3, 1e3};       // mN
+inline constexpr Scale kSlewScale{1.0, 1.0};        // Hz/s, Vpp/s
+inline constexpr Scale kMicroScale{1e-6, 1e6};      // speed um/s, position um (from m)
+inline constexpr Scale kTipScale{1e-3, 1e3};        // nm (from um)
+inline constexpr Scale kSimTimeScale{1e-3, 1e3};    // ms
+inline constexpr double kTimingNsPerCount = 1000.0;  // lateness / compute registers: us
+
+// 32-bit values: high word at `index`, low word at index + 1 ("ABCD").
+std::uint32_t get_u32(std::span<const std::uint16_t> registers, std::size_t index);
+void put_u32(std::span<std::uint16_t> registers, std::size_t index, std::uint32_t value);
+
 // 32-bit registers: the address of their first (high) word.
 bool is_u32_start_holding(std::uint16_t address);
 bool is_u32_start_input(std::uint16_t address);
@@ -104,10 +128,29 @@ struct Decision {
 Decision decide(const Request& request, const AmplifierLimits& limits);
 
 void fill_holding(const Telemetry& t, std::span<std::uint16_t, holding::kCount> registers);
-struct RejectSnapshot {
-  Reason last = Reason::none;
-  std::uint64_t count = 0;
-};
 void fill_input(const Telemetry& t, const RejectSnapshot& rejects, std::span<std::uint16_t, input::kCount> registers);
 
-}  // namespace swum::emu::modbus
+// Controller side. The register image of a drive set-point write (holding kFrequency ..
+// kLoad, 5 registers): empty when every value fits its register, else what does not (the
+// device checks the ranges of its own limits on top).
+inline constexpr std::uint16_t kDriveWriteCount = holding::kLoad + 1 - holding::kFrequency;
+std::string encode_drive_write(double frequency_hz, double amplitude_vpp, double phase_deg, double load_n,
+                               std::span<std::uint16_t, kDriveWriteCount> registers);
+// Slew limits (holding kFrequencySlew .. kAmplitudeSlew + 1, 4 registers), rounded down but
+// never to 0 (0 = unlimited): the device must never ramp faster than asked.
+inline constexpr std::uint16_t kSlewWriteCount = holding::kAmplitudeSlew + 2 - holding::kFrequencySlew;
+std::string encode_slew_write(double frequency_hz_per_s, double amplitude_vpp_per_s,
+                              std::span<std::uint16_t, kSlewWriteCount> registers);
+// The command register's value for an action.
+inline std::uint16_t command_code(Action action) { return static_cast<std::uint16_t>(action); }
+
+// The input registers read back into physical units (the inverse of fill_input, to the
+// registers' resolution).
+struct InputImage {
+  std::uint16_t status_bits = 0;  // kStatus* (telemetry.h)
+  Telemetry telemetry;
+  RejectSnapshot rejects;
+};
+InputImage decode_input(std::span<const std::uint16_t, input::kCount> registers);
+
+}  // namespace swum::protocol::modbus

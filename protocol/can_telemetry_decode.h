@@ -1,13 +1,13 @@
 // Controller-side decoding of the emulator's CAN telemetry frames (the inverse of the
-// encode_* functions of can_protocol.h, same bit layout as config/swum.dbc). Pure; used by the
+// encode_* functions of can_codec.h, same bit layout as config/swum.dbc). Pure; used by the
 // host tool's CAN adapter and kept honest by an encode -> decode round-trip test.
 #pragma once
 
 #include <cstdint>
 
-#include "can_bus.h"
+#include "can_frame.h"
 
-namespace swum::emu::can {
+namespace swum::protocol::can {
 
 struct StatusFields {
   std::uint8_t state = 0;  // AmpState
@@ -48,11 +48,11 @@ struct ClockFields {
 };
 
 // false when the length is wrong (8 bytes expected).
-bool decode_status(const io::CanFrame& frame, StatusFields& out);
-bool decode_motion(const io::CanFrame& frame, MotionFields& out);
-bool decode_drive(const io::CanFrame& frame, DriveFields& out);
-bool decode_loop_stats(const io::CanFrame& frame, LoopStatsFields& out);
-bool decode_output(const io::CanFrame& frame, OutputFields& out);
-bool decode_clock(const io::CanFrame& frame, ClockFields& out);
+bool decode_status(const CanFrame& frame, StatusFields& out);
+bool decode_motion(const CanFrame& frame, MotionFields& out);
+bool decode_drive(const CanFrame& frame, DriveFields& out);
+bool decode_loop_stats(const CanFrame& frame, LoopStatsFields& out);
+bool decode_output(const CanFrame& frame, OutputFields& out);
+bool decode_clock(const CanFrame& frame, ClockFields& out);
 
-}  // namespace swum::emu::can
+}  // namespace swum::protocol::can

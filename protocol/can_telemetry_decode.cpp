@@ -1,0 +1,68 @@
+#include "can_telemetry_decode.h"
+
+#include "can_codec.h"
+
+namespace swum::protocol::can {
+namespace {
+bool full(const CanFrame& f) { return !f.extended && f.dlc == 8; }
+template <typename T>
+T raw_as(const CanFrame& f, Signal s) {
+  return static_cast<T>(raw_value(f, s));
+}
+}  // namespace
+
+bool decode_status(const CanFrame& f, StatusFields& out) {
+  if (!full(f)) return false;
+  out.state = raw_as<std::uint8_t>(f, signals::kStatusState);
+  out.enable_line = raw_value(f, signals::kStatusEnableLine) != 0;
+  out.drive_on = raw_value(f, signals::kStatusDriveOn) != 0;
+  out.at_setpoint = raw_value(f, signals::kStatusAtSetpoint) != 0;
+  out.fault = raw_as<std::uint8_t>(f, signals::kStatusFault);
+  out.last_reject = raw_as<std::uint8_t>(f, signals::kStatusLastReject);
+  out.reject_count = raw_as<std::uint8_t>(f, signals::kStatusRejectCount);
+  out.applied_count = raw_as<std::uint8_t>(f, signals::kStatusAppliedCount);
+  out.status_counter = raw_as<std::uint8_t>(f, signals::kStatusCounter);
+  return true;
+}
+
+bool decode_motion(const CanFrame& f, MotionFields& out) {
+  if (!full(f)) return false;
+  out.speed_mm_s = physical_value(f, signals::kMotionSpeed) * 1e-3;  // um/s -> mm/s
+  out.position_mm = physical_value(f, signals::kMotionPosition) * 1e-3;  // um -> mm
+  return true;
+}
+
+bool decode_drive(const CanFrame& f, DriveFields& out) {
+  if (!full(f)) return false;
+  out.tip_normal_um = physical_value(f, signals::kDriveTipNormal);
+  out.tip_tangential_um = physical_value(f, signals::kDriveTipTangential);
+  out.vpp = physical_value(f, signals::kDriveAmplitude);
+  out.phase_deg = physical_value(f, signals::kDrivePhase);
+  return true;
+}
+
+bool decode_loop_stats(const CanFrame& f, LoopStatsFields& out) {
+  if (!full(f)) return false;
+  out.lateness_p99_us = physical_value(f, signals::kLoopLatenessP99);
+  out.lateness_p999_us = physical_value(f, signals::kLoopLatenessP999);
+  out.lateness_max_us = physical_value(f, signals::kLoopLatenessMax);
+  out.overruns = raw_as<std::uint32_t>(f, signals::kLoopOverruns);
+  return true;
+}
+
+bool decode_output(const CanFrame& f, OutputFields& out) {
+  if (!full(f)) return false;
+  out.frequency_hz = physical_value(f, signals::kOutputFrequency);
+  out.load_n = physical_value(f, signals::kOutputLoad);
+  out.lateness_p50_us = physical_value(f, signals::kOutputLatenessP50);
+  return true;
+}
+
+bool decode_clock(const CanFrame& f, ClockFields& out) {
+  if (!full(f)) return false;
+  out.sim_time_s = physical_value(f, signals::kClockTime);
+  out.tick = raw_as<std::uint32_t>(f, signals::kClockTick);
+  return true;
+}
+
+}  // namespace swum::protocol::can

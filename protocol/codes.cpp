@@ -1,0 +1,46 @@
+#include "codes.h"
+
+namespace swum::protocol {
+
+const char* to_string(AmpState state) {
+  switch (state) {
+    case AmpState::disabled: return "disabled";
+    case AmpState::enabled: return "enabled";
+    case AmpState::fault: return "fault";
+  }
+  return "?";
+}
+
+const char* to_string(FaultCode fault) {
+  switch (fault) {
+    case FaultCode::none: return "none";
+    case FaultCode::command_timeout: return "command timeout";
+    case FaultCode::numerical: return "numerical blow-up";
+  }
+  return "?";
+}
+
+const char* to_string(Reason reason) {
+  switch (reason) {
+    case Reason::none: return "none";
+    case Reason::frequency_out_of_range: return "frequency out of range";
+    case Reason::amplitude_out_of_range: return "amplitude out of range";
+    case Reason::phase_out_of_range: return "phase out of range";
+    case Reason::load_out_of_range: return "load out of range";
+    case Reason::slew_out_of_range: return "slew limit out of range";
+    case Reason::unknown_command: return "unknown command";
+    case Reason::bad_checksum: return "bad checksum";
+    case Reason::stale_alive_counter: return "stale alive counter";
+    case Reason::wrong_length: return "wrong length";
+    case Reason::illegal_address: return "illegal address";
+    case Reason::split_value: return "split 32-bit value";
+    case Reason::fault_active: return "fault active";
+    case Reason::enable_line_low: return "enable line low";
+    case Reason::queue_full: return "queue full";
+    case Reason::reserved_bits: return "reserved bits set";
+    case Reason::illegal_function: return "illegal function";
+  }
+  return "?";
+}
+
+}  // namespace swum::protocol

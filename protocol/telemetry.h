@@ -1,0 +1,63 @@
+// The device state every interface reports (Modbus input registers, CAN telemetry frames): one
+// snapshot per tick, in physical units. The emulator publishes it; the codecs encode it.
+#pragma once
+
+#include <cstdint>
+
+#include "codes.h"
+#include "command.h"
+
+namespace swum::protocol {
+
+// What the amplifier drives this tick.
+struct DriveValues {
+  double vpp = 0.0;
+  double frequency_hz = 0.0;
+  double phase_deg = 0.0;
+  double load_n = 0.0;
+};
+
+// The loop's timing figures the interfaces carry (refreshed about 10 times per second).
+struct LoopTiming {
+  std::uint64_t overruns = 0;
+  std::uint64_t lateness_p50_ns = 0, lateness_p99_ns = 0, lateness_p999_ns = 0, lateness_max_ns = 0;
+  std::uint64_t compute_p99_ns = 0, compute_max_ns = 0;
+};
+
+struct Telemetry {
+  std::uint64_t tick = 0;
+  double sim_time_s = 0.0;
+  AmpState state = AmpState::disabled;
+  FaultCode fault = FaultCode::none;
+  bool enable_line = true;
+  bool at_setpoint = true;
+  AmplifierSetpoints setpoints;
+  DriveValues output;                // what the amplifier drives this tick
+  double speed_m_s = 0.0;            // mover speed, mean over the last speed window (10 ms)
+  double tick_speed_m_s = 0.0;       // mean over the last tick
+  double position_m = 0.0;
+  double tip_normal_um = 0.0;        // (max - min)/2 of u_tip over the last tick
+  double tip_tangential_um = 0.0;    // (max - min)/2 of w_tip over the last tick
+  std::uint64_t applied_commands = 0;
+  std::uint64_t amplifier_rejects = 0;
+  std::uint64_t last_sequence = 0;   // sequence of the last command applied
+  std::uint64_t divergences = 0;
+  LoopTiming stats;
+};
+
+// The last reject reason (any interface) and the running count of rejects.
+struct RejectSnapshot {
+  Reason last = Reason::none;
+  std::uint64_t count = 0;
+};
+
+// Status bits (Modbus input register 0; the CAN Status frame carries the same flags).
+inline constexpr std::uint16_t kStatusEnabled = 1U << 0;
+inline constexpr std::uint16_t kStatusFault = 1U << 1;
+inline constexpr std::uint16_t kStatusEnableLine = 1U << 2;
+inline constexpr std::uint16_t kStatusDriveOn = 1U << 3;
+inline constexpr std::uint16_t kStatusAtSetpoint = 1U << 4;
+// The drive is on when the amplifier is enabled and drives a non-zero amplitude.
+inline bool drive_on(const Telemetry& t) { return t.state == AmpState::enabled && t.output.vpp > 0.0; }
+
+}  // namespace swum::protocol
