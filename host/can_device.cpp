@@ -158,7 +158,7 @@ DeviceTelemetry CanDevice::read() {
     if (!r.ok()) throw DeviceError(name() + ": receive failed: " + r.message);
     if (f.id == ids.status) {
       can::StatusFields s;
-      if (!can::decode_status(f, s)) continue;
+      if (can::decode_status(f, s) != protocol::Reason::none) continue;
       t = DeviceTelemetry{};
       have_status = true;
       seen = 0;
@@ -175,14 +175,14 @@ DeviceTelemetry CanDevice::read() {
       continue;  // the middle of a set whose status frame we missed
     } else if (f.id == ids.motion) {
       can::MotionFields m;
-      if (can::decode_motion(f, m)) {
+      if (can::decode_motion(f, m) == protocol::Reason::none) {
         t.speed_mm_s = m.speed_mm_s;
         t.position_mm = m.position_mm;
         seen |= kMotion;
       }
     } else if (f.id == ids.drive) {
       can::DriveFields d;
-      if (can::decode_drive(f, d)) {
+      if (can::decode_drive(f, d) == protocol::Reason::none) {
         t.tip_normal_um = d.tip_normal_um;
         t.tip_tangential_um = d.tip_tangential_um;
         t.vpp = d.vpp;
@@ -191,7 +191,7 @@ DeviceTelemetry CanDevice::read() {
       }
     } else if (f.id == ids.loop_stats) {
       can::LoopStatsFields l;
-      if (can::decode_loop_stats(f, l)) {
+      if (can::decode_loop_stats(f, l) == protocol::Reason::none) {
         t.lateness_p99_us = l.lateness_p99_us;
         t.lateness_max_us = l.lateness_max_us;
         t.overruns = l.overruns;
@@ -199,7 +199,7 @@ DeviceTelemetry CanDevice::read() {
       }
     } else if (f.id == ids.clock) {
       can::ClockFields c;
-      if (can::decode_clock(f, c)) {
+      if (can::decode_clock(f, c) == protocol::Reason::none) {
         t.device_time_s = c.sim_time_s;
         seen |= kClock;
       }
@@ -209,7 +209,7 @@ DeviceTelemetry CanDevice::read() {
         have_status = false;  // incomplete set: wait for the next Status frame
         continue;
       }
-      if (can::decode_output(f, o)) {
+      if (can::decode_output(f, o) == protocol::Reason::none) {
         t.frequency_hz = o.frequency_hz;
         t.load_n = o.load_n;
         t.received = std::chrono::steady_clock::now();

@@ -35,11 +35,8 @@ std::string to_cansend(const CanFrame& frame) {
   return std::string(buf, static_cast<std::size_t>(n));
 }
 
-std::optional<CanFrame> parse_cansend(std::string_view text, std::string* error) {
-  auto fail = [&](std::string why) -> std::optional<CanFrame> {
-    if (error) *error = "bad CAN frame '" + std::string(text) + "': " + why;
-    return std::nullopt;
-  };
+std::string parse_cansend(std::string_view text, CanFrame& out) {
+  auto fail = [&](const std::string& why) { return "bad CAN frame '" + std::string(text) + "': " + why; };
   const auto hash = text.find('#');
   if (hash == std::string_view::npos) return fail("no '#' between id and data");
   const auto id_text = text.substr(0, hash);
@@ -66,7 +63,8 @@ std::optional<CanFrame> parse_cansend(std::string_view text, std::string* error)
     if (ec2 != std::errc{} || q != cleaned.data() + 2 * i + 2) return fail("data is not hexadecimal");
   }
   if (auto why = validate(frame); !why.empty()) return fail(why);
-  return frame;
+  out = frame;
+  return {};
 }
 
 }  // namespace swum::protocol

@@ -5,7 +5,6 @@
 #include <array>
 #include <chrono>
 #include <cstdint>
-#include <optional>
 #include <string>
 #include <string_view>
 
@@ -33,8 +32,9 @@ bool same_content(const CanFrame& a, const CanFrame& b);
 std::string validate(const CanFrame& frame);
 
 // can-utils' cansend notation: "123#DEADBEEF" (3 hex digits: standard), "1ABCDEF0#00" (8 hex
-// digits: extended).
+// digits: extended). parse_cansend returns what is wrong (empty when fine; `out` is changed
+// only then).
 std::string to_cansend(const CanFrame& frame);
-std::optional<CanFrame> parse_cansend(std::string_view text, std::string* error = nullptr);
+std::string parse_cansend(std::string_view text, CanFrame& out);
 
 }  // namespace swum::protocol

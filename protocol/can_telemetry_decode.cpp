@@ -11,8 +11,8 @@ T raw_as(const CanFrame& f, Signal s) {
 }
 }  // namespace
 
-bool decode_status(const CanFrame& f, StatusFields& out) {
-  if (!full(f)) return false;
+Reason decode_status(const CanFrame& f, StatusFields& out) {
+  if (!full(f)) return Reason::wrong_length;
   out.state = raw_as<std::uint8_t>(f, signals::kStatusState);
   out.enable_line = raw_value(f, signals::kStatusEnableLine) != 0;
   out.drive_on = raw_value(f, signals::kStatusDriveOn) != 0;
@@ -22,47 +22,47 @@ bool decode_status(const CanFrame& f, StatusFields& out) {
   out.reject_count = raw_as<std::uint8_t>(f, signals::kStatusRejectCount);
   out.applied_count = raw_as<std::uint8_t>(f, signals::kStatusAppliedCount);
   out.status_counter = raw_as<std::uint8_t>(f, signals::kStatusCounter);
-  return true;
+  return Reason::none;
 }
 
-bool decode_motion(const CanFrame& f, MotionFields& out) {
-  if (!full(f)) return false;
+Reason decode_motion(const CanFrame& f, MotionFields& out) {
+  if (!full(f)) return Reason::wrong_length;
   out.speed_mm_s = physical_value(f, signals::kMotionSpeed) * 1e-3;  // um/s -> mm/s
   out.position_mm = physical_value(f, signals::kMotionPosition) * 1e-3;  // um -> mm
-  return true;
+  return Reason::none;
 }
 
-bool decode_drive(const CanFrame& f, DriveFields& out) {
-  if (!full(f)) return false;
+Reason decode_drive(const CanFrame& f, DriveFields& out) {
+  if (!full(f)) return Reason::wrong_length;
   out.tip_normal_um = physical_value(f, signals::kDriveTipNormal);
   out.tip_tangential_um = physical_value(f, signals::kDriveTipTangential);
   out.vpp = physical_value(f, signals::kDriveAmplitude);
   out.phase_deg = physical_value(f, signals::kDrivePhase);
-  return true;
+  return Reason::none;
 }
 
-bool decode_loop_stats(const CanFrame& f, LoopStatsFields& out) {
-  if (!full(f)) return false;
+Reason decode_loop_stats(const CanFrame& f, LoopStatsFields& out) {
+  if (!full(f)) return Reason::wrong_length;
   out.lateness_p99_us = physical_value(f, signals::kLoopLatenessP99);
   out.lateness_p999_us = physical_value(f, signals::kLoopLatenessP999);
   out.lateness_max_us = physical_value(f, signals::kLoopLatenessMax);
   out.overruns = raw_as<std::uint32_t>(f, signals::kLoopOverruns);
-  return true;
+  return Reason::none;
 }
 
-bool decode_output(const CanFrame& f, OutputFields& out) {
-  if (!full(f)) return false;
+Reason decode_output(const CanFrame& f, OutputFields& out) {
+  if (!full(f)) return Reason::wrong_length;
   out.frequency_hz = physical_value(f, signals::kOutputFrequency);
   out.load_n = physical_value(f, signals::kOutputLoad);
   out.lateness_p50_us = physical_value(f, signals::kOutputLatenessP50);
-  return true;
+  return Reason::none;
 }
 
-bool decode_clock(const CanFrame& f, ClockFields& out) {
-  if (!full(f)) return false;
+Reason decode_clock(const CanFrame& f, ClockFields& out) {
+  if (!full(f)) return Reason::wrong_length;
   out.sim_time_s = physical_value(f, signals::kClockTime);
   out.tick = raw_as<std::uint32_t>(f, signals::kClockTick);
-  return true;
+  return Reason::none;
 }
 
 }  // namespace swum::protocol::can

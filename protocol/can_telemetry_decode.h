@@ -6,6 +6,7 @@
 #include <cstdint>
 
 #include "can_frame.h"
+#include "codes.h"
 
 namespace swum::protocol::can {
 
@@ -47,12 +48,13 @@ struct ClockFields {
   std::uint32_t tick = 0;
 };
 
-// false when the length is wrong (8 bytes expected).
-bool decode_status(const CanFrame& frame, StatusFields& out);
-bool decode_motion(const CanFrame& frame, MotionFields& out);
-bool decode_drive(const CanFrame& frame, DriveFields& out);
-bool decode_loop_stats(const CanFrame& frame, LoopStatsFields& out);
-bool decode_output(const CanFrame& frame, OutputFields& out);
-bool decode_clock(const CanFrame& frame, ClockFields& out);
+// Reason::wrong_length unless the frame is a standard 8-byte frame (the only failure a
+// telemetry frame has); Reason::none and `out` filled otherwise.
+Reason decode_status(const CanFrame& frame, StatusFields& out);
+Reason decode_motion(const CanFrame& frame, MotionFields& out);
+Reason decode_drive(const CanFrame& frame, DriveFields& out);
+Reason decode_loop_stats(const CanFrame& frame, LoopStatsFields& out);
+Reason decode_output(const CanFrame& frame, OutputFields& out);
+Reason decode_clock(const CanFrame& frame, ClockFields& out);
 
 }  // namespace swum::protocol::can

@@ -49,7 +49,19 @@ namespace swum::golden::adapter {
 namespace emu = swum::emu;
 namespace protocol = swum::protocol;
 namespace mb = swum::protocol::modbus;
-namespace can = swum::protocol::can;
+// The telemetry decoders report a Reason (the protocol's per-frame status); the captures
+// record whether the frame decoded.
+namespace can {
+using namespace swum::protocol::can;
+namespace wire = swum::protocol::can;
+using Frame = swum::protocol::CanFrame;
+constexpr auto kOk = swum::protocol::Reason::none;
+inline bool decode_status(const Frame& f, StatusFields& o) { return wire::decode_status(f, o) == kOk; }
+inline bool decode_motion(const Frame& f, MotionFields& o) { return wire::decode_motion(f, o) == kOk; }
+inline bool decode_drive(const Frame& f, DriveFields& o) { return wire::decode_drive(f, o) == kOk; }
+inline bool decode_output(const Frame& f, OutputFields& o) { return wire::decode_output(f, o) == kOk; }
+inline bool decode_clock(const Frame& f, ClockFields& o) { return wire::decode_clock(f, o) == kOk; }
+}  // namespace can
 namespace host = swum::host;
 namespace io = swum::io;
 

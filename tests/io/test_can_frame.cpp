@@ -24,43 +24,43 @@ TEST(CanFrame, ValidateAcceptsLimitsAndNamesWhatIsWrong) {
 }
 
 TEST(CanFrame, CansendNotationRoundTrips) {
-  std::string err;
-  auto f = parse_cansend("123#DEADBEEF", &err);
-  ASSERT_TRUE(f) << err;
-  EXPECT_EQ(f->id, 0x123u);
-  EXPECT_FALSE(f->extended);
-  EXPECT_EQ(f->dlc, 4);
-  EXPECT_EQ(f->data[0], 0xDE);
-  EXPECT_EQ(f->data[3], 0xEF);
-  EXPECT_EQ(to_cansend(*f), "123#DEADBEEF");
+  CanFrame f;
+  ASSERT_EQ(parse_cansend("123#DEADBEEF", f), "");
+  EXPECT_EQ(f.id, 0x123u);
+  EXPECT_FALSE(f.extended);
+  EXPECT_EQ(f.dlc, 4);
+  EXPECT_EQ(f.data[0], 0xDE);
+  EXPECT_EQ(f.data[3], 0xEF);
+  EXPECT_EQ(to_cansend(f), "123#DEADBEEF");
 
-  auto e = parse_cansend("1ABCDEF0#00.11.22", &err);
-  ASSERT_TRUE(e) << err;
-  EXPECT_TRUE(e->extended);
-  EXPECT_EQ(e->id, 0x1ABCDEF0u);
-  EXPECT_EQ(e->dlc, 3);
-  EXPECT_EQ(to_cansend(*e), "1ABCDEF0#001122");
+  CanFrame e;
+  ASSERT_EQ(parse_cansend("1ABCDEF0#00.11.22", e), "");
+  EXPECT_TRUE(e.extended);
+  EXPECT_EQ(e.id, 0x1ABCDEF0u);
+  EXPECT_EQ(e.dlc, 3);
+  EXPECT_EQ(to_cansend(e), "1ABCDEF0#001122");
 
-  auto empty = parse_cansend("7FF#", &err);
-  ASSERT_TRUE(empty) << err;
-  EXPECT_EQ(empty->dlc, 0);
-  EXPECT_EQ(to_cansend(*empty), "7FF#");
+  CanFrame empty;
+  ASSERT_EQ(parse_cansend("7FF#", empty), "");
+  EXPECT_EQ(empty.dlc, 0);
+  EXPECT_EQ(to_cansend(empty), "7FF#");
 }
 
 TEST(CanFrame, CansendNotationRejectsBadInputClearly) {
-  std::string err;
-  EXPECT_FALSE(parse_cansend("123DEAD", &err));
-  EXPECT_NE(err.find("no '#'"), std::string::npos) << err;
-  EXPECT_FALSE(parse_cansend("12#00", &err));
-  EXPECT_NE(err.find("3 (standard) or 8 (extended)"), std::string::npos) << err;
-  EXPECT_FALSE(parse_cansend("1G3#00", &err));
-  EXPECT_NE(err.find("not hexadecimal"), std::string::npos) << err;
-  EXPECT_FALSE(parse_cansend("123#0", &err));
-  EXPECT_NE(err.find("odd number"), std::string::npos) << err;
-  EXPECT_FALSE(parse_cansend("123#001122334455667788", &err));
-  EXPECT_NE(err.find("more than 8"), std::string::npos) << err;
-  EXPECT_FALSE(parse_cansend("FFF#00", &err));
-  EXPECT_NE(err.find("exceeds"), std::string::npos) << err;
+  const CanFrame untouched{0x42, false, 1, {0x99}};
+  auto error_of = [&](const char* text) {
+    CanFrame f = untouched;
+    const std::string err = parse_cansend(text, f);
+    EXPECT_TRUE(same_content(f, untouched)) << text << ": a failed parse changed the frame";
+    return err;
+  };
+  EXPECT_NE(error_of("123DEAD").find("no '#'"), std::string::npos);
+  EXPECT_NE(error_of("12#00").find("3 (standard) or 8 (extended)"), std::string::npos);
+  EXPECT_NE(error_of("1G3#00").find("not hexadecimal"), std::string::npos);
+  EXPECT_NE(error_of("123#0").find("odd number"), std::string::npos);
+  EXPECT_NE(error_of("123#001122334455667788").find("more than 8"), std::string::npos);
+  EXPECT_NE(error_of("FFF#00").find("exceeds"), std::string::npos);
+  EXPECT_EQ(error_of("FFF#00").rfind("bad CAN frame 'FFF#00': ", 0), 0u);
 }
 
 TEST(CanFrame, FiltersFollowKernelSemantics) {

@@ -36,7 +36,7 @@ TEST(CanTelemetryDecode, InvertsEveryEncoder) {
   const Ids ids = ids_for_node(3);
   const Telemetry t = sample_telemetry();
   StatusFields s;
-  ASSERT_TRUE(decode_status(encode_status(t, {Reason::phase_out_of_range, 513}, 77, ids.status), s));
+  ASSERT_EQ(decode_status(encode_status(t, {Reason::phase_out_of_range, 513}, 77, ids.status), s), Reason::none);
   EXPECT_EQ(s.state, 1);
   EXPECT_TRUE(s.enable_line);
   EXPECT_TRUE(s.drive_on);
@@ -47,25 +47,25 @@ TEST(CanTelemetryDecode, InvertsEveryEncoder) {
   EXPECT_EQ(s.status_counter, 77);
 
   MotionFields m;
-  ASSERT_TRUE(decode_motion(encode_motion(t, ids.motion), m));
+  ASSERT_EQ(decode_motion(encode_motion(t, ids.motion), m), Reason::none);
   EXPECT_NEAR(m.speed_mm_s, -456.789, 1e-3);
   EXPECT_NEAR(m.position_mm, 1234.567, 1e-3);
 
   DriveFields d;
-  ASSERT_TRUE(decode_drive(encode_drive(t, ids.drive), d));
+  ASSERT_EQ(decode_drive(encode_drive(t, ids.drive), d), Reason::none);
   EXPECT_NEAR(d.tip_normal_um, 2.345, 1e-3);
   EXPECT_NEAR(d.tip_tangential_um, 3.456, 1e-3);
   EXPECT_NEAR(d.vpp, 312.5, 0.05);
   EXPECT_NEAR(d.phase_deg, -90.25, 0.005);
 
   LoopStatsFields l;
-  ASSERT_TRUE(decode_loop_stats(encode_loop_stats(t, ids.loop_stats), l));
+  ASSERT_EQ(decode_loop_stats(encode_loop_stats(t, ids.loop_stats), l), Reason::none);
   EXPECT_EQ(l.lateness_p99_us, 14.0);
   EXPECT_EQ(l.lateness_max_us, 1300.0);
   EXPECT_EQ(l.overruns, 65535u);
 
   OutputFields o;
-  ASSERT_TRUE(decode_output(encode_output(t, ids.output), o));
+  ASSERT_EQ(decode_output(encode_output(t, ids.output), o), Reason::none);
   EXPECT_NEAR(o.frequency_hz, 39876.543, 1e-3);
   EXPECT_NEAR(o.load_n, -1.234, 1e-3);
   EXPECT_EQ(o.lateness_p50_us, 4.0);
@@ -74,7 +74,7 @@ TEST(CanTelemetryDecode, InvertsEveryEncoder) {
   timed.sim_time_s = 98.7654;
   timed.tick = 987654;
   ClockFields c;
-  ASSERT_TRUE(decode_clock(encode_clock(timed, ids.clock), c));
+  ASSERT_EQ(decode_clock(encode_clock(timed, ids.clock), c), Reason::none);
   EXPECT_NEAR(c.sim_time_s, 98.765, 1e-9);
   EXPECT_EQ(c.tick, 987654u);
 }
@@ -83,10 +83,10 @@ TEST(CanTelemetryDecode, RefusesShortFrames) {
   CanFrame f = encode_motion(sample_telemetry(), 0x281);
   f.dlc = 4;
   MotionFields m;
-  EXPECT_FALSE(decode_motion(f, m));
+  EXPECT_EQ(decode_motion(f, m), Reason::wrong_length);
   f.dlc = 8;
   f.extended = true;
-  EXPECT_FALSE(decode_motion(f, m));
+  EXPECT_EQ(decode_motion(f, m), Reason::wrong_length);
 }
 
 }  // namespace

@@ -172,23 +172,23 @@ TEST(CanRoundTrip, TelemetryFramesDecodeToWhatTheDeviceEncoded) {
   const Telemetry t = sample();
   const can::Ids ids = can::ids_for_node(1);
   can::StatusFields s;
-  ASSERT_TRUE(can::decode_status(can::encode_status(t, RejectSnapshot{Reason::bad_checksum, 258}, 17, ids.status), s));
+  ASSERT_EQ(can::decode_status(can::encode_status(t, RejectSnapshot{Reason::bad_checksum, 258}, 17, ids.status), s), Reason::none);
   EXPECT_EQ(s.state, static_cast<std::uint8_t>(AmpState::enabled));
   EXPECT_TRUE(s.drive_on);
   EXPECT_EQ(s.last_reject, static_cast<std::uint8_t>(Reason::bad_checksum));
   EXPECT_EQ(s.reject_count, 258 % 256);
   EXPECT_EQ(s.status_counter, 17);
   can::MotionFields m;
-  ASSERT_TRUE(can::decode_motion(can::encode_motion(t, ids.motion), m));
+  ASSERT_EQ(can::decode_motion(can::encode_motion(t, ids.motion), m), Reason::none);
   EXPECT_NEAR(m.speed_mm_s, t.speed_m_s * 1e3, 0.5e-3);
   EXPECT_NEAR(m.position_mm, t.position_m * 1e3, 0.5e-3);
   can::OutputFields o;
-  ASSERT_TRUE(can::decode_output(can::encode_output(t, ids.output), o));
+  ASSERT_EQ(can::decode_output(can::encode_output(t, ids.output), o), Reason::none);
   EXPECT_NEAR(o.frequency_hz, t.output.frequency_hz, 0.5e-3);
   EXPECT_NEAR(o.load_n, t.output.load_n, 0.5e-3);
   EXPECT_EQ(o.lateness_p50_us, 3.0);
   can::ClockFields k;
-  ASSERT_TRUE(can::decode_clock(can::encode_clock(t, ids.clock), k));
+  ASSERT_EQ(can::decode_clock(can::encode_clock(t, ids.clock), k), Reason::none);
   EXPECT_NEAR(k.sim_time_s, 12.345, 1e-3);
   EXPECT_EQ(k.tick, 123456u);
 }
