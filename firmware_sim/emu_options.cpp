@@ -1,0 +1,160 @@
+#include "emu_options.h"
+
+#include <CLI/CLI.hpp>
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <sstream>
+#include <tuple>
+
+namespace swum::emu {
+
+EmuOptions parse_emu_options(int argc, const char* const* argv) {
+  EmuOptions o;
+  CLI::App app{"swum-emu: two-phase ultrasonic-motor amplifier + motor emulator (docs/emulator.md)"};
+  // Modbus connection limits: taken as text and parsed whole below (one-line errors).
+  std::string modbus_idle_text = std::to_string(o.modbus_idle_timeout_ms);
+  std::string modbus_frame_text = std::to_string(o.modbus_frame_timeout_ms);
+  std::string modbus_evict_text = std::to_string(o.modbus_evict_idle_ms);
+  app.add_option("--config", o.config_path, "motor parameter file (TOML)")->required()->check(CLI::ExistingFile);
+  app.add_option("--can", o.can_interface, "SocketCAN interface (e.g. vcan0); CAN off when absent");
+  app.add_option("--node", o.can_node, "CAN node id")->check(CLI::Range(1, 127));
+  app.add_option("--modbus", o.modbus_spec, "tcp://HOST:PORT (port 0: any free port), rtu:/dev/TTY:BAUD, or none")
+      ->capture_default_str();
+  app.add_option("--modbus-unit", o.modbus_unit, "Modbus RTU unit id")->check(CLI::Range(1, 247));
+  app.add_option("--modbus-idle-timeout-ms", modbus_idle_text,
+                 "Modbus TCP: close a connection without a request for this long (0 = never)")
+      ->type_name("MS")
+      ->capture_default_str();
+  app.add_option("--modbus-frame-timeout-ms", modbus_frame_text,
+                 "Modbus: a request must be complete this long after its first byte (RTU: plus a 256-byte "
+                 "frame's time on the line); TCP: its reply taken within as long again")
+      ->type_name("MS")
+      ->capture_default_str();
+  app.add_option("--modbus-evict-idle-ms", modbus_evict_text,
+                 "Modbus TCP: when all 16 slots are taken, the longest-idle holder idle at least this long "
+                 "is closed to make room (0 = any idle holder)")
+      ->type_name("MS")
+      ->capture_default_str();
+  app.add_option("--gpio", o.gpio_spec, "CHIP:enable=N,fault=M[,a=K,b=L] (GPIO off when absent)");
+  app.add_option("--encoder-resolution-um", o.encoder_resolution_um, "encoder: mover travel per count")
+      ->check(CLI::PositiveNumber)->capture_default_str();
+  app.add_option("--encoder-max-rate", o.encoder_max_rate_hz, "encoder: max edges per second")
+      ->check(CLI::Range(1.0, 1e6))->capture_default_str();
+  app.add_option("--tick-hz", o.tick_hz, "loop rate")->check(CLI::Range(100.0, 100000.0))->capture_default_str();
+  app.add_option("--duration", o.duration_s, "stop after S emulated seconds (0: run until SIGINT/SIGTERM)")
+      ->check(CLI::NonNegativeNumber);
+  app.add_option("--speedup", o.speedup, "run K times faster than wall time; 0 = as fast as possible")
+      ->check(CLI::NonNegativeNumber)->capture_default_str();
+  app.add_option("--watchdog-ms", o.watchdog_ms, "command timeout while enabled (emulated ms; 0 = off)")
+      ->check(CLI::NonNegativeNumber)->capture_default_str();
+  app.add_option("--telemetry-hz", o.telemetry_hz, "CAN telemetry rate (0 = off)")->check(CLI::Range(0.0, 2000.0))
+      ->capture_default_str();
+  app.add_option("--heartbeat-ms", o.heartbeat_ms, "CAN heartbeat period (0 = off)")->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
+  app.add_option("--frequency-min", o.frequency_min_hz, "lowest accepted frequency setpoint (Hz)")
+      ->capture_default_str();
+  app.add_option("--frequency-max", o.frequency_max_hz, "highest accepted frequency setpoint (Hz)")
+      ->capture_default_str();
+  app.add_option("--amplitude-max", o.amplitude_max_vpp, "highest accepted amplitude setpoint (Vpp)")
+      ->capture_default_str();
+  app.add_option("--load-max", o.load_max_n, "largest accepted |load force| (N)")->capture_default_str();
+  app.add_option("--frequency-slew", o.frequency_slew_hz_per_s, "frequency slew limit (Hz/s; 0 = none)")
+      ->check(CLI::NonNegativeNumber)->capture_default_str();
+  app.add_option("--amplitude-slew", o.amplitude_slew_vpp_per_s, "amplitude slew limit (Vpp/s; 0 = none)")
+      ->check(CLI::NonNegativeNumber)->capture_default_str();
+  app.add_option("--frequency", o.frequency_hz, "initial frequency setpoint (Hz)")->capture_default_str();
+  app.add_option("--phase", o.phase_deg, "initial phase setpoint (deg)")->capture_default_str();
+  app.add_flag("--rt", o.realtime, "try SCHED_FIFO + mlockall (a message, not a failure, when not permitted)");
+  app.add_option("--cpu", o.cpu, "pin the real-time loop to this CPU (transports stay unpinned)")
+      ->check(CLI::NonNegativeNumber);
+  app.add_option("--spin-us", o.spin_us, "sleep until this long before each tick, then busy-wait (lower wake-up latency, busier CPU)")
+      ->check(CLI::Range(0.0, 1e6))
+      ->capture_default_str();
+  app.add_option("--ready-fd", o.ready_fd, "also write the ready line to this file descriptor");
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    std::ostringstream out;
+    std::ostringstream err;
+    const int exit_code = app.exit(e, out, err);
+    throw EmuCliExit(exit_code, out.str(), err.str());
+  }
+  for (const auto& [option, text, min_ms, value] :
+       {std::tuple{"--modbus-idle-timeout-ms", &modbus_idle_text, 0, &o.modbus_idle_timeout_ms},
+        std::tuple{"--modbus-frame-timeout-ms", &modbus_frame_text, 1, &o.modbus_frame_timeout_ms},
+        std::tuple{"--modbus-evict-idle-ms", &modbus_evict_text, 0, &o.modbus_evict_idle_ms}}) {
+    if (const std::string e = parse_milliseconds(*text, min_ms, kMaxTimeoutMs, *value); !e.empty())
+      throw EmuOptionError(std::string(option) + ": " + e);
+  }
+  return o;
+}
+
+AmplifierConfig amplifier_config(const EmuOptions& o) {
+  if (o.frequency_min_hz > o.frequency_max_hz) throw EmuOptionError("--frequency-min is above --frequency-max");
+  AmplifierConfig amp;
+  amp.limits.min_frequency_hz = o.frequency_min_hz;
+  amp.limits.max_frequency_hz = o.frequency_max_hz;
+  amp.limits.max_amplitude_vpp = o.amplitude_max_vpp;
+  amp.limits.max_abs_load_n = o.load_max_n;
+  amp.frequency_slew_hz_per_s = o.frequency_slew_hz_per_s;
+  amp.amplitude_slew_vpp_per_s = o.amplitude_slew_vpp_per_s;
+  amp.frequency_hz = o.frequency_hz;
+  amp.phase_deg = o.phase_deg;
+  amp.watchdog_s = o.watchdog_ms * 1e-3;
+  // A default slew above the largest a command may ask for raises that limit.
+  amp.limits.max_frequency_slew_hz_per_s = std::max(amp.limits.max_frequency_slew_hz_per_s, amp.frequency_slew_hz_per_s);
+  amp.limits.max_amplitude_slew_vpp_per_s =
+      std::max(amp.limits.max_amplitude_slew_vpp_per_s, amp.amplitude_slew_vpp_per_s);
+  Command initial;
+  initial.fields = Command::kFrequency | Command::kPhase;
+  initial.frequency_hz = amp.frequency_hz;
+  initial.phase_deg = amp.phase_deg;
+  if (validate(initial, amp.limits) != Reason::none)
+    throw EmuOptionError("initial --frequency / --phase outside the accepted limits");
+  return amp;
+}
+
+std::optional<ModbusEndpoint> modbus_endpoint(const EmuOptions& o) {
+  if (o.modbus_spec == "none") return std::nullopt;
+  ModbusEndpoint endpoint;
+  if (const std::string e = parse_modbus_endpoint(o.modbus_spec, endpoint); !e.empty())
+    throw EmuOptionError("--modbus: " + e);
+  return endpoint;
+}
+
+ModbusTcpOptions modbus_tcp_options(const EmuOptions& o) {
+  ModbusTcpOptions tcp;
+  tcp.idle_timeout_ms = o.modbus_idle_timeout_ms;
+  tcp.frame_timeout_ms = o.modbus_frame_timeout_ms;
+  tcp.evict_idle_ms = o.modbus_evict_idle_ms;
+  return tcp;
+}
+
+CanTransportConfig can_transport_config(const EmuOptions& o) {
+  CanTransportConfig can;
+  can.node = static_cast<std::uint8_t>(o.can_node);
+  can.telemetry_hz = o.telemetry_hz;
+  can.heartbeat_s = o.heartbeat_ms * 1e-3;
+  return can;
+}
+
+GpioConfig gpio_config(const EmuOptions& o) {
+  GpioConfig gpio;
+  if (const std::string e = parse_gpio_spec(o.gpio_spec, gpio); !e.empty()) throw EmuOptionError("--gpio: " + e);
+  gpio.encoder_resolution_m = o.encoder_resolution_um * 1e-6;
+  gpio.max_edge_rate_hz = o.encoder_max_rate_hz;
+  return gpio;
+}
+
+LoopConfig loop_config(const EmuOptions& o) {
+  LoopConfig loop;
+  loop.speedup = o.speedup;
+  loop.realtime = o.realtime;
+  loop.spin_s = o.spin_us * 1e-6;
+  loop.stats_every_ticks = std::max<std::uint64_t>(1, static_cast<std::uint64_t>(o.tick_hz / 10.0));
+  if (o.duration_s > 0.0) loop.max_ticks = static_cast<std::uint64_t>(std::llround(o.duration_s * o.tick_hz));
+  return loop;
+}
+
+}  // namespace swum::emu
