@@ -191,12 +191,14 @@ void ModbusTcpServer::supervise() {
       std::fprintf(stderr, "swum-emu: Modbus TCP: %s (no longer accepting)\n", errno_text("poll", errno).c_str());
       return;
     }
-    if (stopping_.load()) return;
     if (rc > 0 && (fds[1].revents & POLLIN)) {
       std::uint64_t count = 0;
       if (::read(wake_fd_, &count, sizeof count) < 0 && errno != EAGAIN)
         std::fprintf(stderr, "swum-emu: Modbus TCP: %s\n", errno_text("read(eventfd)", errno).c_str());
     }
+    // After draining the eventfd, not before: a stop() between the check and the read would
+    // have its wake-up swallowed and leave this thread in poll(-1) for ever.
+    if (stopping_.load()) return;
     reap();
     if (rc > 0 && (fds[0].revents & POLLIN)) accept_one(monotonic_ns());
     timeout_ms = enforce_deadlines(monotonic_ns());
