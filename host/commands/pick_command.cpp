@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "analysis/operating_point.h"
 #include "commands/command_error.h"
 #include "commands/commands.h"
 #include "device/device_options.h"
@@ -17,7 +18,6 @@
 #include "device/stop_signal.h"
 #include "offline/motor_config.h"
 #include "offline/offline_sweep.h"
-#include "operating_point.h"
 #include "output/pick_plots.h"
 #include "output/progress_bar.h"
 #include "output/text_files.h"

@@ -1,5 +1,5 @@
 // pick_operating_point on synthetic curves.
-#include "operating_point.h"
+#include "analysis/operating_point.h"
 
 #include <gtest/gtest.h>
 
@@ -9,8 +9,8 @@
 
 namespace {
 
-using swum::host::CurveSample;
-using swum::host::pick_operating_point;
+using swum::CurveSample;
+using swum::pick_operating_point;
 
 // Lorentzian-like peak at f0 (Hz), height h, half width w; points 39300..40600 step `step`.
 std::vector<CurveSample> peak_curve(double f0, double h, double w, double step = 50.0,
@@ -53,7 +53,7 @@ TEST(PickOperatingPoint, SofteningCurveWithJumpStaysAboveTheCollapse) {
 }
 
 TEST(PickOperatingPoint, UserMarginIsAFloor) {
-  swum::host::PickOptions o;
+  swum::PickOptions o;
   o.min_margin_hz = 175.0;
   const auto r = pick_operating_point(peak_curve(40000.0, 300.0, 300.0), o);
   ASSERT_TRUE(r.decided) << r.reason;

@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-namespace swum::host {
+namespace swum {
 
 struct CurveSample {
   double frequency_hz = 0.0;
@@ -37,4 +37,4 @@ struct PickResult {
 /// Picks the operating frequency of one curve (any order; duplicates averaged).
 PickResult pick_operating_point(std::vector<CurveSample> samples, const PickOptions& options = {});
 
-}  // namespace swum::host
+}  // namespace swum

@@ -1,10 +1,10 @@
-#include "operating_point.h"
+#include "analysis/operating_point.h"
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 
-namespace swum::host {
+namespace swum {
 namespace {
 
 std::string fmt(const char* format, double a, double b = 0.0, double c = 0.0, double d = 0.0) {
@@ -154,4 +154,4 @@ PickResult pick_operating_point(std::vector<CurveSample> samples, const PickOpti
   return r;
 }
 
-}  // namespace swum::host
+}  // namespace swum
