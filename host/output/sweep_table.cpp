@@ -8,6 +8,7 @@
 #include <stdexcept>
 #include <utility>
 
+#include "config/csv_cells.h"
 #include "output/plot.h"
 #include "output/value_lists.h"
 
@@ -61,23 +62,14 @@ std::string format_sweep_csv(const std::vector<SweepRow>& rows) {
   return csv;
 }
 
-namespace {
-std::vector<std::string> split_cells(const std::string& line) {
-  std::vector<std::string> cells;
-  std::stringstream in(line);
-  std::string cell;
-  while (std::getline(in, cell, ',')) cells.push_back(cell);
-  if (!line.empty() && line.back() == ',') cells.emplace_back();
-  return cells;
-}
-}  // namespace
-
 std::vector<SweepRow> parse_sweep_csv(const std::string& text, const std::string& source) {
   std::stringstream in(text);
   std::string line;
   if (!std::getline(in, line)) throw std::runtime_error(source + ": empty file");
   if (!line.empty() && line.back() == '\r') line.pop_back();
-  const auto header = split_cells(line);
+  // Cells as written (CsvCellTrim::none): names and statuses are compared byte for byte.
+  std::vector<std::string> header;
+  for (const std::string_view name : split_csv_cells(line, CsvCellTrim::none)) header.emplace_back(name);
   auto column = [&](const std::string& name) {
     for (std::size_t i = 0; i < header.size(); ++i) if (header[i] == name) return static_cast<int>(i);
     return -1;
@@ -94,12 +86,12 @@ std::vector<SweepRow> parse_sweep_csv(const std::string& text, const std::string
     ++number;
     if (!line.empty() && line.back() == '\r') line.pop_back();
     if (line.empty()) continue;
-    const auto cells = split_cells(line);
+    const std::vector<std::string_view> cells = split_csv_cells(line, CsvCellTrim::none);
     if (cells.size() != header.size()) {
       throw std::runtime_error(source + " line " + std::to_string(number) + ": " + std::to_string(cells.size()) +
                                " cells, the header has " + std::to_string(header.size()));
     }
-    auto cell = [&](int c) { return c >= 0 ? cells[static_cast<std::size_t>(c)] : std::string(); };
+    auto cell = [&](int c) { return c >= 0 ? std::string(cells[static_cast<std::size_t>(c)]) : std::string(); };
     auto where = [&](int c) { return source + " line " + std::to_string(number) + " column " + header[c]; };
     auto value = [&](int c) { return parse_finite_number(cell(c), where(c)); };
     SweepRow row;
