@@ -16,6 +16,7 @@
 #include "analysis/discrepancy.h"
 #include "commands/command_error.h"
 #include "commands/commands.h"
+#include "config/number_format.h"
 #include "config/parameter_file.h"
 #include "offline/motor_config.h"
 #include "offline/parallel_for.h"
@@ -37,13 +38,7 @@ struct DiscrepancyCommandOptions {
   int jobs = 0;
 };
 
-std::string number(double v, const char* format = "%.4g") {
-  char text[64];
-  std::snprintf(text, sizeof text, format, v);
-  return text;
-}
-
-std::string percent(double v) { return number(100.0 * v, "%.3g") + " %"; }
+std::string percent(double v) { return format_number(100.0 * v, "%.3g") + " %"; }
 
 std::vector<std::string> split_list(const std::string& text) {
   std::vector<std::string> out;
@@ -73,11 +68,13 @@ nlohmann::ordered_json evidence_json(const HeldOutEvidence& e) {
 
 // "delta BIC -725; 14 of 15 held-out points better (p 0.00012: signed-rank 6.1e-05, sign-flip 0.0002); ..."
 std::string evidence_text(double delta_bic, const HeldOutEvidence& e) {
-  return "delta BIC " + number(delta_bic, "%+.1f") + "; " + std::to_string(e.improved) + " of " +
-         std::to_string(e.points) + " held-out points better (p " + number(e.p_value, "%.2g") + ": signed-rank " +
-         number(e.signed_rank_p, "%.2g") + ", sign-flip " + number(e.sign_flip_p, "%.2g") + "); held-out RMS " + percent(e.rms_before) + " -> " + percent(e.rms_after) + ", reduction " +
-         number(100.0 * e.reduction, "%.0f") + " % (90 % interval " + number(100.0 * e.reduction_low, "%.0f") +
-         ".." + number(100.0 * e.reduction_high, "%.0f") + " %)";
+  return "delta BIC " + format_number(delta_bic, "%+.1f") + "; " + std::to_string(e.improved) + " of " +
+         std::to_string(e.points) + " held-out points better (p " + format_number(e.p_value, "%.2g") +
+         ": signed-rank " + format_number(e.signed_rank_p, "%.2g") + ", sign-flip " +
+         format_number(e.sign_flip_p, "%.2g") + "); held-out RMS " + percent(e.rms_before) + " -> " +
+         percent(e.rms_after) + ", reduction " + format_number(100.0 * e.reduction, "%.0f") +
+         " % (90 % interval " + format_number(100.0 * e.reduction_low, "%.0f") + ".." +
+         format_number(100.0 * e.reduction_high, "%.0f") + " %)";
 }
 
 nlohmann::ordered_json to_json(const DiscrepancyResult& r, double wall_s) {
@@ -181,7 +178,7 @@ std::string summary_text(const DiscrepancyResult& r) {
         std::snprintf(line, sizeof line, "  %-16s skipped: %s\n", c.name.c_str(), c.note.c_str());
       } else {
         std::snprintf(line, sizeof line, "  %-16s value %-10s train RMS %-8s held-out RMS %-8s dBIC %+.1f\n",
-                      c.name.c_str(), number(c.value).c_str(), percent(c.train_rms).c_str(),
+                      c.name.c_str(), format_number(c.value, "%.4g").c_str(), percent(c.train_rms).c_str(),
                       percent(c.held_out_rms).c_str(), c.delta_bic);
       }
       out += line;
@@ -189,8 +186,8 @@ std::string summary_text(const DiscrepancyResult& r) {
   }
   if (r.effects.empty()) out += "named effects: none\n";
   for (const NamedEffect& e : r.effects) {
-    out += "named effect: " + e.name + "  " + e.key + " = " + number(e.value) + " +- " +
-           number(e.standard_error, "%.2g") + " " + e.unit + "\n    evidence: " +
+    out += "named effect: " + e.name + "  " + e.key + " = " + format_number(e.value, "%.4g") + " +- " +
+           format_number(e.standard_error, "%.2g") + " " + e.unit + "\n    evidence: " +
            evidence_text(e.delta_bic, e.held_out) + "\n";
   }
   out += "held-out gap (relative RMS / max): " + percent(r.rms_before) + " -> " + percent(r.rms_after) + "\n";
@@ -252,14 +249,15 @@ std::string report_markdown(const DiscrepancyCommandOptions& o, const Measuremen
   md += "## Disagreement map of the baseline\n\n" + r.baseline_map.summary + "\n\n";
   md += "| variable | F (quadratic trend) | R^2 | quantity | structured |\n|---|---|---|---|---|\n";
   for (const TrendTest& t : r.baseline_map.trends) {
-    md += "| " + std::string(t.variable) + " | " + number(t.f_statistic, "%.3g") + " | " +
-          number(t.explained_fraction, "%.2f") + " | " + std::string(quantity_column(t.quantity)) +
+    md += "| " + std::string(t.variable) + " | " + format_number(t.f_statistic, "%.3g") + " | " +
+          format_number(t.explained_fraction, "%.2f") + " | " + std::string(quantity_column(t.quantity)) +
           " | " + (t.structured ? "yes" : "no") + " |\n";
   }
   md += "\nLargest residuals (relative):\n\n| line | quantity | measured | baseline | r |\n|---|---|---|---|---|\n";
   for (const ResidualValue& v : r.baseline_map.largest) {
     md += "| " + std::to_string(set.rows[v.slot.row].source_line) + " | " + std::string(quantity_column(v.slot.quantity)) +
-          " | " + number(v.measured) + " | " + number(v.predicted) + " | " + percent(v.relative) + " |\n";
+          " | " + format_number(v.measured, "%.4g") + " | " + format_number(v.predicted, "%.4g") + " | " +
+          percent(v.relative) + " |\n";
   }
   md += "\n## Selection\n\n";
   for (std::size_t k = 0; k < r.rounds.size(); ++k) {
@@ -267,23 +265,23 @@ std::string report_markdown(const DiscrepancyCommandOptions& o, const Measuremen
     md += "| candidate | value | train RMS | held-out RMS | delta BIC |\n|---|---|---|---|---|\n";
     for (const CandidateScore& c : r.rounds[k].candidates) {
       md += c.skipped ? "| " + c.name + " | skipped: " + c.note + " | | | |\n"
-                      : "| " + c.name + " | " + number(c.value) + " | " + percent(c.train_rms) +
-                            " | " + percent(c.held_out_rms) + " | " + number(c.delta_bic, "%+.1f") + " |\n";
+                      : "| " + c.name + " | " + format_number(c.value, "%.4g") + " | " + percent(c.train_rms) +
+                            " | " + percent(c.held_out_rms) + " | " + format_number(c.delta_bic, "%+.1f") + " |\n";
     }
     md += "\n";
   }
   md += "## Named effects\n\n";
   if (r.effects.empty()) md += "None.\n";
   for (const NamedEffect& e : r.effects) {
-    md += "- **" + e.name + "**: `" + e.key + " = " + number(e.value) + "` +- " +
-          number(e.standard_error, "%.2g") + " " + e.unit + "; evidence: " +
+    md += "- **" + e.name + "**: `" + e.key + " = " + format_number(e.value, "%.4g") + "` +- " +
+          format_number(e.standard_error, "%.2g") + " " + e.unit + "; evidence: " +
           evidence_text(e.delta_bic, e.held_out) + "\n";
   }
   md += "\nNamed when both hold: delta BIC on the " + std::to_string(r.operating_points - r.held_out_points) +
-        " training points below -" + number(DiscrepancyOptions{}.bic_margin, "%g") +
+        " training points below -" + format_number(DiscrepancyOptions{}.bic_margin, "%g") +
         ", and on the " + std::to_string(r.held_out_points) +
         " held-out points the one-sided signed-rank and sign-flip tests, Bonferroni-combined, below p = " +
-        number(DiscrepancyOptions{}.significance, "%g") + " (docs/discrepancy.md).\n";
+        format_number(DiscrepancyOptions{}.significance, "%g") + " (docs/discrepancy.md).\n";
   md += "\n## Gap on held-out points (relative)\n\n| quantity | n | RMS before | RMS after | max before | max after |\n|---|---|---|---|---|---|\n";
   for (Quantity q : kQuantities) {
     const QuantityGap& g = r.gaps[static_cast<std::size_t>(q)];
@@ -347,8 +345,8 @@ void run_discrepancy_command(const DiscrepancyCommandOptions& o) {
   std::string header = "# Written by `swum discrepancy --config " + o.config_path + " --measured " +
                        o.measured_path + "`: the baseline plus the named effects.\n";
   for (const NamedEffect& e : r.effects) {
-    header += "#   effects." + e.name + "." + e.key + " = " + number(e.value, "%.6g") + " +- " +
-              number(e.standard_error, "%.2g") + " " + e.unit + "\n";
+    header += "#   effects." + e.name + "." + e.key + " = " + format_number(e.value, "%.6g") + " +- " +
+              format_number(e.standard_error, "%.2g") + " " + e.unit + "\n";
   }
   if (r.effects.empty()) header += "#   no effect named: identical to the baseline\n";
   write_text_file_atomically(dir / "augmented.toml", header + "\n" + format_motor_parameters(r.augmented));

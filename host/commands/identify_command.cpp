@@ -14,13 +14,13 @@
 #include "analysis/identification.h"
 #include "commands/command_error.h"
 #include "commands/commands.h"
+#include "config/number_format.h"
 #include "config/parameter_file.h"
 #include "model/motor_model.h"
 #include "offline/motor_config.h"
 #include "output/amplitude_csv.h"
 #include "output/plot.h"
 #include "output/text_files.h"
-#include "output/value_lists.h"
 
 namespace swum::host {
 namespace {
@@ -36,8 +36,6 @@ struct IdentifyOptions {
   int starts = IdentificationOptions{}.starts;
   std::uint64_t seed = IdentificationOptions{}.seed;
 };
-
-std::string number(double v, const char* format = "%.5g") { return format_number(v, format); }
 
 nlohmann::ordered_json to_json(const IdentificationResult& r) {
   nlohmann::ordered_json j;
@@ -73,20 +71,20 @@ std::string summary_text(const IdentificationResult& r) {
     char line[512];
     if (e.identifiable) {
       std::snprintf(line, sizeof line, "%-18s %-14s %-12s identified%s\n",
-                    std::string(e.key).c_str(), number(e.value, "%+.5g").c_str(),
-                    number(e.standard_error, "%.2g").c_str(),
+                    std::string(e.key).c_str(), format_number(e.value, "%+.5g").c_str(),
+                    format_number(e.standard_error, "%.2g").c_str(),
                     e.significant ? ", significantly non-zero" : ", NOT significantly non-zero");
     } else {
       std::snprintf(line, sizeof line, "%-18s %-14s %-12s not identifiable, kept at prior: %s\n",
-                    std::string(e.key).c_str(), number(e.prior, "%+.5g").c_str(), "-",
+                    std::string(e.key).c_str(), format_number(e.prior, "%+.5g").c_str(), "-",
                     e.reason.c_str());
     }
     out += line;
   }
-  out += "RMS residual: " + number(100.0 * r.rms_relative_residual, "%.3g") + " % (relative)";
-  if (std::isfinite(r.rms_normal_um)) out += ", normal " + number(r.rms_normal_um, "%.3g") + " um";
+  out += "RMS residual: " + format_number(100.0 * r.rms_relative_residual, "%.3g") + " % (relative)";
+  if (std::isfinite(r.rms_normal_um)) out += ", normal " + format_number(r.rms_normal_um, "%.3g") + " um";
   if (std::isfinite(r.rms_tangential_um)) {
-    out += ", tangential " + number(r.rms_tangential_um, "%.3g") + " um";
+    out += ", tangential " + format_number(r.rms_tangential_um, "%.3g") + " um";
   }
   out += " over " + std::to_string(r.residual_count) + " amplitudes\n";
   return out;
@@ -98,12 +96,12 @@ std::string fitted_file_text(const IdentifyOptions& o, const MotorParameters& fi
                        o.amplitudes_path +
                        "`.\n# Non-linear constants (paper Sec. 4, docs/model_spec.md §6.5):\n";
   for (const ParameterEstimate& e : r.parameters) {
-    header += "#   " + std::string(e.key) + " = " + number(e.value, "%.6g");
-    header += e.identifiable ? " +- " + number(e.standard_error, "%.2g") + " (fitted)"
+    header += "#   " + std::string(e.key) + " = " + format_number(e.value, "%.6g");
+    header += e.identifiable ? " +- " + format_number(e.standard_error, "%.2g") + " (fitted)"
                              : " (prior kept: not identifiable by these data)";
     header += "\n";
   }
-  header += "#   RMS relative residual " + number(100.0 * r.rms_relative_residual, "%.3g") +
+  header += "#   RMS relative residual " + format_number(100.0 * r.rms_relative_residual, "%.3g") +
             " % over " + std::to_string(r.residual_count) + " amplitudes\n\n";
   return header + format_motor_parameters(fitted);
 }
@@ -134,7 +132,7 @@ void write_report(const IdentifyOptions& o, const MotorModel& fitted_model,
     spec.y_label = std::string("tip ") + (normal ? "normal" : "tangential") + " amplitude (um)";
     for (const auto& [f, points] : by_frequency) {
       PlotSeries measured;
-      measured.label = number(f * 1e-3, "%.2f") + " kHz data";
+      measured.label = format_number(f * 1e-3, "%.2f") + " kHz data";
       measured.draw_line = false;
       for (const AmplitudeMeasurement* m : points) {
         const auto& a = normal ? m->tip_normal_um : m->tip_tangential_um;
@@ -144,7 +142,7 @@ void write_report(const IdentifyOptions& o, const MotorModel& fitted_model,
       }
       if (measured.x.empty()) continue;
       PlotSeries fit;
-      fit.label = number(f * 1e-3, "%.2f") + " kHz fit";
+      fit.label = format_number(f * 1e-3, "%.2f") + " kHz fit";
       fit.draw_markers = false;
       for (const SweepPoint& p : sweep_voltage(hb, f, grid)) {
         const int k = normal ? p.followed_normal : p.followed_tangential;
@@ -160,9 +158,9 @@ void write_report(const IdentifyOptions& o, const MotorModel& fitted_model,
     }
   }
   std::string csv = "vpp,frequency_hz,tip_normal_um,fit_normal_um,tip_tangential_um,fit_tangential_um\n";
-  auto cell = [](const std::optional<double>& v) { return v ? number(*v, "%.6g") : std::string(); };
+  auto cell = [](const std::optional<double>& v) { return v ? format_number(*v, "%.6g") : std::string(); };
   for (const PointPrediction& p : r.predictions) {
-    csv += number(p.measurement.vpp, "%.10g") + "," + number(p.measurement.frequency_hz, "%.10g") +
+    csv += format_number(p.measurement.vpp, "%.10g") + "," + format_number(p.measurement.frequency_hz, "%.10g") +
            "," + cell(p.measurement.tip_normal_um) + "," + cell(p.predicted_normal_um) + "," +
            cell(p.measurement.tip_tangential_um) + "," + cell(p.predicted_tangential_um) + "\n";
   }

@@ -13,6 +13,7 @@
 #include "analysis/operating_point.h"
 #include "commands/command_error.h"
 #include "commands/commands.h"
+#include "config/number_format.h"
 #include "device/device_options.h"
 #include "device/device_sweep.h"
 #include "device/stop_signal.h"
@@ -157,11 +158,7 @@ void report(const PickCommandOptions& o, const std::vector<VoltagePick>& picks) 
     j["margin_hz"] = r.margin_hz;
     j["reason"] = r.reason;
     list.push_back(j);
-    if (r.decided) {
-      char line[64];
-      std::snprintf(line, sizeof line, "%.6g,%.6g\n", v, r.frequency_hz);
-      schedule += line;
-    }
+    if (r.decided) schedule += format_number(v) + "," + format_number(r.frequency_hz) + "\n";
     if (!o.json) {
       if (r.decided) {
         char naive[64] = "n/a (40.4 kHz outside the sweep)";

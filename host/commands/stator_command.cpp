@@ -11,6 +11,7 @@
 
 #include "analysis/harmonic_balance.h"
 #include "commands/commands.h"
+#include "config/number_format.h"
 #include "offline/motor_config.h"
 #include "output/plot.h"
 #include "output/text_files.h"
@@ -121,11 +122,7 @@ nlohmann::ordered_json to_json(const std::vector<StatorRow>& rows,
   return j;
 }
 
-std::string vpp_label(double vpp) {
-  char text[32];
-  std::snprintf(text, sizeof text, "%g Vpp", vpp);
-  return text;
-}
+std::string vpp_label(double vpp) { return format_number(vpp, "%g") + " Vpp"; }
 
 // Amplitude vs frequency (several frequencies) or vs voltage (one frequency): stable and
 // unstable branches as separate series; the backbone (peak frequency) as a line.
@@ -169,11 +166,9 @@ void write_plot(const std::vector<SweepPoint>& sweep, const std::vector<double>&
     if (!bb.x.empty()) spec.series.push_back(std::move(bb));
   } else {
     auto all = [](const SweepPoint&) { return true; };
-    char label[64];
-    std::snprintf(label, sizeof label, "%.1f kHz stable", frequencies.front() * 1e-3);
-    add_series(label, all, true);
-    std::snprintf(label, sizeof label, "%.1f kHz unstable", frequencies.front() * 1e-3);
-    add_series(label, all, false);
+    const std::string khz = format_number(frequencies.front() * 1e-3, "%.1f") + " kHz";
+    add_series(khz + " stable", all, true);
+    add_series(khz + " unstable", all, false);
   }
   write_png_plot(spec, path);
 }

@@ -13,6 +13,7 @@
 #include "analysis/operating_curves.h"
 #include "analysis/paper_facts.h"
 #include "commands/commands.h"
+#include "config/number_format.h"
 #include "offline/motor_config.h"
 #include "output/plot.h"
 #include "output/text_files.h"
@@ -27,12 +28,6 @@ struct ValidateOptions {
   std::string literal_path;
   std::string out_dir;
 };
-
-std::string format_number(double value, const char* pattern = "%.4g") {
-  char buffer[64];
-  std::snprintf(buffer, sizeof buffer, pattern, value);
-  return buffer;
-}
 
 PlotSeries speed_series(const std::string& label, const MotorModel& model,
                         const std::vector<OperatingPoint>& points, double (*x_of)(const OperatingPoint&)) {

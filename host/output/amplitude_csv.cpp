@@ -3,12 +3,11 @@
 #include <array>
 #include <charconv>
 #include <cmath>
-
-#include "config/csv_cells.h"
-#include <cstdio>
 #include <optional>
 
 #include "commands/command_error.h"
+#include "config/csv_cells.h"
+#include "config/number_format.h"
 
 namespace swum::host {
 namespace {
@@ -133,19 +132,11 @@ std::vector<AmplitudeMeasurement> parse_amplitude_csv(std::string_view text,
 
 std::string format_amplitude_csv(std::span<const AmplitudeMeasurement> data) {
   std::string out = "vpp,frequency_hz,tip_normal_um,tip_tangential_um\n";
-  char buffer[128];
   for (const AmplitudeMeasurement& m : data) {
-    std::snprintf(buffer, sizeof buffer, "%.10g,%.10g,", m.vpp, m.frequency_hz);
-    out += buffer;
-    if (m.tip_normal_um) {
-      std::snprintf(buffer, sizeof buffer, "%.10g", *m.tip_normal_um);
-      out += buffer;
-    }
+    out += format_number(m.vpp, "%.10g") + "," + format_number(m.frequency_hz, "%.10g") + ",";
+    if (m.tip_normal_um) out += format_number(*m.tip_normal_um, "%.10g");
     out += ",";
-    if (m.tip_tangential_um) {
-      std::snprintf(buffer, sizeof buffer, "%.10g", *m.tip_tangential_um);
-      out += buffer;
-    }
+    if (m.tip_tangential_um) out += format_number(*m.tip_tangential_um, "%.10g");
     out += "\n";
   }
   return out;

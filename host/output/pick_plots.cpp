@@ -1,27 +1,25 @@
 #include "output/pick_plots.h"
 
 #include <cmath>
-#include <cstdio>
 #include <map>
 
+#include "config/number_format.h"
 #include "output/plot.h"
-#include "output/value_lists.h"
 
 namespace swum::host {
 namespace {
-std::string number(double value) { return format_number(value); }
 bool same(double a, double b) { return std::abs(a - b) < 1e-6 * std::max(1.0, std::abs(a)); }
 }  // namespace
 
 void write_speed_vs_frequency_plot(const std::vector<SweepRow>& sweep, const std::vector<VoltagePick>& picks,
                                    double load_n, const std::filesystem::path& path) {
   PlotSpec spec;
-  spec.title = "Speed vs frequency, picked operating points (" + number(load_n) + " N load)";
+  spec.title = "Speed vs frequency, picked operating points (" + format_number(load_n) + " N load)";
   spec.x_label = "drive frequency (kHz)";
   spec.y_label = "mover speed (mm/s)";
   PlotSeries picked{"picked", {}, {}, false, true};
   for (const VoltagePick& p : picks) {
-    PlotSeries curve{number(p.vpp) + " Vpp", {}, {}, true, true};
+    PlotSeries curve{format_number(p.vpp) + " Vpp", {}, {}, true, true};
     for (const SweepRow& r : sweep) {
       if (r.ok && same(r.vpp, p.vpp) && same(r.load_n, load_n)) {
         curve.x.push_back(r.frequency_hz / 1000.0);
@@ -46,7 +44,7 @@ void write_frequency_vs_voltage_plot(const std::vector<VoltagePick>& picks, doub
   spec.y_label = "frequency (kHz)";
   PlotSeries picked{"picked (peak + margin)", {}, {}, true, true};
   PlotSeries peak{"speed peak", {}, {}, true, true};
-  PlotSeries naive{"naive fixed " + number(naive_frequency_hz / 1000.0) + " kHz", {}, {}, true, false};
+  PlotSeries naive{"naive fixed " + format_number(naive_frequency_hz / 1000.0) + " kHz", {}, {}, true, false};
   for (const VoltagePick& p : picks) {
     naive.x.push_back(p.vpp);
     naive.y.push_back(naive_frequency_hz / 1000.0);
@@ -70,7 +68,8 @@ void write_speed_vs_load_plot(const std::vector<SweepRow>& load_rows, const std:
     if (!p.result.decided) continue;
     for (const auto& [frequency, label] :
          {std::pair{p.result.frequency_hz, std::string("picked ")}, std::pair{naive_frequency_hz, std::string("naive ")}}) {
-      PlotSeries s{number(p.vpp) + " Vpp, " + label + number(frequency / 1000.0) + " kHz", {}, {}, true, true};
+      PlotSeries s{format_number(p.vpp) + " Vpp, " + label + format_number(frequency / 1000.0) + " kHz", {}, {},
+                   true, true};
       std::map<double, double> by_load;
       for (const SweepRow& r : load_rows) {
         if (r.ok && same(r.vpp, p.vpp) && same(r.frequency_hz, frequency)) by_load[r.load_n] = r.speed_mm_s;

@@ -1,7 +1,6 @@
 #include "output/sweep_table.h"
 
 #include <cmath>
-#include <cstdio>
 #include <map>
 #include <set>
 #include <sstream>
@@ -9,17 +8,17 @@
 #include <utility>
 
 #include "config/csv_cells.h"
+#include "config/number_format.h"
 #include "output/plot.h"
 #include "output/value_lists.h"
 
 namespace swum::host {
 namespace {
 
-std::string number(double value) { return format_number(value); }
 
 std::string label_for(double vpp, double load_n, bool several_loads) {
-  std::string label = number(vpp) + " Vpp";
-  if (several_loads) label += ", " + number(load_n) + " N";
+  std::string label = format_number(vpp) + " Vpp";
+  if (several_loads) label += ", " + format_number(load_n) + " N";
   return label;
 }
 
@@ -41,22 +40,20 @@ std::string format_sweep_csv(const std::vector<SweepRow>& rows) {
   if (with_sweep) csv += "sweep,";
   csv += "speed_mm_s,tip_normal_um,tip_tangential_um,";
   csv += with_spread ? "speed_spread_mm_s,status\n" : "status\n";
-  char time_cell[32];
   for (const SweepRow& row : rows) {
-    csv += number(row.vpp) + "," + number(row.frequency_hz) + "," + number(row.load_n) + ",";
+    csv += format_number(row.vpp) + "," + format_number(row.frequency_hz) + "," + format_number(row.load_n) + ",";
     if (with_time) {
       // Milliseconds: the resolution of the device clocks (Modbus sim_time, CAN Clock frame).
-      if (row.time_s) std::snprintf(time_cell, sizeof time_cell, "%.3f", *row.time_s);
-      csv += (row.time_s ? std::string(time_cell) : std::string()) + ",";
+      csv += (row.time_s ? format_number(*row.time_s, "%.3f") : std::string()) + ",";
     }
     if (with_sweep) csv += (row.sweep ? std::to_string(*row.sweep) : std::string()) + ",";
     if (row.ok) {
-      csv += number(row.speed_mm_s) + "," + number(row.tip_normal_um) + "," +
-             number(row.tip_tangential_um);
+      csv += format_number(row.speed_mm_s) + "," + format_number(row.tip_normal_um) + "," +
+             format_number(row.tip_tangential_um);
     } else {
       csv += ",,";
     }
-    if (with_spread) csv += "," + (row.ok && row.speed_spread_mm_s >= 0.0 ? number(row.speed_spread_mm_s) : "");
+    if (with_spread) csv += "," + (row.ok && row.speed_spread_mm_s >= 0.0 ? format_number(row.speed_spread_mm_s) : "");
     csv += "," + row.status + "\n";
   }
   return csv;
@@ -141,7 +138,7 @@ void write_sweep_plot(const std::vector<SweepRow>& rows, const std::filesystem::
     PlotSeries& series = curves[key];
     if (series.label.empty()) {
       series.label = versus_frequency ? label_for(row.vpp, row.load_n, several_loads)
-                                      : number(row.load_n) + " N load";
+                                      : format_number(row.load_n) + " N load";
     }
     if (!row.ok) continue;
     series.x.push_back(versus_frequency ? row.frequency_hz / 1000.0 : row.vpp);
@@ -153,7 +150,7 @@ void write_sweep_plot(const std::vector<SweepRow>& rows, const std::filesystem::
     spec.title = "Mover speed vs drive frequency";
     spec.x_label = "drive frequency (kHz)";
   } else {
-    spec.title = "Mover speed vs drive voltage at " + number(*frequencies.begin() / 1000.0) + " kHz";
+    spec.title = "Mover speed vs drive voltage at " + format_number(*frequencies.begin() / 1000.0) + " kHz";
     spec.x_label = "drive voltage (Vpp)";
   }
   spec.y_label = "mover speed (mm/s)";

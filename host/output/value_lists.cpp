@@ -2,7 +2,6 @@
 
 #include <charconv>
 #include <cmath>
-#include <cstdio>
 #include <stdexcept>
 
 namespace swum::host {
@@ -23,12 +22,6 @@ std::string_view trim(std::string_view text) {
 }
 
 }  // namespace
-
-std::string format_number(double value, const char* format) {
-  char buffer[64];
-  std::snprintf(buffer, sizeof buffer, format, value);
-  return buffer;
-}
 
 double parse_finite_number(std::string_view text, std::string_view what) {
   const std::string_view trimmed = trim(text);

@@ -8,9 +8,6 @@
 
 namespace swum::host {
 
-/// Shortest faithful text of a number for tables and labels (printf `format`, default %.6g).
-std::string format_number(double value, const char* format = "%.6g");
-
 /// Parses a finite number; throws std::invalid_argument naming `what` and the text.
 double parse_finite_number(std::string_view text, std::string_view what);
 

@@ -2,16 +2,11 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
+
+#include "config/number_format.h"
 
 namespace swum {
 namespace {
-
-std::string fmt(const char* format, double a, double b = 0.0, double c = 0.0, double d = 0.0) {
-  char buffer[256];
-  std::snprintf(buffer, sizeof buffer, format, a, b, c, d);
-  return buffer;
-}
 
 double median(std::vector<double> v) {
   if (v.empty()) return 0.0;
@@ -88,11 +83,13 @@ PickResult pick_operating_point(std::vector<CurveSample> samples, const PickOpti
   r.peak_speed_mm_s = s[peak].speed_mm_s;
   if (!(r.peak_speed_mm_s > 0.0)) return undecided(r, "no forward speed anywhere on the curve");
   if (peak == n - 1) {
-    return undecided(r, fmt("speed is highest at the top of the sweep (%.0f Hz): sweep higher", r.peak_frequency_hz));
+    return undecided(r, format_numbers("speed is highest at the top of the sweep (%.0f Hz): sweep higher",
+                                       r.peak_frequency_hz));
   }
   if (peak == 0) {
-    return undecided(r, fmt("speed is highest at the bottom of the sweep (%.0f Hz) with no collapse: sweep lower",
-                            r.peak_frequency_hz));
+    return undecided(r, format_numbers("speed is highest at the bottom of the sweep (%.0f Hz) with no collapse: "
+                                       "sweep lower",
+                                       r.peak_frequency_hz));
   }
 
   // Noise: measured spread if any, and the scatter of second differences on the branch
@@ -106,23 +103,25 @@ PickResult pick_operating_point(std::vector<CurveSample> samples, const PickOpti
   }
   r.noise_mm_s = std::max(1.4826 * median(d2) / std::sqrt(6.0), median(spreads));
   if (r.noise_mm_s > 0.1 * r.peak_speed_mm_s) {
-    return undecided(r, fmt("too noisy: noise ~%.3g mm/s against a peak of %.3g mm/s", r.noise_mm_s,
-                            r.peak_speed_mm_s));
+    return undecided(r, format_numbers("too noisy: noise ~%.3g mm/s against a peak of %.3g mm/s", r.noise_mm_s,
+                                       r.peak_speed_mm_s));
   }
   double min_above = r.peak_speed_mm_s;
   for (int i = peak + 1; i < n; ++i) min_above = std::min(min_above, s[i].speed_mm_s);
   const double prominence = r.peak_speed_mm_s - min_above;
   if (prominence < 6.0 * r.noise_mm_s || prominence < 0.05 * r.peak_speed_mm_s) {
-    return undecided(r, fmt("no clear resonance peak: the speed falls only %.3g mm/s above the peak (noise ~%.3g mm/s)",
-                            prominence, r.noise_mm_s));
+    return undecided(r, format_numbers("no clear resonance peak: the speed falls only %.3g mm/s above the peak "
+                                       "(noise ~%.3g mm/s)",
+                                       prominence, r.noise_mm_s));
   }
   int upper_half = 0;
   for (int i = peak + 1; i < n; ++i) {
     if (s[i].speed_mm_s >= r.peak_speed_mm_s - 0.5 * prominence) ++upper_half;
   }
   if (upper_half < 2 || peak + 2 >= n) {
-    return undecided(r, fmt("grid too coarse: fewer than 2 points on the upper half of the peak's high side (step %.0f Hz)",
-                            r.grid_step_hz));
+    return undecided(r, format_numbers("grid too coarse: fewer than 2 points on the upper half of the peak's high "
+                                       "side (step %.0f Hz)",
+                                       r.grid_step_hz));
   }
 
   // Margin on the high side: at least one grid step (the jump lies somewhere between the
@@ -141,16 +140,17 @@ PickResult pick_operating_point(std::vector<CurveSample> samples, const PickOpti
     }
   }
   if (chosen < 0) {
-    return undecided(r, fmt("margin of %.0f Hz above the peak at %.0f Hz runs past the top of the sweep",
-                            r.margin_hz, f0));
+    return undecided(r, format_numbers("margin of %.0f Hz above the peak at %.0f Hz runs past the top of the sweep",
+                                       r.margin_hz, f0));
   }
   r.decided = true;
   r.frequency_hz = s[chosen].frequency_hz;
   r.speed_mm_s = s[chosen].speed_mm_s;
-  r.reason = fmt("peak %.4g mm/s at %.0f Hz; +%.0f Hz margin (grid step %.0f Hz", r.peak_speed_mm_s, f0,
-                 r.margin_hz, r.grid_step_hz);
-  r.reason += fmt(", noise width %.0f Hz)", noise_width);
-  r.reason += r.collapse_hz ? fmt("; collapses at %.0f Hz", *r.collapse_hz) : std::string("; no collapse seen");
+  r.reason = format_numbers("peak %.4g mm/s at %.0f Hz; +%.0f Hz margin (grid step %.0f Hz", r.peak_speed_mm_s, f0,
+                            r.margin_hz, r.grid_step_hz);
+  r.reason += format_numbers(", noise width %.0f Hz)", noise_width);
+  r.reason += r.collapse_hz ? format_numbers("; collapses at %.0f Hz", *r.collapse_hz)
+                            : std::string("; no collapse seen");
   return r;
 }
 
