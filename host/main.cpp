@@ -6,9 +6,9 @@
 #include <exception>
 #include <stdexcept>
 
-#include "command_error.h"
-#include "commands.h"
 #include "analysis/measurements.h"
+#include "commands/command_error.h"
+#include "commands/commands.h"
 #include "model/parameters.h"
 
 int main(int argc, char** argv) {

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <map>
 #include <numeric>
 #include <random>
@@ -10,15 +9,10 @@
 #include <tuple>
 
 #include "analysis/effect_fit.h"
+#include "config/number_format.h"
 
 namespace swum {
 namespace {
-
-std::string format(const char* pattern, double a, double b = 0.0, double c = 0.0) {
-  char text[256];
-  std::snprintf(text, sizeof text, pattern, a, b, c);
-  return text;
-}
 
 // Held-out rows: operating points (vpp, frequency, load; a point's repeats stay together,
 // whatever their time) in a seeded random order; the first `count` of them are held out.
@@ -65,12 +59,13 @@ double delta_bic(double sse_new, double sse_old, std::size_t n, int added) {
 }
 
 std::string describe_evidence(double bic, const HeldOutEvidence& e) {
-  return format("delta BIC %+.4g; held-out: ", bic) + std::to_string(e.improved) + " of " + std::to_string(e.points) +
-         format(" points better, p = %.2g", e.p_value) +
-         format(" (signed-rank %.2g, sign-flip %.2g)", e.signed_rank_p, e.sign_flip_p) +
-         format("; RMS gap %.3g %%", 100.0 * e.rms_before) +
-         format(" -> %.3g %% (reduction %.0f %%", 100.0 * e.rms_after, 100.0 * e.reduction) +
-         format(", 90 %% interval %.0f..%.0f %%)", 100.0 * e.reduction_low, 100.0 * e.reduction_high);
+  return format_numbers("delta BIC %+.4g; held-out: ", bic) + std::to_string(e.improved) + " of " +
+         std::to_string(e.points) +
+         format_numbers(" points better, p = %.2g", e.p_value) +
+         format_numbers(" (signed-rank %.2g, sign-flip %.2g)", e.signed_rank_p, e.sign_flip_p) +
+         format_numbers("; RMS gap %.3g %%", 100.0 * e.rms_before) +
+         format_numbers(" -> %.3g %% (reduction %.0f %%", 100.0 * e.rms_after, 100.0 * e.reduction) +
+         format_numbers(", 90 %% interval %.0f..%.0f %%)", 100.0 * e.reduction_low, 100.0 * e.reduction_high);
 }
 
 // The Cauchy M-estimate (effect_fit.h) from a first fit `ls` (at the round's scale), rescaled
@@ -271,9 +266,9 @@ DiscrepancyResult run_discrepancy(const MotorParameters& baseline, const Measure
     }
     if (!winner || round.candidates[*winner].delta_bic > -options.bic_margin) {
       round.verdict = winner ? "no candidate lowers the BIC by more than " +
-                                   format("%.3g", options.bic_margin) + " (best: " +
+                                   format_numbers("%.3g", options.bic_margin) + " (best: " +
                                    round.candidates[*winner].name + ", " +
-                                   format("%+.3g", round.candidates[*winner].delta_bic) + ")"
+                                   format_numbers("%+.3g", round.candidates[*winner].delta_bic) + ")"
                              : "no candidate left";
       result.rounds.push_back(round);
       break;
@@ -328,7 +323,7 @@ DiscrepancyResult run_discrepancy(const MotorParameters& baseline, const Measure
       if (better) chosen = std::move(trial);
     }
     if (!chosen) {  // nothing ranked (a delta BIC exactly at the margin, or not a number)
-      round.verdict = "no candidate lowers the BIC by more than " + format("%.3g", options.bic_margin);
+      round.verdict = "no candidate lowers the BIC by more than " + format_numbers("%.3g", options.bic_margin);
       result.rounds.push_back(round);
       break;
     }
@@ -351,17 +346,18 @@ DiscrepancyResult run_discrepancy(const MotorParameters& baseline, const Measure
       std::string why;
       if (!fit.ok) why = "the fit did not converge to a usable solution; ";
       if (!(bic < -options.bic_margin)) {
-        why += format("delta BIC %+.3g is not below -%.3g; ", bic, options.bic_margin);
+        why += format_numbers("delta BIC %+.3g is not below -%.3g; ", bic, options.bic_margin);
       }
       if (!(evidence.p_value < options.significance)) {
-        why += format("held-out p = %.3g is not below %.3g", evidence.p_value, options.significance) +
-               format(" (signed-rank %.3g, sign-flip %.3g; ", evidence.signed_rank_p, evidence.sign_flip_p) +
+        why += format_numbers("held-out p = %.3g is not below %.3g", evidence.p_value, options.significance) +
+               format_numbers(" (signed-rank %.3g, sign-flip %.3g; ", evidence.signed_rank_p, evidence.sign_flip_p) +
                std::to_string(evidence.improved) + " of " + std::to_string(evidence.points) +
                " held-out points better)";
       }
       if (why.size() >= 2 && why.compare(why.size() - 2, 2, "; ") == 0) why.resize(why.size() - 2);
       round.verdict = std::string(e.name) + " fitted but not named: " + why +
-                      format("; held-out RMS %.3g %% -> %.3g %%", 100.0 * evidence.rms_before, 100.0 * evidence.rms_after);
+                      format_numbers("; held-out RMS %.3g %% -> %.3g %%", 100.0 * evidence.rms_before,
+                                     100.0 * evidence.rms_after);
       result.rounds.push_back(round);
       break;
     }
@@ -420,8 +416,8 @@ DiscrepancyResult run_discrepancy(const MotorParameters& baseline, const Measure
   } else {
     result.conclusion = "named";
     for (const NamedEffect& e : result.effects) result.conclusion += " " + e.name;
-    result.conclusion += "; held-out RMS " + format("%.3g %% -> %.3g %%", 100.0 * result.rms_before,
-                                                    100.0 * result.rms_after);
+    result.conclusion += "; held-out RMS " + format_numbers("%.3g %% -> %.3g %%", 100.0 * result.rms_before,
+                                                            100.0 * result.rms_after);
     result.conclusion += "; remaining residual " + result.augmented_map.summary;
   }
   return result;

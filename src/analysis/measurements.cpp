@@ -97,7 +97,7 @@ constexpr std::array<std::pair<std::string_view, Control>, 4> kControlNames{{
 }};
 constexpr std::string_view kDeviceTime = "device_time_s";  // `swum log`: the device clock
 
-// Status words of `swum sweep` (host/sweep_table.h): rows with these are used ...
+// Status words of `swum sweep` (host/output/sweep_table.h): rows with these are used ...
 constexpr std::array<std::string_view, 2> kUsedStatuses{"ok", "unsettled"};
 // ... rows with these (or fault_<n>) failed or were not measured: left out and counted.
 constexpr std::array<std::string_view, 5> kLeftOutStatuses{"diverged", "fault_numerical",
@@ -116,7 +116,7 @@ bool is_numbered_fault(std::string_view word) {
   return std::all_of(digits.begin(), digits.end(), [](char ch) { return ch >= '0' && ch <= '9'; });
 }
 
-// The fault of a device as a sweep's status names it (host/device_sweep.cpp).
+// The fault of a device as a sweep's status names it (host/device/device_sweep.cpp).
 std::string fault_reason(int code) {
   if (code == 1) return "fault_command_timeout";
   if (code == 2) return "fault_numerical";

@@ -1,4 +1,5 @@
-// Splitting one CSV line into trimmed cells (no quoting: the project's data files are numeric).
+// Splitting one CSV line into cells, trimmed or as written (no quoting: the project's data
+// files are numeric). The one CSV splitter of src/ and host/.
 #pragma once
 
 #include <charconv>
@@ -18,12 +19,21 @@ namespace swum {
   return text;
 }
 
-[[nodiscard]] inline std::vector<std::string_view> split_csv_cells(std::string_view line) {
+// What split_csv_cells does with the blanks around a cell.
+enum class CsvCellTrim {
+  blanks,  // trim_cell every cell: hand-written data files (measurements, amplitudes)
+  none,    // every byte kept: sweep tables as swum writes them (numbers are trimmed when parsed)
+};
+
+// The cells between commas: "a,,b," has four, an empty line one (empty) cell.
+[[nodiscard]] inline std::vector<std::string_view> split_csv_cells(std::string_view line,
+                                                                  CsvCellTrim trim = CsvCellTrim::blanks) {
   std::vector<std::string_view> cells;
   std::size_t start = 0;
   while (true) {
     const std::size_t comma = line.find(',', start);
-    cells.push_back(trim_cell(line.substr(start, comma == std::string_view::npos ? comma : comma - start)));
+    const std::string_view cell = line.substr(start, comma == std::string_view::npos ? comma : comma - start);
+    cells.push_back(trim == CsvCellTrim::blanks ? trim_cell(cell) : cell);
     if (comma == std::string_view::npos) return cells;
     start = comma + 1;
   }

@@ -37,11 +37,11 @@
 #include "modbus_server.h"         // ModbusTcpServer (the emulator's Modbus TCP framing)
 #include "modbus_codec.h"          // parse_request, decide, fill_holding, fill_input, holding::/input:: addresses
 #include "shared_state.h"          // SharedState
-// Host side (host/ today):
-#include "can_device.h"     // CanDevice (CAN client: command/aux frames out, telemetry sets in)
-#include "device.h"         // DeviceTelemetry, DriveSetpoint, DeviceAction, DeviceTimeouts, reject_reason_name
-#include "log_table.h"      // format_log_row (one `swum log` CSV row)
-#include "modbus_device.h"  // ModbusDevice (Modbus client: register writes out, input registers in)
+// Host side (host/device/ and host/output/ today):
+#include "device/can_device.h"     // CanDevice (CAN client: command/aux frames out, telemetry sets in)
+#include "device/device.h"         // DeviceTelemetry, DriveSetpoint, DeviceAction, DeviceTimeouts, reject_reason_name
+#include "device/modbus_device.h"  // ModbusDevice (Modbus client: register writes out, input registers in)
+#include "output/log_table.h"      // format_log_row (one `swum log` CSV row)
 // Frames (protocol/can_frame.h, carried by io/):
 #include "can_bus.h"  // io::CanFrame, io::CanBus, io::CanFilter, io::CanResult, io::CanStatus
 

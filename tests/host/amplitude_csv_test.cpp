@@ -1,10 +1,10 @@
-#include "amplitude_csv.h"
+#include "output/amplitude_csv.h"
 
 #include <gtest/gtest.h>
 
 #include <string>
 
-#include "command_error.h"
+#include "commands/command_error.h"
 
 namespace swum::host {
 namespace {

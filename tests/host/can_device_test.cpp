@@ -1,7 +1,7 @@
 // The host's CAN adapter against a node on the in-process fake bus that speaks the emulator's
 // frames (encoders and command decoder of protocol/can_codec.h): telemetry sets with the
 // device clock, valid command frames (CRC, alive counter), absent node, bus-off.
-#include "can_device.h"
+#include "device/can_device.h"
 
 #include <gtest/gtest.h>
 

@@ -1,7 +1,7 @@
 // The live sweep procedure (host/device_sweep.cpp) on a fake device with the emulator's
 // contract: downward sweeps from zero amplitude, a fed watchdog, measured speeds, recovery from
 // a fault, rejected commands and Ctrl-C never leave the drive on.
-#include "device_sweep.h"
+#include "device/device_sweep.h"
 
 #include <gtest/gtest.h>
 
@@ -9,9 +9,9 @@
 #include <csignal>
 #include <limits>
 
-#include "command_error.h"
+#include "commands/command_error.h"
+#include "device/stop_signal.h"
 #include "fake_device.h"
-#include "stop_signal.h"
 
 namespace swum::host {
 namespace {

@@ -11,7 +11,7 @@
 #include <optional>
 #include <vector>
 
-#include "device.h"
+#include "device/device.h"
 
 namespace swum::host::test {
 

@@ -8,10 +8,10 @@
 #include <vector>
 
 #include "analysis/measurements.h"
-#include "device_sweep.h"
+#include "device/device_sweep.h"
 #include "fake_device.h"
-#include "log_table.h"
-#include "sweep_table.h"
+#include "output/log_table.h"
+#include "output/sweep_table.h"
 
 namespace swum::host {
 namespace {

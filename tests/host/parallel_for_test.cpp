@@ -1,6 +1,6 @@
 // The host's ParallelFor: every index once, and a task's exception reaches the caller
 // instead of terminating the process from a worker thread.
-#include "parallel_for.h"
+#include "offline/parallel_for.h"
 
 #include <gtest/gtest.h>
 

@@ -1,4 +1,4 @@
-#include "plot.h"
+#include "output/plot.h"
 
 #include <gtest/gtest.h>
 

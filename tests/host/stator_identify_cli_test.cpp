@@ -9,10 +9,10 @@
 #include <string>
 #include <vector>
 
-#include "amplitude_csv.h"
 #include "analysis/synthetic_amplitudes.h"
-#include "swum_cli_runner.h"
 #include "config/parameter_file.h"
+#include "output/amplitude_csv.h"
+#include "swum_cli_runner.h"
 
 namespace {
 

@@ -1,10 +1,10 @@
-#include "text_files.h"
+#include "output/text_files.h"
 
 #include <gtest/gtest.h>
 
 #include <filesystem>
 
-#include "command_error.h"
+#include "commands/command_error.h"
 
 namespace swum::host {
 namespace {

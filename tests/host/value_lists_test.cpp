@@ -1,4 +1,4 @@
-#include "value_lists.h"
+#include "output/value_lists.h"
 
 #include <gtest/gtest.h>
 

@@ -74,7 +74,7 @@ TEST(Measurements, ErrorsNameFileLineAndColumn) {
   EXPECT_EQ(error_of("vpp,frequency_hz,load_n,speed_mm_s\n"), "data.csv:2: no data rows");
 }
 
-// `swum sweep` on a device (host/sweep_table.cpp): time_s and sweep after load_n, the spread
+// `swum sweep` on a device (host/output/sweep_table.cpp): time_s and sweep after load_n, the spread
 // before status; failed points have empty measured cells.
 constexpr const char* kDeviceSweep =
     "vpp,frequency_hz,load_n,time_s,sweep,speed_mm_s,tip_normal_um,tip_tangential_um,speed_spread_mm_s,status\n"
@@ -126,7 +126,7 @@ TEST(Measurements, ReadsAModelSweepWithoutTimeOrSweepIds) {
   EXPECT_EQ(measurement_note(set), "note: 1 row left out (1 diverged)");
 }
 
-// `swum log` (host/log_table.h): the device clock is the time; rows where the drive is off,
+// `swum log` (host/output/log_table.h): the device clock is the time; rows where the drive is off,
 // in fault or at another phase are left out; each running stretch is one sweep.
 TEST(Measurements, ReadsALogByTheDeviceClockAndItsRunningStretches) {
   const MeasurementSet set = parse_measurements_csv(

@@ -1,0 +1,274 @@
+// `swum pick (--sweep CSV | --config F | --modbus/--can DEVICE) --vpp LIST`: the operating
+// frequency per voltage by pick_operating_point, from a sweep table, an offline model sweep or
+// a live sweep of a device; optional schedule, JSON and plots (docs/host.md).
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "analysis/operating_point.h"
+#include "commands/command_error.h"
+#include "commands/commands.h"
+#include "config/number_format.h"
+#include "device/device_options.h"
+#include "device/device_sweep.h"
+#include "device/stop_signal.h"
+#include "offline/motor_config.h"
+#include "offline/offline_sweep.h"
+#include "output/pick_plots.h"
+#include "output/progress_bar.h"
+#include "output/text_files.h"
+#include "output/value_lists.h"
+
+namespace swum::host {
+namespace {
+
+struct PickCommandOptions {
+  std::string sweep_path;
+  std::string config_path;
+  DeviceOptions device;
+  std::string vpp_list;
+  double load_n = 0.0;
+  double margin_hz = 0.0;
+  bool json = false;
+  std::string schedule_path;
+  std::string plot_dir;
+  std::string save_sweep_path;
+  // Sources that measure (model or device).
+  std::string frequency_range = "39000:41000:50";
+  std::string plot_loads = "0,0.5,1,1.5,2,2.5,3";
+  double settle_ms = 50.0;
+  double dwell_ms = 50.0;
+  double ramp_vpp_per_s = 2000.0;
+};
+
+bool same(double a, double b) { return std::abs(a - b) < 1e-6 * std::max(1.0, std::abs(a)); }
+
+// The one place a measuring source is chosen: model (offline) or device (live).
+class Source {
+ public:
+  explicit Source(const PickCommandOptions& o) : o_(o) {
+    const int sources = !o.sweep_path.empty() + !o.config_path.empty() + !o.device.address.empty();
+    if (sources != 1) throw std::invalid_argument("give exactly one source: --sweep, --config or a device (--modbus / --can)");
+    if (!o.config_path.empty()) model_ = std::make_unique<MotorModel>(load_motor_parameters(o.config_path));
+    if (!o.device.address.empty()) device_ = open_device(o.device.address, o.device.timeouts());
+  }
+  bool measures() const { return model_ || device_; }
+  std::string describe() const {
+    if (model_) return "model " + o_.config_path;
+    if (device_) return device_->name();
+    return o_.sweep_path;
+  }
+
+  // Appends to `rows` as points are measured, so a Ctrl-C or device error keeps them.
+  void measure(const std::vector<double>& voltages, const std::vector<double>& frequencies,
+               const std::vector<double>& loads, std::vector<SweepRow>& rows) {
+    if (model_) {
+      const auto measured = sweep_model(*model_, OfflineGrid{voltages, frequencies, loads});
+      rows.insert(rows.end(), measured.begin(), measured.end());
+      return;
+    }
+    const DeviceSweepPlan p = plan(voltages, frequencies, loads);
+    ProgressBar progress("sweep " + device_->name(), voltages.size() * frequencies.size() * loads.size());
+    sweep_device(*device_, p, rows, [&](const SweepRow&) { progress.advance(); });
+  }
+
+  DeviceSweepPlan plan(const std::vector<double>& voltages, const std::vector<double>& frequencies,
+                       const std::vector<double>& loads) const {
+    return plan_for(o_, voltages, frequencies, loads);
+  }
+  static DeviceSweepPlan plan_for(const PickCommandOptions& o_, const std::vector<double>& voltages,
+                                  const std::vector<double>& frequencies, const std::vector<double>& loads) {
+    DeviceSweepPlan p;
+    p.voltages = voltages;
+    p.frequencies_hz = frequencies;
+    p.loads_n = loads;
+    p.settle_s = o_.settle_ms * 1e-3;
+    p.dwell_s = o_.dwell_ms * 1e-3;
+    p.ramp_vpp_per_s = o_.ramp_vpp_per_s;
+    return p;
+  }
+
+ private:
+  const PickCommandOptions& o_;
+  std::unique_ptr<MotorModel> model_;
+  std::unique_ptr<Device> device_;
+};
+
+std::vector<SweepRow> read_sweep(const std::string& path) {
+  try {
+    return parse_sweep_csv(read_text_file(path), path);
+  } catch (const CommandError&) {
+    throw;
+  } catch (const std::exception& e) {
+    throw CommandError(e.what());
+  }
+}
+
+std::vector<CurveSample> curve_at(const std::vector<SweepRow>& rows, double vpp, double load_n) {
+  std::vector<CurveSample> curve;
+  for (const SweepRow& r : rows) {
+    if (!same(r.vpp, vpp) || !same(r.load_n, load_n)) continue;
+    // A point the device never measured (watchdog hiccup, timeout) is a hole in the curve, not
+    // a collapse of the resonance; a blow-up of the model or the motor is.
+    if (!r.ok && !is_physical_failure(r)) continue;
+    CurveSample s;
+    s.frequency_hz = r.frequency_hz;
+    s.ok = r.ok;
+    s.speed_mm_s = r.speed_mm_s;
+    s.spread_mm_s = r.speed_spread_mm_s;
+    curve.push_back(s);
+  }
+  return curve;
+}
+
+double gain_percent(const PickResult& r) {
+  if (!r.decided || !r.naive_speed_mm_s || std::abs(*r.naive_speed_mm_s) < 1e-9) return NAN;
+  return 100.0 * (r.speed_mm_s / *r.naive_speed_mm_s - 1.0);
+}
+
+void report(const PickCommandOptions& o, const std::vector<VoltagePick>& picks) {
+  // Drift: from the peak of the lowest decided voltage.
+  double base = NAN;
+  double base_vpp = INFINITY;
+  for (const auto& p : picks) {
+    if (p.result.decided && p.vpp < base_vpp) {
+      base_vpp = p.vpp;
+      base = p.result.peak_frequency_hz;
+    }
+  }
+  using Json = nlohmann::ordered_json;
+  auto number_or_null = [](bool known, double v) { return known && std::isfinite(v) ? Json(v) : Json(nullptr); };
+  Json list = Json::array();
+  std::string schedule = "vpp,frequency_hz\n";
+  for (const auto& [v, r] : picks) {
+    Json j;
+    j["vpp"] = v;
+    j["decided"] = r.decided;
+    j["frequency_hz"] = number_or_null(r.decided, r.frequency_hz);
+    j["speed_mm_s"] = number_or_null(r.decided, r.speed_mm_s);
+    j["naive_speed_mm_s"] = number_or_null(r.naive_speed_mm_s.has_value(), r.naive_speed_mm_s.value_or(NAN));
+    j["gain_percent"] = number_or_null(r.decided, gain_percent(r));
+    j["peak_frequency_hz"] = number_or_null(r.decided, r.peak_frequency_hz);
+    j["drift_hz"] = number_or_null(r.decided, r.peak_frequency_hz - base);
+    j["margin_hz"] = r.margin_hz;
+    j["reason"] = r.reason;
+    list.push_back(j);
+    if (r.decided) schedule += format_number(v) + "," + format_number(r.frequency_hz) + "\n";
+    if (!o.json) {
+      if (r.decided) {
+        char naive[64] = "n/a (40.4 kHz outside the sweep)";
+        if (r.naive_speed_mm_s) std::snprintf(naive, sizeof naive, "%.1f mm/s, gain %+.0f %%", *r.naive_speed_mm_s, gain_percent(r));
+        std::printf("%6g Vpp: run at %.0f Hz, %.1f mm/s (naive 40.4 kHz: %s), drift %+.0f Hz; %s\n", v,
+                    r.frequency_hz, r.speed_mm_s, naive, r.peak_frequency_hz - base, r.reason.c_str());
+      } else {
+        std::printf("%6g Vpp: undecided: %s\n", v, r.reason.c_str());
+      }
+    }
+  }
+  if (o.json) std::printf("%s\n", list.dump(2).c_str());
+  if (!o.schedule_path.empty()) write_text_file_atomically(o.schedule_path, schedule);
+}
+
+void write_plots(const PickCommandOptions& o, Source& source, const std::vector<SweepRow>& sweep,
+                 const std::vector<VoltagePick>& picks, const PickOptions& options) {
+  const std::filesystem::path dir(o.plot_dir);
+  std::error_code error;
+  std::filesystem::create_directories(dir, error);
+  if (error) throw CommandError("cannot create " + o.plot_dir + ": " + error.message());
+  write_speed_vs_frequency_plot(sweep, picks, o.load_n, dir / "speed_vs_frequency.png");
+  write_frequency_vs_voltage_plot(picks, options.naive_frequency_hz, dir / "frequency_vs_vpp.png");
+  // Fig. 16: speed vs load at the picked and the naive frequency; measured when the source
+  // can measure, else taken from the table's rows at other loads (when it has them).
+  std::vector<SweepRow> load_rows;
+  if (source.measures()) {
+    const std::vector<double> loads = parse_number_list(o.plot_loads, "--plot-loads");
+    for (const auto& p : picks) {
+      if (!p.result.decided) continue;
+      source.measure({p.vpp}, {options.naive_frequency_hz, p.result.frequency_hz}, loads, load_rows);
+    }
+  } else {
+    load_rows = sweep;
+  }
+  std::set<double> loads;
+  for (const SweepRow& r : load_rows) loads.insert(r.load_n);
+  if (loads.size() < 2) {
+    std::fprintf(stderr, "swum: speed_vs_load.png not written: the sweep table has one load only "
+                         "(use --config or a device, or sweep several loads)\n");
+    return;
+  }
+  write_speed_vs_load_plot(load_rows, picks, options.naive_frequency_hz, dir / "speed_vs_load.png");
+}
+
+void run_pick(const PickCommandOptions& o) {
+  const std::vector<double> voltages = parse_number_list(o.vpp_list, "--vpp");
+  if (!(o.margin_hz >= 0.0 && o.margin_hz <= 10000.0)) throw std::invalid_argument("--margin-hz: must be within 0..10000");
+  OfflineGrid grid{voltages, {40000.0}, {o.load_n}};
+  const bool measuring = o.sweep_path.empty();
+  if (measuring) grid.frequencies_hz = parse_range_or_value(o.frequency_range, "--frequency");
+  check_grid(grid);  // every bad value named before a device or a file is touched
+  if (measuring) check_plan(Source::plan_for(o, grid.voltages, grid.frequencies_hz, grid.loads_n));
+  StopSignal stop;
+  Source source(o);
+  std::vector<SweepRow> sweep;
+  if (source.measures()) {
+    try {
+      source.measure(voltages, grid.frequencies_hz, {o.load_n}, sweep);
+    } catch (...) {
+      if (!o.save_sweep_path.empty() && !sweep.empty()) {
+        write_text_file_atomically(o.save_sweep_path, format_sweep_csv(sweep));
+        std::fprintf(stderr, "swum: %zu points measured before the stop were written to %s\n", sweep.size(),
+                     o.save_sweep_path.c_str());
+      }
+      throw;
+    }
+    if (!o.save_sweep_path.empty()) write_text_file_atomically(o.save_sweep_path, format_sweep_csv(sweep));
+  } else {
+    sweep = read_sweep(o.sweep_path);
+  }
+  PickOptions options;
+  options.min_margin_hz = o.margin_hz;
+  std::vector<VoltagePick> picks;
+  bool any_undecided = false;
+  for (double v : voltages) {
+    const auto curve = curve_at(sweep, v, o.load_n);
+    if (curve.empty()) {
+      throw CommandError(source.describe() + ": no rows at " + std::to_string(v) + " Vpp and " +
+                         std::to_string(o.load_n) + " N");
+    }
+    picks.push_back({v, pick_operating_point(curve, options)});
+    any_undecided = any_undecided || !picks.back().result.decided;
+  }
+  report(o, picks);
+  if (!o.plot_dir.empty()) write_plots(o, source, sweep, picks, options);
+  if (any_undecided) throw CommandError("no frequency picked for some voltages (see reason)", kExitFailure);
+}
+
+}  // namespace
+
+void add_pick_command(CLI::App& app) {
+  auto o = std::make_shared<PickCommandOptions>();
+  CLI::App* sub = app.add_subcommand("pick", "Operating frequency per voltage (from a sweep table, the model or a device)");
+  sub->add_option("--sweep", o->sweep_path, "sweep CSV (swum sweep --out)");
+  sub->add_option("--config", o->config_path, "motor parameter file: sweep the model offline first");
+  add_device_options(*sub, o->device);
+  sub->add_option("--vpp", o->vpp_list, "voltages, comma list (Vpp)")->required();
+  sub->add_option("--load", o->load_n, "load of the rows to use / to sweep at (N)")->capture_default_str();
+  sub->add_option("--margin-hz", o->margin_hz, "minimum margin above the peak (Hz)")->capture_default_str();
+  sub->add_flag("--json", o->json, "JSON list on stdout");
+  sub->add_option("--schedule", o->schedule_path, "write vpp,frequency_hz CSV");
+  sub->add_option("--plot-dir", o->plot_dir, "write speed_vs_frequency.png, frequency_vs_vpp.png, speed_vs_load.png here");
+  sub->add_option("--frequency", o->frequency_range, "model/device: START:STOP:STEP to sweep (Hz)")->capture_default_str();
+  sub->add_option("--plot-loads", o->plot_loads, "model/device: loads for speed_vs_load.png (N)")->capture_default_str();
+  sub->add_option("--save-sweep", o->save_sweep_path, "model/device: also write the sweep CSV");
+  sub->add_option("--settle-ms", o->settle_ms, "device: wait after each frequency step (device time, ms)")->capture_default_str();
+  sub->add_option("--dwell-ms", o->dwell_ms, "device: sampling window per point (device time, ms)")->capture_default_str();
+  sub->add_option("--ramp-vpp-per-s", o->ramp_vpp_per_s, "device: amplitude slew limit for voltage ramps")->capture_default_str();
+  sub->callback([o] { run_pick(*o); });
+}
+
+}  // namespace swum::host

@@ -1,0 +1,223 @@
+// The CAN adapter of host/device/device.h. Commands: the Command frame (mode + frequency + phase +
+// amplitude, alive counter, CRC) and the AuxCommand frame (load, slew limits); a keep-alive
+// repeats the Command frame with the current mode. Telemetry: one sample per Status frame,
+// completed by the Motion, Drive, LoopStats, Clock and Output frames the emulator sends after it.
+#include "device/can_device.h"
+
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <stdexcept>
+
+#include "can_codec.h"
+#include "can_telemetry_decode.h"
+#include "socketcan_bus.h"
+
+namespace swum::host {
+
+namespace can = protocol::can;
+namespace {
+
+std::uint8_t parse_node(const std::string& address, std::string& interface) {
+  const auto colon = address.find(':');
+  interface = address.substr(0, colon);
+  if (interface.empty()) throw std::invalid_argument("--can: expected IFACE[:NODE], got '" + address + "'");
+  if (colon == std::string::npos) return 1;
+  const std::string text = address.substr(colon + 1);
+  int node = 0;
+  const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), node);
+  if (error != std::errc{} || end != text.data() + text.size() || node < can::kMinNode ||
+      node > can::kMaxNode) {
+    throw std::invalid_argument("--can: node must be an integer 1..127, got '" + text + "'");
+  }
+  return static_cast<std::uint8_t>(node);
+}
+
+std::unique_ptr<io::CanBus> open_bus(const std::string& interface) {
+  try {
+    return std::make_unique<io::SocketCanBus>(interface);
+  } catch (const io::CanOpenError& e) {
+    throw DeviceError(std::string("can ") + interface + ": " + e.what());
+  }
+}
+
+}  // namespace
+
+CanDevice::CanDevice(const std::string& address, const DeviceTimeouts& timeouts) {
+  std::string interface;
+  node_ = parse_node(address, interface);
+  bus_ = open_bus(interface);
+  start(timeouts);
+}
+
+CanDevice::CanDevice(std::unique_ptr<io::CanBus> bus, std::uint8_t node, const DeviceTimeouts& timeouts)
+    : bus_(std::move(bus)), node_(node) {
+  start(timeouts);
+}
+
+void CanDevice::start(const DeviceTimeouts& timeouts) {
+  const can::Ids ids = can::ids_for_node(node_);
+  auto exact = [](std::uint32_t id) { return io::CanFilter{id, io::kCanStandardIdMax, false}; };
+  const io::CanFilter filters[] = {exact(ids.status), exact(ids.motion),     exact(ids.drive),
+                                   exact(ids.loop_stats), exact(ids.output), exact(ids.clock)};
+  const io::CanResult r = bus_->set_filters(filters);
+  if (!r.ok()) throw DeviceError(name() + ": cannot set receive filters: " + r.message);
+  // The node must be talking before anyone relies on it.
+  response_timeout_ = timeouts.connect;
+  try {
+    (void)read();
+  } catch (const DeviceError&) {
+    throw DeviceError(name() + ": no answer from node " + std::to_string(node_) + " within " +
+                      std::to_string(timeouts.connect.count()) +
+                      " ms (is swum-emu running with --can " + bus_->name() + " --node " +
+                      std::to_string(node_) + " and CAN telemetry on?)");
+  }
+  response_timeout_ = timeouts.response;
+}
+
+std::string CanDevice::name() const { return "can " + bus_->name() + " node " + std::to_string(node_); }
+
+void CanDevice::send(const io::CanFrame& frame, const char* what) {
+  // A full transmit queue is transient on a busy bus: retry briefly before giving up.
+  for (int attempt = 0; attempt < 50; ++attempt) {
+    const io::CanResult r = bus_->send(frame);
+    if (r.ok()) return;
+    if (r.status != io::CanStatus::retry) throw DeviceError(name() + ": sending the " + what + " frame failed: " + r.message);
+    io::CanFrame ignored;
+    (void)bus_->receive(ignored, std::chrono::milliseconds(1));
+  }
+  throw DeviceError(name() + ": transmit queue stayed full while sending the " + what + " frame (bus off?)");
+}
+
+void CanDevice::send_command(std::uint8_t mode) {
+  can::CommandFrame c;
+  c.mode = mode;
+  command_alive_ = can::next_alive(command_alive_);
+  c.alive = command_alive_;
+  c.frequency_hz = setpoint_.frequency_hz;
+  c.phase_deg = setpoint_.phase_deg;
+  c.amplitude_vpp = setpoint_.vpp;
+  send(can::encode_command(c, can::ids_for_node(node_).command), "command");
+}
+
+void CanDevice::send_aux() {
+  can::AuxFrame a;
+  aux_alive_ = can::next_alive(aux_alive_);
+  a.alive = aux_alive_;
+  a.load_n = setpoint_.load_n;
+  a.frequency_slew_hz_per_s = frequency_slew_hz_per_s_;
+  a.amplitude_slew_vpp_per_s = vpp_slew_per_s_;
+  send(can::encode_aux(a, can::ids_for_node(node_).aux), "aux command");
+}
+
+void CanDevice::set_drive(const DriveSetpoint& s) {
+  const bool load_changed = s.load_n != setpoint_.load_n;
+  setpoint_ = s;
+  if (load_changed) send_aux();
+  send_command(mode_);
+}
+
+void CanDevice::set_slew(double frequency_hz_per_s, double vpp_per_s) {
+  // The AuxCommand frame carries 100 Hz/s and 10 Vpp/s steps, 0 = unlimited: round down to a
+  // step, never to 0, so the device never slews faster than asked.
+  auto down = [](double v, double step) { return v > 0.0 ? std::max(step, std::floor(v / step) * step) : 0.0; };
+  frequency_slew_hz_per_s_ = down(frequency_hz_per_s, can::signals::kAuxFrequencySlew.factor);
+  vpp_slew_per_s_ = down(vpp_per_s, can::signals::kAuxAmplitudeSlew.factor);
+  send_aux();
+}
+
+void CanDevice::command(DeviceAction action) {
+  switch (action) {
+    case DeviceAction::keep_alive: send_command(mode_); break;
+    case DeviceAction::enable: mode_ = can::mode::kEnable; send_command(mode_); break;
+    case DeviceAction::disable: mode_ = can::mode::kDisable; send_command(mode_); break;
+    case DeviceAction::reset_fault: mode_ = can::mode::kDisable; send_command(can::mode::kResetFault); break;
+  }
+}
+
+DeviceTelemetry CanDevice::read() {
+  const can::Ids ids = can::ids_for_node(node_);
+  DeviceTelemetry t;
+  bool have_status = false;
+  // Frames of the current set seen after its Status frame: a set with a frame lost is
+  // discarded (the status counter then shows the gap), never returned with zeros in it.
+  enum : unsigned { kMotion = 1, kDrive = 2, kLoopStats = 4, kClock = 8, kAll = 15 };
+  unsigned seen = 0;
+  const auto deadline = std::chrono::steady_clock::now() + response_timeout_;
+  for (;;) {
+    const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now());
+    if (left.count() <= 0) break;
+    io::CanFrame f;
+    const io::CanResult r = bus_->receive(f, left);
+    if (r.status == io::CanStatus::timeout) break;
+    if (r.status == io::CanStatus::error_frame) {
+      const io::CanErrorInfo e = io::decode_error_frame(f);
+      if (e.bus_off) throw DeviceError(name() + ": controller is bus-off (" + e.describe() + ")");
+      continue;  // warnings, arbitration: the bus keeps going
+    }
+    if (!r.ok()) throw DeviceError(name() + ": receive failed: " + r.message);
+    if (f.id == ids.status) {
+      can::StatusFields s;
+      if (can::decode_status(f, s) != protocol::Reason::none) continue;
+      t = DeviceTelemetry{};
+      have_status = true;
+      seen = 0;
+      t.sample_counter = s.status_counter;
+      t.sample_counter_modulus = 256;
+      t.state = s.state;
+      t.fault_code = s.fault;
+      t.drive_on = s.drive_on;
+      t.enable_line = s.enable_line;
+      t.last_reject = s.last_reject;
+      t.reject_count = s.reject_count;
+      t.reject_count_modulus = 256;
+    } else if (!have_status) {
+      continue;  // the middle of a set whose status frame we missed
+    } else if (f.id == ids.motion) {
+      can::MotionFields m;
+      if (can::decode_motion(f, m) == protocol::Reason::none) {
+        t.speed_mm_s = m.speed_mm_s;
+        t.position_mm = m.position_mm;
+        seen |= kMotion;
+      }
+    } else if (f.id == ids.drive) {
+      can::DriveFields d;
+      if (can::decode_drive(f, d) == protocol::Reason::none) {
+        t.tip_normal_um = d.tip_normal_um;
+        t.tip_tangential_um = d.tip_tangential_um;
+        t.vpp = d.vpp;
+        t.phase_deg = d.phase_deg;
+        seen |= kDrive;
+      }
+    } else if (f.id == ids.loop_stats) {
+      can::LoopStatsFields l;
+      if (can::decode_loop_stats(f, l) == protocol::Reason::none) {
+        t.lateness_p99_us = l.lateness_p99_us;
+        t.lateness_max_us = l.lateness_max_us;
+        t.overruns = l.overruns;
+        seen |= kLoopStats;
+      }
+    } else if (f.id == ids.clock) {
+      can::ClockFields c;
+      if (can::decode_clock(f, c) == protocol::Reason::none) {
+        t.device_time_s = c.sim_time_s;
+        seen |= kClock;
+      }
+    } else if (f.id == ids.output) {
+      can::OutputFields o;
+      if (seen != kAll) {
+        have_status = false;  // incomplete set: wait for the next Status frame
+        continue;
+      }
+      if (can::decode_output(f, o) == protocol::Reason::none) {
+        t.frequency_hz = o.frequency_hz;
+        t.load_n = o.load_n;
+        t.received = std::chrono::steady_clock::now();
+        return t;  // the set is complete
+      }
+    }
+  }
+  throw DeviceError(name() + ": no telemetry within " + std::to_string(response_timeout_.count()) + " ms");
+}
+
+}  // namespace swum::host

@@ -1,0 +1,44 @@
+// Device over SocketCAN (frames of config/swum.dbc for one node id).
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <string>
+
+#include "can_bus.h"
+#include "device/device.h"
+
+namespace swum::host {
+
+class CanDevice final : public Device {
+ public:
+  // "IFACE[:NODE]" (node 1..127, default 1). Throws std::invalid_argument for a malformed
+  // address, DeviceError when the interface cannot be opened or the node does not answer.
+  CanDevice(const std::string& address, const DeviceTimeouts& timeouts);
+  // For tests: any bus (e.g. the in-process fake) and node.
+  CanDevice(std::unique_ptr<io::CanBus> bus, std::uint8_t node, const DeviceTimeouts& timeouts);
+
+  std::string name() const override;
+  void set_drive(const DriveSetpoint& setpoint) override;
+  void set_slew(double frequency_hz_per_s, double vpp_per_s) override;
+  void command(DeviceAction action) override;
+  DeviceTelemetry read() override;
+
+ private:
+  void start(const DeviceTimeouts& timeouts);
+  void send_command(std::uint8_t mode);
+  void send_aux();
+  void send(const io::CanFrame& frame, const char* what);
+
+  std::unique_ptr<io::CanBus> bus_;
+  std::uint8_t node_ = 1;
+  std::chrono::milliseconds response_timeout_{500};
+  DriveSetpoint setpoint_;
+  double frequency_slew_hz_per_s_ = 0.0;
+  double vpp_slew_per_s_ = 0.0;
+  std::uint8_t mode_ = 0;  // what keep-alives repeat: 0 disable, 1 enable
+  std::uint8_t command_alive_ = 0;
+  std::uint8_t aux_alive_ = 0;
+};
+
+}  // namespace swum::host

@@ -1,0 +1,37 @@
+// Device over Modbus TCP or RTU (libmodbus client); register map: docs/protocols.md.
+#pragma once
+
+#include <cstdint>
+#include <string>
+
+#include "device/device.h"
+
+typedef struct _modbus modbus_t;
+
+namespace swum::host {
+
+class ModbusDevice final : public Device {
+ public:
+  // "tcp://HOST:PORT" or "rtu:DEVICE:BAUD". Throws std::invalid_argument for a malformed
+  // address, DeviceError when the device cannot be reached or does not answer.
+  ModbusDevice(const std::string& endpoint, const DeviceTimeouts& timeouts);
+  ~ModbusDevice() override;
+  ModbusDevice(const ModbusDevice&) = delete;
+  ModbusDevice& operator=(const ModbusDevice&) = delete;
+
+  std::string name() const override;
+  void set_drive(const DriveSetpoint& setpoint) override;
+  void set_slew(double frequency_hz_per_s, double vpp_per_s) override;
+  void command(DeviceAction action) override;
+  DeviceTelemetry read() override;
+
+ private:
+  void set_timeout(std::chrono::milliseconds timeout);
+  void write_holding(std::uint16_t address, const std::uint16_t* values, int count, const std::string& what);
+  [[noreturn]] void fail(const std::string& what) const;
+
+  std::string endpoint_text_;
+  modbus_t* context_ = nullptr;
+};
+
+}  // namespace swum::host

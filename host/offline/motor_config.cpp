@@ -1,0 +1,12 @@
+#include "offline/motor_config.h"
+
+#include "config/parameter_file.h"
+#include "output/text_files.h"
+
+namespace swum::host {
+
+MotorParameters load_motor_parameters(const std::filesystem::path& path) {
+  return parse_motor_parameters(read_text_file(path), path.string());
+}
+
+}  // namespace swum::host

@@ -1,0 +1,145 @@
+#include "output/amplitude_csv.h"
+
+#include <array>
+#include <charconv>
+#include <cmath>
+#include <optional>
+
+#include "commands/command_error.h"
+#include "config/csv_cells.h"
+#include "config/number_format.h"
+
+namespace swum::host {
+namespace {
+
+constexpr std::array<std::string_view, 4> kColumns = {"vpp", "frequency_hz", "tip_normal_um",
+                                                      "tip_tangential_um"};
+
+[[noreturn]] void fail(std::string_view source, int line, int column, const std::string& what) {
+  std::string message(source);
+  message += ":" + std::to_string(line);
+  if (column > 0) message += ":" + std::to_string(column);
+  throw CommandError(message + ": " + what);
+}
+
+std::string quoted_cell(std::string_view text) {
+  std::string q = "'";
+  q += printable_cell(text);
+  q += "'";
+  return q;
+}
+
+// Empty cell -> nullopt; otherwise a finite number or an error naming line and column.
+std::optional<double> number_cell(std::string_view cell, std::string_view source, int line,
+                                  int column, std::string_view name) {
+  if (cell.empty()) return std::nullopt;
+  double value = 0.0;
+  if (const char* problem = parse_number_cell(cell, value)) {
+    fail(source, line, column, "column " + std::string(name) + ": " + quoted_cell(cell) + " " + problem);
+  }
+  return value;
+}
+
+}  // namespace
+
+std::vector<AmplitudeMeasurement> parse_amplitude_csv(std::string_view text,
+                                                      std::string_view source,
+                                                      int min_amplitudes) {
+  std::array<int, 4> index{-1, -1, -1, -1};  // cell index of each required column
+  std::size_t header_cells = 0;
+  bool have_header = false;
+  std::vector<AmplitudeMeasurement> rows;
+  int amplitudes = 0;
+  int line_number = 0;
+  int last_line = 0;  // last non-blank, non-comment line
+  std::size_t start = 0;
+  while (start <= text.size()) {
+    const std::size_t newline = text.find('\n', start);
+    const std::string_view raw =
+        text.substr(start, newline == std::string_view::npos ? std::string_view::npos : newline - start);
+    start = newline == std::string_view::npos ? text.size() + 1 : newline + 1;
+    ++line_number;
+    const std::string_view line = trim_cell(raw);
+    if (line.empty() || line.front() == '#') continue;
+    last_line = line_number;
+    const std::vector<std::string_view> cells = split_csv_cells(line);
+    if (!have_header) {
+      have_header = true;
+      header_cells = cells.size();
+      for (std::size_t c = 0; c < cells.size(); ++c) {
+        for (std::size_t k = 0; k < kColumns.size(); ++k) {
+          if (cells[c] == kColumns[k]) {
+            if (index[k] >= 0) {
+              fail(source, line_number, static_cast<int>(c) + 1,
+                   "column " + std::string(kColumns[k]) + " appears twice");
+            }
+            index[k] = static_cast<int>(c);
+          }
+        }
+      }
+      for (std::size_t k = 0; k < kColumns.size(); ++k) {
+        if (index[k] < 0) {
+          fail(source, line_number, static_cast<int>(header_cells) + 1,
+               "missing column " + std::string(kColumns[k]) +
+                   " (the header must name vpp,frequency_hz,tip_normal_um,tip_tangential_um)");
+        }
+      }
+      continue;
+    }
+    if (cells.size() != header_cells) {
+      fail(source, line_number, static_cast<int>(std::min(cells.size(), header_cells)) + 1,
+           "expected " + std::to_string(header_cells) + " cells, found " +
+               std::to_string(cells.size()));
+    }
+    std::array<std::optional<double>, 4> v;
+    for (std::size_t k = 0; k < kColumns.size(); ++k) {
+      const int column = index[k] + 1;
+      v[k] = number_cell(cells[index[k]], source, line_number, column, kColumns[k]);
+      if (k < 2 && !v[k]) {
+        fail(source, line_number, column, "column " + std::string(kColumns[k]) + " is empty");
+      }
+      if (v[k] && *v[k] < 0.0) {
+        fail(source, line_number, column,
+             "column " + std::string(kColumns[k]) + ": negative value " +
+                 quoted_cell(cells[index[k]]) + (k == 0 ? " (voltages are >= 0 Vpp)" : ""));
+      }
+      if (k == 1 && *v[k] <= 0.0) {
+        fail(source, line_number, column, "column frequency_hz: must be > 0");
+      }
+    }
+    if (!v[2] && !v[3]) {
+      fail(source, line_number, index[2] + 1,
+           "both tip_normal_um and tip_tangential_um are empty (a row needs one amplitude)");
+    }
+    AmplitudeMeasurement m;
+    m.vpp = *v[0];
+    m.frequency_hz = *v[1];
+    m.tip_normal_um = v[2];
+    m.tip_tangential_um = v[3];
+    m.source_line = line_number;
+    amplitudes += (v[2] ? 1 : 0) + (v[3] ? 1 : 0);
+    rows.push_back(m);
+  }
+  if (!have_header) fail(source, 1, 0, "no header line (the file is empty)");
+  if (amplitudes < min_amplitudes) {
+    fail(source, last_line, 0,
+         "only " + std::to_string(amplitudes) + " amplitude values; fitting " +
+             std::to_string(min_amplitudes) + " parameters needs at least " +
+             std::to_string(min_amplitudes));
+  }
+  return rows;
+}
+
+std::string format_amplitude_csv(std::span<const AmplitudeMeasurement> data) {
+  std::string out = "vpp,frequency_hz,tip_normal_um,tip_tangential_um\n";
+  for (const AmplitudeMeasurement& m : data) {
+    out += format_number(m.vpp, "%.10g") + "," + format_number(m.frequency_hz, "%.10g") + ",";
+    if (m.tip_normal_um) out += format_number(*m.tip_normal_um, "%.10g");
+    out += ",";
+    if (m.tip_tangential_um) out += format_number(*m.tip_tangential_um, "%.10g");
+    out += "\n";
+  }
+  return out;
+}
+
+}  // namespace swum::host

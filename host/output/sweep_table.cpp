@@ -1,0 +1,161 @@
+#include "output/sweep_table.h"
+
+#include <cmath>
+#include <map>
+#include <set>
+#include <sstream>
+#include <stdexcept>
+#include <utility>
+
+#include "config/csv_cells.h"
+#include "config/number_format.h"
+#include "output/plot.h"
+#include "output/value_lists.h"
+
+namespace swum::host {
+namespace {
+
+
+std::string label_for(double vpp, double load_n, bool several_loads) {
+  std::string label = format_number(vpp) + " Vpp";
+  if (several_loads) label += ", " + format_number(load_n) + " N";
+  return label;
+}
+
+}  // namespace
+
+bool is_physical_failure(const SweepRow& row) {
+  return !row.ok && (row.status == "diverged" || row.status == "fault_numerical");
+}
+
+std::string format_sweep_csv(const std::vector<SweepRow>& rows) {
+  bool with_spread = false, with_time = false, with_sweep = false;
+  for (const SweepRow& row : rows) {
+    with_spread = with_spread || row.speed_spread_mm_s >= 0.0;
+    with_time = with_time || row.time_s.has_value();
+    with_sweep = with_sweep || row.sweep.has_value();
+  }
+  std::string csv = "vpp,frequency_hz,load_n,";
+  if (with_time) csv += "time_s,";
+  if (with_sweep) csv += "sweep,";
+  csv += "speed_mm_s,tip_normal_um,tip_tangential_um,";
+  csv += with_spread ? "speed_spread_mm_s,status\n" : "status\n";
+  for (const SweepRow& row : rows) {
+    csv += format_number(row.vpp) + "," + format_number(row.frequency_hz) + "," + format_number(row.load_n) + ",";
+    if (with_time) {
+      // Milliseconds: the resolution of the device clocks (Modbus sim_time, CAN Clock frame).
+      csv += (row.time_s ? format_number(*row.time_s, "%.3f") : std::string()) + ",";
+    }
+    if (with_sweep) csv += (row.sweep ? std::to_string(*row.sweep) : std::string()) + ",";
+    if (row.ok) {
+      csv += format_number(row.speed_mm_s) + "," + format_number(row.tip_normal_um) + "," +
+             format_number(row.tip_tangential_um);
+    } else {
+      csv += ",,";
+    }
+    if (with_spread) csv += "," + (row.ok && row.speed_spread_mm_s >= 0.0 ? format_number(row.speed_spread_mm_s) : "");
+    csv += "," + row.status + "\n";
+  }
+  return csv;
+}
+
+std::vector<SweepRow> parse_sweep_csv(const std::string& text, const std::string& source) {
+  std::stringstream in(text);
+  std::string line;
+  if (!std::getline(in, line)) throw std::runtime_error(source + ": empty file");
+  if (!line.empty() && line.back() == '\r') line.pop_back();
+  // Cells as written (CsvCellTrim::none): names and statuses are compared byte for byte.
+  std::vector<std::string> header;
+  for (const std::string_view name : split_csv_cells(line, CsvCellTrim::none)) header.emplace_back(name);
+  auto column = [&](const std::string& name) {
+    for (std::size_t i = 0; i < header.size(); ++i) if (header[i] == name) return static_cast<int>(i);
+    return -1;
+  };
+  const int cv = column("vpp"), cf = column("frequency_hz"), cl = column("load_n"), cs = column("speed_mm_s"),
+            cn = column("tip_normal_um"), ct = column("tip_tangential_um"), cst = column("status"),
+            csp = column("speed_spread_mm_s"), ctime = column("time_s"), csweep = column("sweep");
+  if (cv < 0 || cf < 0 || cs < 0) {
+    throw std::runtime_error(source + ": not a sweep table (header needs vpp, frequency_hz, speed_mm_s)");
+  }
+  std::vector<SweepRow> rows;
+  int number = 1;
+  while (std::getline(in, line)) {
+    ++number;
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    if (line.empty()) continue;
+    const std::vector<std::string_view> cells = split_csv_cells(line, CsvCellTrim::none);
+    if (cells.size() != header.size()) {
+      throw std::runtime_error(source + " line " + std::to_string(number) + ": " + std::to_string(cells.size()) +
+                               " cells, the header has " + std::to_string(header.size()));
+    }
+    auto cell = [&](int c) { return c >= 0 ? std::string(cells[static_cast<std::size_t>(c)]) : std::string(); };
+    auto where = [&](int c) { return source + " line " + std::to_string(number) + " column " + header[c]; };
+    auto value = [&](int c) { return parse_finite_number(cell(c), where(c)); };
+    SweepRow row;
+    row.vpp = value(cv);
+    row.frequency_hz = value(cf);
+    row.load_n = cl >= 0 ? value(cl) : 0.0;
+    if (ctime >= 0 && !cell(ctime).empty()) {
+      row.time_s = value(ctime);
+      if (*row.time_s < 0.0) throw std::runtime_error(where(ctime) + ": must be >= 0");
+    }
+    if (csweep >= 0 && !cell(csweep).empty()) {
+      const double id = value(csweep);
+      if (id < 0.0 || id != std::floor(id) || id > 1e9) {
+        throw std::runtime_error(where(csweep) + ": " + cell(csweep) + " is not a sweep id (a whole number >= 0)");
+      }
+      row.sweep = static_cast<int>(id);
+    }
+    row.status = cst >= 0 ? cell(cst) : "ok";
+    // "unsettled": the model's windows had not quite agreed, the values are still its best.
+    row.ok = (row.status == "ok" || row.status == "unsettled") && !cell(cs).empty();
+    if (row.ok) {
+      row.speed_mm_s = value(cs);
+      if (cn >= 0 && !cell(cn).empty()) row.tip_normal_um = value(cn);
+      if (ct >= 0 && !cell(ct).empty()) row.tip_tangential_um = value(ct);
+      if (csp >= 0 && !cell(csp).empty()) row.speed_spread_mm_s = value(csp);
+    }
+    rows.push_back(row);
+  }
+  return rows;
+}
+
+void write_sweep_plot(const std::vector<SweepRow>& rows, const std::filesystem::path& path) {
+  std::set<double> frequencies;
+  std::set<double> loads;
+  for (const SweepRow& row : rows) {
+    frequencies.insert(row.frequency_hz);
+    loads.insert(row.load_n);
+  }
+  const bool versus_frequency = frequencies.size() > 1;
+  const bool several_loads = loads.size() > 1;
+
+  // std::map keeps curves in (voltage, load) order for a stable legend.
+  std::map<std::pair<double, double>, PlotSeries> curves;
+  for (const SweepRow& row : rows) {
+    const auto key = versus_frequency ? std::make_pair(row.vpp, row.load_n)
+                                      : std::make_pair(0.0, row.load_n);
+    PlotSeries& series = curves[key];
+    if (series.label.empty()) {
+      series.label = versus_frequency ? label_for(row.vpp, row.load_n, several_loads)
+                                      : format_number(row.load_n) + " N load";
+    }
+    if (!row.ok) continue;
+    series.x.push_back(versus_frequency ? row.frequency_hz / 1000.0 : row.vpp);
+    series.y.push_back(row.speed_mm_s);
+  }
+
+  PlotSpec spec;
+  if (versus_frequency) {
+    spec.title = "Mover speed vs drive frequency";
+    spec.x_label = "drive frequency (kHz)";
+  } else {
+    spec.title = "Mover speed vs drive voltage at " + format_number(*frequencies.begin() / 1000.0) + " kHz";
+    spec.x_label = "drive voltage (Vpp)";
+  }
+  spec.y_label = "mover speed (mm/s)";
+  for (auto& [key, series] : curves) spec.series.push_back(std::move(series));
+  write_png_plot(spec, path);
+}
+
+}  // namespace swum::host

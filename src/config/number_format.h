@@ -1,0 +1,33 @@
+// Numbers as text through printf patterns: the one formatter of the tables, labels and
+// messages of src/ and host/ (every conversion in a pattern takes a double).
+#pragma once
+
+#include <cstddef>
+#include <cstdio>
+#include <string>
+
+namespace swum {
+
+namespace detail {
+template <std::size_t Size, typename... Numbers>
+[[nodiscard]] std::string printf_text(const char* pattern, Numbers... numbers) {
+  char buffer[Size];
+  std::snprintf(buffer, sizeof buffer, pattern, numbers...);
+  return buffer;
+}
+}  // namespace detail
+
+/// One number through a printf `format` (default %.6g: the shortest faithful text for tables
+/// and labels); at most 63 characters.
+[[nodiscard]] inline std::string format_number(double value, const char* format = "%.6g") {
+  return detail::printf_text<64>(format, value);
+}
+
+/// A message with up to four numbers (`pattern` uses as many as it needs); at most 255
+/// characters.
+[[nodiscard]] inline std::string format_numbers(const char* pattern, double a, double b = 0.0, double c = 0.0,
+                                                double d = 0.0) {
+  return detail::printf_text<256>(pattern, a, b, c, d);
+}
+
+}  // namespace swum
