@@ -94,6 +94,12 @@ struct BadArguments {
   std::string message_part;
 };
 
+// Printed as the command line, so the ctest names are readable and the same on every build.
+void PrintTo(const BadArguments& b, std::ostream* os) {
+  for (const std::string& arg : b.args) *os << (arg.find('/') == std::string::npos ? arg : "PATH") << ' ';
+  *os << "-> " << b.status;
+}
+
 class SwumCliRejects : public ::testing::TestWithParam<BadArguments> {};
 
 TEST_P(SwumCliRejects, WithOneLineNamingTheProblem) {

@@ -138,6 +138,8 @@ struct BadCsv {
   const char* text;
   const char* expected;  // in the one-line message
 };
+// Printed by name, so the ctest names are the same on every build (not the object's bytes).
+void PrintTo(const BadCsv& b, std::ostream* os) { *os << b.name; }
 
 class SwumIdentifyRejects : public ::testing::TestWithParam<BadCsv> {};
 

@@ -1,4 +1,4 @@
-// Frame handling: validation, cansend notation, filter semantics, error-frame decoding.
+// io/can_bus.h (and the frame type it carries, protocol/can_frame.h): validation, cansend notation, filter semantics, error-frame decoding.
 #include <gtest/gtest.h>
 #include <linux/can/error.h>
 
