@@ -4,8 +4,8 @@
 
 #include <array>
 #include <cerrno>
-#include <cstring>
 #include <cstdio>
+#include <cstring>
 #include <stdexcept>
 
 namespace swum::emu {
@@ -106,12 +106,8 @@ void CanTransport::rx_loop() {
         stats_.rx_stamped.fetch_add(1, std::memory_order_relaxed);
         receive_age_.record(static_cast<std::uint64_t>(stamp.age_ns));
         break;
-      case RxStampSource::missing:
-        stats_.rx_stamp_missing.fetch_add(1, std::memory_order_relaxed);
-        break;
-      case RxStampSource::implausible:
-        stats_.rx_stamp_implausible.fetch_add(1, std::memory_order_relaxed);
-        break;
+      case RxStampSource::missing: stats_.rx_stamp_missing.fetch_add(1, std::memory_order_relaxed); break;
+      case RxStampSource::implausible: stats_.rx_stamp_implausible.fetch_add(1, std::memory_order_relaxed); break;
     }
     Reason reason = Reason::none;
     Command command;
@@ -174,8 +170,7 @@ void CanTransport::tx_loop() {
   std::uint8_t counter = 0;
   while (!stopping_.load(std::memory_order_relaxed)) {
     const Telemetry t = shared_.telemetry.load();
-    const RejectSnapshot rejects{static_cast<Reason>(shared_.rejects.last_reason.load()),
-                                         shared_.rejects.count.load()};
+    const RejectSnapshot rejects{static_cast<Reason>(shared_.rejects.last_reason.load()), shared_.rejects.count.load()};
     if (config_.telemetry_hz > 0) {
       send(protocol::can::encode_status(t, rejects, counter++, ids_.status));
       send(protocol::can::encode_motion(t, ids_.motion));

@@ -23,8 +23,8 @@ namespace swum::emu {
 
 struct CanTransportConfig {
   std::uint8_t node = 1;
-  double telemetry_hz = 100.0;    // Status/Motion/Drive/LoopStats/Output frames
-  double heartbeat_s = 1.0;       // 0 = no heartbeat
+  double telemetry_hz = 100.0;  // Status/Motion/Drive/LoopStats/Output frames
+  double heartbeat_s = 1.0;     // 0 = no heartbeat
 };
 
 // Where a received frame's time came from.

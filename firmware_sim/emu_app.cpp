@@ -104,7 +104,8 @@ void open_modbus(const EmuOptions& o, SharedState& shared, const AmplifierLimits
   if (endpoint->tcp) {
     if (endpoint->host == "0.0.0.0")
       std::fprintf(stderr, "swum-emu: warning: Modbus TCP bound to all interfaces (0.0.0.0) as asked\n");
-    t.modbus_tcp = std::make_unique<ModbusTcpServer>(endpoint->host, endpoint->port, shared, limits, modbus_tcp_options(o));
+    t.modbus_tcp = std::make_unique<ModbusTcpServer>(endpoint->host, endpoint->port, shared, limits,
+                                                     modbus_tcp_options(o));
     t.ready += " modbus=tcp://" + endpoint->host + ":" + std::to_string(t.modbus_tcp->port());
   } else {
     t.modbus_rtu = std::make_unique<ModbusRtuServer>(endpoint->device, endpoint->baud, o.modbus_unit, shared, limits,

@@ -38,19 +38,25 @@ EmuOptions parse_emu_options(int argc, const char* const* argv) {
       ->capture_default_str();
   app.add_option("--gpio", o.gpio_spec, "CHIP:enable=N,fault=M[,a=K,b=L] (GPIO off when absent)");
   app.add_option("--encoder-resolution-um", o.encoder_resolution_um, "encoder: mover travel per count")
-      ->check(CLI::PositiveNumber)->capture_default_str();
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
   app.add_option("--encoder-max-rate", o.encoder_max_rate_hz, "encoder: max edges per second")
-      ->check(CLI::Range(1.0, 1e6))->capture_default_str();
+      ->check(CLI::Range(1.0, 1e6))
+      ->capture_default_str();
   app.add_option("--tick-hz", o.tick_hz, "loop rate")->check(CLI::Range(100.0, 100000.0))->capture_default_str();
   app.add_option("--duration", o.duration_s, "stop after S emulated seconds (0: run until SIGINT/SIGTERM)")
       ->check(CLI::NonNegativeNumber);
   app.add_option("--speedup", o.speedup, "run K times faster than wall time; 0 = as fast as possible")
-      ->check(CLI::NonNegativeNumber)->capture_default_str();
-  app.add_option("--watchdog-ms", o.watchdog_ms, "command timeout while enabled (emulated ms; 0 = off)")
-      ->check(CLI::NonNegativeNumber)->capture_default_str();
-  app.add_option("--telemetry-hz", o.telemetry_hz, "CAN telemetry rate (0 = off)")->check(CLI::Range(0.0, 2000.0))
+      ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
-  app.add_option("--heartbeat-ms", o.heartbeat_ms, "CAN heartbeat period (0 = off)")->check(CLI::NonNegativeNumber)
+  app.add_option("--watchdog-ms", o.watchdog_ms, "command timeout while enabled (emulated ms; 0 = off)")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
+  app.add_option("--telemetry-hz", o.telemetry_hz, "CAN telemetry rate (0 = off)")
+      ->check(CLI::Range(0.0, 2000.0))
+      ->capture_default_str();
+  app.add_option("--heartbeat-ms", o.heartbeat_ms, "CAN heartbeat period (0 = off)")
+      ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
   app.add_option("--frequency-min", o.frequency_min_hz, "lowest accepted frequency setpoint (Hz)")
       ->capture_default_str();
@@ -60,15 +66,18 @@ EmuOptions parse_emu_options(int argc, const char* const* argv) {
       ->capture_default_str();
   app.add_option("--load-max", o.load_max_n, "largest accepted |load force| (N)")->capture_default_str();
   app.add_option("--frequency-slew", o.frequency_slew_hz_per_s, "frequency slew limit (Hz/s; 0 = none)")
-      ->check(CLI::NonNegativeNumber)->capture_default_str();
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
   app.add_option("--amplitude-slew", o.amplitude_slew_vpp_per_s, "amplitude slew limit (Vpp/s; 0 = none)")
-      ->check(CLI::NonNegativeNumber)->capture_default_str();
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
   app.add_option("--frequency", o.frequency_hz, "initial frequency setpoint (Hz)")->capture_default_str();
   app.add_option("--phase", o.phase_deg, "initial phase setpoint (deg)")->capture_default_str();
   app.add_flag("--rt", o.realtime, "try SCHED_FIFO + mlockall (a message, not a failure, when not permitted)");
   app.add_option("--cpu", o.cpu, "pin the real-time loop to this CPU (transports stay unpinned)")
       ->check(CLI::NonNegativeNumber);
-  app.add_option("--spin-us", o.spin_us, "sleep until this long before each tick, then busy-wait (lower wake-up latency, busier CPU)")
+  app.add_option("--spin-us", o.spin_us,
+                 "sleep until this long before each tick, then busy-wait (lower wake-up latency, busier CPU)")
       ->check(CLI::Range(0.0, 1e6))
       ->capture_default_str();
   app.add_option("--ready-fd", o.ready_fd, "also write the ready line to this file descriptor");
@@ -103,9 +112,10 @@ AmplifierConfig amplifier_config(const EmuOptions& o) {
   amp.phase_deg = o.phase_deg;
   amp.watchdog_s = o.watchdog_ms * 1e-3;
   // A default slew above the largest a command may ask for raises that limit.
-  amp.limits.max_frequency_slew_hz_per_s = std::max(amp.limits.max_frequency_slew_hz_per_s, amp.frequency_slew_hz_per_s);
-  amp.limits.max_amplitude_slew_vpp_per_s =
-      std::max(amp.limits.max_amplitude_slew_vpp_per_s, amp.amplitude_slew_vpp_per_s);
+  amp.limits.max_frequency_slew_hz_per_s = std::max(amp.limits.max_frequency_slew_hz_per_s,
+                                                    amp.frequency_slew_hz_per_s);
+  amp.limits.max_amplitude_slew_vpp_per_s = std::max(amp.limits.max_amplitude_slew_vpp_per_s,
+                                                     amp.amplitude_slew_vpp_per_s);
   Command initial;
   initial.fields = Command::kFrequency | Command::kPhase;
   initial.frequency_hz = amp.frequency_hz;

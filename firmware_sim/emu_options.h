@@ -24,35 +24,35 @@ namespace swum::emu {
 
 // Each field is one option; defaults are the documented ones.
 struct EmuOptions {
-  std::string config_path;                          // --config (required): motor parameter file
-  std::string can_interface;                        // --can; empty: CAN off
-  int can_node = 1;                                 // --node
-  std::string modbus_spec = "tcp://127.0.0.1:1502"; // --modbus: tcp://HOST:PORT, rtu:DEV:BAUD or none
-  int modbus_unit = 1;                              // --modbus-unit (RTU)
+  std::string config_path;                                            // --config (required): motor parameter file
+  std::string can_interface;                                          // --can; empty: CAN off
+  int can_node = 1;                                                   // --node
+  std::string modbus_spec = "tcp://127.0.0.1:1502";                   // --modbus: tcp://HOST:PORT, rtu:DEV:BAUD or none
+  int modbus_unit = 1;                                                // --modbus-unit (RTU)
   int modbus_idle_timeout_ms = ModbusTcpOptions{}.idle_timeout_ms;    // --modbus-idle-timeout-ms
   int modbus_frame_timeout_ms = ModbusTcpOptions{}.frame_timeout_ms;  // --modbus-frame-timeout-ms
   int modbus_evict_idle_ms = ModbusTcpOptions{}.evict_idle_ms;        // --modbus-evict-idle-ms
-  std::string gpio_spec;                            // --gpio: CHIP:enable=N,fault=M[,a=K,b=L]; empty: off
-  double encoder_resolution_um = 10.0;              // --encoder-resolution-um
-  double encoder_max_rate_hz = 20000.0;             // --encoder-max-rate
-  double tick_hz = 10000.0;                         // --tick-hz
-  double duration_s = 0.0;                          // --duration (emulated); 0: until SIGINT/SIGTERM
-  double speedup = 1.0;                             // --speedup (factor); 0: as fast as possible
-  double spin_us = 0.0;                             // --spin-us
-  double watchdog_ms = 100.0;                       // --watchdog-ms (emulated); 0: off
-  double telemetry_hz = 100.0;                      // --telemetry-hz (CAN); 0: off
-  double heartbeat_ms = 1000.0;                     // --heartbeat-ms (CAN); 0: off
-  double frequency_min_hz = AmplifierLimits{}.min_frequency_hz;          // --frequency-min
-  double frequency_max_hz = AmplifierLimits{}.max_frequency_hz;          // --frequency-max
-  double amplitude_max_vpp = AmplifierLimits{}.max_amplitude_vpp;        // --amplitude-max
-  double load_max_n = AmplifierLimits{}.max_abs_load_n;                  // --load-max
+  std::string gpio_spec;                                         // --gpio: CHIP:enable=N,fault=M[,a=K,b=L]; empty: off
+  double encoder_resolution_um = 10.0;                           // --encoder-resolution-um
+  double encoder_max_rate_hz = 20000.0;                          // --encoder-max-rate
+  double tick_hz = 10000.0;                                      // --tick-hz
+  double duration_s = 0.0;                                       // --duration (emulated); 0: until SIGINT/SIGTERM
+  double speedup = 1.0;                                          // --speedup (factor); 0: as fast as possible
+  double spin_us = 0.0;                                          // --spin-us
+  double watchdog_ms = 100.0;                                    // --watchdog-ms (emulated); 0: off
+  double telemetry_hz = 100.0;                                   // --telemetry-hz (CAN); 0: off
+  double heartbeat_ms = 1000.0;                                  // --heartbeat-ms (CAN); 0: off
+  double frequency_min_hz = AmplifierLimits{}.min_frequency_hz;  // --frequency-min
+  double frequency_max_hz = AmplifierLimits{}.max_frequency_hz;  // --frequency-max
+  double amplitude_max_vpp = AmplifierLimits{}.max_amplitude_vpp;                // --amplitude-max
+  double load_max_n = AmplifierLimits{}.max_abs_load_n;                          // --load-max
   double frequency_slew_hz_per_s = AmplifierConfig{}.frequency_slew_hz_per_s;    // --frequency-slew
   double amplitude_slew_vpp_per_s = AmplifierConfig{}.amplitude_slew_vpp_per_s;  // --amplitude-slew
-  double frequency_hz = AmplifierConfig{}.frequency_hz;                  // --frequency (initial)
-  double phase_deg = AmplifierConfig{}.phase_deg;                        // --phase (initial)
-  bool realtime = false;                            // --rt
-  int cpu = -1;                                     // --cpu; -1: loop not pinned
-  int ready_fd = -1;                                // --ready-fd; -1: stdout only
+  double frequency_hz = AmplifierConfig{}.frequency_hz;                          // --frequency (initial)
+  double phase_deg = AmplifierConfig{}.phase_deg;                                // --phase (initial)
+  bool realtime = false;                                                         // --rt
+  int cpu = -1;                                                                  // --cpu; -1: loop not pinned
+  int ready_fd = -1;                                                             // --ready-fd; -1: stdout only
 };
 
 // A bad or conflicting option value; what() is the one line after "swum-emu: ".
@@ -66,7 +66,10 @@ class EmuOptionError : public std::runtime_error {
 class EmuCliExit : public std::runtime_error {
  public:
   EmuCliExit(int exit_code, std::string out, std::string err)
-      : std::runtime_error(err.empty() ? out : err), exit_code_(exit_code), out_(std::move(out)), err_(std::move(err)) {}
+      : std::runtime_error(err.empty() ? out : err),
+        exit_code_(exit_code),
+        out_(std::move(out)),
+        err_(std::move(err)) {}
   [[nodiscard]] int exit_code() const { return exit_code_; }
   [[nodiscard]] const std::string& out() const { return out_; }
   [[nodiscard]] const std::string& err() const { return err_; }

@@ -56,7 +56,8 @@ const Telemetry& EmulatorCore::tick() {
   Command command;
   accepted_count_ = 0;
   while (shared_.commands.try_pop(command)) {
-    if (accepted_count_ < accepted_ns_.size() && command.accepted_ns != 0) accepted_ns_[accepted_count_++] = command.accepted_ns;
+    if (accepted_count_ < accepted_ns_.size() && command.accepted_ns != 0)
+      accepted_ns_[accepted_count_++] = command.accepted_ns;
     const Reason reason = amplifier_.apply(command, tick_);
     if (reason != Reason::none) shared_.rejects.record(reason, command.source);
     telemetry_.last_sequence = command.sequence;
@@ -118,8 +119,9 @@ const Telemetry& EmulatorCore::tick() {
   telemetry_.output = drive_values(amplifier_.output());
   telemetry_.position_m = position;
   telemetry_.tick_speed_m_s = (position - start_position) / tick_s_;
-  telemetry_.speed_m_s = ring_filled_ ? (position - position_ring_[oldest]) / (static_cast<double>(ring_filled_) * tick_s_)
-                                      : telemetry_.tick_speed_m_s;
+  telemetry_.speed_m_s = ring_filled_
+                             ? (position - position_ring_[oldest]) / (static_cast<double>(ring_filled_) * tick_s_)
+                             : telemetry_.tick_speed_m_s;
   telemetry_.tip_normal_um = 0.5e6 * (un_max - un_min);
   telemetry_.tip_tangential_um = 0.5e6 * (ut_max - ut_min);
   telemetry_.applied_commands = amplifier_.applied_commands();

@@ -16,17 +16,19 @@
 namespace swum::emu {
 
 // The model's drive and the loop's statistics as the protocol's telemetry carries them.
-inline protocol::DriveValues drive_values(const DriveInput& d) { return {d.vpp, d.frequency_hz, d.phase_deg, d.load_n}; }
+inline protocol::DriveValues drive_values(const DriveInput& d) {
+  return {d.vpp, d.frequency_hz, d.phase_deg, d.load_n};
+}
 inline protocol::LoopTiming loop_timing(const LoopStatsSummary& s) {
-  return {s.overruns,        s.lateness_p50_ns, s.lateness_p99_ns, s.lateness_p999_ns, s.lateness_max_ns,
-          s.compute_p99_ns, s.compute_max_ns};
+  return {s.overruns,        s.lateness_p50_ns, s.lateness_p99_ns, s.lateness_p999_ns,
+          s.lateness_max_ns, s.compute_p99_ns,  s.compute_max_ns};
 }
 
 struct CoreConfig {
   double tick_hz = 10000.0;
-  AmplifierConfig amplifier;     // tick_s is overwritten from tick_hz
+  AmplifierConfig amplifier;  // tick_s is overwritten from tick_hz
   double speed_window_s = 0.010;
-  unsigned sample_stride = 4;    // sub-steps between tip-amplitude samples
+  unsigned sample_stride = 4;  // sub-steps between tip-amplitude samples
 };
 
 class EmulatorCore {

@@ -68,7 +68,8 @@ void GpioTransport::io_loop() {
   while (!stopping_.load(std::memory_order_relaxed)) {
     if (enable_) {
       io::GpioEvent event;
-      if (enable_->wait_edge(event, std::chrono::milliseconds(1)) == io::GpioWait::event) stats_.enable_edges.fetch_add(1);
+      if (enable_->wait_edge(event, std::chrono::milliseconds(1)) == io::GpioWait::event)
+        stats_.enable_edges.fetch_add(1);
       shared_.enable_line.store(enable_->get());  // the level after the event(s)
     } else {
       const timespec pause{0, 1'000'000};

@@ -19,7 +19,7 @@ namespace swum::emu {
 
 struct GpioConfig {
   std::string chip;
-  int enable = -1;   // line offsets; -1 = not used
+  int enable = -1;  // line offsets; -1 = not used
   int fault = -1;
   int encoder_a = -1;
   int encoder_b = -1;

@@ -11,7 +11,8 @@ std::size_t Histogram::bucket_of(std::uint64_t v) {
   if (v < 128) return static_cast<std::size_t>(v);
   const int msb = 63 - std::countl_zero(v);
   const int shift = msb - 6;  // v >> shift in [64, 127]
-  const std::size_t index = 128 + static_cast<std::size_t>(shift - 1) * 64 + static_cast<std::size_t>((v >> shift) - 64);
+  const std::size_t index = 128 + static_cast<std::size_t>(shift - 1) * 64 +
+                            static_cast<std::size_t>((v >> shift) - 64);
   return std::min(index, kBuckets - 1);
 }
 

@@ -38,7 +38,7 @@ class Histogram {
 // Plain summary, trivially copyable (published with the telemetry).
 struct LoopStatsSummary {
   std::uint64_t ticks = 0;
-  std::uint64_t overruns = 0;        // ticks whose work ended after the next tick's deadline
+  std::uint64_t overruns = 0;  // ticks whose work ended after the next tick's deadline
   std::uint64_t lateness_p50_ns = 0, lateness_p99_ns = 0, lateness_p999_ns = 0, lateness_max_ns = 0;
   std::uint64_t compute_p50_ns = 0, compute_p99_ns = 0, compute_max_ns = 0;
   double compute_mean_ns = 0.0;
@@ -90,7 +90,9 @@ const char* to_string(Drop d);
 class DropCounters {
  public:
   // Returns the count of `d` including this one (callers log the first few).
-  std::uint64_t count(Drop d) { return counts_[static_cast<std::size_t>(d)].fetch_add(1, std::memory_order_relaxed) + 1; }
+  std::uint64_t count(Drop d) {
+    return counts_[static_cast<std::size_t>(d)].fetch_add(1, std::memory_order_relaxed) + 1;
+  }
   [[nodiscard]] std::uint64_t operator[](Drop d) const {
     return counts_[static_cast<std::size_t>(d)].load(std::memory_order_relaxed);
   }

@@ -90,14 +90,14 @@ bool serve(modbus_t* ctx, const std::uint8_t* adu, int length, int checksum_leng
   }
   const Telemetry t = shared.telemetry.load();
   if (request.function == protocol::modbus::kReadInputRegisters) {
-    const RejectSnapshot rejects{
-        static_cast<Reason>(shared.rejects.last_reason.load(std::memory_order_relaxed)),
-        shared.rejects.count.load(std::memory_order_acquire)};
-    protocol::modbus::fill_input(t, rejects, std::span<std::uint16_t, protocol::modbus::input::kCount>(map->tab_input_registers,
-                                                                                   protocol::modbus::input::kCount));
+    const RejectSnapshot rejects{static_cast<Reason>(shared.rejects.last_reason.load(std::memory_order_relaxed)),
+                                 shared.rejects.count.load(std::memory_order_acquire)};
+    protocol::modbus::fill_input(t, rejects,
+                                 std::span<std::uint16_t, protocol::modbus::input::kCount>(
+                                     map->tab_input_registers, protocol::modbus::input::kCount));
   } else {
-    protocol::modbus::fill_holding(t, std::span<std::uint16_t, protocol::modbus::holding::kCount>(map->tab_registers,
-                                                                             protocol::modbus::holding::kCount));
+    protocol::modbus::fill_holding(t, std::span<std::uint16_t, protocol::modbus::holding::kCount>(
+                                          map->tab_registers, protocol::modbus::holding::kCount));
   }
   return modbus_reply(ctx, adu, length, map) != -1;
 }
@@ -148,12 +148,12 @@ ModbusTcpServer::ModbusTcpServer(const std::string& host, std::uint16_t port, Sh
 
 // One client connection. phase, since_ns, reason and fd are guarded by the server's mutex_.
 struct ModbusTcpServer::Connection {
-  int fd = -1;            // closed (and -1) once the client thread has ended
-  std::string peer;       // "ADDRESS:PORT", for the log
-  int phase = kIdle;      // kIdle, kReceiving, kReplying, kClosing
+  int fd = -1;                 // closed (and -1) once the client thread has ended
+  std::string peer;            // "ADDRESS:PORT", for the log
+  int phase = kIdle;           // kIdle, kReceiving, kReplying, kClosing
   std::uint64_t since_ns = 0;  // start of the phase (kIdle: accept or last reply)
   std::optional<Drop> reason;  // why the server closes it; none when the client hung up
-  bool ended = false;     // the thread is done with the connection (join it)
+  bool ended = false;          // the thread is done with the connection (join it)
   std::thread thread;
 };
 
@@ -163,7 +163,9 @@ ModbusTcpServer::~ModbusTcpServer() {
   if (wake_fd_ >= 0) ::close(wake_fd_);
 }
 
-void ModbusTcpServer::start() { acceptor_ = std::thread([this] { supervise(); }); }
+void ModbusTcpServer::start() {
+  acceptor_ = std::thread([this] { supervise(); });
+}
 
 void ModbusTcpServer::stop() {
   if (stopping_.exchange(true)) return;
@@ -236,8 +238,7 @@ void ModbusTcpServer::accept_one(std::uint64_t now) {
     }
     if (!victim || connections_.size() >= 2 * static_cast<std::size_t>(options_.max_clients)) {
       lock.unlock();
-      if (::close(fd) != 0)
-        std::fprintf(stderr, "swum-emu: Modbus TCP: %s\n", errno_text("close", errno).c_str());
+      if (::close(fd) != 0) std::fprintf(stderr, "swum-emu: Modbus TCP: %s\n", errno_text("close", errno).c_str());
       log_drop(stats_.drops.count(Drop::no_slot), Drop::no_slot, peer);
       return;
     }
@@ -350,10 +351,8 @@ void ModbusTcpServer::client_loop(Connection& c) {
           // ETIMEDOUT: libmodbus's byte timeout (= the frame timeout) passed inside a frame.
           // ECONNRESET: the client hung up. EMBBADDATA etc.: a malformed frame breaks the TCP
           // stream framing; close the connection.
-          if (e == ETIMEDOUT)
-            c.reason = Drop::frame_timeout;
-          else if (e != ECONNRESET && e != 0 && !stopping_.load())
-            stats_.receive_errors.fetch_add(1);
+          if (e == ETIMEDOUT) c.reason = Drop::frame_timeout;
+          else if (e != ECONNRESET && e != 0 && !stopping_.load()) stats_.receive_errors.fetch_add(1);
         }
         break;
       }
@@ -369,8 +368,7 @@ void ModbusTcpServer::client_loop(Connection& c) {
   std::optional<Drop> reason;
   {
     std::lock_guard lock(mutex_);
-    if (::close(c.fd) != 0)
-      std::fprintf(stderr, "swum-emu: Modbus TCP: %s\n", errno_text("close", errno).c_str());
+    if (::close(c.fd) != 0) std::fprintf(stderr, "swum-emu: Modbus TCP: %s\n", errno_text("close", errno).c_str());
     c.fd = -1;
     c.phase = kClosing;
     reason = c.reason;
@@ -414,7 +412,9 @@ ModbusRtuServer::~ModbusRtuServer() {
   }
 }
 
-void ModbusRtuServer::start() { thread_ = std::thread([this] { loop(); }); }
+void ModbusRtuServer::start() {
+  thread_ = std::thread([this] { loop(); });
+}
 
 void ModbusRtuServer::stop() {
   stopping_.store(true);
@@ -430,7 +430,8 @@ std::uint64_t character_ns(int baud) { return 10'000'000'000ULL / static_cast<st
 // readable, 0: not (yet), -1: the line failed (hang-up, error; errno set).
 int wait_readable(int fd, std::uint64_t timeout_ns) {
   timeout_ns = std::min<std::uint64_t>(timeout_ns, 200'000'000ULL);
-  const timespec ts{static_cast<time_t>(timeout_ns / 1'000'000'000ULL), static_cast<long>(timeout_ns % 1'000'000'000ULL)};
+  const timespec ts{static_cast<time_t>(timeout_ns / 1'000'000'000ULL),
+                    static_cast<long>(timeout_ns % 1'000'000'000ULL)};
   pollfd p{fd, POLLIN, 0};
   const int r = ::ppoll(&p, 1, &ts, nullptr);
   if (r < 0) return errno == EINTR ? 0 : -1;
@@ -582,10 +583,10 @@ int request_length(std::span<const std::uint8_t> frame) {
   if (frame.size() < 2) return 2;
   const int function = frame[1];
   int fixed = 0;
-  if (function <= 6) fixed = 4;                           // reads, single writes: address, count/value
+  if (function <= 6) fixed = 4;                          // reads, single writes: address, count/value
   else if (function == 15 || function == 16) fixed = 5;  // + byte count
-  else if (function == 22) fixed = 6;                     // mask write
-  else if (function == 23) fixed = 9;                     // read/write multiple registers
+  else if (function == 22) fixed = 6;                    // mask write
+  else if (function == 23) fixed = 9;                    // read/write multiple registers
   if (frame.size() < static_cast<std::size_t>(2 + fixed)) return 2 + fixed;
   int data = 0;
   if (function == 15 || function == 16) data = frame[6];
@@ -598,7 +599,8 @@ std::uint16_t crc16(std::span<const std::uint8_t> bytes) {
   std::uint16_t crc = 0xFFFF;
   for (const std::uint8_t b : bytes) {
     crc ^= b;
-    for (int i = 0; i < 8; ++i) crc = (crc & 1) ? static_cast<std::uint16_t>((crc >> 1) ^ 0xA001) : static_cast<std::uint16_t>(crc >> 1);
+    for (int i = 0; i < 8; ++i)
+      crc = (crc & 1) ? static_cast<std::uint16_t>((crc >> 1) ^ 0xA001) : static_cast<std::uint16_t>(crc >> 1);
   }
   return crc;
 }

@@ -1,8 +1,8 @@
 #include "realtime_loop.h"
 
 #include <sched.h>
-#include <sys/prctl.h>
 #include <sys/mman.h>
+#include <sys/prctl.h>
 #include <time.h>
 
 #include <cerrno>
@@ -49,8 +49,8 @@ RealtimeLoop::RealtimeLoop(EmulatorCore& core, LoopConfig config) : core_(core),
 
 std::uint64_t RealtimeLoop::run(const std::atomic<bool>& stop) {
   const bool free_running = !(config_.speedup > 0.0);
-  const auto period_ns =
-      free_running ? std::int64_t{0} : static_cast<std::int64_t>(core_.tick_s() * 1e9 / config_.speedup);
+  const auto period_ns = free_running ? std::int64_t{0}
+                                      : static_cast<std::int64_t>(core_.tick_s() * 1e9 / config_.speedup);
   const auto resync_ns = static_cast<std::int64_t>(config_.resync_after_s * 1e9);
   // Timer slack (50 us by default for SCHED_OTHER) would delay every wake-up: ask for 1 ns.
   if (prctl(PR_SET_TIMERSLACK, 1UL, 0UL, 0UL, 0UL) != 0)

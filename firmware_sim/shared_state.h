@@ -36,7 +36,7 @@ struct SharedState {
   CommandQueue commands;
   Seqlock<Telemetry> telemetry;
   RejectLog rejects;
-  std::atomic<bool> enable_line{true};        // GPIO transport -> loop
+  std::atomic<bool> enable_line{true};  // GPIO transport -> loop
   std::atomic<std::uint64_t> next_sequence{1};
   std::atomic<std::uint64_t> queue_full{0};
 

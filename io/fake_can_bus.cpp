@@ -107,11 +107,13 @@ CanResult FakeCanBus::receive(CanFrame& frame, std::chrono::milliseconds timeout
       FakeCanNetwork::Pending p = std::move(q.front());
       q.pop_front();
       frame = p.frame;
-      if (p.error) return CanResult{CanStatus::error_frame, 0, decode_error_frame(frame).describe() + " on " + endpoint_.name};
+      if (p.error)
+        return CanResult{CanStatus::error_frame, 0, decode_error_frame(frame).describe() + " on " + endpoint_.name};
       return {};
     }
     if (now >= deadline) {
-      return CanResult{CanStatus::timeout, 0, "no frame on " + endpoint_.name + " within " + std::to_string(timeout.count()) + " ms"};
+      return CanResult{CanStatus::timeout, 0,
+                       "no frame on " + endpoint_.name + " within " + std::to_string(timeout.count()) + " ms"};
     }
     const auto wake = q.empty() ? deadline : std::min(deadline, q.front().due);
     network_->arrived_.wait_until(lock, wake);

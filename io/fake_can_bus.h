@@ -24,10 +24,10 @@ class FakeCanNetwork : public std::enable_shared_from_this<FakeCanNetwork> {
   std::unique_ptr<FakeCanBus> attach(std::string name = "fake0");
 
   // Faults, applied to frames sent after the call.
-  void drop_next(std::size_t count);                                  // lose the next `count` frames
-  void drop_if(std::function<bool(const CanFrame&)> predicate);       // lose matching frames (nullptr: none)
-  void set_delay(std::chrono::nanoseconds delay);                     // delivery latency
-  void fail_next_sends(std::size_t count);                            // next sends return retry (ENOBUFS)
+  void drop_next(std::size_t count);                             // lose the next `count` frames
+  void drop_if(std::function<bool(const CanFrame&)> predicate);  // lose matching frames (nullptr: none)
+  void set_delay(std::chrono::nanoseconds delay);                // delivery latency
+  void fail_next_sends(std::size_t count);                       // next sends return retry (ENOBUFS)
   // Delivers an error frame (classes = CAN_ERR_* bits, data as in linux/can/error.h) to every endpoint.
   void inject_error_frame(std::uint32_t classes, std::array<std::uint8_t, 8> data = {});
 

@@ -33,8 +33,9 @@ struct FakeGpioLines::State {
     auto it = chips.find(chip);
     if (it == chips.end()) throw GpioError("no such GPIO chip '" + chip + "'", ENODEV);
     if (offset >= it->second.lines.size()) {
-      throw GpioError(what + "GPIO chip '" + chip + "' line " + std::to_string(offset) + ": offset out of range, chip " +
-                          chip + " [" + it->second.label + "] has " + std::to_string(it->second.lines.size()) + " lines",
+      throw GpioError(what + "GPIO chip '" + chip + "' line " + std::to_string(offset) +
+                          ": offset out of range, chip " + chip + " [" + it->second.label + "] has " +
+                          std::to_string(it->second.lines.size()) + " lines",
                       EINVAL);
     }
     return it->second.lines[offset];
@@ -98,7 +99,8 @@ class FakeInput final : public GpioInputLine, FakeLineBase {
   GpioWait wait_edge(GpioEvent& event, std::chrono::milliseconds timeout) override {
     std::unique_lock lock(state_->mutex);
     auto& l = line();
-    if (l.edge == GpioEdge::none) throw GpioError(where(config_) + ": requested without edge detection, cannot wait for edges", EINVAL);
+    if (l.edge == GpioEdge::none)
+      throw GpioError(where(config_) + ": requested without edge detection, cannot wait for edges", EINVAL);
     if (!state_->changed.wait_for(lock, timeout, [&] { return !l.events.empty(); })) return GpioWait::timeout;
     event = l.events.front();
     l.events.pop_front();
@@ -131,7 +133,8 @@ std::unique_ptr<GpioOutputLine> FakeGpioLines::request_output(const GpioLineConf
   return std::make_unique<FakeOutput>(state_, config);
 }
 
-std::unique_ptr<GpioInputLine> FakeGpioLines::request_input(const GpioLineConfig& config, GpioEdge edge, GpioBias bias) {
+std::unique_ptr<GpioInputLine> FakeGpioLines::request_input(const GpioLineConfig& config, GpioEdge edge,
+                                                            GpioBias bias) {
   std::lock_guard lock(state_->mutex);
   auto& l = claim(*state_, config);
   l.consumer = config.consumer.empty() ? "?" : config.consumer;

@@ -43,7 +43,8 @@ gpiod::line open_line(const GpioLineConfig& c) {
       holder = line.consumer();
     } catch (const std::exception&) {
     }
-    throw GpioError(where(c) + " is busy (already requested" + (holder.empty() ? "" : " by '" + holder + "'") + ")", code);
+    throw GpioError(where(c) + " is busy (already requested" + (holder.empty() ? "" : " by '" + holder + "'") + ")",
+                    code);
   }
   throw GpioError(where(c) + ": request failed: " + e.what(), code);
 }
@@ -74,7 +75,8 @@ class GpiodOutput final : public GpioOutputLine {
 
 class GpiodInput final : public GpioInputLine {
  public:
-  GpiodInput(gpiod::line line, GpioLineConfig c, bool events) : line_(std::move(line)), config_(std::move(c)), events_(events) {}
+  GpiodInput(gpiod::line line, GpioLineConfig c, bool events)
+      : line_(std::move(line)), config_(std::move(c)), events_(events) {}
   ~GpiodInput() override { line_.release(); }
   bool get() const override {
     try {

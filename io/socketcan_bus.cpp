@@ -16,7 +16,9 @@
 namespace swum::io {
 namespace {
 
-std::string errno_text(int e) { return std::string(strerrorname_np(e) ? strerrorname_np(e) : "?") + " (" + std::strerror(e) + ")"; }
+std::string errno_text(int e) {
+  return std::string(strerrorname_np(e) ? strerrorname_np(e) : "?") + " (" + std::strerror(e) + ")";
+}
 
 CanResult failure(CanStatus status, int e, std::string what) {
   return CanResult{status, e, std::move(what) + (e ? ": " + errno_text(e) : std::string{})};
@@ -31,12 +33,15 @@ SocketCanBus::SocketCanBus(const std::string& interface, Options options) : inte
     throw CanOpenError("SocketCAN '" + interface + "': " + what + (e ? ": " + errno_text(e) : ""), e);
   };
   if (interface.empty()) fail("empty interface name", EINVAL);
-  if (interface.size() >= IFNAMSIZ) fail("interface name longer than " + std::to_string(IFNAMSIZ - 1) + " characters", EINVAL);
+  if (interface.size() >= IFNAMSIZ)
+    fail("interface name longer than " + std::to_string(IFNAMSIZ - 1) + " characters", EINVAL);
 
   fd_ = ::socket(PF_CAN, SOCK_RAW | SOCK_CLOEXEC | SOCK_NONBLOCK, CAN_RAW);
   if (fd_ < 0) {
     const int e = errno;
-    if (e == EAFNOSUPPORT) fail("kernel has no CAN support (socket(PF_CAN) failed; load the 'can' module or run through tools/vm/with-vcan)", e);
+    if (e == EAFNOSUPPORT)
+      fail("kernel has no CAN support (socket(PF_CAN) failed; load the 'can' module or run through tools/vm/with-vcan)",
+           e);
     if (e == EPROTONOSUPPORT) fail("kernel has no CAN_RAW protocol (load the 'can-raw' module)", e);
     fail("socket(PF_CAN, SOCK_RAW, CAN_RAW) failed", e);
   }
@@ -48,12 +53,15 @@ SocketCanBus::SocketCanBus(const std::string& interface, Options options) : inte
     fail("ioctl(SIOCGIFINDEX) failed", e);
   }
   const int one = 1;
-  if (::setsockopt(fd_, SOL_SOCKET, SO_TIMESTAMPNS, &one, sizeof one) < 0) fail("setsockopt(SO_TIMESTAMPNS) failed", errno);
+  if (::setsockopt(fd_, SOL_SOCKET, SO_TIMESTAMPNS, &one, sizeof one) < 0)
+    fail("setsockopt(SO_TIMESTAMPNS) failed", errno);
   if (::setsockopt(fd_, SOL_SOCKET, SO_RXQ_OVFL, &one, sizeof one) < 0) fail("setsockopt(SO_RXQ_OVFL) failed", errno);
   const can_err_mask_t err_mask = options.receive_error_frames ? CAN_ERR_MASK : 0;
-  if (::setsockopt(fd_, SOL_CAN_RAW, CAN_RAW_ERR_FILTER, &err_mask, sizeof err_mask) < 0) fail("setsockopt(CAN_RAW_ERR_FILTER) failed", errno);
+  if (::setsockopt(fd_, SOL_CAN_RAW, CAN_RAW_ERR_FILTER, &err_mask, sizeof err_mask) < 0)
+    fail("setsockopt(CAN_RAW_ERR_FILTER) failed", errno);
   const int own = options.receive_own ? 1 : 0;
-  if (::setsockopt(fd_, SOL_CAN_RAW, CAN_RAW_RECV_OWN_MSGS, &own, sizeof own) < 0) fail("setsockopt(CAN_RAW_RECV_OWN_MSGS) failed", errno);
+  if (::setsockopt(fd_, SOL_CAN_RAW, CAN_RAW_RECV_OWN_MSGS, &own, sizeof own) < 0)
+    fail("setsockopt(CAN_RAW_RECV_OWN_MSGS) failed", errno);
 
   sockaddr_can addr{};
   addr.can_family = AF_CAN;
@@ -78,10 +86,12 @@ CanResult SocketCanBus::send(const CanFrame& frame) {
   for (;;) {
     const ssize_t n = ::send(fd_, &cf, sizeof cf, MSG_DONTWAIT | MSG_NOSIGNAL);
     if (n == static_cast<ssize_t>(sizeof cf)) return {};
-    if (n >= 0) return failure(CanStatus::error, 0, "short write on " + interface_ + " (" + std::to_string(n) + " bytes)");
+    if (n >= 0)
+      return failure(CanStatus::error, 0, "short write on " + interface_ + " (" + std::to_string(n) + " bytes)");
     const int e = errno;
     if (e == EINTR) continue;
-    if (e == ENOBUFS || e == EAGAIN) return failure(CanStatus::retry, e, "transmit queue of " + interface_ + " full, retry later");
+    if (e == ENOBUFS || e == EAGAIN)
+      return failure(CanStatus::retry, e, "transmit queue of " + interface_ + " full, retry later");
     return failure(CanStatus::error, e, "send on " + interface_ + " failed");
   }
 }
@@ -104,7 +114,9 @@ CanResult SocketCanBus::receive(CanFrame& frame, std::chrono::milliseconds timeo
       if (e == EINTR) continue;
       if (e != EAGAIN && e != EWOULDBLOCK) return failure(CanStatus::error, e, "recvmsg on " + interface_ + " failed");
       const auto left = deadline - clock::now();
-      if (left <= clock::duration::zero()) return CanResult{CanStatus::timeout, 0, "no frame on " + interface_ + " within " + std::to_string(timeout.count()) + " ms"};
+      if (left <= clock::duration::zero())
+        return CanResult{CanStatus::timeout, 0,
+                         "no frame on " + interface_ + " within " + std::to_string(timeout.count()) + " ms"};
       const auto ns = std::chrono::duration_cast<std::chrono::nanoseconds>(left).count();
       const timespec ts{static_cast<time_t>(ns / 1000000000), static_cast<long>(ns % 1000000000)};
       pollfd pfd{fd_, POLLIN, 0};
@@ -119,7 +131,8 @@ CanResult SocketCanBus::receive(CanFrame& frame, std::chrono::milliseconds timeo
       }
       continue;
     }
-    if (n != static_cast<ssize_t>(sizeof cf)) return failure(CanStatus::error, 0, "unexpected frame size " + std::to_string(n) + " on " + interface_);
+    if (n != static_cast<ssize_t>(sizeof cf))
+      return failure(CanStatus::error, 0, "unexpected frame size " + std::to_string(n) + " on " + interface_);
 
     frame = CanFrame{};  // timestamp stays zero unless the kernel attached one
     for (cmsghdr* c = CMSG_FIRSTHDR(&msg); c != nullptr; c = CMSG_NXTHDR(&msg, c)) {
@@ -156,7 +169,8 @@ CanResult SocketCanBus::set_filters(std::span<const CanFilter> filters) {
     const canid_t width = f.extended ? CAN_EFF_MASK : CAN_SFF_MASK;
     kf.push_back(can_filter{(f.id & width) | (f.extended ? CAN_EFF_FLAG : 0U), (f.mask & width) | CAN_EFF_FLAG});
   }
-  if (::setsockopt(fd_, SOL_CAN_RAW, CAN_RAW_FILTER, kf.data(), static_cast<socklen_t>(kf.size() * sizeof(can_filter))) < 0) {
+  if (::setsockopt(fd_, SOL_CAN_RAW, CAN_RAW_FILTER, kf.data(),
+                   static_cast<socklen_t>(kf.size() * sizeof(can_filter))) < 0) {
     return failure(CanStatus::error, errno, "setsockopt(CAN_RAW_FILTER) on " + interface_ + " failed");
   }
   return {};

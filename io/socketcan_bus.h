@@ -14,8 +14,7 @@ namespace swum::io {
 // Opening failed: no CAN support in the kernel, no such interface, not a CAN interface, ...
 class CanOpenError : public std::runtime_error {
  public:
-  CanOpenError(const std::string& what, int error_number)
-      : std::runtime_error(what), error_number_(error_number) {}
+  CanOpenError(const std::string& what, int error_number) : std::runtime_error(what), error_number_(error_number) {}
   int error_number() const { return error_number_; }
 
  private:

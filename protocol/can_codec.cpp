@@ -26,8 +26,8 @@ std::uint16_t us(std::uint64_t ns) { return static_cast<std::uint16_t>(std::min<
 }  // namespace
 
 Ids ids_for_node(std::uint8_t node) {
-  return {0x200U + node, 0x300U + node, 0x180U + node, 0x280U + node,
-          0x380U + node, 0x480U + node, 0x500U + node, 0x700U + node, 0x580U + node};
+  return {0x200U + node, 0x300U + node, 0x180U + node, 0x280U + node, 0x380U + node,
+          0x480U + node, 0x500U + node, 0x700U + node, 0x580U + node};
 }
 
 std::uint8_t crc8(std::uint32_t id, const std::uint8_t* data, std::size_t length) {
@@ -134,7 +134,9 @@ Command to_command(const CommandFrame& c) {
   Command cmd;
   cmd.source = CommandSource::can;
   cmd.fields = Command::kAction | Command::kFrequency | Command::kAmplitude | Command::kPhase;
-  cmd.action = c.mode == mode::kDisable ? Action::disable : c.mode == mode::kEnable ? Action::enable : Action::reset_fault;
+  cmd.action = c.mode == mode::kDisable  ? Action::disable
+               : c.mode == mode::kEnable ? Action::enable
+                                         : Action::reset_fault;
   cmd.frequency_hz = c.frequency_hz;
   cmd.amplitude_vpp = c.amplitude_vpp;
   cmd.phase_deg = c.phase_deg;
@@ -173,7 +175,7 @@ CanFrame encode_status(const Telemetry& t, const RejectSnapshot& r, std::uint8_t
 
 CanFrame encode_motion(const Telemetry& t, std::uint32_t id) {
   CanFrame f = blank(id, 8);
-  put_physical(f, signals::kMotionSpeed, t.speed_m_s * 1e6);  // m/s -> um/s
+  put_physical(f, signals::kMotionSpeed, t.speed_m_s * 1e6);      // m/s -> um/s
   put_physical(f, signals::kMotionPosition, t.position_m * 1e6);  // m -> um
   return f;
 }

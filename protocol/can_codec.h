@@ -52,7 +52,7 @@ struct Signal {
   double factor = 1.0;
 };
 std::uint64_t raw_value(const CanFrame& frame, Signal signal);
-double physical_value(const CanFrame& frame, Signal signal);        // sign-extended * factor
+double physical_value(const CanFrame& frame, Signal signal);  // sign-extended * factor
 void put_raw(CanFrame& frame, Signal signal, std::uint64_t raw);
 void put_physical(CanFrame& frame, Signal signal, double physical);  // rounded, saturated
 
@@ -62,16 +62,16 @@ namespace signals {
 inline constexpr Signal kCommandMode{0, 2};
 inline constexpr Signal kCommandReservedLow{2, 2};
 inline constexpr Signal kCommandAlive{4, 4};
-inline constexpr Signal kCommandFrequency{8, 20, false, 0.1};  // Hz
-inline constexpr Signal kCommandPhase{28, 12, true, 0.1};      // deg
+inline constexpr Signal kCommandFrequency{8, 20, false, 0.1};    // Hz
+inline constexpr Signal kCommandPhase{28, 12, true, 0.1};        // deg
 inline constexpr Signal kCommandAmplitude{40, 12, false, 0.25};  // Vpp
 inline constexpr Signal kCommandReservedHigh{52, 4};
 // AuxCommand 0x300+N
 inline constexpr Signal kAuxReserved{0, 4};
 inline constexpr Signal kAuxAlive{4, 4};
-inline constexpr Signal kAuxLoad{8, 16, true, 0.001};                // N
-inline constexpr Signal kAuxFrequencySlew{24, 16, false, 100.0};     // Hz/s
-inline constexpr Signal kAuxAmplitudeSlew{40, 16, false, 10.0};      // Vpp/s
+inline constexpr Signal kAuxLoad{8, 16, true, 0.001};             // N
+inline constexpr Signal kAuxFrequencySlew{24, 16, false, 100.0};  // Hz/s
+inline constexpr Signal kAuxAmplitudeSlew{40, 16, false, 10.0};   // Vpp/s
 // Status 0x180+N
 inline constexpr Signal kStatusState{0, 2};
 inline constexpr Signal kStatusEnableLine{2, 1};
@@ -86,10 +86,10 @@ inline constexpr Signal kStatusCounter{40, 8};       // mod 256
 inline constexpr Signal kMotionSpeed{0, 32, true, 1.0};      // um/s
 inline constexpr Signal kMotionPosition{32, 32, true, 1.0};  // um
 // Drive 0x380+N
-inline constexpr Signal kDriveTipNormal{0, 16, false, 0.001};      // um
+inline constexpr Signal kDriveTipNormal{0, 16, false, 0.001};       // um
 inline constexpr Signal kDriveTipTangential{16, 16, false, 0.001};  // um
-inline constexpr Signal kDriveAmplitude{32, 16, false, 0.1};       // Vpp
-inline constexpr Signal kDrivePhase{48, 16, true, 0.01};           // deg
+inline constexpr Signal kDriveAmplitude{32, 16, false, 0.1};        // Vpp
+inline constexpr Signal kDrivePhase{48, 16, true, 0.01};            // deg
 // LoopStats 0x480+N (us, saturating at 65535)
 inline constexpr Signal kLoopLatenessP99{0, 16};
 inline constexpr Signal kLoopLatenessP999{16, 16};
@@ -121,9 +121,9 @@ struct CommandFrame {
 };
 struct AuxFrame {
   std::uint8_t alive = 0;
-  double load_n = 0.0;                      // 16 bits signed, 1 mN
-  double frequency_slew_hz_per_s = 0.0;     // 16 bits, 100 Hz/s (0 = unlimited)
-  double amplitude_slew_vpp_per_s = 0.0;    // 16 bits, 10 Vpp/s (0 = unlimited)
+  double load_n = 0.0;                    // 16 bits signed, 1 mN
+  double frequency_slew_hz_per_s = 0.0;   // 16 bits, 100 Hz/s (0 = unlimited)
+  double amplitude_slew_vpp_per_s = 0.0;  // 16 bits, 10 Vpp/s (0 = unlimited)
 };
 
 CanFrame encode_command(const CommandFrame& c, std::uint32_t id);

@@ -30,7 +30,8 @@ std::string to_cansend(const CanFrame& frame) {
   char buf[48];
   int n = std::snprintf(buf, sizeof buf, frame.extended ? "%08X#" : "%03X#", frame.id);
   for (int i = 0; i < std::min<int>(frame.dlc, 8); ++i) {
-    n += std::snprintf(buf + n, sizeof buf - static_cast<std::size_t>(n), "%02X", frame.data[static_cast<std::size_t>(i)]);
+    n += std::snprintf(buf + n, sizeof buf - static_cast<std::size_t>(n), "%02X",
+                       frame.data[static_cast<std::size_t>(i)]);
   }
   return std::string(buf, static_cast<std::size_t>(n));
 }

@@ -27,7 +27,7 @@ Reason decode_status(const CanFrame& f, StatusFields& out) {
 
 Reason decode_motion(const CanFrame& f, MotionFields& out) {
   if (!full(f)) return Reason::wrong_length;
-  out.speed_mm_s = physical_value(f, signals::kMotionSpeed) * 1e-3;  // um/s -> mm/s
+  out.speed_mm_s = physical_value(f, signals::kMotionSpeed) * 1e-3;      // um/s -> mm/s
   out.position_mm = physical_value(f, signals::kMotionPosition) * 1e-3;  // um -> mm
   return Reason::none;
 }

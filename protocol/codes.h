@@ -22,17 +22,17 @@ enum class Reason : std::uint8_t {
   phase_out_of_range = 3,
   load_out_of_range = 4,
   slew_out_of_range = 5,
-  unknown_command = 6,       // action / mode code not defined
-  bad_checksum = 7,          // CAN CRC
-  stale_alive_counter = 8,   // CAN alive counter repeated or went backwards
-  wrong_length = 9,          // CAN DLC, Modbus quantity / byte count
-  illegal_address = 10,      // Modbus address range not in the map / read-only
-  split_value = 11,          // Modbus write covering half of a 32-bit value
-  fault_active = 12,         // enable while in fault (reset the fault first)
-  enable_line_low = 13,      // enable while the hardware enable input is low
-  queue_full = 14,           // command queue full (transport refused it on the spot)
-  reserved_bits = 15,        // CAN reserved bits not zero
-  illegal_function = 16,     // Modbus function code not supported
+  unknown_command = 6,      // action / mode code not defined
+  bad_checksum = 7,         // CAN CRC
+  stale_alive_counter = 8,  // CAN alive counter repeated or went backwards
+  wrong_length = 9,         // CAN DLC, Modbus quantity / byte count
+  illegal_address = 10,     // Modbus address range not in the map / read-only
+  split_value = 11,         // Modbus write covering half of a 32-bit value
+  fault_active = 12,        // enable while in fault (reset the fault first)
+  enable_line_low = 13,     // enable while the hardware enable input is low
+  queue_full = 14,          // command queue full (transport refused it on the spot)
+  reserved_bits = 15,       // CAN reserved bits not zero
+  illegal_function = 16,    // Modbus function code not supported
 };
 inline constexpr std::uint8_t kMaxReason = 16;
 

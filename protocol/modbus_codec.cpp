@@ -7,7 +7,8 @@
 namespace swum::protocol::modbus {
 
 namespace {
-constexpr std::array<std::uint16_t, 3> kHoldingU32{holding::kFrequency, holding::kFrequencySlew, holding::kAmplitudeSlew};
+constexpr std::array<std::uint16_t, 3> kHoldingU32{holding::kFrequency, holding::kFrequencySlew,
+                                                   holding::kAmplitudeSlew};
 constexpr std::array<std::uint16_t, 8> kInputU32{input::kRejectCount, input::kAppliedCommands, input::kSpeed,
                                                  input::kPosition,    input::kFrequencyOut,    input::kTick,
                                                  input::kSimTime,     input::kOverruns};
@@ -19,9 +20,9 @@ bool contains(std::span<const std::uint16_t> list, std::uint16_t a) {
 // True when [address, address + quantity) cuts a 32-bit value in half.
 bool splits(std::uint16_t address, std::uint16_t quantity, bool holding_table) {
   auto is_start = [&](std::uint16_t a) { return holding_table ? is_u32_start_holding(a) : is_u32_start_input(a); };
-  const unsigned end = static_cast<unsigned>(address) + quantity;  // exclusive
+  const unsigned end = static_cast<unsigned>(address) + quantity;                     // exclusive
   if (address > 0 && is_start(static_cast<std::uint16_t>(address - 1))) return true;  // starts on a low word
-  if (end > 0 && is_start(static_cast<std::uint16_t>(end - 1))) return true;         // ends on a high word
+  if (end > 0 && is_start(static_cast<std::uint16_t>(end - 1))) return true;          // ends on a high word
   return false;
 }
 
@@ -92,8 +93,7 @@ std::uint8_t parse_request(std::span<const std::uint8_t> pdu, Request& r, Reason
       for (std::size_t i = 0; i < r.quantity; ++i) r.values[i] = u16(6 + 2 * i);
       return kNoException;
     }
-    default:
-      return fail(kIllegalFunction, Reason::illegal_function);
+    default: return fail(kIllegalFunction, Reason::illegal_function);
   }
 }
 
@@ -148,8 +148,7 @@ Decision decide(const Request& r, const AmplifierLimits& limits) {
         c.fields |= Command::kAmplitudeSlew;
         c.amplitude_slew_vpp_per_s = reg32(a) * kSlewScale.unit_per_count;
         break;
-      default:
-        break;  // low words of 32-bit values
+      default: break;  // low words of 32-bit values
     }
   }
   const Reason why = validate(c, limits);
@@ -204,8 +203,8 @@ namespace {
 // that does not fit is an error, never a silently different command).
 bool fits(double counts, double lo, double hi) { return std::isfinite(counts) && counts >= lo && counts <= hi; }
 std::string does_not_fit(const char* what, double counts, double lo, double hi) {
-  return std::string(what) + " " + std::to_string(counts) + " does not fit the register (" + std::to_string(lo) +
-         ".." + std::to_string(hi) + ")";
+  return std::string(what) + " " + std::to_string(counts) + " does not fit the register (" + std::to_string(lo) + ".." +
+         std::to_string(hi) + ")";
 }
 std::uint16_t to_u16_bits(double counts) {
   return static_cast<std::uint16_t>(static_cast<std::int32_t>(std::lround(counts)) & 0xFFFF);

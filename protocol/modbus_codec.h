@@ -42,42 +42,42 @@ enum Function : std::uint8_t {
 
 // Holding register addresses (0-based PDU addresses).
 namespace holding {
-inline constexpr std::uint16_t kCommand = 0;            // u16: 0 keep-alive, 1 enable, 2 disable, 3 reset fault
-inline constexpr std::uint16_t kFrequency = 1;          // u32 (1-2): mHz
-inline constexpr std::uint16_t kAmplitude = 3;          // u16: 0.1 Vpp
-inline constexpr std::uint16_t kPhase = 4;              // i16: 0.01 deg
-inline constexpr std::uint16_t kLoad = 5;               // i16: mN
-inline constexpr std::uint16_t kFrequencySlew = 6;      // u32 (6-7): Hz/s, 0 = unlimited
-inline constexpr std::uint16_t kAmplitudeSlew = 8;      // u32 (8-9): Vpp/s, 0 = unlimited
+inline constexpr std::uint16_t kCommand = 0;        // u16: 0 keep-alive, 1 enable, 2 disable, 3 reset fault
+inline constexpr std::uint16_t kFrequency = 1;      // u32 (1-2): mHz
+inline constexpr std::uint16_t kAmplitude = 3;      // u16: 0.1 Vpp
+inline constexpr std::uint16_t kPhase = 4;          // i16: 0.01 deg
+inline constexpr std::uint16_t kLoad = 5;           // i16: mN
+inline constexpr std::uint16_t kFrequencySlew = 6;  // u32 (6-7): Hz/s, 0 = unlimited
+inline constexpr std::uint16_t kAmplitudeSlew = 8;  // u32 (8-9): Vpp/s, 0 = unlimited
 inline constexpr std::uint16_t kCount = 10;
 }  // namespace holding
 
 namespace input {
-inline constexpr std::uint16_t kStatus = 0;             // bits: 0 enabled, 1 fault, 2 enable line, 3 drive on, 4 at setpoint
-inline constexpr std::uint16_t kState = 1;              // 0 disabled, 1 enabled, 2 fault
-inline constexpr std::uint16_t kFault = 2;              // FaultCode
-inline constexpr std::uint16_t kLastReject = 3;         // Reason of the last rejected command (any interface)
-inline constexpr std::uint16_t kRejectCount = 4;        // u32 (4-5)
-inline constexpr std::uint16_t kAppliedCommands = 6;    // u32 (6-7)
-inline constexpr std::uint16_t kSpeed = 8;              // i32 (8-9): um/s, mean over 10 ms
-inline constexpr std::uint16_t kPosition = 10;          // i32 (10-11): um
-inline constexpr std::uint16_t kTipNormal = 12;         // u16: nm
-inline constexpr std::uint16_t kTipTangential = 13;     // u16: nm
-inline constexpr std::uint16_t kFrequencyOut = 14;      // u32 (14-15): mHz
-inline constexpr std::uint16_t kAmplitudeOut = 16;      // u16: 0.1 Vpp
-inline constexpr std::uint16_t kPhaseOut = 17;          // i16: 0.01 deg
-inline constexpr std::uint16_t kLoadOut = 18;           // i16: mN
-inline constexpr std::uint16_t kTick = 19;              // u32 (19-20)
-inline constexpr std::uint16_t kSimTime = 21;           // u32 (21-22): ms
-inline constexpr std::uint16_t kLatenessP50 = 23;       // u16: us (saturating)
+inline constexpr std::uint16_t kStatus = 0;       // bits: 0 enabled, 1 fault, 2 enable line, 3 drive on, 4 at setpoint
+inline constexpr std::uint16_t kState = 1;        // 0 disabled, 1 enabled, 2 fault
+inline constexpr std::uint16_t kFault = 2;        // FaultCode
+inline constexpr std::uint16_t kLastReject = 3;   // Reason of the last rejected command (any interface)
+inline constexpr std::uint16_t kRejectCount = 4;  // u32 (4-5)
+inline constexpr std::uint16_t kAppliedCommands = 6;  // u32 (6-7)
+inline constexpr std::uint16_t kSpeed = 8;            // i32 (8-9): um/s, mean over 10 ms
+inline constexpr std::uint16_t kPosition = 10;        // i32 (10-11): um
+inline constexpr std::uint16_t kTipNormal = 12;       // u16: nm
+inline constexpr std::uint16_t kTipTangential = 13;   // u16: nm
+inline constexpr std::uint16_t kFrequencyOut = 14;    // u32 (14-15): mHz
+inline constexpr std::uint16_t kAmplitudeOut = 16;    // u16: 0.1 Vpp
+inline constexpr std::uint16_t kPhaseOut = 17;        // i16: 0.01 deg
+inline constexpr std::uint16_t kLoadOut = 18;         // i16: mN
+inline constexpr std::uint16_t kTick = 19;            // u32 (19-20)
+inline constexpr std::uint16_t kSimTime = 21;         // u32 (21-22): ms
+inline constexpr std::uint16_t kLatenessP50 = 23;     // u16: us (saturating)
 inline constexpr std::uint16_t kLatenessP99 = 24;
 inline constexpr std::uint16_t kLatenessP999 = 25;
 inline constexpr std::uint16_t kLatenessMax = 26;
 inline constexpr std::uint16_t kComputeP99 = 27;
 inline constexpr std::uint16_t kComputeMax = 28;
-inline constexpr std::uint16_t kOverruns = 29;          // u32 (29-30)
-inline constexpr std::uint16_t kTickSpeed = 31;         // i32 (31-32): um/s, mean over the last tick
-inline constexpr std::uint16_t kLastSequence = 33;      // u32 (33-34): sequence of the last command applied
+inline constexpr std::uint16_t kOverruns = 29;      // u32 (29-30)
+inline constexpr std::uint16_t kTickSpeed = 31;     // i32 (31-32): um/s, mean over the last tick
+inline constexpr std::uint16_t kLastSequence = 33;  // u32 (33-34): sequence of the last command applied
 inline constexpr std::uint16_t kCount = 35;
 }  // namespace input
 
@@ -87,14 +87,14 @@ struct Scale {
   double unit_per_count;
   double count_per_unit;
 };
-inline constexpr Scale kFrequencyScale{1e-3, 1e3};  // mHz
-inline constexpr Scale kAmplitudeScale{0.1, 10.0};  // 0.1 Vpp
-inline constexpr Scale kPhaseScale{0.01, 100.0};    // 0.01 deg
-inline constexpr Scale kLoadScale{1e-3, 1e3};       // mN
-inline constexpr Scale kSlewScale{1.0, 1.0};        // Hz/s, Vpp/s
-inline constexpr Scale kMicroScale{1e-6, 1e6};      // speed um/s, position um (from m)
-inline constexpr Scale kTipScale{1e-3, 1e3};        // nm (from um)
-inline constexpr Scale kSimTimeScale{1e-3, 1e3};    // ms
+inline constexpr Scale kFrequencyScale{1e-3, 1e3};   // mHz
+inline constexpr Scale kAmplitudeScale{0.1, 10.0};   // 0.1 Vpp
+inline constexpr Scale kPhaseScale{0.01, 100.0};     // 0.01 deg
+inline constexpr Scale kLoadScale{1e-3, 1e3};        // mN
+inline constexpr Scale kSlewScale{1.0, 1.0};         // Hz/s, Vpp/s
+inline constexpr Scale kMicroScale{1e-6, 1e6};       // speed um/s, position um (from m)
+inline constexpr Scale kTipScale{1e-3, 1e3};         // nm (from um)
+inline constexpr Scale kSimTimeScale{1e-3, 1e3};     // ms
 inline constexpr double kTimingNsPerCount = 1000.0;  // lateness / compute registers: us
 
 // 32-bit values: high word at `index`, low word at index + 1 ("ABCD").

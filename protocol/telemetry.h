@@ -32,15 +32,15 @@ struct Telemetry {
   bool enable_line = true;
   bool at_setpoint = true;
   AmplifierSetpoints setpoints;
-  DriveValues output;                // what the amplifier drives this tick
-  double speed_m_s = 0.0;            // mover speed, mean over the last speed window (10 ms)
-  double tick_speed_m_s = 0.0;       // mean over the last tick
+  DriveValues output;           // what the amplifier drives this tick
+  double speed_m_s = 0.0;       // mover speed, mean over the last speed window (10 ms)
+  double tick_speed_m_s = 0.0;  // mean over the last tick
   double position_m = 0.0;
-  double tip_normal_um = 0.0;        // (max - min)/2 of u_tip over the last tick
-  double tip_tangential_um = 0.0;    // (max - min)/2 of w_tip over the last tick
+  double tip_normal_um = 0.0;      // (max - min)/2 of u_tip over the last tick
+  double tip_tangential_um = 0.0;  // (max - min)/2 of w_tip over the last tick
   std::uint64_t applied_commands = 0;
   std::uint64_t amplifier_rejects = 0;
-  std::uint64_t last_sequence = 0;   // sequence of the last command applied
+  std::uint64_t last_sequence = 0;  // sequence of the last command applied
   std::uint64_t divergences = 0;
   LoopTiming stats;
 };

@@ -8,9 +8,9 @@ namespace swum::host {
 
 enum ExitCode : int {
   kExitOk = 0,
-  kExitFailure = 1,      // bad input file, I/O error, anything the user must fix
-  kExitUsage = 2,        // bad command-line arguments
-  kExitDiverged = 3,     // the simulation blew up; nothing was printed as a number
+  kExitFailure = 1,        // bad input file, I/O error, anything the user must fix
+  kExitUsage = 2,          // bad command-line arguments
+  kExitDiverged = 3,       // the simulation blew up; nothing was printed as a number
   kExitInterrupted = 130,  // Ctrl-C / SIGTERM on a live command: drive off, files flushed
 };
 

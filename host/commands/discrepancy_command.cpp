@@ -7,8 +7,8 @@
 #include <cstdio>
 #include <filesystem>
 #include <memory>
-#include <optional>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 #include <system_error>
 #include <vector>
@@ -54,16 +54,11 @@ std::vector<std::string> split_list(const std::string& text) {
 }
 
 nlohmann::ordered_json evidence_json(const HeldOutEvidence& e) {
-  return {{"points", e.points},
-          {"improved", e.improved},
-          {"signed_rank", e.signed_rank},
-          {"signed_rank_p", e.signed_rank_p},
-          {"sign_flip_p", e.sign_flip_p},
-          {"p_value", e.p_value},
-          {"rms_before", e.rms_before},
-          {"rms_after", e.rms_after},
-          {"reduction", e.reduction},
-          {"reduction_interval_90", {e.reduction_low, e.reduction_high}}};
+  return {{"points", e.points},           {"improved", e.improved},
+          {"signed_rank", e.signed_rank}, {"signed_rank_p", e.signed_rank_p},
+          {"sign_flip_p", e.sign_flip_p}, {"p_value", e.p_value},
+          {"rms_before", e.rms_before},   {"rms_after", e.rms_after},
+          {"reduction", e.reduction},     {"reduction_interval_90", {e.reduction_low, e.reduction_high}}};
 }
 
 // "delta BIC -725; 14 of 15 held-out points better (p 0.00012: signed-rank 6.1e-05, sign-flip 0.0002); ..."
@@ -72,9 +67,9 @@ std::string evidence_text(double delta_bic, const HeldOutEvidence& e) {
          std::to_string(e.points) + " held-out points better (p " + format_number(e.p_value, "%.2g") +
          ": signed-rank " + format_number(e.signed_rank_p, "%.2g") + ", sign-flip " +
          format_number(e.sign_flip_p, "%.2g") + "); held-out RMS " + percent(e.rms_before) + " -> " +
-         percent(e.rms_after) + ", reduction " + format_number(100.0 * e.reduction, "%.0f") +
-         " % (90 % interval " + format_number(100.0 * e.reduction_low, "%.0f") + ".." +
-         format_number(100.0 * e.reduction_high, "%.0f") + " %)";
+         percent(e.rms_after) + ", reduction " + format_number(100.0 * e.reduction, "%.0f") + " % (90 % interval " +
+         format_number(100.0 * e.reduction_low, "%.0f") + ".." + format_number(100.0 * e.reduction_high, "%.0f") +
+         " %)";
 }
 
 nlohmann::ordered_json to_json(const DiscrepancyResult& r, double wall_s) {
@@ -83,9 +78,7 @@ nlohmann::ordered_json to_json(const DiscrepancyResult& r, double wall_s) {
   for (const NamedEffect& e : r.effects) {
     nlohmann::ordered_json effect;
     effect["name"] = e.name;
-    effect["parameters"][e.key] = {{"value", e.value},
-                                   {"standard_error", e.standard_error},
-                                   {"unit", e.unit}};
+    effect["parameters"][e.key] = {{"value", e.value}, {"standard_error", e.standard_error}, {"unit", e.unit}};
     effect["delta_bic"] = e.delta_bic;
     effect["held_out"] = evidence_json(e.held_out);
     j["effects"].push_back(effect);
@@ -149,7 +142,8 @@ void keep_quantities(MeasurementSet& set, const std::vector<std::string>& names)
   for (const std::string& name : names) {
     const std::optional<Quantity> q = quantity_from_name(name);
     if (!q) {
-      throw std::invalid_argument("--quantities: unknown quantity '" + name + "' (known: speed, tip_normal, tip_tangential)");
+      throw std::invalid_argument("--quantities: unknown quantity '" + name +
+                                  "' (known: speed, tip_normal, tip_tangential)");
     }
     keep[static_cast<std::size_t>(*q)] = true;
   }
@@ -187,8 +181,8 @@ std::string summary_text(const DiscrepancyResult& r) {
   if (r.effects.empty()) out += "named effects: none\n";
   for (const NamedEffect& e : r.effects) {
     out += "named effect: " + e.name + "  " + e.key + " = " + format_number(e.value, "%.4g") + " +- " +
-           format_number(e.standard_error, "%.2g") + " " + e.unit + "\n    evidence: " +
-           evidence_text(e.delta_bic, e.held_out) + "\n";
+           format_number(e.standard_error, "%.2g") + " " + e.unit +
+           "\n    evidence: " + evidence_text(e.delta_bic, e.held_out) + "\n";
   }
   out += "held-out gap (relative RMS / max): " + percent(r.rms_before) + " -> " + percent(r.rms_after) + "\n";
   for (Quantity q : kQuantities) {
@@ -196,9 +190,8 @@ std::string summary_text(const DiscrepancyResult& r) {
     if (g.count == 0) continue;
     char line[256];
     std::snprintf(line, sizeof line, "  %-18s RMS %-8s -> %-8s max %-8s -> %s\n",
-                  std::string(quantity_column(q)).c_str(), percent(g.rms_before).c_str(),
-                  percent(g.rms_after).c_str(), percent(g.max_before).c_str(),
-                  percent(g.max_after).c_str());
+                  std::string(quantity_column(q)).c_str(), percent(g.rms_before).c_str(), percent(g.rms_after).c_str(),
+                  percent(g.max_before).c_str(), percent(g.max_after).c_str());
     out += line;
   }
   out += "conclusion: " + r.conclusion + "\n";
@@ -207,8 +200,7 @@ std::string summary_text(const DiscrepancyResult& r) {
 
 // Per quantity: measured, baseline and augmented against the point index in session order;
 // and the relative residuals of both models.
-std::vector<std::string> write_plots(const fs::path& dir, const MeasurementSet& set,
-                                     const DiscrepancyResult& r) {
+std::vector<std::string> write_plots(const fs::path& dir, const MeasurementSet& set, const DiscrepancyResult& r) {
   std::vector<std::string> files;
   const std::vector<std::size_t> order = session_order(set.rows);
   for (Quantity q : kQuantities) {
@@ -240,8 +232,8 @@ std::vector<std::string> write_plots(const fs::path& dir, const MeasurementSet& 
   return files;
 }
 
-std::string report_markdown(const DiscrepancyCommandOptions& o, const MeasurementSet& set,
-                            const DiscrepancyResult& r, const std::vector<std::string>& plots) {
+std::string report_markdown(const DiscrepancyCommandOptions& o, const MeasurementSet& set, const DiscrepancyResult& r,
+                            const std::vector<std::string>& plots) {
   std::string md = "# Model discrepancy report\n\n";
   md += "`swum discrepancy --config " + o.config_path + " --measured " + o.measured_path + "`\n\n";
   if (const std::string note = measurement_note(set); !note.empty()) md += "Input: " + note + "\n\n";
@@ -250,14 +242,14 @@ std::string report_markdown(const DiscrepancyCommandOptions& o, const Measuremen
   md += "| variable | F (quadratic trend) | R^2 | quantity | structured |\n|---|---|---|---|---|\n";
   for (const TrendTest& t : r.baseline_map.trends) {
     md += "| " + std::string(t.variable) + " | " + format_number(t.f_statistic, "%.3g") + " | " +
-          format_number(t.explained_fraction, "%.2f") + " | " + std::string(quantity_column(t.quantity)) +
-          " | " + (t.structured ? "yes" : "no") + " |\n";
+          format_number(t.explained_fraction, "%.2f") + " | " + std::string(quantity_column(t.quantity)) + " | " +
+          (t.structured ? "yes" : "no") + " |\n";
   }
   md += "\nLargest residuals (relative):\n\n| line | quantity | measured | baseline | r |\n|---|---|---|---|---|\n";
   for (const ResidualValue& v : r.baseline_map.largest) {
-    md += "| " + std::to_string(set.rows[v.slot.row].source_line) + " | " + std::string(quantity_column(v.slot.quantity)) +
-          " | " + format_number(v.measured, "%.4g") + " | " + format_number(v.predicted, "%.4g") + " | " +
-          percent(v.relative) + " |\n";
+    md += "| " + std::to_string(set.rows[v.slot.row].source_line) + " | " +
+          std::string(quantity_column(v.slot.quantity)) + " | " + format_number(v.measured, "%.4g") + " | " +
+          format_number(v.predicted, "%.4g") + " | " + percent(v.relative) + " |\n";
   }
   md += "\n## Selection\n\n";
   for (std::size_t k = 0; k < r.rounds.size(); ++k) {
@@ -265,8 +257,8 @@ std::string report_markdown(const DiscrepancyCommandOptions& o, const Measuremen
     md += "| candidate | value | train RMS | held-out RMS | delta BIC |\n|---|---|---|---|---|\n";
     for (const CandidateScore& c : r.rounds[k].candidates) {
       md += c.skipped ? "| " + c.name + " | skipped: " + c.note + " | | | |\n"
-                      : "| " + c.name + " | " + format_number(c.value, "%.4g") + " | " + percent(c.train_rms) +
-                            " | " + percent(c.held_out_rms) + " | " + format_number(c.delta_bic, "%+.1f") + " |\n";
+                      : "| " + c.name + " | " + format_number(c.value, "%.4g") + " | " + percent(c.train_rms) + " | " +
+                            percent(c.held_out_rms) + " | " + format_number(c.delta_bic, "%+.1f") + " |\n";
     }
     md += "\n";
   }
@@ -274,21 +266,21 @@ std::string report_markdown(const DiscrepancyCommandOptions& o, const Measuremen
   if (r.effects.empty()) md += "None.\n";
   for (const NamedEffect& e : r.effects) {
     md += "- **" + e.name + "**: `" + e.key + " = " + format_number(e.value, "%.4g") + "` +- " +
-          format_number(e.standard_error, "%.2g") + " " + e.unit + "; evidence: " +
-          evidence_text(e.delta_bic, e.held_out) + "\n";
+          format_number(e.standard_error, "%.2g") + " " + e.unit +
+          "; evidence: " + evidence_text(e.delta_bic, e.held_out) + "\n";
   }
   md += "\nNamed when both hold: delta BIC on the " + std::to_string(r.operating_points - r.held_out_points) +
-        " training points below -" + format_number(DiscrepancyOptions{}.bic_margin, "%g") +
-        ", and on the " + std::to_string(r.held_out_points) +
+        " training points below -" + format_number(DiscrepancyOptions{}.bic_margin, "%g") + ", and on the " +
+        std::to_string(r.held_out_points) +
         " held-out points the one-sided signed-rank and sign-flip tests, Bonferroni-combined, below p = " +
         format_number(DiscrepancyOptions{}.significance, "%g") + " (docs/discrepancy.md).\n";
-  md += "\n## Gap on held-out points (relative)\n\n| quantity | n | RMS before | RMS after | max before | max after |\n|---|---|---|---|---|---|\n";
+  md += "\n## Gap on held-out points (relative)\n\n| quantity | n | RMS before | RMS after | max before | max after "
+        "|\n|---|---|---|---|---|---|\n";
   for (Quantity q : kQuantities) {
     const QuantityGap& g = r.gaps[static_cast<std::size_t>(q)];
     if (g.count == 0) continue;
-    md += "| " + std::string(quantity_column(q)) + " | " + std::to_string(g.count) + " | " +
-          percent(g.rms_before) + " | " + percent(g.rms_after) + " | " + percent(g.max_before) +
-          " | " + percent(g.max_after) + " |\n";
+    md += "| " + std::string(quantity_column(q)) + " | " + std::to_string(g.count) + " | " + percent(g.rms_before) +
+          " | " + percent(g.rms_after) + " | " + percent(g.max_before) + " | " + percent(g.max_after) + " |\n";
   }
   md += "| all | | " + percent(r.rms_before) + " | " + percent(r.rms_after) + " | | |\n\n";
   md += "Remaining residual: " + r.augmented_map.summary + "\n\n";
@@ -307,8 +299,7 @@ void run_discrepancy_command(const DiscrepancyCommandOptions& o) {
   }
   for (const std::string& name : options.candidates) {
     if (find_candidate_effect(name) == nullptr) {
-      throw std::invalid_argument("--effects: unknown effect '" + name + "' (known: " +
-                                  candidate_effect_names() + ")");
+      throw std::invalid_argument("--effects: unknown effect '" + name + "' (known: " + candidate_effect_names() + ")");
     }
   }
   const MotorParameters baseline = load_motor_parameters(o.config_path);
@@ -330,7 +321,8 @@ void run_discrepancy_command(const DiscrepancyCommandOptions& o) {
   if (operating_points < kMinOperatingPoints) {
     throw CommandError(o.measured_path + ": " + std::to_string(operating_points) +
                        " distinct operating points; the workflow needs at least " +
-                       std::to_string(kMinOperatingPoints) + " (8 held out, the fewest whose held-out tests can reach p < 0.01)");
+                       std::to_string(kMinOperatingPoints) +
+                       " (8 held out, the fewest whose held-out tests can reach p < 0.01)");
   }
   // The output directory first: a bad path must not fail after a minute of fitting.
   const fs::path dir(o.out_dir);
@@ -342,8 +334,8 @@ void run_discrepancy_command(const DiscrepancyCommandOptions& o) {
   const DiscrepancyResult r = run_discrepancy(baseline, measured, options,
                                               make_parallel_for(static_cast<unsigned>(o.jobs)));
   const double wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  std::string header = "# Written by `swum discrepancy --config " + o.config_path + " --measured " +
-                       o.measured_path + "`: the baseline plus the named effects.\n";
+  std::string header = "# Written by `swum discrepancy --config " + o.config_path + " --measured " + o.measured_path +
+                       "`: the baseline plus the named effects.\n";
   for (const NamedEffect& e : r.effects) {
     header += "#   effects." + e.name + "." + e.key + " = " + format_number(e.value, "%.6g") + " +- " +
               format_number(e.standard_error, "%.2g") + " " + e.unit + "\n";
@@ -357,8 +349,8 @@ void run_discrepancy_command(const DiscrepancyCommandOptions& o) {
     std::printf("%s\n", to_json(r, wall_s).dump(2).c_str());
   } else {
     std::fputs(summary_text(r).c_str(), stdout);
-    std::printf("wrote %s/report.md, augmented.toml and %zu plots (%.1f s, %d model evaluations)\n",
-                o.out_dir.c_str(), plots.size(), wall_s, r.model_evaluations);
+    std::printf("wrote %s/report.md, augmented.toml and %zu plots (%.1f s, %d model evaluations)\n", o.out_dir.c_str(),
+                plots.size(), wall_s, r.model_evaluations);
   }
 }
 
@@ -366,16 +358,18 @@ void run_discrepancy_command(const DiscrepancyCommandOptions& o) {
 
 void add_discrepancy_command(CLI::App& app) {
   auto o = std::make_shared<DiscrepancyCommandOptions>();
-  CLI::App* sub = app.add_subcommand(
-      "discrepancy", "Name the effect missing from a model, add it, show the gap shrink");
+  CLI::App* sub = app.add_subcommand("discrepancy",
+                                     "Name the effect missing from a model, add it, show the gap shrink");
   sub->add_option("--config", o->config_path, "baseline motor parameter file (TOML)")->required();
   sub->add_option("--measured", o->measured_path,
-                  "CSV: vpp,frequency_hz,load_n[,time_s][,sweep] + speed_mm_s/tip_normal_um/tip_tangential_um; or a swum sweep / swum log file as it is")
+                  "CSV: vpp,frequency_hz,load_n[,time_s][,sweep] + speed_mm_s/tip_normal_um/tip_tangential_um; or a "
+                  "swum sweep / swum log file as it is")
       ->required();
   sub->add_option("--out", o->out_dir, "directory for report.md, plots, augmented.toml")->required();
   sub->add_option("--effects", o->effects, "candidate effects, comma list (default: all)");
-  sub->add_option("--quantities", o->quantities,
-                  "measured columns to use, comma list of speed, tip_normal, tip_tangential (default: all in the file)");
+  sub->add_option(
+      "--quantities", o->quantities,
+      "measured columns to use, comma list of speed, tip_normal, tip_tangential (default: all in the file)");
   sub->add_flag("--json", o->json, "print one JSON object instead of the text summary");
   sub->add_option("--jobs", o->jobs, "worker threads (default: all cores)");
   sub->callback([o] { run_discrepancy_command(*o); });

@@ -46,8 +46,7 @@ nlohmann::ordered_json to_json(const IdentificationResult& r) {
     p["identifiable"] = e.identifiable;
     p["value"] = e.value;  // the fitted value, or the prior when not identifiable
     p["prior"] = e.prior;
-    p["standard_error"] = e.identifiable ? nlohmann::ordered_json(e.standard_error)
-                                         : nlohmann::ordered_json(nullptr);
+    p["standard_error"] = e.identifiable ? nlohmann::ordered_json(e.standard_error) : nlohmann::ordered_json(nullptr);
     p["significant"] = e.significant;
     p["reason"] = e.reason;
     j["parameters"].push_back(p);
@@ -55,9 +54,8 @@ nlohmann::ordered_json to_json(const IdentificationResult& r) {
   j["rms_relative_residual"] = r.rms_relative_residual;
   j["rms_normal_um"] = std::isfinite(r.rms_normal_um) ? nlohmann::ordered_json(r.rms_normal_um)
                                                       : nlohmann::ordered_json(nullptr);
-  j["rms_tangential_um"] = std::isfinite(r.rms_tangential_um)
-                               ? nlohmann::ordered_json(r.rms_tangential_um)
-                               : nlohmann::ordered_json(nullptr);
+  j["rms_tangential_um"] = std::isfinite(r.rms_tangential_um) ? nlohmann::ordered_json(r.rms_tangential_um)
+                                                              : nlohmann::ordered_json(nullptr);
   j["amplitude_count"] = r.residual_count;
   j["information_eigenvalues"] = r.information_eigenvalues;
   j["starts"] = r.starts_run;
@@ -70,14 +68,12 @@ std::string summary_text(const IdentificationResult& r) {
   for (const ParameterEstimate& e : r.parameters) {
     char line[512];
     if (e.identifiable) {
-      std::snprintf(line, sizeof line, "%-18s %-14s %-12s identified%s\n",
-                    std::string(e.key).c_str(), format_number(e.value, "%+.5g").c_str(),
-                    format_number(e.standard_error, "%.2g").c_str(),
+      std::snprintf(line, sizeof line, "%-18s %-14s %-12s identified%s\n", std::string(e.key).c_str(),
+                    format_number(e.value, "%+.5g").c_str(), format_number(e.standard_error, "%.2g").c_str(),
                     e.significant ? ", significantly non-zero" : ", NOT significantly non-zero");
     } else {
       std::snprintf(line, sizeof line, "%-18s %-14s %-12s not identifiable, kept at prior: %s\n",
-                    std::string(e.key).c_str(), format_number(e.prior, "%+.5g").c_str(), "-",
-                    e.reason.c_str());
+                    std::string(e.key).c_str(), format_number(e.prior, "%+.5g").c_str(), "-", e.reason.c_str());
     }
     out += line;
   }
@@ -90,10 +86,8 @@ std::string summary_text(const IdentificationResult& r) {
   return out;
 }
 
-std::string fitted_file_text(const IdentifyOptions& o, const MotorParameters& fitted,
-                             const IdentificationResult& r) {
-  std::string header = "# Written by `swum identify --config " + o.config_path + " --amplitudes " +
-                       o.amplitudes_path +
+std::string fitted_file_text(const IdentifyOptions& o, const MotorParameters& fitted, const IdentificationResult& r) {
+  std::string header = "# Written by `swum identify --config " + o.config_path + " --amplitudes " + o.amplitudes_path +
                        "`.\n# Non-linear constants (paper Sec. 4, docs/model_spec.md §6.5):\n";
   for (const ParameterEstimate& e : r.parameters) {
     header += "#   " + std::string(e.key) + " = " + format_number(e.value, "%.6g");
@@ -101,8 +95,8 @@ std::string fitted_file_text(const IdentifyOptions& o, const MotorParameters& fi
                              : " (prior kept: not identifiable by these data)";
     header += "\n";
   }
-  header += "#   RMS relative residual " + format_number(100.0 * r.rms_relative_residual, "%.3g") +
-            " % over " + std::to_string(r.residual_count) + " amplitudes\n\n";
+  header += "#   RMS relative residual " + format_number(100.0 * r.rms_relative_residual, "%.3g") + " % over " +
+            std::to_string(r.residual_count) + " amplitudes\n\n";
   return header + format_motor_parameters(fitted);
 }
 
@@ -126,8 +120,7 @@ void write_report(const IdentifyOptions& o, const MotorModel& fitted_model,
   for (StatorMode mode : {StatorMode::l1, StatorMode::b2}) {
     const bool normal = mode == StatorMode::l1;
     PlotSpec spec;
-    spec.title = std::string("Identification: tip ") + (normal ? "normal" : "tangential") +
-                 " amplitude, data and fit";
+    spec.title = std::string("Identification: tip ") + (normal ? "normal" : "tangential") + " amplitude, data and fit";
     spec.x_label = "voltage (Vpp)";
     spec.y_label = std::string("tip ") + (normal ? "normal" : "tangential") + " amplitude (um)";
     for (const auto& [f, points] : by_frequency) {
@@ -160,8 +153,8 @@ void write_report(const IdentifyOptions& o, const MotorModel& fitted_model,
   std::string csv = "vpp,frequency_hz,tip_normal_um,fit_normal_um,tip_tangential_um,fit_tangential_um\n";
   auto cell = [](const std::optional<double>& v) { return v ? format_number(*v, "%.6g") : std::string(); };
   for (const PointPrediction& p : r.predictions) {
-    csv += format_number(p.measurement.vpp, "%.10g") + "," + format_number(p.measurement.frequency_hz, "%.10g") +
-           "," + cell(p.measurement.tip_normal_um) + "," + cell(p.predicted_normal_um) + "," +
+    csv += format_number(p.measurement.vpp, "%.10g") + "," + format_number(p.measurement.frequency_hz, "%.10g") + "," +
+           cell(p.measurement.tip_normal_um) + "," + cell(p.predicted_normal_um) + "," +
            cell(p.measurement.tip_tangential_um) + "," + cell(p.predicted_tangential_um) + "\n";
   }
   write_text_file_atomically(dir / "residuals.csv", csv);
@@ -177,13 +170,12 @@ bool same_file(const fs::path& a, const fs::path& b) {
 
 void run_identify(const IdentifyOptions& o) {
   if (same_file(o.out_path, o.config_path)) {
-    throw std::invalid_argument("--out: " + o.out_path +
-                                " is the input config; the input is never overwritten");
+    throw std::invalid_argument("--out: " + o.out_path + " is the input config; the input is never overwritten");
   }
   if (o.starts < 1) throw std::invalid_argument("--starts: must be >= 1");
   const MotorParameters prior = load_motor_parameters(o.config_path);
-  const std::vector<AmplitudeMeasurement> data = parse_amplitude_csv(
-      read_text_file(o.amplitudes_path), o.amplitudes_path, kNonlinearParameterCount);
+  const std::vector<AmplitudeMeasurement> data = parse_amplitude_csv(read_text_file(o.amplitudes_path),
+                                                                     o.amplitudes_path, kNonlinearParameterCount);
   IdentificationOptions options;
   options.starts = o.starts;
   options.seed = o.seed;
@@ -207,10 +199,8 @@ void run_identify(const IdentifyOptions& o) {
 
 void add_identify_command(CLI::App& app) {
   auto o = std::make_shared<IdentifyOptions>();
-  CLI::App* sub = app.add_subcommand(
-      "identify", "Fit c111, c1111, e311, e3111 to measured free-stator tip amplitudes");
-  sub->add_option("--config", o->config_path, "prior motor parameter file (TOML, not modified)")
-      ->required();
+  CLI::App* sub = app.add_subcommand("identify", "Fit c111, c1111, e311, e3111 to measured free-stator tip amplitudes");
+  sub->add_option("--config", o->config_path, "prior motor parameter file (TOML, not modified)")->required();
   sub->add_option("--amplitudes", o->amplitudes_path,
                   "CSV: vpp,frequency_hz,tip_normal_um,tip_tangential_um (amplitude cells may be empty)")
       ->required();

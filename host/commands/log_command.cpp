@@ -56,7 +56,8 @@ class CsvFile {
 void run_log(const LogOptions& o) {
   if (!(o.duration_s > 0.0)) throw std::invalid_argument("--duration: must be > 0");
   if (!(o.duration_s <= 1e7)) throw std::invalid_argument("--duration: must be <= 1e7 s");
-  if (!(o.rate_hz >= 0.01 && o.rate_hz <= 10000.0)) throw std::invalid_argument("--rate-hz: must be within 0.01..10000");
+  if (!(o.rate_hz >= 0.01 && o.rate_hz <= 10000.0))
+    throw std::invalid_argument("--rate-hz: must be within 0.01..10000");
   StopSignal stop;
   const auto device = open_device(o.device.address, o.device.timeouts());
   CsvFile out(o.out_path);
@@ -108,7 +109,8 @@ void run_log(const LogOptions& o) {
       const auto now = Clock::now();
       if (now > next + std::chrono::duration_cast<Clock::duration>(period)) {
         // Fell behind by whole periods: those samples are missing, not silently skipped.
-        const auto behind = static_cast<std::size_t>((now - next) / std::chrono::duration_cast<Clock::duration>(period));
+        const auto behind = static_cast<std::size_t>((now - next) /
+                                                     std::chrono::duration_cast<Clock::duration>(period));
         ++gaps;
         missing += behind;
         next += behind * std::chrono::duration_cast<Clock::duration>(period);
@@ -125,7 +127,8 @@ void run_log(const LogOptions& o) {
   const double elapsed = std::chrono::duration<double>(Clock::now() - start).count();
   std::printf("%zu samples in %.2f s from %s (%.1f per s) -> %s; %zu gaps, %zu samples missing\n", samples, elapsed,
               device->name().c_str(), samples / std::max(elapsed, 1e-9), o.out_path.c_str(), gaps, missing);
-  if (!stop_reason.empty()) throw CommandError("interrupted: " + o.out_path + " holds every sample received", kExitInterrupted);
+  if (!stop_reason.empty())
+    throw CommandError("interrupted: " + o.out_path + " holds every sample received", kExitInterrupted);
 }
 
 }  // namespace

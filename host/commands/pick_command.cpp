@@ -53,7 +53,8 @@ class Source {
  public:
   explicit Source(const PickCommandOptions& o) : o_(o) {
     const int sources = !o.sweep_path.empty() + !o.config_path.empty() + !o.device.address.empty();
-    if (sources != 1) throw std::invalid_argument("give exactly one source: --sweep, --config or a device (--modbus / --can)");
+    if (sources != 1)
+      throw std::invalid_argument("give exactly one source: --sweep, --config or a device (--modbus / --can)");
     if (!o.config_path.empty()) model_ = std::make_unique<MotorModel>(load_motor_parameters(o.config_path));
     if (!o.device.address.empty()) device_ = open_device(o.device.address, o.device.timeouts());
   }
@@ -162,9 +163,10 @@ void report(const PickCommandOptions& o, const std::vector<VoltagePick>& picks) 
     if (!o.json) {
       if (r.decided) {
         char naive[64] = "n/a (40.4 kHz outside the sweep)";
-        if (r.naive_speed_mm_s) std::snprintf(naive, sizeof naive, "%.1f mm/s, gain %+.0f %%", *r.naive_speed_mm_s, gain_percent(r));
-        std::printf("%6g Vpp: run at %.0f Hz, %.1f mm/s (naive 40.4 kHz: %s), drift %+.0f Hz; %s\n", v,
-                    r.frequency_hz, r.speed_mm_s, naive, r.peak_frequency_hz - base, r.reason.c_str());
+        if (r.naive_speed_mm_s)
+          std::snprintf(naive, sizeof naive, "%.1f mm/s, gain %+.0f %%", *r.naive_speed_mm_s, gain_percent(r));
+        std::printf("%6g Vpp: run at %.0f Hz, %.1f mm/s (naive 40.4 kHz: %s), drift %+.0f Hz; %s\n", v, r.frequency_hz,
+                    r.speed_mm_s, naive, r.peak_frequency_hz - base, r.reason.c_str());
       } else {
         std::printf("%6g Vpp: undecided: %s\n", v, r.reason.c_str());
       }
@@ -206,7 +208,8 @@ void write_plots(const PickCommandOptions& o, Source& source, const std::vector<
 
 void run_pick(const PickCommandOptions& o) {
   const std::vector<double> voltages = parse_number_list(o.vpp_list, "--vpp");
-  if (!(o.margin_hz >= 0.0 && o.margin_hz <= 10000.0)) throw std::invalid_argument("--margin-hz: must be within 0..10000");
+  if (!(o.margin_hz >= 0.0 && o.margin_hz <= 10000.0))
+    throw std::invalid_argument("--margin-hz: must be within 0..10000");
   OfflineGrid grid{voltages, {40000.0}, {o.load_n}};
   const bool measuring = o.sweep_path.empty();
   if (measuring) grid.frequencies_hz = parse_range_or_value(o.frequency_range, "--frequency");
@@ -252,7 +255,8 @@ void run_pick(const PickCommandOptions& o) {
 
 void add_pick_command(CLI::App& app) {
   auto o = std::make_shared<PickCommandOptions>();
-  CLI::App* sub = app.add_subcommand("pick", "Operating frequency per voltage (from a sweep table, the model or a device)");
+  CLI::App* sub = app.add_subcommand("pick",
+                                     "Operating frequency per voltage (from a sweep table, the model or a device)");
   sub->add_option("--sweep", o->sweep_path, "sweep CSV (swum sweep --out)");
   sub->add_option("--config", o->config_path, "motor parameter file: sweep the model offline first");
   add_device_options(*sub, o->device);
@@ -261,13 +265,19 @@ void add_pick_command(CLI::App& app) {
   sub->add_option("--margin-hz", o->margin_hz, "minimum margin above the peak (Hz)")->capture_default_str();
   sub->add_flag("--json", o->json, "JSON list on stdout");
   sub->add_option("--schedule", o->schedule_path, "write vpp,frequency_hz CSV");
-  sub->add_option("--plot-dir", o->plot_dir, "write speed_vs_frequency.png, frequency_vs_vpp.png, speed_vs_load.png here");
-  sub->add_option("--frequency", o->frequency_range, "model/device: START:STOP:STEP to sweep (Hz)")->capture_default_str();
-  sub->add_option("--plot-loads", o->plot_loads, "model/device: loads for speed_vs_load.png (N)")->capture_default_str();
+  sub->add_option("--plot-dir", o->plot_dir,
+                  "write speed_vs_frequency.png, frequency_vs_vpp.png, speed_vs_load.png here");
+  sub->add_option("--frequency", o->frequency_range, "model/device: START:STOP:STEP to sweep (Hz)")
+      ->capture_default_str();
+  sub->add_option("--plot-loads", o->plot_loads, "model/device: loads for speed_vs_load.png (N)")
+      ->capture_default_str();
   sub->add_option("--save-sweep", o->save_sweep_path, "model/device: also write the sweep CSV");
-  sub->add_option("--settle-ms", o->settle_ms, "device: wait after each frequency step (device time, ms)")->capture_default_str();
-  sub->add_option("--dwell-ms", o->dwell_ms, "device: sampling window per point (device time, ms)")->capture_default_str();
-  sub->add_option("--ramp-vpp-per-s", o->ramp_vpp_per_s, "device: amplitude slew limit for voltage ramps")->capture_default_str();
+  sub->add_option("--settle-ms", o->settle_ms, "device: wait after each frequency step (device time, ms)")
+      ->capture_default_str();
+  sub->add_option("--dwell-ms", o->dwell_ms, "device: sampling window per point (device time, ms)")
+      ->capture_default_str();
+  sub->add_option("--ramp-vpp-per-s", o->ramp_vpp_per_s, "device: amplitude slew limit for voltage ramps")
+      ->capture_default_str();
   sub->callback([o] { run_pick(*o); });
 }
 

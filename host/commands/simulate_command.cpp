@@ -29,10 +29,9 @@ struct SimulateOptions {
 
 void append_trace_row(std::string& csv, const TraceSample& s) {
   char line[320];
-  std::snprintf(line, sizeof line, "%.9g,%.9g,%.9g,%.9g,%.9g,%.6g,%.6g,%.6g,%.6g,%.9g,%.9g\n",
-                s.time_s, s.q1_m, s.q1_dot_m_s, s.q2_m, s.q2_dot_m_s, s.tip_normal_um,
-                s.tip_tangential_um, s.normal_force_n, s.friction_force_n, s.mover_position_m,
-                s.mover_velocity_m_s);
+  std::snprintf(line, sizeof line, "%.9g,%.9g,%.9g,%.9g,%.9g,%.6g,%.6g,%.6g,%.6g,%.9g,%.9g\n", s.time_s, s.q1_m,
+                s.q1_dot_m_s, s.q2_m, s.q2_dot_m_s, s.tip_normal_um, s.tip_tangential_um, s.normal_force_n,
+                s.friction_force_n, s.mover_position_m, s.mover_velocity_m_s);
   csv += line;
 }
 
@@ -65,9 +64,8 @@ void run_simulate(const SimulateOptions& o) {
   }
   std::string trace_csv;
   if (!o.trace_path.empty()) {
-    trace_csv =
-        "time_s,q1_m,q1_dot_m_s,q2_m,q2_dot_m_s,tip_normal_um,tip_tangential_um,"
-        "normal_force_n,friction_force_n,mover_position_m,mover_velocity_m_s\n";
+    trace_csv = "time_s,q1_m,q1_dot_m_s,q2_m,q2_dot_m_s,tip_normal_um,tip_tangential_um,"
+                "normal_force_n,friction_force_n,mover_position_m,mover_velocity_m_s\n";
     // About 48 samples per drive period resolves the tip ellipse.
     const double steps_per_cycle = 1.0 / (model.time_step_s() * point.frequency_hz);
     options.trace_every_steps = static_cast<std::uint64_t>(std::max(1.0, steps_per_cycle / 48.0));
@@ -80,8 +78,7 @@ void run_simulate(const SimulateOptions& o) {
 
   if (!o.trace_path.empty()) write_text_file_atomically(o.trace_path, trace_csv);
   if (r.diverged) {
-    throw CommandError("simulation diverged at " + o.vpp + " Vpp, " + o.frequency_hz +
-                           " Hz: " + r.failure,
+    throw CommandError("simulation diverged at " + o.vpp + " Vpp, " + o.frequency_hz + " Hz: " + r.failure,
                        kExitDiverged);
   }
   const double realtime_factor = wall_s > 0.0 ? r.sim_s / wall_s : 0.0;
@@ -106,15 +103,13 @@ void run_simulate(const SimulateOptions& o) {
     std::printf("%s\n", j.dump(2).c_str());
     return;
   }
-  std::printf("operating point : %g Vpp, %g Hz, load %g N, phase %g deg\n", point.vpp,
-              point.frequency_hz, point.load_n, point.phase_deg);
+  std::printf("operating point : %g Vpp, %g Hz, load %g N, phase %g deg\n", point.vpp, point.frequency_hz, point.load_n,
+              point.phase_deg);
   if (!r.ok) std::printf("note            : not settled (%s)\n", r.failure.c_str());
   std::printf("mover speed     : %.3f mm/s\n", r.speed_mm_s);
-  std::printf("tip amplitudes  : normal %.4f um, tangential %.4f um\n", r.tip_normal_um,
-              r.tip_tangential_um);
+  std::printf("tip amplitudes  : normal %.4f um, tangential %.4f um\n", r.tip_normal_um, r.tip_tangential_um);
   std::printf("contact fraction: %.3f\n", r.contact_fraction);
-  std::printf("simulated       : %.4f s in %.3f s wall (%.1fx real time)\n", r.sim_s, wall_s,
-              realtime_factor);
+  std::printf("simulated       : %.4f s in %.3f s wall (%.1fx real time)\n", r.sim_s, wall_s, realtime_factor);
 }
 
 }  // namespace
@@ -127,8 +122,7 @@ void add_simulate_command(CLI::App& app) {
   sub->add_option("--frequency", o->frequency_hz, "drive frequency (Hz)")->required();
   sub->add_option("--load", o->load_n, "external load force on the mover (N)")->capture_default_str();
   sub->add_option("--phase", o->phase_deg, "phase of B relative to A (deg); sign = direction")->capture_default_str();
-  sub->add_option("--duration", o->duration_s,
-                  "simulate exactly this long (s) instead of until two windows agree");
+  sub->add_option("--duration", o->duration_s, "simulate exactly this long (s) instead of until two windows agree");
   sub->add_option("--trace", o->trace_path, "write a CSV trace of the run");
   sub->add_flag("--json", o->json, "print one JSON object");
   sub->callback([o] { run_simulate(*o); });

@@ -61,8 +61,7 @@ std::vector<StatorRow> rows_of(const std::vector<SweepPoint>& sweep) {
         row.tangential_branch = static_cast<int>(k);
         row.normal_stable = n[i].stable;
         row.tangential_stable = t[k].stable;
-        row.followed = static_cast<int>(i) == p.followed_normal &&
-                       static_cast<int>(k) == p.followed_tangential;
+        row.followed = static_cast<int>(i) == p.followed_normal && static_cast<int>(k) == p.followed_tangential;
         row.tip_normal_um = n[i].tip_amplitude_um;
         row.tip_tangential_um = t[k].tip_amplitude_um;
         rows.push_back(row);
@@ -76,8 +75,8 @@ std::string format_csv(const std::vector<StatorRow>& rows) {
   std::string out = "vpp,frequency_hz,branch,stable,tip_normal_um,tip_tangential_um\n";
   char line[256];
   for (const StatorRow& r : rows) {
-    std::snprintf(line, sizeof line, "%.10g,%.10g,%d,%d,%.6f,%.6f\n", r.vpp, r.frequency_hz,
-                  r.branch, r.stable() ? 1 : 0, r.tip_normal_um, r.tip_tangential_um);
+    std::snprintf(line, sizeof line, "%.10g,%.10g,%d,%d,%.6f,%.6f\n", r.vpp, r.frequency_hz, r.branch,
+                  r.stable() ? 1 : 0, r.tip_normal_um, r.tip_tangential_um);
     out += line;
   }
   return out;
@@ -87,15 +86,14 @@ std::string format_backbone_csv(const std::vector<BackbonePoint>& backbone) {
   std::string out = "vpp,normal_peak_hz,normal_peak_um,tangential_peak_hz,tangential_peak_um\n";
   char line[256];
   for (const BackbonePoint& b : backbone) {
-    std::snprintf(line, sizeof line, "%.10g,%.3f,%.6f,%.3f,%.6f\n", b.vpp, b.normal_peak_hz,
-                  b.normal_peak_um, b.tangential_peak_hz, b.tangential_peak_um);
+    std::snprintf(line, sizeof line, "%.10g,%.3f,%.6f,%.3f,%.6f\n", b.vpp, b.normal_peak_hz, b.normal_peak_um,
+                  b.tangential_peak_hz, b.tangential_peak_um);
     out += line;
   }
   return out;
 }
 
-nlohmann::ordered_json to_json(const std::vector<StatorRow>& rows,
-                               const std::vector<BackbonePoint>& backbone) {
+nlohmann::ordered_json to_json(const std::vector<StatorRow>& rows, const std::vector<BackbonePoint>& backbone) {
   nlohmann::ordered_json j;
   j["rows"] = nlohmann::ordered_json::array();
   for (const StatorRow& r : rows) {
@@ -127,17 +125,15 @@ std::string vpp_label(double vpp) { return format_number(vpp, "%g") + " Vpp"; }
 // Amplitude vs frequency (several frequencies) or vs voltage (one frequency): stable and
 // unstable branches as separate series; the backbone (peak frequency) as a line.
 void write_plot(const std::vector<SweepPoint>& sweep, const std::vector<double>& voltages,
-                const std::vector<double>& frequencies, const std::vector<BackbonePoint>& backbone,
-                StatorMode mode, const std::filesystem::path& path) {
+                const std::vector<double>& frequencies, const std::vector<BackbonePoint>& backbone, StatorMode mode,
+                const std::filesystem::path& path) {
   const bool vs_frequency = frequencies.size() > 1;
   const char* axis = mode == StatorMode::l1 ? "normal" : "tangential";
   PlotSpec spec;
   spec.title = std::string("Free stator, tip ") + axis + " amplitude (harmonic balance)";
   spec.x_label = vs_frequency ? "frequency (kHz)" : "voltage (Vpp)";
   spec.y_label = std::string("tip ") + axis + " amplitude (um)";
-  auto branches_of = [&](const SweepPoint& p) -> const ModeResponse& {
-    return p.response.mode(mode);
-  };
+  auto branches_of = [&](const SweepPoint& p) -> const ModeResponse& { return p.response.mode(mode); };
   auto add_series = [&](const std::string& label, auto&& select, bool stable) {
     PlotSeries s;
     s.label = label;
@@ -154,9 +150,11 @@ void write_plot(const std::vector<SweepPoint>& sweep, const std::vector<double>&
   };
   if (vs_frequency) {
     for (double v : voltages) {
-      add_series(vpp_label(v), [v](const SweepPoint& p) { return p.response.vpp == v; }, true);
+      add_series(
+          vpp_label(v), [v](const SweepPoint& p) { return p.response.vpp == v; }, true);
     }
-    add_series("unstable branches", [](const SweepPoint&) { return true; }, false);
+    add_series(
+        "unstable branches", [](const SweepPoint&) { return true; }, false);
     PlotSeries bb;
     bb.label = "backbone (peak)";
     for (const BackbonePoint& b : backbone) {
@@ -233,17 +231,14 @@ void add_stator_command(CLI::App& app) {
       "stator", "Free-stator tip amplitudes by harmonic balance: all branches, stability, backbone");
   sub->add_option("--config", o->config_path, "motor parameter file (TOML)")->required();
   sub->add_option("--vpp", o->vpp_list, "drive voltages, comma list (V peak-to-peak)")->required();
-  sub->add_option("--frequency", o->frequency_range, "START:STOP:STEP or one value (Hz)")
-      ->required();
+  sub->add_option("--frequency", o->frequency_range, "START:STOP:STEP or one value (Hz)")->required();
   auto* json = sub->add_flag("--json", o->json, "print one JSON object (rows and backbone)");
   auto* out = sub->add_option("--out", o->out_path,
                               "output CSV (default: stdout) with columns "
                               "vpp,frequency_hz,branch,stable,tip_normal_um,tip_tangential_um");
   json->excludes(out);
-  sub->add_option("--plot", o->plot_path,
-                  "PNG of the tangential amplitude (and <name>_normal.png of the normal one)");
-  sub->add_option("--backbone", o->backbone_path,
-                  "CSV of the peak frequency and amplitude of each mode per voltage");
+  sub->add_option("--plot", o->plot_path, "PNG of the tangential amplitude (and <name>_normal.png of the normal one)");
+  sub->add_option("--backbone", o->backbone_path, "CSV of the peak frequency and amplitude of each mode per voltage");
   sub->callback([o] { run_stator(*o); });
 }
 

@@ -99,17 +99,22 @@ void run_sweep(const SweepOptions& o) {
 
 void add_sweep_command(CLI::App& app) {
   auto o = std::make_shared<SweepOptions>();
-  CLI::App* sub = app.add_subcommand("sweep", "Steady speed over voltages x frequencies x loads (model or live device)");
+  CLI::App* sub = app.add_subcommand("sweep",
+                                     "Steady speed over voltages x frequencies x loads (model or live device)");
   sub->add_option("--config", o->config_path, "motor parameter file (TOML): sweep the model offline");
   add_device_options(*sub, o->device);
   sub->add_option("--vpp", o->vpp_list, "drive voltages, comma list (V peak-to-peak)")->required();
-  sub->add_option("--frequency", o->frequency_range, "START:STOP:STEP or one value (Hz); swept downward on a device")->required();
+  sub->add_option("--frequency", o->frequency_range, "START:STOP:STEP or one value (Hz); swept downward on a device")
+      ->required();
   sub->add_option("--load", o->load_list, "loads, comma list (N)")->capture_default_str();
   sub->add_option("--phase", o->phase_deg, "phase of B ahead of A (deg)")->capture_default_str();
   sub->add_option("--jobs", o->jobs, "worker threads, model only (default: all cores)");
-  sub->add_option("--settle-ms", o->settle_ms, "device: wait after each frequency step (device time, ms)")->capture_default_str();
-  sub->add_option("--dwell-ms", o->dwell_ms, "device: sampling window per point (device time, ms)")->capture_default_str();
-  sub->add_option("--ramp-vpp-per-s", o->ramp_vpp_per_s, "device: amplitude slew limit for voltage ramps")->capture_default_str();
+  sub->add_option("--settle-ms", o->settle_ms, "device: wait after each frequency step (device time, ms)")
+      ->capture_default_str();
+  sub->add_option("--dwell-ms", o->dwell_ms, "device: sampling window per point (device time, ms)")
+      ->capture_default_str();
+  sub->add_option("--ramp-vpp-per-s", o->ramp_vpp_per_s, "device: amplitude slew limit for voltage ramps")
+      ->capture_default_str();
   sub->add_option("--out", o->out_path, "output CSV")->required();
   sub->add_option("--plot", o->plot_path, "output PNG plot");
   sub->callback([o] { run_sweep(*o); });

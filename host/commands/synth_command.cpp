@@ -49,8 +49,7 @@ std::array<bool, kQuantityCount> quantity_selection(const std::vector<std::strin
 
 void run_synth(const SynthCommandOptions& o) {
   if (!(o.noise >= 0.0 && o.noise < 1.0)) {
-    throw std::invalid_argument("--noise: relative noise must be within [0, 1), got " +
-                                std::to_string(o.noise));
+    throw std::invalid_argument("--noise: relative noise must be within [0, 1), got " + std::to_string(o.noise));
   }
   if (o.repeats < 1 || o.repeats > 1000) throw std::invalid_argument("--repeats: must be 1..1000");
   if (o.jobs < 0) throw std::invalid_argument("--jobs: must be >= 1 (0 = all cores)");
@@ -74,8 +73,7 @@ void run_synth(const SynthCommandOptions& o) {
     }
   }
   validate_parameters(parameters, "--effect");
-  const MeasurementSet points =
-      parse_operating_points_csv(read_text_file(o.points_path), o.points_path);
+  const MeasurementSet points = parse_operating_points_csv(read_text_file(o.points_path), o.points_path);
   SynthOptions options;
   options.relative_noise = o.noise;
   options.seed = o.seed;
@@ -84,36 +82,32 @@ void run_synth(const SynthCommandOptions& o) {
   options.amplitude_floor_um = o.amplitude_floor_um;
   options.frequency_jitter_hz = o.frequency_jitter_hz;
   options.quantities = quantities;
-  const MeasurementSet data = synthesize_measurements(
-      parameters, points.rows, options, make_parallel_for(static_cast<unsigned>(o.jobs)));
+  const MeasurementSet data = synthesize_measurements(parameters, points.rows, options,
+                                                      make_parallel_for(static_cast<unsigned>(o.jobs)));
   const std::size_t dropped = points.rows.size() * static_cast<std::size_t>(o.repeats) - data.rows.size();
   std::string header = "# swum synth --config " + o.config_path + (o.linear ? " --linear" : "");
   for (const std::string& e : o.effects) header += " --effect " + e;
   header += " --noise " + std::to_string(o.noise) + " --seed " + std::to_string(o.seed);
   header += " --speed-floor-mm-s " + std::to_string(o.speed_floor_mm_s) + " --amplitude-floor-um " +
-            std::to_string(o.amplitude_floor_um) + " --frequency-jitter-hz " +
-            std::to_string(o.frequency_jitter_hz) + "\n";
+            std::to_string(o.amplitude_floor_um) + " --frequency-jitter-hz " + std::to_string(o.frequency_jitter_hz) +
+            "\n";
   write_text_file_atomically(o.out_path, header + format_measurements_csv(data));
   std::printf("wrote %zu rows to %s%s\n", data.rows.size(), o.out_path.c_str(),
-              dropped > 0 ? (" (" + std::to_string(dropped) + " diverged readings left out)").c_str()
-                          : "");
+              dropped > 0 ? (" (" + std::to_string(dropped) + " diverged readings left out)").c_str() : "");
 }
 
 }  // namespace
 
 void add_synth_command(CLI::App& app) {
   auto o = std::make_shared<SynthCommandOptions>();
-  CLI::App* sub = app.add_subcommand(
-      "synth", "Measurement-like data from a config with hidden effects, with noise");
+  CLI::App* sub = app.add_subcommand("synth", "Measurement-like data from a config with hidden effects, with noise");
   sub->add_option("--config", o->config_path, "motor parameter file (TOML)")->required();
   sub->add_option("--effect", o->effects,
                   "NAME or NAME:key=value,... (repeatable): electroelastic, thermal, wear, "
                   "preload, guide_friction, amplifier_droop");
-  sub->add_option("--points", o->points_path,
-                  "CSV of operating points: vpp,frequency_hz,load_n[,time_s][,sweep]")
+  sub->add_option("--points", o->points_path, "CSV of operating points: vpp,frequency_hz,load_n[,time_s][,sweep]")
       ->required();
-  sub->add_option("--noise", o->noise, "relative Gaussian noise (multiplicative)")
-      ->capture_default_str();
+  sub->add_option("--noise", o->noise, "relative Gaussian noise (multiplicative)")->capture_default_str();
   sub->add_option("--seed", o->seed, "noise seed")->capture_default_str();
   sub->add_option("--out", o->out_path, "measurements CSV to write")->required();
   sub->add_flag("--linear", o->linear, "zero c111, c1111, e311, e3111 of the config first");

@@ -29,8 +29,8 @@ struct ValidateOptions {
   std::string out_dir;
 };
 
-PlotSeries speed_series(const std::string& label, const MotorModel& model,
-                        const std::vector<OperatingPoint>& points, double (*x_of)(const OperatingPoint&)) {
+PlotSeries speed_series(const std::string& label, const MotorModel& model, const std::vector<OperatingPoint>& points,
+                        double (*x_of)(const OperatingPoint&)) {
   PlotSeries series{label, {}, {}};
   for (const CurvePoint& c : run_points(model, points)) {
     if (c.result.diverged) continue;
@@ -54,8 +54,10 @@ void plot_speed_vs_voltage(const MotorModel& nl, const MotorModel& lin, const fs
   auto by_vpp = [](const OperatingPoint& p) { return p.vpp; };
   auto nl_future = std::async(std::launch::async, [&] { return speed_series("non-linear", nl, points, by_vpp); });
   PlotSeries linear = speed_series("linear", lin, points, by_vpp);
-  write_png_plot({"No-load speed vs voltage at 40 kHz (paper Fig. 13)", "drive voltage (Vpp)",
-                  "mover speed (mm/s)", {nl_future.get(), linear}},
+  write_png_plot({"No-load speed vs voltage at 40 kHz (paper Fig. 13)",
+                  "drive voltage (Vpp)",
+                  "mover speed (mm/s)",
+                  {nl_future.get(), linear}},
                  path);
 }
 
@@ -93,19 +95,22 @@ void plot_peak_frequency(PaperFacts& facts, const MotorModel& nl, const MotorMod
       lin_series.y.push_back(q.frequency_hz / 1000.0);
     }
   }
-  write_png_plot({"Frequency of maximum no-load speed vs voltage (paper Fig. 15)", "drive voltage (Vpp)",
-                  "frequency of max speed (kHz)", {nl_series, lin_series, paper}},
+  write_png_plot({"Frequency of maximum no-load speed vs voltage (paper Fig. 15)",
+                  "drive voltage (Vpp)",
+                  "frequency of max speed (kHz)",
+                  {nl_series, lin_series, paper}},
                  path);
 }
 
 void plot_speed_vs_load(const MotorModel& nl, const fs::path& path) {
   auto by_load = [](const OperatingPoint& p) { return p.load_n; };
   const std::vector<double> loads = evenly_spaced(0, 6, 0.5);
-  PlotSpec spec{"Speed vs load at drift-aware and naive frequency (paper Fig. 16)", "load force (N)",
-                "mover speed (mm/s)", {}};
+  PlotSpec spec{
+      "Speed vs load at drift-aware and naive frequency (paper Fig. 16)", "load force (N)", "mover speed (mm/s)", {}};
   for (auto [vpp, f] : {std::pair{300.0, 40060.0}, {300.0, 40400.0}, {400.0, 39600.0}, {400.0, 40400.0}}) {
-    spec.series.push_back(speed_series(format_number(vpp, "%.0f") + " Vpp at " + format_number(f / 1000, "%.2f") + " kHz",
-                                       nl, grid({vpp}, {f}, loads), by_load));
+    spec.series.push_back(
+        speed_series(format_number(vpp, "%.0f") + " Vpp at " + format_number(f / 1000, "%.2f") + " kHz", nl,
+                     grid({vpp}, {f}, loads), by_load));
   }
   write_png_plot(spec, path);
 }
@@ -135,14 +140,18 @@ void plot_tip_trajectories(const MotorParameters& parameters, const fs::path& di
   free.contact.preload_n = 0.0;
   free.contact.stiffness_n_m = 0.0;
   const MotorModel free_stator(free);
-  PlotSpec by_voltage{"Free-stator tip trajectory at 39.5 kHz (paper Fig. 10)", "tangential tip displacement (um)",
-                      "normal tip displacement (um)", {}};
+  PlotSpec by_voltage{"Free-stator tip trajectory at 39.5 kHz (paper Fig. 10)",
+                      "tangential tip displacement (um)",
+                      "normal tip displacement (um)",
+                      {}};
   for (double vpp : {100.0, 200.0, 300.0, 400.0}) {
     by_voltage.series.push_back(tip_ellipse(free_stator, vpp, 39500, format_number(vpp, "%.0f") + " Vpp"));
   }
   write_png_plot(by_voltage, dir / "fig10_tip_trajectory_vs_voltage.png");
-  PlotSpec by_frequency{"Free-stator tip trajectory at 400 Vpp (paper Fig. 11)", "tangential tip displacement (um)",
-                        "normal tip displacement (um)", {}};
+  PlotSpec by_frequency{"Free-stator tip trajectory at 400 Vpp (paper Fig. 11)",
+                        "tangential tip displacement (um)",
+                        "normal tip displacement (um)",
+                        {}};
   for (double f : {39000.0, 39200.0, 39500.0}) {
     by_frequency.series.push_back(tip_ellipse(free_stator, 400, f, format_number(f / 1000, "%.1f") + " kHz"));
   }

@@ -26,8 +26,7 @@ std::uint8_t parse_node(const std::string& address, std::string& interface) {
   const std::string text = address.substr(colon + 1);
   int node = 0;
   const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), node);
-  if (error != std::errc{} || end != text.data() + text.size() || node < can::kMinNode ||
-      node > can::kMaxNode) {
+  if (error != std::errc{} || end != text.data() + text.size() || node < can::kMinNode || node > can::kMaxNode) {
     throw std::invalid_argument("--can: node must be an integer 1..127, got '" + text + "'");
   }
   return static_cast<std::uint8_t>(node);
@@ -58,7 +57,7 @@ CanDevice::CanDevice(std::unique_ptr<io::CanBus> bus, std::uint8_t node, const D
 void CanDevice::start(const DeviceTimeouts& timeouts) {
   const can::Ids ids = can::ids_for_node(node_);
   auto exact = [](std::uint32_t id) { return io::CanFilter{id, io::kCanStandardIdMax, false}; };
-  const io::CanFilter filters[] = {exact(ids.status), exact(ids.motion),     exact(ids.drive),
+  const io::CanFilter filters[] = {exact(ids.status),     exact(ids.motion), exact(ids.drive),
                                    exact(ids.loop_stats), exact(ids.output), exact(ids.clock)};
   const io::CanResult r = bus_->set_filters(filters);
   if (!r.ok()) throw DeviceError(name() + ": cannot set receive filters: " + r.message);
@@ -68,9 +67,8 @@ void CanDevice::start(const DeviceTimeouts& timeouts) {
     (void)read();
   } catch (const DeviceError&) {
     throw DeviceError(name() + ": no answer from node " + std::to_string(node_) + " within " +
-                      std::to_string(timeouts.connect.count()) +
-                      " ms (is swum-emu running with --can " + bus_->name() + " --node " +
-                      std::to_string(node_) + " and CAN telemetry on?)");
+                      std::to_string(timeouts.connect.count()) + " ms (is swum-emu running with --can " + bus_->name() +
+                      " --node " + std::to_string(node_) + " and CAN telemetry on?)");
   }
   response_timeout_ = timeouts.response;
 }
@@ -82,7 +80,8 @@ void CanDevice::send(const io::CanFrame& frame, const char* what) {
   for (int attempt = 0; attempt < 50; ++attempt) {
     const io::CanResult r = bus_->send(frame);
     if (r.ok()) return;
-    if (r.status != io::CanStatus::retry) throw DeviceError(name() + ": sending the " + what + " frame failed: " + r.message);
+    if (r.status != io::CanStatus::retry)
+      throw DeviceError(name() + ": sending the " + what + " frame failed: " + r.message);
     io::CanFrame ignored;
     (void)bus_->receive(ignored, std::chrono::milliseconds(1));
   }
@@ -129,9 +128,18 @@ void CanDevice::set_slew(double frequency_hz_per_s, double vpp_per_s) {
 void CanDevice::command(DeviceAction action) {
   switch (action) {
     case DeviceAction::keep_alive: send_command(mode_); break;
-    case DeviceAction::enable: mode_ = can::mode::kEnable; send_command(mode_); break;
-    case DeviceAction::disable: mode_ = can::mode::kDisable; send_command(mode_); break;
-    case DeviceAction::reset_fault: mode_ = can::mode::kDisable; send_command(can::mode::kResetFault); break;
+    case DeviceAction::enable:
+      mode_ = can::mode::kEnable;
+      send_command(mode_);
+      break;
+    case DeviceAction::disable:
+      mode_ = can::mode::kDisable;
+      send_command(mode_);
+      break;
+    case DeviceAction::reset_fault:
+      mode_ = can::mode::kDisable;
+      send_command(can::mode::kResetFault);
+      break;
   }
 }
 
@@ -145,7 +153,8 @@ DeviceTelemetry CanDevice::read() {
   unsigned seen = 0;
   const auto deadline = std::chrono::steady_clock::now() + response_timeout_;
   for (;;) {
-    const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now());
+    const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline -
+                                                                            std::chrono::steady_clock::now());
     if (left.count() <= 0) break;
     io::CanFrame f;
     const io::CanResult r = bus_->receive(f, left);

@@ -3,7 +3,8 @@
 namespace swum::host {
 
 void add_device_options(CLI::App& sub, DeviceOptions& o) {
-  auto* modbus = sub.add_option("--modbus", o.address.modbus, "live device over Modbus: tcp://HOST:PORT or rtu:DEVICE:BAUD");
+  auto* modbus = sub.add_option("--modbus", o.address.modbus,
+                                "live device over Modbus: tcp://HOST:PORT or rtu:DEVICE:BAUD");
   auto* can = sub.add_option("--can", o.address.can, "live device over CAN: IFACE[:NODE] (node 1..127, default 1)");
   modbus->excludes(can);
   sub.add_option("--connect-timeout-ms", o.connect_timeout_ms, "connect / first answer timeout (ms)")

@@ -78,8 +78,7 @@ class Session {
       // A keep-alive that crossed a fault is refused with "fault active": the fault itself is
       // what the caller handles.
       if (last_.last_reject != kReasonFaultActive && last_.state != 2) {
-        throw DeviceError(device_.name() + ": the device rejected a command: " +
-                          reject_reason_name(last_.last_reject) +
+        throw DeviceError(device_.name() + ": the device rejected a command: " + reject_reason_name(last_.last_reject) +
                           (last_.last_reject == 13 ? " (the hardware enable input is low)" : ""));
       }
     }
@@ -153,7 +152,8 @@ class Sweeper {
     const double ramp_s = std::abs(vpp - session_.last().vpp) / std::max(plan_.ramp_vpp_per_s, 1e-9);
     return session_.read_until(
         [&](const DeviceTelemetry& t) {
-          return std::abs(t.vpp - vpp) <= kAmplitudeReachedVpp && std::abs(t.frequency_hz - frequency_hz) <= kFrequencyReachedHz;
+          return std::abs(t.vpp - vpp) <= kAmplitudeReachedVpp &&
+                 std::abs(t.frequency_hz - frequency_hz) <= kFrequencyReachedHz;
         },
         2.0 * ramp_s + 1.0, plan_.keep_alive_s);
   }
@@ -166,7 +166,8 @@ class Sweeper {
     session_.command(DeviceAction::enable);
     if (!session_.read_until([](const DeviceTelemetry& t) { return t.state == 1; }, 1.0, plan_.keep_alive_s)) {
       throw DeviceError(session_.device().name() + ": the drive did not enable (state " +
-                        std::to_string(session_.last().state) + ", fault " + std::to_string(session_.last().fault_code) +
+                        std::to_string(session_.last().state) + ", fault " +
+                        std::to_string(session_.last().fault_code) +
                         (session_.last().enable_line ? "" : ", enable input low") + ")");
     }
     return ramp_to(vpp, frequency_hz, load_n);
@@ -226,9 +227,9 @@ class Sweeper {
     // One word per status (CSV column): fault_command_timeout, fault_numerical, timeout.
     const int fault = session_.last().fault_code;
     row.status = session_.last().state != 2 ? "timeout"
-                 : fault == 1             ? "fault_command_timeout"
-                 : fault == 2             ? "fault_numerical"
-                                          : "fault_" + std::to_string(fault);
+                 : fault == 1               ? "fault_command_timeout"
+                 : fault == 2               ? "fault_numerical"
+                                            : "fault_" + std::to_string(fault);
     return row;
   }
 
@@ -244,20 +245,24 @@ void check_plan(const DeviceSweepPlan& plan) {
     throw std::invalid_argument("sweep: need at least one voltage, frequency and load");
   }
   // Finite and bounded: a settle of "inf" would wait forever.
-  if (!(plan.settle_s >= 0.0 && plan.settle_s <= 60.0)) throw std::invalid_argument("--settle-ms: must be within 0..60000");
-  if (!(plan.dwell_s > 0.0 && plan.dwell_s <= 60.0)) throw std::invalid_argument("--dwell-ms: must be within (0, 60000]");
+  if (!(plan.settle_s >= 0.0 && plan.settle_s <= 60.0))
+    throw std::invalid_argument("--settle-ms: must be within 0..60000");
+  if (!(plan.dwell_s > 0.0 && plan.dwell_s <= 60.0))
+    throw std::invalid_argument("--dwell-ms: must be within (0, 60000]");
   // The protocols carry the slew limit in 1 Vpp/s (Modbus) and 10 Vpp/s (CAN) steps and read 0
   // as "unlimited": a slower ramp would silently become a voltage step.
   if (!(plan.ramp_vpp_per_s >= 10.0 && plan.ramp_vpp_per_s <= 1e6)) {
     throw std::invalid_argument("--ramp-vpp-per-s: must be within 10..1000000 (0 would mean no ramp at all)");
   }
-  if (!(plan.keep_alive_s > 0.0 && plan.keep_alive_s <= 0.05)) throw std::invalid_argument("keep-alive interval must be within (0, 50] ms");
+  if (!(plan.keep_alive_s > 0.0 && plan.keep_alive_s <= 0.05))
+    throw std::invalid_argument("keep-alive interval must be within (0, 50] ms");
   if (!(plan.poll_interval_s >= 0.0 && plan.poll_interval_s < plan.keep_alive_s)) {
     throw std::invalid_argument("poll interval must be >= 0 and shorter than the keep-alive interval");
   }
 }
 
-void sweep_device(Device& device, const DeviceSweepPlan& plan, std::vector<SweepRow>& rows, const PointDone& point_done) {
+void sweep_device(Device& device, const DeviceSweepPlan& plan, std::vector<SweepRow>& rows,
+                  const PointDone& point_done) {
   check_plan(plan);
   std::vector<double> frequencies = plan.frequencies_hz;
   std::sort(frequencies.begin(), frequencies.end(), std::greater<>());

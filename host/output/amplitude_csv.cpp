@@ -12,8 +12,7 @@
 namespace swum::host {
 namespace {
 
-constexpr std::array<std::string_view, 4> kColumns = {"vpp", "frequency_hz", "tip_normal_um",
-                                                      "tip_tangential_um"};
+constexpr std::array<std::string_view, 4> kColumns = {"vpp", "frequency_hz", "tip_normal_um", "tip_tangential_um"};
 
 [[noreturn]] void fail(std::string_view source, int line, int column, const std::string& what) {
   std::string message(source);
@@ -30,8 +29,8 @@ std::string quoted_cell(std::string_view text) {
 }
 
 // Empty cell -> nullopt; otherwise a finite number or an error naming line and column.
-std::optional<double> number_cell(std::string_view cell, std::string_view source, int line,
-                                  int column, std::string_view name) {
+std::optional<double> number_cell(std::string_view cell, std::string_view source, int line, int column,
+                                  std::string_view name) {
   if (cell.empty()) return std::nullopt;
   double value = 0.0;
   if (const char* problem = parse_number_cell(cell, value)) {
@@ -42,8 +41,7 @@ std::optional<double> number_cell(std::string_view cell, std::string_view source
 
 }  // namespace
 
-std::vector<AmplitudeMeasurement> parse_amplitude_csv(std::string_view text,
-                                                      std::string_view source,
+std::vector<AmplitudeMeasurement> parse_amplitude_csv(std::string_view text, std::string_view source,
                                                       int min_amplitudes) {
   std::array<int, 4> index{-1, -1, -1, -1};  // cell index of each required column
   std::size_t header_cells = 0;
@@ -55,8 +53,8 @@ std::vector<AmplitudeMeasurement> parse_amplitude_csv(std::string_view text,
   std::size_t start = 0;
   while (start <= text.size()) {
     const std::size_t newline = text.find('\n', start);
-    const std::string_view raw =
-        text.substr(start, newline == std::string_view::npos ? std::string_view::npos : newline - start);
+    const std::string_view raw = text.substr(start, newline == std::string_view::npos ? std::string_view::npos
+                                                                                      : newline - start);
     start = newline == std::string_view::npos ? text.size() + 1 : newline + 1;
     ++line_number;
     const std::string_view line = trim_cell(raw);
@@ -88,8 +86,7 @@ std::vector<AmplitudeMeasurement> parse_amplitude_csv(std::string_view text,
     }
     if (cells.size() != header_cells) {
       fail(source, line_number, static_cast<int>(std::min(cells.size(), header_cells)) + 1,
-           "expected " + std::to_string(header_cells) + " cells, found " +
-               std::to_string(cells.size()));
+           "expected " + std::to_string(header_cells) + " cells, found " + std::to_string(cells.size()));
     }
     std::array<std::optional<double>, 4> v;
     for (std::size_t k = 0; k < kColumns.size(); ++k) {
@@ -100,8 +97,8 @@ std::vector<AmplitudeMeasurement> parse_amplitude_csv(std::string_view text,
       }
       if (v[k] && *v[k] < 0.0) {
         fail(source, line_number, column,
-             "column " + std::string(kColumns[k]) + ": negative value " +
-                 quoted_cell(cells[index[k]]) + (k == 0 ? " (voltages are >= 0 Vpp)" : ""));
+             "column " + std::string(kColumns[k]) + ": negative value " + quoted_cell(cells[index[k]]) +
+                 (k == 0 ? " (voltages are >= 0 Vpp)" : ""));
       }
       if (k == 1 && *v[k] <= 0.0) {
         fail(source, line_number, column, "column frequency_hz: must be > 0");
@@ -123,9 +120,8 @@ std::vector<AmplitudeMeasurement> parse_amplitude_csv(std::string_view text,
   if (!have_header) fail(source, 1, 0, "no header line (the file is empty)");
   if (amplitudes < min_amplitudes) {
     fail(source, last_line, 0,
-         "only " + std::to_string(amplitudes) + " amplitude values; fitting " +
-             std::to_string(min_amplitudes) + " parameters needs at least " +
-             std::to_string(min_amplitudes));
+         "only " + std::to_string(amplitudes) + " amplitude values; fitting " + std::to_string(min_amplitudes) +
+             " parameters needs at least " + std::to_string(min_amplitudes));
   }
   return rows;
 }

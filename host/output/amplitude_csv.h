@@ -16,8 +16,7 @@ namespace swum::host {
 /// missing column, a wrong cell count, a non-numeric or non-finite cell, a negative voltage or
 /// amplitude, a non-positive frequency, a row without any amplitude, and for fewer than
 /// `min_amplitudes` amplitude values in total (one per fitted parameter).
-std::vector<AmplitudeMeasurement> parse_amplitude_csv(std::string_view text,
-                                                      std::string_view source_name,
+std::vector<AmplitudeMeasurement> parse_amplitude_csv(std::string_view text, std::string_view source_name,
                                                       int min_amplitudes = 4);
 
 /// The same layout, for writing data (empty cells for missing amplitudes).

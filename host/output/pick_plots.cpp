@@ -66,10 +66,10 @@ void write_speed_vs_load_plot(const std::vector<SweepRow>& load_rows, const std:
   spec.y_label = "mover speed (mm/s)";
   for (const VoltagePick& p : picks) {
     if (!p.result.decided) continue;
-    for (const auto& [frequency, label] :
-         {std::pair{p.result.frequency_hz, std::string("picked ")}, std::pair{naive_frequency_hz, std::string("naive ")}}) {
-      PlotSeries s{format_number(p.vpp) + " Vpp, " + label + format_number(frequency / 1000.0) + " kHz", {}, {},
-                   true, true};
+    for (const auto& [frequency, label] : {std::pair{p.result.frequency_hz, std::string("picked ")},
+                                           std::pair{naive_frequency_hz, std::string("naive ")}}) {
+      PlotSeries s{
+          format_number(p.vpp) + " Vpp, " + label + format_number(frequency / 1000.0) + " kHz", {}, {}, true, true};
       std::map<double, double> by_load;
       for (const SweepRow& r : load_rows) {
         if (r.ok && same(r.vpp, p.vpp) && same(r.frequency_hz, frequency)) by_load[r.load_n] = r.speed_mm_s;

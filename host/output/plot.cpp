@@ -40,9 +40,8 @@ struct Range {
 };
 
 // Distinguishable colours on white (PLplot colour map 0 indices 2..).
-constexpr int kPalette[][3] = {{31, 119, 180}, {214, 39, 40},  {44, 160, 44},   {255, 127, 14},
-                               {148, 103, 189}, {140, 86, 75}, {227, 119, 194}, {23, 190, 207},
-                               {127, 127, 127}, {188, 189, 34}};
+constexpr int kPalette[][3] = {{31, 119, 180}, {214, 39, 40},   {44, 160, 44},  {255, 127, 14},  {148, 103, 189},
+                               {140, 86, 75},  {227, 119, 194}, {23, 190, 207}, {127, 127, 127}, {188, 189, 34}};
 constexpr int kPaletteSize = static_cast<int>(sizeof(kPalette) / sizeof(kPalette[0]));
 
 std::mutex plplot_mutex;  // PLplot keeps global state
@@ -54,8 +53,7 @@ void write_png_plot(const PlotSpec& spec, const std::filesystem::path& path) {
   Range y_range;
   for (const auto& s : spec.series) {
     if (s.x.size() != s.y.size()) {
-      throw std::runtime_error("plot " + path.string() + ": series '" + s.label +
-                               "' has different x and y lengths");
+      throw std::runtime_error("plot " + path.string() + ": series '" + s.label + "' has different x and y lengths");
     }
     for (std::size_t i = 0; i < s.x.size(); ++i) {
       if (std::isfinite(s.x[i]) && std::isfinite(s.y[i])) {
@@ -95,8 +93,8 @@ void write_png_plot(const PlotSpec& spec, const std::filesystem::path& path) {
   pls->lab(spec.x_label.c_str(), spec.y_label.c_str(), spec.title.c_str());
 
   const int n_series = static_cast<int>(spec.series.size());
-  std::vector<PLINT> opt(n_series), text_colors(n_series, 1), line_colors(n_series),
-      line_styles(n_series, 1), symbol_colors(n_series), symbol_numbers(n_series, 1);
+  std::vector<PLINT> opt(n_series), text_colors(n_series, 1), line_colors(n_series), line_styles(n_series, 1),
+      symbol_colors(n_series), symbol_numbers(n_series, 1);
   std::vector<PLFLT> line_widths(n_series, 2.0), symbol_scales(n_series, 1.0);
   std::vector<std::string> symbols(n_series, "#(728)");  // filled circle
   std::vector<const char*> texts(n_series), symbol_ptrs(n_series);
@@ -131,10 +129,9 @@ void write_png_plot(const PlotSpec& spec, const std::filesystem::path& path) {
     pls->col0(1);
     pls->width(1.0);
     pls->legend(&legend_width, &legend_height, PL_LEGEND_BACKGROUND | PL_LEGEND_BOUNDING_BOX,
-                PL_POSITION_TOP | PL_POSITION_RIGHT | PL_POSITION_INSIDE, 0.02, 0.02, 0.1, 0, 0, 1,
-                0, 0, n_series, opt.data(), 1.0, 0.9, 2.0, 1.0, text_colors.data(), texts.data(),
-                nullptr, nullptr, nullptr, nullptr, line_colors.data(), line_styles.data(),
-                line_widths.data(), symbol_colors.data(), symbol_scales.data(),
+                PL_POSITION_TOP | PL_POSITION_RIGHT | PL_POSITION_INSIDE, 0.02, 0.02, 0.1, 0, 0, 1, 0, 0, n_series,
+                opt.data(), 1.0, 0.9, 2.0, 1.0, text_colors.data(), texts.data(), nullptr, nullptr, nullptr, nullptr,
+                line_colors.data(), line_styles.data(), line_widths.data(), symbol_colors.data(), symbol_scales.data(),
                 symbol_numbers.data(), symbol_ptrs.data());
   }
   pls.reset();  // flushes and closes the PNG

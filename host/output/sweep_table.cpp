@@ -15,7 +15,6 @@
 namespace swum::host {
 namespace {
 
-
 std::string label_for(double vpp, double load_n, bool several_loads) {
   std::string label = format_number(vpp) + " Vpp";
   if (several_loads) label += ", " + format_number(load_n) + " N";
@@ -68,7 +67,8 @@ std::vector<SweepRow> parse_sweep_csv(const std::string& text, const std::string
   std::vector<std::string> header;
   for (const std::string_view name : split_csv_cells(line, CsvCellTrim::none)) header.emplace_back(name);
   auto column = [&](const std::string& name) {
-    for (std::size_t i = 0; i < header.size(); ++i) if (header[i] == name) return static_cast<int>(i);
+    for (std::size_t i = 0; i < header.size(); ++i)
+      if (header[i] == name) return static_cast<int>(i);
     return -1;
   };
   const int cv = column("vpp"), cf = column("frequency_hz"), cl = column("load_n"), cs = column("speed_mm_s"),
@@ -133,8 +133,7 @@ void write_sweep_plot(const std::vector<SweepRow>& rows, const std::filesystem::
   // std::map keeps curves in (voltage, load) order for a stable legend.
   std::map<std::pair<double, double>, PlotSeries> curves;
   for (const SweepRow& row : rows) {
-    const auto key = versus_frequency ? std::make_pair(row.vpp, row.load_n)
-                                      : std::make_pair(0.0, row.load_n);
+    const auto key = versus_frequency ? std::make_pair(row.vpp, row.load_n) : std::make_pair(0.0, row.load_n);
     PlotSeries& series = curves[key];
     if (series.label.empty()) {
       series.label = versus_frequency ? label_for(row.vpp, row.load_n, several_loads)

@@ -44,8 +44,8 @@ std::vector<double> parse_number_list(std::string_view text, std::string_view wh
   std::size_t start = 0;
   while (true) {
     const std::size_t comma = text.find(',', start);
-    const std::string_view item =
-        text.substr(start, comma == std::string_view::npos ? std::string_view::npos : comma - start);
+    const std::string_view item = text.substr(start,
+                                              comma == std::string_view::npos ? std::string_view::npos : comma - start);
     if (trim(item).empty()) {
       throw std::invalid_argument(std::string(what) + ": empty entry in list " + quoted(text));
     }
@@ -56,14 +56,12 @@ std::vector<double> parse_number_list(std::string_view text, std::string_view wh
   return values;
 }
 
-std::vector<double> parse_range_or_value(std::string_view text, std::string_view what,
-                                         std::size_t max_points) {
+std::vector<double> parse_range_or_value(std::string_view text, std::string_view what, std::size_t max_points) {
   const std::size_t first_colon = text.find(':');
   if (first_colon == std::string_view::npos) return {parse_finite_number(text, what)};
   const std::size_t second_colon = text.find(':', first_colon + 1);
   if (second_colon == std::string_view::npos || text.find(':', second_colon + 1) != std::string_view::npos) {
-    throw std::invalid_argument(std::string(what) + ": " + quoted(text) +
-                                " is not of the form START:STOP:STEP");
+    throw std::invalid_argument(std::string(what) + ": " + quoted(text) + " is not of the form START:STOP:STEP");
   }
   const double start = parse_finite_number(text.substr(0, first_colon), what);
   const double stop = parse_finite_number(text.substr(first_colon + 1, second_colon - first_colon - 1), what);

@@ -17,7 +17,6 @@ std::vector<double> parse_number_list(std::string_view text, std::string_view wh
 /// "START:STOP:STEP" -> START, START+STEP, ... up to STOP inclusive (within STEP/1e6).
 /// A plain number is a single point. STEP must be > 0 and STOP >= START; at most
 /// `max_points` points so a typo cannot allocate gigabytes.
-std::vector<double> parse_range_or_value(std::string_view text, std::string_view what,
-                                         std::size_t max_points = 100000);
+std::vector<double> parse_range_or_value(std::string_view text, std::string_view what, std::size_t max_points = 100000);
 
 }  // namespace swum::host

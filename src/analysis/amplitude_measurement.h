@@ -11,7 +11,7 @@ struct AmplitudeMeasurement {
   double frequency_hz = 0.0;
   std::optional<double> tip_normal_um;      // U, amplitude of u_tip (um)
   std::optional<double> tip_tangential_um;  // W, amplitude of w_tip = phiB(L) q2 (um, eq. 30)
-  int source_line = 0;  // line in the source file (0 = none); for messages only
+  int source_line = 0;                      // line in the source file (0 = none); for messages only
 };
 
 }  // namespace swum

@@ -13,16 +13,16 @@
 namespace swum {
 
 struct CandidateEffect {
-  std::string_view name;       // "thermal"; the section is "effects." + name
-  std::string_view summary;    // one line for reports
-  std::string_view free_key;   // the fitted key of the section
-  double neutral = 0.0;        // free value at which the effect vanishes (= baseline model)
-  double typical = 0.0;        // typical signed magnitude (probe step of the screening)
-  double lower = 0.0;          // fit bounds
+  std::string_view name;      // "thermal"; the section is "effects." + name
+  std::string_view summary;   // one line for reports
+  std::string_view free_key;  // the fitted key of the section
+  double neutral = 0.0;       // free value at which the effect vanishes (= baseline model)
+  double typical = 0.0;       // typical signed magnitude (probe step of the screening)
+  double lower = 0.0;         // fit bounds
   double upper = 0.0;
   double plausible_low = 0.0;  // documented plausible range of real motors (tests draw here)
   double plausible_high = 0.0;
-  bool needs_time = false;     // builds up over the session: needs time_s
+  bool needs_time = false;  // builds up over the session: needs time_s
 };
 
 [[nodiscard]] std::span<const CandidateEffect> candidate_effects();

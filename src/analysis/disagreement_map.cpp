@@ -61,16 +61,15 @@ Eigen::VectorXd standardised(Eigen::VectorXd v) {
 
 }  // namespace
 
-DisagreementMap map_disagreement(const MeasurementSet& set, const Predictions& predicted,
-                                 const ResidualModel& model, std::span<const std::size_t> rows) {
+DisagreementMap map_disagreement(const MeasurementSet& set, const Predictions& predicted, const ResidualModel& model,
+                                 std::span<const std::size_t> rows) {
   DisagreementMap map;
   std::vector<bool> use(set.rows.size(), rows.empty());
   for (std::size_t r : rows) use[r] = true;
   for (std::size_t k = 0; k < model.slots().size(); ++k) {
     const ResidualSlot& s = model.slots()[k];
     if (!use[s.row]) continue;
-    map.residuals.push_back({s, model.measured(k), predicted[s.row].value(s.quantity),
-                             model.residual(k, predicted)});
+    map.residuals.push_back({s, model.measured(k), predicted[s.row].value(s.quantity), model.residual(k, predicted)});
   }
   const std::size_t n = map.residuals.size();
   if (n == 0) {
@@ -93,9 +92,8 @@ DisagreementMap map_disagreement(const MeasurementSet& set, const Predictions& p
     q.mean /= q.count;
   }
   map.largest = map.residuals;
-  std::sort(map.largest.begin(), map.largest.end(), [](const ResidualValue& a, const ResidualValue& b) {
-    return std::abs(a.relative) > std::abs(b.relative);
-  });
+  std::sort(map.largest.begin(), map.largest.end(),
+            [](const ResidualValue& a, const ResidualValue& b) { return std::abs(a.relative) > std::abs(b.relative); });
   if (map.largest.size() > 5) map.largest.resize(5);
 
   // Per quantity: vectors of the residual and of each variable.
@@ -159,7 +157,8 @@ DisagreementMap map_disagreement(const MeasurementSet& set, const Predictions& p
   for (const auto& r : map.residuals) {
     const Measurement& m = set.rows[r.slot.row];
     groups[{static_cast<int>(r.slot.quantity), m.vpp, m.frequency_hz, m.load_n}].push_back(r.relative);
-    curves[{static_cast<int>(r.slot.quantity), m.vpp, m.load_n, m.sweep.value_or(-1)}].emplace_back(m.frequency_hz, r.relative);
+    curves[{static_cast<int>(r.slot.quantity), m.vpp, m.load_n, m.sweep.value_or(-1)}].emplace_back(m.frequency_hz,
+                                                                                                    r.relative);
   }
   double within = 0.0;
   int dof = 0;
@@ -208,7 +207,8 @@ DisagreementMap map_disagreement(const MeasurementSet& set, const Predictions& p
       std::vector<Eigen::VectorXd> cols;
       for (int v = 0; v < nv; ++v) {
         Eigen::VectorXd x(m);
-        for (Eigen::Index i = 0; i < m; ++i) x[i] = variable_of(*sel[static_cast<std::size_t>(i)], static_cast<std::size_t>(v));
+        for (Eigen::Index i = 0; i < m; ++i)
+          x[i] = variable_of(*sel[static_cast<std::size_t>(i)], static_cast<std::size_t>(v));
         cols.push_back(standardised(x));
       }
       Eigen::Index c = 0;
@@ -240,8 +240,7 @@ DisagreementMap map_disagreement(const MeasurementSet& set, const Predictions& p
   std::nth_element(magnitudes.begin(), middle, magnitudes.end());
   map.robust_scale = 1.4826 * *middle;
   map.excess = map.noise > 0.0 ? map.robust_scale / map.noise : 0.0;
-  const bool above_noise =
-      map.excess * map.excess > 1.0 + 4.0 * std::sqrt(5.44 / static_cast<double>(n));
+  const bool above_noise = map.excess * map.excess > 1.0 + 4.0 * std::sqrt(5.44 / static_cast<double>(n));
   const TrendTest* strongest = nullptr;
   for (const TrendTest& t : map.trends) {
     if (t.structured && (strongest == nullptr || t.f_statistic > strongest->f_statistic)) strongest = &t;
@@ -249,14 +248,14 @@ DisagreementMap map_disagreement(const MeasurementSet& set, const Predictions& p
   map.structured = above_noise || strongest != nullptr;
   char text[400];
   if (map.structured) {
-    std::snprintf(text, sizeof text,
-                  "structured: RMS %.3g %% (robust scale %.3g %%) vs noise %.3g %% (%s)%s%s%s", 100.0 * map.rms,
-                  100.0 * map.robust_scale, 100.0 * map.noise, map.noise_source.c_str(),
+    std::snprintf(text, sizeof text, "structured: RMS %.3g %% (robust scale %.3g %%) vs noise %.3g %% (%s)%s%s%s",
+                  100.0 * map.rms, 100.0 * map.robust_scale, 100.0 * map.noise, map.noise_source.c_str(),
                   strongest != nullptr ? "; strongest trend of " : "",
                   strongest != nullptr ? std::string(quantity_column(strongest->quantity)).c_str() : "",
                   strongest != nullptr ? (" against " + std::string(strongest->variable)).c_str() : "");
   } else {
-    std::snprintf(text, sizeof text, "within the noise: RMS %.3g %% (robust scale %.3g %%) vs noise %.3g %% (%s), no trend",
+    std::snprintf(text, sizeof text,
+                  "within the noise: RMS %.3g %% (robust scale %.3g %%) vs noise %.3g %% (%s), no trend",
                   100.0 * map.rms, 100.0 * map.robust_scale, 100.0 * map.noise, map.noise_source.c_str());
   }
   map.summary = text;

@@ -60,9 +60,9 @@ struct TrendTest {
 
 struct QuantityStatistics {
   int count = 0;
-  double rms = 0.0;            // relative
-  double max_abs = 0.0;        // relative
-  double mean = 0.0;           // relative (bias)
+  double rms = 0.0;      // relative
+  double max_abs = 0.0;  // relative
+  double mean = 0.0;     // relative (bias)
 };
 
 struct DisagreementMap {
@@ -71,19 +71,17 @@ struct DisagreementMap {
   std::array<QuantityStatistics, kQuantityCount> by_quantity{};
   std::vector<ResidualValue> largest;  // the 5 largest |r|
   std::vector<TrendTest> trends;
-  double noise = 0.0;               // relative noise estimate (standard deviation)
-  std::string noise_source;         // repeats, differences along the sweeps, or a quadratic surface
-  double robust_scale = 0.0;        // 1.4826 median |r|
-  double excess = 0.0;              // robust_scale / noise
-  bool structured = false;          // a trend, or rms clearly above the noise
-  std::string summary;              // one sentence: structured (where) or within the noise
+  double noise = 0.0;         // relative noise estimate (standard deviation)
+  std::string noise_source;   // repeats, differences along the sweeps, or a quadratic surface
+  double robust_scale = 0.0;  // 1.4826 median |r|
+  double excess = 0.0;        // robust_scale / noise
+  bool structured = false;    // a trend, or rms clearly above the noise
+  std::string summary;        // one sentence: structured (where) or within the noise
 };
 
 inline constexpr double kTrendThresholdF = 12.0;  // p ~ 1e-5 for (2, 60) degrees of freedom
 
-[[nodiscard]] DisagreementMap map_disagreement(const MeasurementSet& set,
-                                               const Predictions& predicted,
-                                               const ResidualModel& residuals,
-                                               std::span<const std::size_t> rows = {});
+[[nodiscard]] DisagreementMap map_disagreement(const MeasurementSet& set, const Predictions& predicted,
+                                               const ResidualModel& residuals, std::span<const std::size_t> rows = {});
 
 }  // namespace swum

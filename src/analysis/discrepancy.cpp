@@ -16,8 +16,8 @@ namespace {
 
 // Held-out rows: operating points (vpp, frequency, load; a point's repeats stay together,
 // whatever their time) in a seeded random order; the first `count` of them are held out.
-std::vector<bool> held_out_rows(const MeasurementSet& set, const DiscrepancyOptions& options,
-                                int& held_points, int& point_count) {
+std::vector<bool> held_out_rows(const MeasurementSet& set, const DiscrepancyOptions& options, int& held_points,
+                                int& point_count) {
   std::map<std::tuple<double, double, double>, std::size_t> group_of;
   std::vector<std::size_t> group(set.rows.size());
   for (std::size_t i = 0; i < set.rows.size(); ++i) {
@@ -32,7 +32,8 @@ std::vector<bool> held_out_rows(const MeasurementSet& set, const DiscrepancyOpti
     std::swap(permutation[i - 1], permutation[rng() % i]);
   }
   const auto by_fraction = static_cast<std::size_t>(std::ceil(options.held_out_fraction * static_cast<double>(points)));
-  const std::size_t count = std::max(by_fraction, std::min(static_cast<std::size_t>(std::max(options.min_held_out_points, 0)), points / 2));
+  const std::size_t count = std::max(
+      by_fraction, std::min(static_cast<std::size_t>(std::max(options.min_held_out_points, 0)), points / 2));
   std::vector<bool> held_group(points, false);
   for (std::size_t k = 0; k < std::min(count, points); ++k) held_group[permutation[k]] = true;
   std::vector<bool> held(set.rows.size());
@@ -60,8 +61,7 @@ double delta_bic(double sse_new, double sse_old, std::size_t n, int added) {
 
 std::string describe_evidence(double bic, const HeldOutEvidence& e) {
   return format_numbers("delta BIC %+.4g; held-out: ", bic) + std::to_string(e.improved) + " of " +
-         std::to_string(e.points) +
-         format_numbers(" points better, p = %.2g", e.p_value) +
+         std::to_string(e.points) + format_numbers(" points better, p = %.2g", e.p_value) +
          format_numbers(" (signed-rank %.2g, sign-flip %.2g)", e.signed_rank_p, e.sign_flip_p) +
          format_numbers("; RMS gap %.3g %%", 100.0 * e.rms_before) +
          format_numbers(" -> %.3g %% (reduction %.0f %%", 100.0 * e.rms_after, 100.0 * e.reduction) +
@@ -73,8 +73,8 @@ std::string describe_evidence(double bic, const HeldOutEvidence& e) {
 // a jump across the fold): the last parameter is first scanned around the least-squares value
 // (+-10, 25, 50 % of its offset from neutral, one batch) and the fit starts at the lowest
 // robust cost.
-EffectFit robust_refit(const EffectEvaluator& eval, const ResidualModel& model,
-                       const std::vector<std::size_t>& train, const EffectFit& ls, int max_iterations) {
+EffectFit robust_refit(const EffectEvaluator& eval, const ResidualModel& model, const std::vector<std::size_t>& train,
+                       const EffectFit& ls, int max_iterations) {
   const double scale = kCauchyEfficiencyScale * robust_sigma(model.residuals(ls.predictions), train);
   if (!(scale > 0.0)) return ls;
   auto cauchy_cost = [&](const Predictions& p) {
@@ -136,8 +136,7 @@ DiscrepancyResult run_discrepancy(const MotorParameters& baseline, const Measure
     for (const std::string& name : options.candidates) {
       const CandidateEffect* e = find_candidate_effect(name);
       if (e == nullptr) {
-        throw std::invalid_argument("unknown effect '" + name + "' (known: " +
-                                    candidate_effect_names() + ")");
+        throw std::invalid_argument("unknown effect '" + name + "' (known: " + candidate_effect_names() + ")");
       }
       candidates.push_back(e);
     }
@@ -217,7 +216,9 @@ DiscrepancyResult run_discrepancy(const MotorParameters& baseline, const Measure
         double jr = 0.0, jj = 0.0, wjr = 0.0, wjj = 0.0;
         for (std::size_t k : train) {
           const double j = (s.residuals[k] - from.residuals[k]) / dtheta;
-          const double w = round_scale > 0.0 ? 1.0 / (1.0 + s.residuals[k] * s.residuals[k] / (round_scale * round_scale)) : 1.0;
+          const double w = round_scale > 0.0
+                               ? 1.0 / (1.0 + s.residuals[k] * s.residuals[k] / (round_scale * round_scale))
+                               : 1.0;
           jr += j * s.residuals[k];
           jj += j * j;
           wjr += w * j * s.residuals[k];
@@ -258,18 +259,17 @@ DiscrepancyResult run_discrepancy(const MotorParameters& baseline, const Measure
     for (std::size_t c : active) {
       const bool passes = round.candidates[c].delta_bic < -options.bic_margin;
       const bool winner_passes = winner && round.candidates[*winner].delta_bic < -options.bic_margin;
-      if (!winner || (passes && !winner_passes) ||
-          (passes && best[c].robust < best[*winner].robust) ||
+      if (!winner || (passes && !winner_passes) || (passes && best[c].robust < best[*winner].robust) ||
           (!passes && !winner_passes && round.candidates[c].delta_bic < round.candidates[*winner].delta_bic)) {
         winner = c;
       }
     }
     if (!winner || round.candidates[*winner].delta_bic > -options.bic_margin) {
-      round.verdict = winner ? "no candidate lowers the BIC by more than " +
-                                   format_numbers("%.3g", options.bic_margin) + " (best: " +
-                                   round.candidates[*winner].name + ", " +
-                                   format_numbers("%+.3g", round.candidates[*winner].delta_bic) + ")"
-                             : "no candidate left";
+      round.verdict = winner
+                          ? "no candidate lowers the BIC by more than " + format_numbers("%.3g", options.bic_margin) +
+                                " (best: " + round.candidates[*winner].name + ", " +
+                                format_numbers("%+.3g", round.candidates[*winner].delta_bic) + ")"
+                          : "no candidate left";
       result.rounds.push_back(round);
       break;
     }
@@ -281,7 +281,8 @@ DiscrepancyResult run_discrepancy(const MotorParameters& baseline, const Measure
     for (std::size_t k : active) {
       if (round.candidates[k].delta_bic < -options.bic_margin) ranked.push_back(k);
     }
-    std::sort(ranked.begin(), ranked.end(), [&](std::size_t x, std::size_t y) { return best[x].robust < best[y].robust; });
+    std::sort(ranked.begin(), ranked.end(),
+              [&](std::size_t x, std::size_t y) { return best[x].robust < best[y].robust; });
     ranked.resize(std::min<std::size_t>(ranked.size(), result.effects.empty() ? 1 : 3));
     struct Trial {
       std::size_t c;
@@ -301,10 +302,14 @@ DiscrepancyResult run_discrepancy(const MotorParameters& baseline, const Measure
       for (const NamedEffect& named : result.effects) start.push_back(named.value);
       start.push_back(round.candidates[c].value);
       fitted_effects[last_index] = candidates[c];
-      const EffectEvaluator eval(current, fitted_effects, set, options.prediction, parallel,
-                                 result.model_evaluations);
-      Trial trial{c, fit_effect(eval, model, train, start, options.max_fit_iterations, &best[c].predictions,
-                                robust_fit ? round_scale : 0.0), {}, 0.0, {}, false};
+      const EffectEvaluator eval(current, fitted_effects, set, options.prediction, parallel, result.model_evaluations);
+      Trial trial{c,
+                  fit_effect(eval, model, train, start, options.max_fit_iterations, &best[c].predictions,
+                             robust_fit ? round_scale : 0.0),
+                  {},
+                  0.0,
+                  {},
+                  false};
       if (trial.fit.ok && robust_fit) {
         trial.fit = robust_refit(eval, model, train, trial.fit, options.max_fit_iterations);
       }
@@ -328,7 +333,8 @@ DiscrepancyResult run_discrepancy(const MotorParameters& baseline, const Measure
       break;
     }
     chosen->evidence = compare_held_out(set, model, current_r, chosen->residuals, test, options.split_seed);
-    chosen->passes = chosen->fit.ok && chosen->bic < -options.bic_margin && chosen->evidence.p_value < options.significance;
+    chosen->passes = chosen->fit.ok && chosen->bic < -options.bic_margin &&
+                     chosen->evidence.p_value < options.significance;
     const std::size_t c = chosen->c;
     const CandidateEffect& e = *candidates[c];
     const EffectFit& fit = chosen->fit;
@@ -336,8 +342,7 @@ DiscrepancyResult run_discrepancy(const MotorParameters& baseline, const Measure
     const double bic = chosen->bic;
     const HeldOutEvidence& evidence = chosen->evidence;
     fitted_effects[last_index] = &e;
-    const EffectEvaluator eval(current, fitted_effects, set, options.prediction, parallel,
-                               result.model_evaluations);
+    const EffectEvaluator eval(current, fitted_effects, set, options.prediction, parallel, result.model_evaluations);
     round.fitted = c;
     round.accepted = chosen->passes;
     round.held_out = evidence;
@@ -410,14 +415,13 @@ DiscrepancyResult run_discrepancy(const MotorParameters& baseline, const Measure
       result.conclusion = result.baseline_map.structured
                               ? "no candidate explains the residual; unexplained residual, " +
                                     result.baseline_map.summary
-                              : "no significant missing effect: the residual is " +
-                                    result.baseline_map.summary;
+                              : "no significant missing effect: the residual is " + result.baseline_map.summary;
     }
   } else {
     result.conclusion = "named";
     for (const NamedEffect& e : result.effects) result.conclusion += " " + e.name;
-    result.conclusion += "; held-out RMS " + format_numbers("%.3g %% -> %.3g %%", 100.0 * result.rms_before,
-                                                            100.0 * result.rms_after);
+    result.conclusion += "; held-out RMS " +
+                         format_numbers("%.3g %% -> %.3g %%", 100.0 * result.rms_before, 100.0 * result.rms_after);
     result.conclusion += "; remaining residual " + result.augmented_map.summary;
   }
   return result;

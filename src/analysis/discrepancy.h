@@ -27,7 +27,7 @@ struct DiscrepancyOptions {
   double held_out_fraction = 0.25;
   int min_held_out_points = 12;
   std::uint64_t split_seed = 2019;
-  double floor_fraction = 0.05;         // residual floor (ResidualModel)
+  double floor_fraction = 0.05;  // residual floor (ResidualModel)
   // A candidate is named only if both: its BIC on the training points is lower by more than
   // bic_margin (Kass-Raftery "very strong": 10), AND on the held-out points it predicts better
   // by the one-sided signed-rank and sign-flip tests of the per-point errors, Bonferroni-
@@ -44,16 +44,16 @@ struct DiscrepancyOptions {
 struct CandidateScore {
   std::string name;
   bool skipped = false;
-  std::string note;                 // why skipped
-  double value = 0.0;               // screened value of the free parameter
-  double train_rms = 0.0;           // relative
-  double held_out_rms = 0.0;        // relative
-  double delta_bic = 0.0;           // against the current model (negative = better)
+  std::string note;           // why skipped
+  double value = 0.0;         // screened value of the free parameter
+  double train_rms = 0.0;     // relative
+  double held_out_rms = 0.0;  // relative
+  double delta_bic = 0.0;     // against the current model (negative = better)
 };
 
 struct NamedEffect {
   std::string name;
-  std::string key;          // free parameter key in [effects.<name>]
+  std::string key;  // free parameter key in [effects.<name>]
   std::string unit;
   double value = 0.0;
   double standard_error = 0.0;
@@ -65,19 +65,19 @@ struct DiscrepancyRound {
   std::vector<CandidateScore> candidates;  // in candidate order
   std::optional<std::size_t> fitted;       // index of the fully fitted candidate
   bool accepted = false;
-  HeldOutEvidence held_out;                // of the fitted candidate (when there is one)
+  HeldOutEvidence held_out;  // of the fitted candidate (when there is one)
   double fitted_delta_bic = 0.0;
-  std::string verdict;                     // named, or which criterion failed and by how much
+  std::string verdict;  // named, or which criterion failed and by how much
 };
 
 struct QuantityGap {
-  int count = 0;  // held-out values
+  int count = 0;                                                                // held-out values
   double rms_before = 0.0, max_before = 0.0, rms_after = 0.0, max_after = 0.0;  // relative
 };
 
 struct DiscrepancyResult {
-  DisagreementMap baseline_map;   // all points
-  DisagreementMap augmented_map;  // all points
+  DisagreementMap baseline_map;      // all points
+  DisagreementMap augmented_map;     // all points
   std::vector<NamedEffect> effects;  // in the order found
   std::vector<DiscrepancyRound> rounds;
   MotorParameters augmented;
@@ -94,9 +94,7 @@ struct DiscrepancyResult {
 };
 
 // Throws std::invalid_argument for an unknown candidate name.
-[[nodiscard]] DiscrepancyResult run_discrepancy(const MotorParameters& baseline,
-                                                const MeasurementSet& measured,
-                                                const DiscrepancyOptions& options,
-                                                const ParallelFor& parallel);
+[[nodiscard]] DiscrepancyResult run_discrepancy(const MotorParameters& baseline, const MeasurementSet& measured,
+                                                const DiscrepancyOptions& options, const ParallelFor& parallel);
 
 }  // namespace swum

@@ -10,8 +10,7 @@
 
 namespace swum {
 
-EffectEvaluator::EffectEvaluator(const MotorParameters& current,
-                                 std::vector<const CandidateEffect*> effects,
+EffectEvaluator::EffectEvaluator(const MotorParameters& current, std::vector<const CandidateEffect*> effects,
                                  const MeasurementSet& set, const PredictionOptions& options,
                                  const ParallelFor& parallel, int& evaluation_counter)
     : current_(current),
@@ -27,8 +26,7 @@ MotorParameters EffectEvaluator::parameters_at(std::span<const double> values) c
   return p;
 }
 
-std::vector<Predictions> EffectEvaluator::evaluate(
-    const std::vector<std::vector<double>>& value_sets) const {
+std::vector<Predictions> EffectEvaluator::evaluate(const std::vector<std::vector<double>>& value_sets) const {
   std::vector<MotorParameters> models;
   for (const auto& v : value_sets) models.push_back(parameters_at(v));
   *counter_ += static_cast<int>(value_sets.size());
@@ -134,8 +132,8 @@ class SlotResidual final : public ceres::CostFunction {
 }  // namespace
 
 EffectFit fit_effect(const EffectEvaluator& evaluator, const ResidualModel& residuals,
-                     std::span<const std::size_t> train_slots, std::vector<double> start,
-                     int max_iterations, const Predictions* start_predictions, double robust_scale) {
+                     std::span<const std::size_t> train_slots, std::vector<double> start, int max_iterations,
+                     const Predictions* start_predictions, double robust_scale) {
   const std::size_t m = evaluator.effects().size();
   Theta lo(m), hi(m), theta(m);
   for (std::size_t k = 0; k < m; ++k) {
@@ -220,7 +218,8 @@ EffectFit fit_effect(const EffectEvaluator& evaluator, const ResidualModel& resi
   }
   fit.values = cache.values_of(theta);
   for (std::size_t k = 0; k < m; ++k) {
-    const double var = covariance.size() > 0 ? covariance(static_cast<Eigen::Index>(k), static_cast<Eigen::Index>(k)) : -1.0;
+    const double var = covariance.size() > 0 ? covariance(static_cast<Eigen::Index>(k), static_cast<Eigen::Index>(k))
+                                             : -1.0;
     fit.standard_errors.push_back(var > 0.0 ? std::sqrt(var) * std::abs(evaluator.effects()[k]->typical)
                                             : std::numeric_limits<double>::infinity());
   }

@@ -21,10 +21,9 @@ namespace swum {
 class EffectEvaluator {
  public:
   EffectEvaluator(const MotorParameters& current, std::vector<const CandidateEffect*> effects,
-                  const MeasurementSet& set, const PredictionOptions& options,
-                  const ParallelFor& parallel, int& evaluation_counter);
-  [[nodiscard]] std::vector<Predictions> evaluate(
-      const std::vector<std::vector<double>>& value_sets) const;
+                  const MeasurementSet& set, const PredictionOptions& options, const ParallelFor& parallel,
+                  int& evaluation_counter);
+  [[nodiscard]] std::vector<Predictions> evaluate(const std::vector<std::vector<double>>& value_sets) const;
   [[nodiscard]] MotorParameters parameters_at(std::span<const double> values) const;
   [[nodiscard]] const std::vector<const CandidateEffect*>& effects() const { return effects_; }
 
@@ -39,7 +38,7 @@ class EffectEvaluator {
 
 struct EffectFit {
   bool ok = false;
-  std::vector<double> values;           // per effect of the evaluator
+  std::vector<double> values;  // per effect of the evaluator
   std::vector<double> standard_errors;
   double train_sum_of_squares = 0.0;
   Predictions predictions;  // all points at `value`
@@ -53,11 +52,9 @@ struct EffectFit {
 // 0: least squares. Standard errors: the cluster-robust sandwich over operating points (the
 // quantities and repeats of one point are one cluster; weights w = 1/(1 + r^2/a^2) for the
 // M-estimate, 1 for least squares).
-[[nodiscard]] EffectFit fit_effect(const EffectEvaluator& evaluator,
-                                   const ResidualModel& residuals,
-                                   std::span<const std::size_t> train_slots,
-                                   std::vector<double> start, int max_iterations,
-                                   const Predictions* start_predictions = nullptr,
+[[nodiscard]] EffectFit fit_effect(const EffectEvaluator& evaluator, const ResidualModel& residuals,
+                                   std::span<const std::size_t> train_slots, std::vector<double> start,
+                                   int max_iterations, const Predictions* start_predictions = nullptr,
                                    double robust_scale = 0.0);
 
 // Cauchy scale for 95 % efficiency at Gaussian residuals of standard deviation sigma.

@@ -21,10 +21,8 @@ void FreeStatorOde::derivative(double t, const Vector& x, Vector& dx) const {
   dx[3] = (modal_force_n(force.b2, x[2], va, vb) - c2_n_s_m * x[3]) / m2_kg;
 }
 
-FreeStatorAmplitudes simulate_free_stator(const ModalConstants& constants,
-                                          const StatorParameters& stator, double vpp,
-                                          double frequency_hz,
-                                          const std::array<double, 4>& initial,
+FreeStatorAmplitudes simulate_free_stator(const ModalConstants& constants, const StatorParameters& stator, double vpp,
+                                          double frequency_hz, const std::array<double, 4>& initial,
                                           const FreeStatorRunOptions& options) {
   FreeStatorOde ode;
   ode.force = make_stator_force_coefficients(constants, stator);
@@ -63,9 +61,7 @@ FreeStatorAmplitudes simulate_free_stator(const ModalConstants& constants,
     }
     previous_t = t;
   };
-  if (!integrate_dormand_prince(ode, options.settle_s, options.settle_s + options.window_s, x,
-                                opt, observe)
-           .ok) {
+  if (!integrate_dormand_prince(ode, options.settle_s, options.settle_s + options.window_s, x, opt, observe).ok) {
     return out;
   }
   out.ok = true;

@@ -24,8 +24,8 @@ struct FreeStatorOde {
 };
 
 struct FreeStatorRunOptions {
-  double settle_s = 0.010;   // discarded (several modal time constants 2M/C ~ 1-1.5 ms)
-  double window_s = 0.002;   // amplitudes = (max - min)/2 over this window
+  double settle_s = 0.010;  // discarded (several modal time constants 2M/C ~ 1-1.5 ms)
+  double window_s = 0.002;  // amplitudes = (max - min)/2 over this window
   double relative_tolerance = 1e-10;
   double samples_per_cycle = 200.0;  // max step 1/(this f): resolves the extrema
   double phase_deg = 90.0;
@@ -40,8 +40,7 @@ struct FreeStatorAmplitudes {
 };
 
 // Integrates from `initial` (t = 0) and measures the last window.
-[[nodiscard]] FreeStatorAmplitudes simulate_free_stator(const ModalConstants& constants,
-                                                        const StatorParameters& stator,
+[[nodiscard]] FreeStatorAmplitudes simulate_free_stator(const ModalConstants& constants, const StatorParameters& stator,
                                                         double vpp, double frequency_hz,
                                                         const std::array<double, 4>& initial,
                                                         const FreeStatorRunOptions& options = {});

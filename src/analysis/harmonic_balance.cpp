@@ -58,8 +58,8 @@ std::vector<double> normalised_cubic_roots(double kappa, double delta) {
 
 bool same_solution(const ModeHarmonics& x, const ModeHarmonics& y) {
   const double scale = std::max({x.amplitude_m(), y.amplitude_m(), 1e-12});
-  return std::abs(x.offset_m - y.offset_m) < 1e-6 * scale &&
-         std::abs(x.cos_m - y.cos_m) < 1e-6 * scale && std::abs(x.sin_m - y.sin_m) < 1e-6 * scale;
+  return std::abs(x.offset_m - y.offset_m) < 1e-6 * scale && std::abs(x.cos_m - y.cos_m) < 1e-6 * scale &&
+         std::abs(x.sin_m - y.sin_m) < 1e-6 * scale;
 }
 
 double distance(const ModeHarmonics& x, const ModeHarmonics& y) {
@@ -70,8 +70,7 @@ double distance(const ModeHarmonics& x, const ModeHarmonics& y) {
 
 double ModeHarmonics::amplitude_m() const { return std::hypot(cos_m, sin_m); }
 
-FreeStatorHarmonicBalance::FreeStatorHarmonicBalance(const ModalConstants& c,
-                                                     const StatorParameters& stator,
+FreeStatorHarmonicBalance::FreeStatorHarmonicBalance(const ModalConstants& c, const StatorParameters& stator,
                                                      const HarmonicBalanceOptions& options)
     : options_(options), amplitude_per_volt_(c.drive_amplitude_per_volt) {
   const StatorForceCoefficients f = make_stator_force_coefficients(c, stator);
@@ -105,21 +104,17 @@ FreeStatorHarmonicBalance::FreeStatorHarmonicBalance(const ModalConstants& c,
   }
 }
 
-FreeStatorHarmonicBalance::FreeStatorHarmonicBalance(const MotorModel& model,
-                                                     const HarmonicBalanceOptions& options)
+FreeStatorHarmonicBalance::FreeStatorHarmonicBalance(const MotorModel& model, const HarmonicBalanceOptions& options)
     : FreeStatorHarmonicBalance(model.constants(), with_static_effects(model.parameters()).stator, options) {}
 
-double FreeStatorHarmonicBalance::tip_lever(StatorMode mode) const {
-  return mode_data(mode).tip_lever;
-}
+double FreeStatorHarmonicBalance::tip_lever(StatorMode mode) const { return mode_data(mode).tip_lever; }
 
-FreeStatorHarmonicBalance::Drive FreeStatorHarmonicBalance::drive(double vpp,
-                                                                  double frequency_hz) const {
+FreeStatorHarmonicBalance::Drive FreeStatorHarmonicBalance::drive(double vpp, double frequency_hz) const {
   return {amplitude_per_volt_ * vpp, 2.0 * std::numbers::pi * frequency_hz};
 }
 
-std::vector<ModeHarmonics> FreeStatorHarmonicBalance::closed_form_seeds(
-    StatorMode which, double vpp, double frequency_hz) const {
+std::vector<ModeHarmonics> FreeStatorHarmonicBalance::closed_form_seeds(StatorMode which, double vpp,
+                                                                        double frequency_hz) const {
   // §6.3 with the DC offset of the quadratic terms kept (first harmonic + DC, as the AFT).
   const Mode& mode = mode_data(which);
   const ModeForceCoefficients& m = mode.force;
@@ -129,7 +124,7 @@ std::vector<ModeHarmonics> FreeStatorHarmonicBalance::closed_form_seeds(
   // First harmonic of c0(t) = lin0_a V_A + lin0_b V_B (V_A = V0 sin wt, V_B = V0 sin(wt+phi)).
   const double f_cos = v0 * m.lin0_b * sin_phase_;
   const double f_sin = v0 * (m.lin0_a + m.lin0_b * cos_phase_);
-  const double f_dc = 0.5 * (m.sq0_a + m.sq0_b) * v0 * v0;  // <e311 X1(t)>
+  const double f_dc = 0.5 * (m.sq0_a + m.sq0_b) * v0 * v0;         // <e311 X1(t)>
   const double k_eff = m.k - 0.5 * (m.sq1_a + m.sq1_b) * v0 * v0;  // K - e3111 <X3(t)>
   const double k_first = k_eff + 2.0 * m.k2 * f_dc / k_eff;
   const double k3_eff = 0.75 * m.k3 - m.k2 * m.k2 / k_eff;  // cubic + DC-mediated quadratic
@@ -148,17 +143,16 @@ std::vector<ModeHarmonics> FreeStatorHarmonicBalance::closed_form_seeds(
     const double x = x_ref * y;
     const double de = detuning + k3_eff * x;
     const double det = de * de + cw * cw;
-    seeds.push_back({(f_dc - 0.5 * m.k2 * x) / k_eff, (de * f_cos - cw * f_sin) / det,
-                     (de * f_sin + cw * f_cos) / det});
+    seeds.push_back(
+        {(f_dc - 0.5 * m.k2 * x) / k_eff, (de * f_cos - cw * f_sin) / det, (de * f_sin + cw * f_cos) / det});
   }
-  std::sort(seeds.begin(), seeds.end(), [](const ModeHarmonics& x, const ModeHarmonics& y) {
-    return x.amplitude_m() > y.amplitude_m();
-  });
+  std::sort(seeds.begin(), seeds.end(),
+            [](const ModeHarmonics& x, const ModeHarmonics& y) { return x.amplitude_m() > y.amplitude_m(); });
   return seeds;
 }
 
-bool FreeStatorHarmonicBalance::polish(StatorMode which, double vpp, double frequency_hz,
-                                       const ModeHarmonics& guess, ModeBranch& out) const {
+bool FreeStatorHarmonicBalance::polish(StatorMode which, double vpp, double frequency_hz, const ModeHarmonics& guess,
+                                       ModeBranch& out) const {
   const Mode& mode = mode_data(which);
   const ModeForceCoefficients& m = mode.force;
   const Drive d = drive(vpp, frequency_hz);
@@ -189,8 +183,7 @@ bool FreeStatorHarmonicBalance::polish(StatorMode which, double vpp, double freq
       sc += f * c;
       ss += f * s;
       if (with_jacobian) {
-        const double c1 =
-            m.lin1_a * va + m.lin1_b * vb + m.sq1_a * va * va + m.sq1_b * vb * vb - m.k;
+        const double c1 = m.lin1_a * va + m.lin1_b * vb + m.sq1_a * va * va + m.sq1_b * vb * vb - m.k;
         const double c2 = m.lin2_a * va + m.lin2_b * vb - m.k2;
         const double fp = c1 + q * (2.0 * c2 - 3.0 * m.k3 * q);  // df/dq
         j00 += fp;
@@ -276,8 +269,7 @@ bool FreeStatorHarmonicBalance::polish(StatorMode which, double vpp, double freq
   return true;
 }
 
-void FreeStatorHarmonicBalance::fill_sensitivities(const Mode& mode, const Drive& d,
-                                                   ModeBranch& branch,
+void FreeStatorHarmonicBalance::fill_sensitivities(const Mode& mode, const Drive& d, ModeBranch& branch,
                                                    const double (&jacobian)[3][3]) const {
   // Implicit function theorem: dx/dp = -J^-1 dR/dp, with dr/dp = -df/dp (eqs. 14-15):
   //   c111: df = -alpha1 q^2, c1111: df = -beta q^3, e311: df = X1(t) + X2(t) q,
@@ -298,8 +290,8 @@ void FreeStatorHarmonicBalance::fill_sensitivities(const Mode& mode, const Drive
     const double x2 = e[2].group_a * va + e[2].group_b * vb;
     const double x3 = e[3].group_a * va * va + e[3].group_b * vb * vb;
     const double x4 = e[4].group_a * va + e[4].group_b * vb;
-    const double df[4] = {-mode.quadratic_shape * q * q, -mode.cubic_shape * q * q * q,
-                          x1 + x2 * q, x3 * q + x4 * q * q};
+    const double df[4] = {-mode.quadratic_shape * q * q, -mode.cubic_shape * q * q * q, x1 + x2 * q,
+                          x3 * q + x4 * q * q};
     for (int p = 0; p < 4; ++p) {
       dr(0, p) -= df[p];
       dr(1, p) -= 2.0 * df[p] * c;
@@ -314,15 +306,12 @@ void FreeStatorHarmonicBalance::fill_sensitivities(const Mode& mode, const Drive
   const double amplitude_um = h.amplitude_m() * kMicro;
   for (int p = 0; p < 4; ++p) {
     branch.tip_amplitude_sensitivity_um[p] =
-        amplitude_um > 0.0 ? mode.tip_lever *
-                                 (h.cos_m * kMicro * dx(1, p) + h.sin_m * kMicro * dx(2, p)) /
-                                 amplitude_um
+        amplitude_um > 0.0 ? mode.tip_lever * (h.cos_m * kMicro * dx(1, p) + h.sin_m * kMicro * dx(2, p)) / amplitude_um
                            : 0.0;
   }
 }
 
-ModeResponse FreeStatorHarmonicBalance::solve_mode(StatorMode which, double vpp,
-                                                   double frequency_hz,
+ModeResponse FreeStatorHarmonicBalance::solve_mode(StatorMode which, double vpp, double frequency_hz,
                                                    std::span<const ModeHarmonics> extra) const {
   ModeResponse response;
   auto add = [&](const ModeHarmonics& seed) {
@@ -336,9 +325,7 @@ ModeResponse FreeStatorHarmonicBalance::solve_mode(StatorMode which, double vpp,
   for (const ModeHarmonics& seed : closed_form_seeds(which, vpp, frequency_hz)) add(seed);
   for (const ModeHarmonics& seed : extra) add(seed);
   std::sort(response.branches.begin(), response.branches.end(),
-            [](const ModeBranch& x, const ModeBranch& y) {
-              return x.tip_amplitude_um > y.tip_amplitude_um;
-            });
+            [](const ModeBranch& x, const ModeBranch& y) { return x.tip_amplitude_um > y.tip_amplitude_um; });
   return response;
 }
 
@@ -351,8 +338,7 @@ StatorResponse FreeStatorHarmonicBalance::solve(double vpp, double frequency_hz)
   return r;
 }
 
-void FreeStatorHarmonicBalance::peak(StatorMode which, double vpp, double& peak_hz,
-                                     double& peak_um) const {
+void FreeStatorHarmonicBalance::peak(StatorMode which, double vpp, double& peak_hz, double& peak_um) const {
   const Mode& mode = mode_data(which);
   const ModeForceCoefficients& m = mode.force;
   const double v0 = amplitude_per_volt_ * vpp;
@@ -424,8 +410,7 @@ int follow(const ModeResponse& r, const ModeHarmonics* previous) {
   for (std::size_t i = 0; i < r.branches.size(); ++i) {
     const ModeBranch& b = r.branches[i];
     if (!b.stable) continue;
-    const double score =
-        previous != nullptr ? distance(b.harmonics, *previous) : b.tip_amplitude_um;
+    const double score = previous != nullptr ? distance(b.harmonics, *previous) : b.tip_amplitude_um;
     if (score < best_score) {
       best_score = score;
       best = static_cast<int>(i);
@@ -465,8 +450,7 @@ std::vector<SweepPoint> sweep(std::size_t count, Solve&& solve_at) {
 
 std::vector<SweepPoint> sweep_frequency(const FreeStatorHarmonicBalance& hb, double vpp,
                                         std::span<const double> frequencies_hz) {
-  auto points = sweep(frequencies_hz.size(), [&](std::size_t i, StatorMode mode,
-                                                 std::span<const ModeHarmonics> seeds) {
+  auto points = sweep(frequencies_hz.size(), [&](std::size_t i, StatorMode mode, std::span<const ModeHarmonics> seeds) {
     return hb.solve_mode(mode, vpp, frequencies_hz[i], seeds);
   });
   for (std::size_t i = 0; i < points.size(); ++i) {
@@ -478,8 +462,7 @@ std::vector<SweepPoint> sweep_frequency(const FreeStatorHarmonicBalance& hb, dou
 
 std::vector<SweepPoint> sweep_voltage(const FreeStatorHarmonicBalance& hb, double frequency_hz,
                                       std::span<const double> vpps) {
-  auto points = sweep(vpps.size(), [&](std::size_t i, StatorMode mode,
-                                       std::span<const ModeHarmonics> seeds) {
+  auto points = sweep(vpps.size(), [&](std::size_t i, StatorMode mode, std::span<const ModeHarmonics> seeds) {
     return hb.solve_mode(mode, vpps[i], frequency_hz, seeds);
   });
   for (std::size_t i = 0; i < points.size(); ++i) {

@@ -59,9 +59,7 @@ struct StatorResponse {
   double frequency_hz = 0.0;
   ModeResponse normal;      // L1, tip normal amplitude U
   ModeResponse tangential;  // B2, tip tangential amplitude W
-  [[nodiscard]] const ModeResponse& mode(StatorMode m) const {
-    return m == StatorMode::l1 ? normal : tangential;
-  }
+  [[nodiscard]] const ModeResponse& mode(StatorMode m) const { return m == StatorMode::l1 ? normal : tangential; }
 };
 
 // Peak of the amplitude-frequency curve of one mode at one voltage (paper Fig. 9).
@@ -79,8 +77,7 @@ class FreeStatorHarmonicBalance {
  public:
   FreeStatorHarmonicBalance(const ModalConstants& constants, const StatorParameters& stator,
                             const HarmonicBalanceOptions& options = {});
-  explicit FreeStatorHarmonicBalance(const MotorModel& model,
-                                     const HarmonicBalanceOptions& options = {});
+  explicit FreeStatorHarmonicBalance(const MotorModel& model, const HarmonicBalanceOptions& options = {});
 
   // Every real branch of both modes (closed-form seeds polished by AFT Newton), deduplicated,
   // each with its stability. `extra_seeds_*` (e.g. the previous point of a continuation) are
@@ -90,12 +87,10 @@ class FreeStatorHarmonicBalance {
                                         std::span<const ModeHarmonics> extra_seeds = {}) const;
 
   // AFT Newton from one initial guess; false if it does not converge.
-  bool polish(StatorMode mode, double vpp, double frequency_hz, const ModeHarmonics& guess,
-              ModeBranch& out) const;
+  bool polish(StatorMode mode, double vpp, double frequency_hz, const ModeHarmonics& guess, ModeBranch& out) const;
 
   // §6.3 closed form only (no AFT): the real positive roots, descending amplitude.
-  [[nodiscard]] std::vector<ModeHarmonics> closed_form_seeds(StatorMode mode, double vpp,
-                                                             double frequency_hz) const;
+  [[nodiscard]] std::vector<ModeHarmonics> closed_form_seeds(StatorMode mode, double vpp, double frequency_hz) const;
 
   // Frequency of maximum amplitude of each mode at each voltage (paper Fig. 9), located by a
   // golden-section search on the largest-amplitude branch around the closed-form estimate.
@@ -123,8 +118,7 @@ class FreeStatorHarmonicBalance {
 
   [[nodiscard]] const Mode& mode_data(StatorMode m) const { return modes_[static_cast<int>(m)]; }
   [[nodiscard]] Drive drive(double vpp, double frequency_hz) const;
-  void fill_sensitivities(const Mode& mode, const Drive& d, ModeBranch& branch,
-                          const double (&jacobian)[3][3]) const;
+  void fill_sensitivities(const Mode& mode, const Drive& d, ModeBranch& branch, const double (&jacobian)[3][3]) const;
   void peak(StatorMode mode, double vpp, double& peak_hz, double& peak_um) const;
 
   HarmonicBalanceOptions options_;
@@ -145,11 +139,9 @@ struct SweepPoint {
   int followed_tangential = -1;
 };
 
-[[nodiscard]] std::vector<SweepPoint> sweep_frequency(const FreeStatorHarmonicBalance& hb,
-                                                      double vpp,
+[[nodiscard]] std::vector<SweepPoint> sweep_frequency(const FreeStatorHarmonicBalance& hb, double vpp,
                                                       std::span<const double> frequencies_hz);
-[[nodiscard]] std::vector<SweepPoint> sweep_voltage(const FreeStatorHarmonicBalance& hb,
-                                                    double frequency_hz,
+[[nodiscard]] std::vector<SweepPoint> sweep_voltage(const FreeStatorHarmonicBalance& hb, double frequency_hz,
                                                     std::span<const double> vpps);
 
 }  // namespace swum

@@ -101,9 +101,9 @@ double sign_flip_p_value(std::span<const double> differences, std::uint64_t seed
   return static_cast<double>(at_least + 1) / static_cast<double>(total + 1);
 }
 
-HeldOutEvidence compare_held_out(const MeasurementSet& set, const ResidualModel& model,
-                                 std::span<const double> r0, std::span<const double> r1,
-                                 std::span<const std::size_t> held_out_slots, std::uint64_t seed) {
+HeldOutEvidence compare_held_out(const MeasurementSet& set, const ResidualModel& model, std::span<const double> r0,
+                                 std::span<const double> r1, std::span<const std::size_t> held_out_slots,
+                                 std::uint64_t seed) {
   HeldOutEvidence e;
   // Per operating point: sums of squares of its values before and after, and their count.
   std::map<std::array<double, 3>, std::array<double, 3>> points;

@@ -29,17 +29,17 @@
 namespace swum {
 
 struct HeldOutEvidence {
-  int points = 0;           // held-out operating points compared
-  int improved = 0;         // points whose pooled error went down
-  int unchanged = 0;        // points whose error did not change at all (left out of the ranks)
-  double signed_rank = 0.0; // W+: sum of the ranks of the improvements
+  int points = 0;              // held-out operating points compared
+  int improved = 0;            // points whose pooled error went down
+  int unchanged = 0;           // points whose error did not change at all (left out of the ranks)
+  double signed_rank = 0.0;    // W+: sum of the ranks of the improvements
   double signed_rank_p = 1.0;  // one-sided P(W+ >= observed) under "no better"
   double sign_flip_p = 1.0;    // one-sided P(S >= observed), S = sum of e0^2 - e1^2, random signs
   double p_value = 1.0;        // combined: 2 min(signed_rank_p, sign_flip_p), at most 1
-  double rms_before = 0.0;  // relative, over the held-out values
+  double rms_before = 0.0;     // relative, over the held-out values
   double rms_after = 0.0;
-  double reduction = 0.0;       // 1 - rms_after / rms_before
-  double reduction_low = 0.0;   // 90 % percentile-bootstrap interval of the reduction
+  double reduction = 0.0;      // 1 - rms_after / rms_before
+  double reduction_low = 0.0;  // 90 % percentile-bootstrap interval of the reduction
   double reduction_high = 0.0;
 };
 
@@ -56,7 +56,6 @@ struct HeldOutEvidence {
 // grouped by operating point (vpp, frequency, load). `seed` fixes the bootstrap.
 [[nodiscard]] HeldOutEvidence compare_held_out(const MeasurementSet& set, const ResidualModel& model,
                                                std::span<const double> r0, std::span<const double> r1,
-                                               std::span<const std::size_t> held_out_slots,
-                                               std::uint64_t seed = 2019);
+                                               std::span<const std::size_t> held_out_slots, std::uint64_t seed = 2019);
 
 }  // namespace swum

@@ -1,8 +1,8 @@
 #include "analysis/identification.h"
 
 #include <algorithm>
-#include <cstdio>
 #include <cmath>
+#include <cstdio>
 #include <memory>
 #include <random>
 
@@ -16,9 +16,8 @@ namespace swum {
 namespace {
 
 constexpr int kP = kNonlinearParameterCount;
-constexpr std::array<NonlinearParameter, kP> kAll = {
-    NonlinearParameter::c111, NonlinearParameter::c1111, NonlinearParameter::e311,
-    NonlinearParameter::e3111};
+constexpr std::array<NonlinearParameter, kP> kAll = {NonlinearParameter::c111, NonlinearParameter::c1111,
+                                                     NonlinearParameter::e311, NonlinearParameter::e3111};
 
 // Everything a residual needs besides the parameter vector (read-only during a solve).
 struct FitContext {
@@ -39,8 +38,8 @@ StatorParameters with_theta(const FitContext& ctx, const double* theta) {
 // (implicit function theorem, harmonic_balance.cpp).
 class AmplitudeResidual final : public ceres::SizedCostFunction<1, kP> {
  public:
-  AmplitudeResidual(const FitContext* ctx, StatorMode mode, double vpp, double frequency_hz,
-                    double measured_um, double normaliser_um)
+  AmplitudeResidual(const FitContext* ctx, StatorMode mode, double vpp, double frequency_hz, double measured_um,
+                    double normaliser_um)
       : ctx_(ctx),
         mode_(mode),
         vpp_(vpp),
@@ -48,17 +47,14 @@ class AmplitudeResidual final : public ceres::SizedCostFunction<1, kP> {
         measured_um_(measured_um),
         normaliser_um_(normaliser_um) {}
 
-  bool Evaluate(double const* const* parameters, double* residuals,
-                double** jacobians) const override {
-    const FreeStatorHarmonicBalance hb(ctx_->constants, with_theta(*ctx_, parameters[0]),
-                                       ctx_->hb_options);
+  bool Evaluate(double const* const* parameters, double* residuals, double** jacobians) const override {
+    const FreeStatorHarmonicBalance hb(ctx_->constants, with_theta(*ctx_, parameters[0]), ctx_->hb_options);
     const auto branch = predicted_branch(hb, mode_, vpp_, frequency_hz_, measured_um_);
     if (!branch) return false;
     residuals[0] = (branch->tip_amplitude_um - measured_um_) / normaliser_um_;
     if (jacobians != nullptr && jacobians[0] != nullptr) {
       for (int p = 0; p < kP; ++p) {
-        jacobians[0][p] =
-            branch->tip_amplitude_sensitivity_um[p] * ctx_->scale[p] / normaliser_um_;
+        jacobians[0][p] = branch->tip_amplitude_sensitivity_um[p] * ctx_->scale[p] / normaliser_um_;
       }
     }
     return std::isfinite(residuals[0]);
@@ -77,8 +73,8 @@ struct Observation {
 
 // Residuals and Jacobian (rows: observations, columns: theta) at theta; false if any point has
 // no harmonic-balance solution.
-bool evaluate_all(const FitContext& ctx, const std::vector<Observation>& obs,
-                  const std::array<double, kP>& theta, Eigen::VectorXd& r, Eigen::MatrixXd& j) {
+bool evaluate_all(const FitContext& ctx, const std::vector<Observation>& obs, const std::array<double, kP>& theta,
+                  Eigen::VectorXd& r, Eigen::MatrixXd& j) {
   r.resize(static_cast<Eigen::Index>(obs.size()));
   j.resize(static_cast<Eigen::Index>(obs.size()), kP);
   for (std::size_t i = 0; i < obs.size(); ++i) {
@@ -101,9 +97,8 @@ struct FitOutcome {
 };
 
 // Multi-start bounded Levenberg-Marquardt over the free parameters (others fixed at start).
-FitOutcome fit(const FitContext& ctx, const std::vector<Observation>& obs,
-               const std::array<bool, kP>& free, const std::array<double, kP>& theta_prior,
-               const IdentificationOptions& options, std::mt19937_64& rng) {
+FitOutcome fit(const FitContext& ctx, const std::vector<Observation>& obs, const std::array<bool, kP>& free,
+               const std::array<double, kP>& theta_prior, const IdentificationOptions& options, std::mt19937_64& rng) {
   FitOutcome best;
   std::vector<int> fixed;
   for (int p = 0; p < kP; ++p) {
@@ -124,8 +119,8 @@ FitOutcome fit(const FitContext& ctx, const std::vector<Observation>& obs,
     }
     ceres::Problem problem;
     for (const Observation& o : obs) {
-      problem.AddResidualBlock(new AmplitudeResidual(&ctx, o.mode, o.vpp, o.frequency_hz,
-                                                     o.measured_um, o.normaliser_um),
+      problem.AddResidualBlock(new AmplitudeResidual(&ctx, o.mode, o.vpp, o.frequency_hz, o.measured_um,
+                                                     o.normaliser_um),
                                nullptr, theta.data());
     }
     for (int p = 0; p < kP; ++p) {
@@ -196,17 +191,15 @@ void set_nonlinear_parameter(StatorParameters& s, NonlinearParameter p, double v
   }
 }
 
-std::optional<ModeBranch> predicted_branch(const FreeStatorHarmonicBalance& hb, StatorMode mode,
-                                           double vpp, double frequency_hz,
-                                           std::optional<double> measured_um) {
+std::optional<ModeBranch> predicted_branch(const FreeStatorHarmonicBalance& hb, StatorMode mode, double vpp,
+                                           double frequency_hz, std::optional<double> measured_um) {
   const ModeResponse r = hb.solve_mode(mode, vpp, frequency_hz);
   const ModeBranch* best = nullptr;
   double best_score = std::numeric_limits<double>::infinity();
   for (int pass = 0; pass < 2 && best == nullptr; ++pass) {  // stable first, then any
     for (const ModeBranch& b : r.branches) {
       if (pass == 0 && !b.stable) continue;
-      const double score =
-          measured_um ? std::abs(b.tip_amplitude_um - *measured_um) : -b.tip_amplitude_um;
+      const double score = measured_um ? std::abs(b.tip_amplitude_um - *measured_um) : -b.tip_amplitude_um;
       if (score < best_score) {
         best_score = score;
         best = &b;
@@ -243,8 +236,7 @@ IdentificationResult identify_nonlinear_parameters(const MotorParameters& prior,
   double max_amplitude[2] = {0.0, 0.0};
   for (const AmplitudeMeasurement& m : data) {
     if (m.tip_normal_um) max_amplitude[0] = std::max(max_amplitude[0], std::abs(*m.tip_normal_um));
-    if (m.tip_tangential_um)
-      max_amplitude[1] = std::max(max_amplitude[1], std::abs(*m.tip_tangential_um));
+    if (m.tip_tangential_um) max_amplitude[1] = std::max(max_amplitude[1], std::abs(*m.tip_tangential_um));
   }
   std::vector<Observation> obs;
   for (const AmplitudeMeasurement& m : data) {
@@ -252,14 +244,12 @@ IdentificationResult identify_nonlinear_parameters(const MotorParameters& prior,
       const std::optional<double>& value = axis == 0 ? m.tip_normal_um : m.tip_tangential_um;
       if (!value) continue;
       const double floor = std::max(options.amplitude_floor_fraction * max_amplitude[axis], 1e-9);
-      obs.push_back({static_cast<StatorMode>(axis), m.vpp, m.frequency_hz, *value,
-                     std::max(std::abs(*value), floor)});
+      obs.push_back({static_cast<StatorMode>(axis), m.vpp, m.frequency_hz, *value, std::max(std::abs(*value), floor)});
     }
   }
   result.residual_count = static_cast<int>(obs.size());
   if (obs.size() < static_cast<std::size_t>(kP)) {
-    result.failure = "need at least " + std::to_string(kP) + " amplitude values, got " +
-                     std::to_string(obs.size());
+    result.failure = "need at least " + std::to_string(kP) + " amplitude values, got " + std::to_string(obs.size());
     return result;
   }
 
@@ -330,18 +320,16 @@ IdentificationResult identify_nonlinear_parameters(const MotorParameters& prior,
       const int p = idx[k];
       ParameterEstimate& e = result.parameters[p];
       e.value = theta[p] * e.scale;
-      e.standard_error = (flat || !std::isfinite(s2))
-                             ? std::numeric_limits<double>::infinity()
-                             : std::sqrt(variance) * e.scale;
+      e.standard_error = (flat || !std::isfinite(s2)) ? std::numeric_limits<double>::infinity()
+                                                      : std::sqrt(variance) * e.scale;
       const double size = std::max(std::abs(e.value), e.scale);
       const double ratio = e.standard_error / size;
       if (ratio >= options.max_relative_standard_error && ratio > worst_ratio) {
         worst = p;
         worst_ratio = ratio;
-        worst_reason = flat ? "flat direction of J^T J (the data do not depend on it)"
-                       : !std::isfinite(s2)
-                           ? "no degrees of freedom left for a standard error"
-                           : "standard error too large for its size";
+        worst_reason = flat                 ? "flat direction of J^T J (the data do not depend on it)"
+                       : !std::isfinite(s2) ? "no degrees of freedom left for a standard error"
+                                            : "standard error too large for its size";
       }
     }
     if (worst < 0) break;
@@ -406,8 +394,7 @@ IdentificationResult identify_nonlinear_parameters(const MotorParameters& prior,
       }
     }
     if (m.tip_tangential_um) {
-      if (auto b = predicted_branch(hb, StatorMode::b2, m.vpp, m.frequency_hz,
-                                    m.tip_tangential_um)) {
+      if (auto b = predicted_branch(hb, StatorMode::b2, m.vpp, m.frequency_hz, m.tip_tangential_um)) {
         pp.predicted_tangential_um = b->tip_amplitude_um;
         sum2[1] += std::pow(b->tip_amplitude_um - *m.tip_tangential_um, 2);
         ++count[1];

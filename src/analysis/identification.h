@@ -21,10 +21,10 @@
 namespace swum {
 
 struct IdentificationOptions {
-  int starts = 6;               // prior, zero (linear model), then seeded random starts
+  int starts = 6;  // prior, zero (linear model), then seeded random starts
   std::uint64_t seed = 20190475;
-  double start_spread = 3.0;    // random starts uniform in +-spread * scale
-  double bound_factor = 10.0;   // bounds |p| <= bound_factor * scale (scale: see below)
+  double start_spread = 3.0;   // random starts uniform in +-spread * scale
+  double bound_factor = 10.0;  // bounds |p| <= bound_factor * scale (scale: see below)
   // A direction of J^T J (parameters in units of their scale) whose eigenvalue is below this
   // fraction of the largest is flat: the parameters along it are not identifiable.
   double flat_eigenvalue_ratio = 1e-8;
@@ -70,8 +70,7 @@ struct IdentificationResult {
   // Eigenvalues of J^T J for all four parameters in units of their scale at the final
   // parameters, ascending, and the matching eigenvectors (columns): the flat directions.
   std::array<double, kNonlinearParameterCount> information_eigenvalues{};
-  std::array<std::array<double, kNonlinearParameterCount>, kNonlinearParameterCount>
-      information_eigenvectors{};
+  std::array<std::array<double, kNonlinearParameterCount>, kNonlinearParameterCount> information_eigenvectors{};
   int starts_run = 0;  // least-squares solves in total (all rounds)
   int rounds = 0;      // fits (one more after each parameter fixed at its prior)
 };
@@ -82,14 +81,13 @@ void set_nonlinear_parameter(StatorParameters& s, NonlinearParameter p, double v
 
 // Tip amplitude of `mode` on the stable branch nearest to `measured_um` (the largest stable
 // branch without a measurement); nullopt if the harmonic balance finds no branch.
-[[nodiscard]] std::optional<ModeBranch> predicted_branch(const FreeStatorHarmonicBalance& hb,
-                                                         StatorMode mode, double vpp,
-                                                         double frequency_hz,
+[[nodiscard]] std::optional<ModeBranch> predicted_branch(const FreeStatorHarmonicBalance& hb, StatorMode mode,
+                                                         double vpp, double frequency_hz,
                                                          std::optional<double> measured_um);
 
 // Needs at least kNonlinearParameterCount amplitude values (ok = false otherwise).
-[[nodiscard]] IdentificationResult identify_nonlinear_parameters(
-    const MotorParameters& prior, std::span<const AmplitudeMeasurement> data,
-    const IdentificationOptions& options = {});
+[[nodiscard]] IdentificationResult identify_nonlinear_parameters(const MotorParameters& prior,
+                                                                 std::span<const AmplitudeMeasurement> data,
+                                                                 const IdentificationOptions& options = {});
 
 }  // namespace swum

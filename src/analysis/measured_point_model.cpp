@@ -3,9 +3,9 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
-#include <optional>
 #include <memory>
 #include <numeric>
+#include <optional>
 
 #include "model/motor_model.h"
 
@@ -19,10 +19,8 @@ struct SlowState {
 
 // Slow states at each point from the previous pass: integrate the session in time order with
 // each point's power and speed held until the next point.
-std::vector<SlowState> session_history(const EffectCoefficients& e,
-                                       std::span<const Measurement> points,
-                                       std::span<const std::size_t> order,
-                                       const Predictions& previous) {
+std::vector<SlowState> session_history(const EffectCoefficients& e, std::span<const Measurement> points,
+                                       std::span<const std::size_t> order, const Predictions& previous) {
   std::vector<SlowState> states(points.size());
   SlowState s;
   double time_s = 0.0;
@@ -74,8 +72,7 @@ std::vector<std::vector<std::size_t>> prediction_chains(std::span<const Measurem
 }
 
 std::vector<Predictions> predict_points(std::span<const MotorParameters> parameters,
-                                        std::span<const Measurement> points,
-                                        const PredictionOptions& options,
+                                        std::span<const Measurement> points, const PredictionOptions& options,
                                         const ParallelFor& parallel) {
   const std::size_t n = points.size();
   std::vector<std::unique_ptr<MotorModel>> models;
@@ -85,8 +82,7 @@ std::vector<Predictions> predict_points(std::span<const MotorParameters> paramet
   const std::vector<std::size_t> order = session_order(points);
   // Longest chains first, so the last task to start is a short one.
   std::vector<std::vector<std::size_t>> chains = prediction_chains(points);
-  std::stable_sort(chains.begin(), chains.end(),
-                   [](const auto& a, const auto& b) { return a.size() > b.size(); });
+  std::stable_sort(chains.begin(), chains.end(), [](const auto& a, const auto& b) { return a.size() > b.size(); });
   const std::size_t chain_count = chains.size();
   std::vector<Predictions> out(models.size(), Predictions(n));
   std::vector<std::vector<SlowState>> slow(models.size(), std::vector<SlowState>(n));

@@ -50,7 +50,7 @@ struct PredictionOptions {
 };
 
 struct PredictedPoint {
-  bool ok = false;  // false: the simulation diverged (values meaningless)
+  bool ok = false;                              // false: the simulation diverged (values meaningless)
   std::array<double, kQuantityCount> values{};  // speed_mm_s, tip_normal_um, tip_tangential_um
   double damping_power_w = 0.0;
   double stator_temperature_rise_k = 0.0;  // slow states used at this point
@@ -64,8 +64,7 @@ using Predictions = std::vector<PredictedPoint>;
 // Predictions of every point for each parameter set (one batch keeps both cores busy).
 [[nodiscard]] std::vector<Predictions> predict_points(std::span<const MotorParameters> models,
                                                       std::span<const Measurement> points,
-                                                      const PredictionOptions& options,
-                                                      const ParallelFor& parallel);
+                                                      const PredictionOptions& options, const ParallelFor& parallel);
 
 // The runs a prediction makes, in session order: each sweep (rows sharing a `sweep` id) is one
 // chain whose points start from the state the previous point left; every other row is a chain

@@ -15,8 +15,7 @@ namespace {
 // Column identifiers: the three operating-point columns, time, then the quantities.
 enum Column : int { kVpp, kFrequency, kLoad, kTime, kSpeed, kNormal, kTangential, kSweep, kColumnCount };
 constexpr std::array<std::string_view, kColumnCount> kNames{
-    "vpp", "frequency_hz", "load_n", "time_s", "speed_mm_s", "tip_normal_um", "tip_tangential_um",
-    "sweep"};
+    "vpp", "frequency_hz", "load_n", "time_s", "speed_mm_s", "tip_normal_um", "tip_tangential_um", "sweep"};
 struct PlausibleRange {
   double max_abs;
   const char* text;
@@ -48,8 +47,7 @@ class Reader {
     throw MeasurementError(message + ": " + what);
   }
 
-  std::optional<double> number(std::string_view cell, int line, int column,
-                               std::string_view name) const {
+  std::optional<double> number(std::string_view cell, int line, int column, std::string_view name) const {
     if (cell.empty()) return std::nullopt;
     double value = 0.0;
     if (const char* problem = parse_number_cell(cell, value)) {
@@ -100,8 +98,8 @@ constexpr std::string_view kDeviceTime = "device_time_s";  // `swum log`: the de
 // Status words of `swum sweep` (host/output/sweep_table.h): rows with these are used ...
 constexpr std::array<std::string_view, 2> kUsedStatuses{"ok", "unsettled"};
 // ... rows with these (or fault_<n>) failed or were not measured: left out and counted.
-constexpr std::array<std::string_view, 5> kLeftOutStatuses{"diverged", "fault_numerical",
-                                                           "fault_command_timeout", "timeout", "no_drive"};
+constexpr std::array<std::string_view, 5> kLeftOutStatuses{"diverged", "fault_numerical", "fault_command_timeout",
+                                                           "timeout", "no_drive"};
 constexpr double kPhaseToleranceDeg = 0.5;  // predictions are made at 90 deg
 
 template <std::size_t N>
@@ -156,13 +154,13 @@ MeasurementSet parse_csv(std::string_view text, std::string_view source, bool ne
   bool have_header = false;
   MeasurementSet set;
   int line_number = 0;
-  int stretch = -1;           // sweep id of a log's current running stretch
+  int stretch = -1;  // sweep id of a log's current running stretch
   bool in_stretch = false;
   std::size_t start = 0;
   while (start <= text.size()) {
     const std::size_t newline = text.find('\n', start);
-    const std::string_view raw = text.substr(
-        start, newline == std::string_view::npos ? std::string_view::npos : newline - start);
+    const std::string_view raw = text.substr(start, newline == std::string_view::npos ? std::string_view::npos
+                                                                                      : newline - start);
     start = newline == std::string_view::npos ? text.size() + 1 : newline + 1;
     ++line_number;
     const std::string_view line = trim_cell(raw);
@@ -209,16 +207,17 @@ MeasurementSet parse_csv(std::string_view text, std::string_view source, bool ne
       }
       for (int k : {kVpp, kFrequency, kLoad}) {
         if (index[static_cast<std::size_t>(k)] < 0) {
-          reader.fail(line_number, n + 1, "missing column " + std::string(kNames[static_cast<std::size_t>(k)]) +
-                                              " (required: vpp, frequency_hz, load_n)");
+          reader.fail(line_number, n + 1,
+                      "missing column " + std::string(kNames[static_cast<std::size_t>(k)]) +
+                          " (required: vpp, frequency_hz, load_n)");
         }
       }
       for (Quantity q : kQuantities) {
-        set.has_quantity[static_cast<std::size_t>(q)] = index[static_cast<std::size_t>(kSpeed) + static_cast<std::size_t>(q)] >= 0;
+        set.has_quantity[static_cast<std::size_t>(q)] =
+            index[static_cast<std::size_t>(kSpeed) + static_cast<std::size_t>(q)] >= 0;
       }
       if (need_values && !set.has_quantity[0] && !set.has_quantity[1] && !set.has_quantity[2]) {
-        reader.fail(line_number, n + 1,
-                    "no measured quantity: add speed_mm_s, tip_normal_um or tip_tangential_um");
+        reader.fail(line_number, n + 1, "no measured quantity: add speed_mm_s, tip_normal_um or tip_tangential_um");
       }
       set.has_time = index[kTime] >= 0;
       set.sweeps_from_state = index[kSweep] < 0 && control_index(Control::state) >= 0;
@@ -227,15 +226,15 @@ MeasurementSet parse_csv(std::string_view text, std::string_view source, bool ne
     }
     if (cells.size() != header_cells) {
       reader.fail(line_number, static_cast<int>(std::min(cells.size(), header_cells)) + 1,
-                  "expected " + std::to_string(header_cells) + " cells, found " +
-                      std::to_string(cells.size()));
+                  "expected " + std::to_string(header_cells) + " cells, found " + std::to_string(cells.size()));
     }
     // A required cell that must hold a whole number (state, fault_code).
     auto whole_number = [&](int c, std::string_view name) {
       const auto value = reader.number(cells[static_cast<std::size_t>(c)], line_number, c + 1, name);
       if (!value) reader.fail(line_number, c + 1, "column " + std::string(name) + " is empty");
       if (*value != std::floor(*value) || std::abs(*value) > 1e9) {
-        reader.fail(line_number, c + 1, "column " + std::string(name) + ": " + format_cell(*value) + " is not a whole number");
+        reader.fail(line_number, c + 1,
+                    "column " + std::string(name) + ": " + format_cell(*value) + " is not a whole number");
       }
       return static_cast<int>(*value);
     };
@@ -247,20 +246,23 @@ MeasurementSet parse_csv(std::string_view text, std::string_view source, bool ne
       if (one_of(kLeftOutStatuses, word) || is_numbered_fault(word)) {
         reason = std::string(word);
       } else if (!one_of(kUsedStatuses, word)) {
-        reader.fail(line_number, c + 1, "column status: unknown status '" + printable_cell(word) +
-                                            "' (known: ok, unsettled, diverged, fault_numerical, "
-                                            "fault_command_timeout, fault_<n>, timeout, no_drive)");
+        reader.fail(line_number, c + 1,
+                    "column status: unknown status '" + printable_cell(word) +
+                        "' (known: ok, unsettled, diverged, fault_numerical, "
+                        "fault_command_timeout, fault_<n>, timeout, no_drive)");
       }
     }
     if (const int c = control_index(Control::state); c >= 0) {
       const int state = whole_number(c, "state");
       if (state < 0 || state > 2) {
-        reader.fail(line_number, c + 1, "column state: " + std::to_string(state) +
-                                            " is not a drive state (0 disabled, 1 running, 2 fault)");
+        reader.fail(line_number, c + 1,
+                    "column state: " + std::to_string(state) +
+                        " is not a drive state (0 disabled, 1 running, 2 fault)");
       }
       const int fault_column = control_index(Control::fault_code);
       if (reason.empty() && state == 0) reason = "drive_off";
-      if (reason.empty() && state == 2) reason = fault_column >= 0 ? fault_reason(whole_number(fault_column, "fault_code")) : "fault";
+      if (reason.empty() && state == 2)
+        reason = fault_column >= 0 ? fault_reason(whole_number(fault_column, "fault_code")) : "fault";
     }
     std::array<std::optional<double>, kColumnCount> v;
     for (int k = 0; k < kColumnCount; ++k) {

@@ -28,8 +28,8 @@ class MeasurementError : public std::runtime_error {
 // The measured quantities, in column order.
 enum class Quantity { speed, tip_normal, tip_tangential };
 inline constexpr std::size_t kQuantityCount = 3;
-inline constexpr std::array<Quantity, kQuantityCount> kQuantities{
-    Quantity::speed, Quantity::tip_normal, Quantity::tip_tangential};
+inline constexpr std::array<Quantity, kQuantityCount> kQuantities{Quantity::speed, Quantity::tip_normal,
+                                                                  Quantity::tip_tangential};
 
 [[nodiscard]] std::string_view quantity_column(Quantity q);  // "speed_mm_s", ...
 [[nodiscard]] std::string_view quantity_label(Quantity q);   // "speed (mm/s)", ...
@@ -50,9 +50,7 @@ struct Measurement {
   std::array<std::optional<double>, kQuantityCount> values{};  // by Quantity
   int source_line = 0;
 
-  [[nodiscard]] const std::optional<double>& value(Quantity q) const {
-    return values[static_cast<std::size_t>(q)];
-  }
+  [[nodiscard]] const std::optional<double>& value(Quantity q) const { return values[static_cast<std::size_t>(q)]; }
 };
 
 struct MeasurementSet {
@@ -62,11 +60,11 @@ struct MeasurementSet {
   bool has_sweep = false;                           // the sweep column exists
 
   // What the parser read past, so a command can say so in one line (measurement_note):
-  std::vector<std::string> ignored_columns;     // informational columns, never read
-  int skipped_rows = 0;                         // rows left out of `rows` ...
+  std::vector<std::string> ignored_columns;      // informational columns, never read
+  int skipped_rows = 0;                          // rows left out of `rows` ...
   std::map<std::string, int> skipped_by_reason;  // ... by reason (a status word, "drive_off", ...)
-  std::string time_column;                      // the column time_s came from, if any
-  bool sweeps_from_state = false;               // sweep ids = running stretches of a log
+  std::string time_column;                       // the column time_s came from, if any
+  bool sweeps_from_state = false;                // sweep ids = running stretches of a log
 };
 
 // Parses `text` (named `source_name` in errors). Header required (any column order; '#'
@@ -87,11 +85,9 @@ struct MeasurementSet {
 // ("phase_not_90_deg": predictions are made at 90 deg). Without a `sweep` column, a file with
 // a `state` column (a log) gets sweep ids: each stretch of consecutive rows used is one sweep.
 inline constexpr std::array<std::string_view, 7> kInformationalColumns{
-    "speed_spread_mm_s", "host_time_s",     "position_mm", "last_reject",
-    "lateness_p99_us",   "lateness_max_us", "overruns"};
+    "speed_spread_mm_s", "host_time_s", "position_mm", "last_reject", "lateness_p99_us", "lateness_max_us", "overruns"};
 
-[[nodiscard]] MeasurementSet parse_measurements_csv(std::string_view text,
-                                                    std::string_view source_name);
+[[nodiscard]] MeasurementSet parse_measurements_csv(std::string_view text, std::string_view source_name);
 
 // One line for the user about what was read past ("note: ignored columns a, b; 3 rows left out
 // (2 fault_numerical, 1 timeout)"), or "" when the whole file was used as it is.
@@ -102,8 +98,7 @@ inline constexpr std::array<std::string_view, 7> kInformationalColumns{
 
 // Operating points only (the input of `swum synth`): the same rules, but quantity columns are
 // optional and ignored.
-[[nodiscard]] MeasurementSet parse_operating_points_csv(std::string_view text,
-                                                        std::string_view source_name);
+[[nodiscard]] MeasurementSet parse_operating_points_csv(std::string_view text, std::string_view source_name);
 
 // The same layout (columns present in `set`; %.10g), for writing data.
 [[nodiscard]] std::string format_measurements_csv(const MeasurementSet& set);

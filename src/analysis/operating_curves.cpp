@@ -23,8 +23,7 @@ std::vector<double> evenly_spaced(double start, double stop, double step) {
 
 namespace {
 
-SpeedPeak best_of(const MotorModel& model, double vpp, const std::vector<double>& frequencies,
-                  double load_n) {
+SpeedPeak best_of(const MotorModel& model, double vpp, const std::vector<double>& frequencies, double load_n) {
   SpeedPeak peak;
   for (double f : frequencies) {
     OperatingPoint p;
@@ -40,8 +39,8 @@ SpeedPeak best_of(const MotorModel& model, double vpp, const std::vector<double>
 
 }  // namespace
 
-SpeedPeak frequency_of_max_speed(const MotorModel& model, double vpp, double start_hz,
-                                 double stop_hz, double step_hz, double load_n) {
+SpeedPeak frequency_of_max_speed(const MotorModel& model, double vpp, double start_hz, double stop_hz, double step_hz,
+                                 double load_n) {
   std::vector<double> descending = evenly_spaced(start_hz, stop_hz, step_hz);
   std::reverse(descending.begin(), descending.end());
   SpeedPeak coarse;

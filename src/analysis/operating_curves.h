@@ -17,8 +17,7 @@ struct CurvePoint {
 };
 
 /// One run per point, in order.
-[[nodiscard]] std::vector<CurvePoint> run_points(const MotorModel& model,
-                                                 const std::vector<OperatingPoint>& points);
+[[nodiscard]] std::vector<CurvePoint> run_points(const MotorModel& model, const std::vector<OperatingPoint>& points);
 
 /// Evenly spaced values start, start+step, ..., stop (inclusive within step/1e6).
 [[nodiscard]] std::vector<double> evenly_spaced(double start, double stop, double step);
@@ -35,8 +34,7 @@ struct SpeedPeak {
 /// softening resonance jumps down there), then refined on a grid of step/4 within one
 /// coarse step either side. Lobes below the collapse (a second regime under the stator
 /// resonance, not reported by the paper) are not part of that resonance and are ignored.
-[[nodiscard]] SpeedPeak frequency_of_max_speed(const MotorModel& model, double vpp,
-                                               double start_hz, double stop_hz, double step_hz,
-                                               double load_n = 0.0);
+[[nodiscard]] SpeedPeak frequency_of_max_speed(const MotorModel& model, double vpp, double start_hz, double stop_hz,
+                                               double step_hz, double load_n = 0.0);
 
 }  // namespace swum

@@ -35,7 +35,11 @@ PickResult pick_operating_point(std::vector<CurveSample> samples, const PickOpti
     const bool ok = x.ok && std::isfinite(x.speed_mm_s);
     if (!s.empty() && std::abs(s.back().frequency_hz - x.frequency_hz) < 1e-6) {
       if (!ok) continue;
-      if (!s.back().ok) { s.back() = x; counts.back() = 1; continue; }
+      if (!s.back().ok) {
+        s.back() = x;
+        counts.back() = 1;
+        continue;
+      }
       const int k = ++counts.back();
       s.back().speed_mm_s += (x.speed_mm_s - s.back().speed_mm_s) / k;
       s.back().spread_mm_s = std::max(s.back().spread_mm_s, x.spread_mm_s);
@@ -57,7 +61,8 @@ PickResult pick_operating_point(std::vector<CurveSample> samples, const PickOpti
     }
   }
   for (int i = 0; i < n && !r.naive_speed_mm_s; ++i) {
-    if (s[i].ok && std::abs(s[i].frequency_hz - options.naive_frequency_hz) < 1e-6) r.naive_speed_mm_s = s[i].speed_mm_s;
+    if (s[i].ok && std::abs(s[i].frequency_hz - options.naive_frequency_hz) < 1e-6)
+      r.naive_speed_mm_s = s[i].speed_mm_s;
   }
 
   if (n < 4) return undecided(r, "too few points (" + std::to_string(n) + "; need at least 4)");
@@ -69,8 +74,8 @@ PickResult pick_operating_point(std::vector<CurveSample> samples, const PickOpti
   int peak = -1;
   int lowest = n - 1;  // lowest index of the walked branch
   for (int i = n - 1; i >= 0; --i) {
-    const bool collapsed = !s[i].ok || (peak >= 0 && s[peak].speed_mm_s > 0.0 &&
-                                        s[i].speed_mm_s < 0.5 * s[peak].speed_mm_s);
+    const bool collapsed = !s[i].ok ||
+                           (peak >= 0 && s[peak].speed_mm_s > 0.0 && s[i].speed_mm_s < 0.5 * s[peak].speed_mm_s);
     if (collapsed) {
       r.collapse_hz = s[i].frequency_hz;
       break;

@@ -16,18 +16,18 @@ struct CurveSample {
 };
 
 struct PickOptions {
-  double min_margin_hz = 0.0;        // user's floor for the high-side margin
+  double min_margin_hz = 0.0;  // user's floor for the high-side margin
   double naive_frequency_hz = 40400.0;
 };
 
 struct PickResult {
   bool decided = false;
-  std::string reason;                // why this frequency, or why undecided
-  double frequency_hz = 0.0;         // recommended (a measured grid point)
-  double speed_mm_s = 0.0;           // measured speed there
-  double peak_frequency_hz = 0.0;    // highest speed on the branch reached from above
+  std::string reason;              // why this frequency, or why undecided
+  double frequency_hz = 0.0;       // recommended (a measured grid point)
+  double speed_mm_s = 0.0;         // measured speed there
+  double peak_frequency_hz = 0.0;  // highest speed on the branch reached from above
   double peak_speed_mm_s = 0.0;
-  double margin_hz = 0.0;            // frequency - peak >= margin
+  double margin_hz = 0.0;  // frequency - peak >= margin
   double grid_step_hz = 0.0;
   double noise_mm_s = 0.0;
   std::optional<double> collapse_hz;       // first point below the peak that collapsed

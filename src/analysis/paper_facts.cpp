@@ -28,8 +28,7 @@ FactResult PaperFacts::natural_frequencies() const {
   const ModalConstants& c = nonlinear_.constants();
   FactResult r{"E1 natural frequencies", "stator L1 / B2 natural frequencies", "39516 / 39469 Hz",
                format_numbers("%.1f / %.1f Hz", c.f_l1_hz, c.f_b2_hz), false};
-  r.holds = std::abs(c.f_l1_hz - 39516.0) <= 0.002 * 39516.0 &&
-            std::abs(c.f_b2_hz - 39469.0) <= 0.002 * 39469.0;
+  r.holds = std::abs(c.f_l1_hz - 39516.0) <= 0.002 * 39516.0 && std::abs(c.f_b2_hz - 39469.0) <= 0.002 * 39469.0;
   return r;
 }
 
@@ -39,12 +38,11 @@ FactResult PaperFacts::dead_zone() {
   const double v25 = speed_mm_s(nonlinear_, 25, 40000), v40 = speed_mm_s(nonlinear_, 40, 40000);
   const double v75 = speed_mm_s(nonlinear_, 75, 40000), v100 = speed_mm_s(nonlinear_, 100, 40000);
   const double v150 = speed_mm_s(nonlinear_, 150, 40000), v200 = speed_mm_s(nonlinear_, 200, 40000);
-  FactResult r{"E8 dead zone", "no-load speed at 40 kHz ~0 below ~50 Vpp, rising above",
-               "dead zone below ~50 Vpp", "", false};
+  FactResult r{"E8 dead zone", "no-load speed at 40 kHz ~0 below ~50 Vpp, rising above", "dead zone below ~50 Vpp", "",
+               false};
   r.model_value = format_numbers("%.1f / %.1f / %.1f / %.1f mm/s", v25, v40, v75, v100) +
                   format_numbers(" / %.1f / %.1f mm/s at 25/40/75/100/150/200 Vpp", v150, v200);
-  r.holds = std::abs(v25) < 1.0 && std::abs(v40) < 1.0 && v75 > 2.0 && v100 > v75 && v150 > v100 &&
-            v200 > v150;
+  r.holds = std::abs(v25) < 1.0 && std::abs(v40) < 1.0 && v75 > 2.0 && v100 > v75 && v150 > v100 && v200 > v150;
   return r;
 }
 
@@ -56,8 +54,7 @@ FactResult PaperFacts::saturation() {
   };
   const auto [low_nl, high_nl] = gains(nonlinear_);
   const auto [low_lin, high_lin] = gains(linear_);
-  FactResult r{"E8 saturation",
-               "at 40 kHz speed saturates above ~250 Vpp; the linear model does not",
+  FactResult r{"E8 saturation", "at 40 kHz speed saturates above ~250 Vpp; the linear model does not",
                "gain 300->400 Vpp < 1/2 gain 100->200 Vpp (non-linear only)", "", false};
   r.model_value = format_numbers("non-linear gains %.1f -> %.1f mm/s (ratio %.2f); ", low_nl, high_nl,
                                  high_nl / low_nl) +
@@ -90,8 +87,7 @@ FactResult PaperFacts::drift() {
                                  p400.frequency_hz / 1000) +
                   format_numbers(" (drift %.0f Hz); linear drift %.0f Hz", nl_drift, lin_drift);
   r.holds = p100.found && p250.found && p400.found && l100.found && l400.found &&
-            p100.frequency_hz >= p250.frequency_hz && p250.frequency_hz > p400.frequency_hz &&
-            lin_drift < nl_drift;
+            p100.frequency_hz >= p250.frequency_hz && p250.frequency_hz > p400.frequency_hz && lin_drift < nl_drift;
   return r;
 }
 
@@ -110,10 +106,14 @@ FactResult PaperFacts::load_advantage(double vpp, double aware_hz) {
 }
 
 std::vector<FactResult> PaperFacts::all() {
-  return {natural_frequencies(),       dead_zone(),
-          saturation(),                peak_frequency(100, 40400),
-          peak_frequency(250, 40200),  peak_frequency(400, 39600),
-          drift(),                     load_advantage(300, 40060),
+  return {natural_frequencies(),
+          dead_zone(),
+          saturation(),
+          peak_frequency(100, 40400),
+          peak_frequency(250, 40200),
+          peak_frequency(400, 39600),
+          drift(),
+          load_advantage(300, 40060),
           load_advantage(400, 39600)};
 }
 
@@ -126,10 +126,9 @@ FactResult literal_reading_cross_check(const MotorModel& literal) {
   const SpeedPeak p250 = facts.peak(literal, 250), p400 = facts.peak(literal, 400);
   r.model_value = format_numbers("%.2f / %.2f / %.2f mm/s at 50/100/200 Vpp; ", v50, v100, v200) +
                   format_numbers("peak %.3f kHz (%.1f mm/s) at 250, %.3f kHz (%.1f mm/s) at 400 Vpp",
-                                 p250.frequency_hz / 1000, p250.speed_mm_s, p400.frequency_hz / 1000,
-                                 p400.speed_mm_s);
-  r.holds = std::abs(v50) < 1.0 && std::abs(v100) < 1.0 && std::abs(v200) < 1.0 && p250.found &&
-            p400.found && p400.frequency_hz <= p250.frequency_hz;
+                                 p250.frequency_hz / 1000, p250.speed_mm_s, p400.frequency_hz / 1000, p400.speed_mm_s);
+  r.holds = std::abs(v50) < 1.0 && std::abs(v100) < 1.0 && std::abs(v200) < 1.0 && p250.found && p400.found &&
+            p400.frequency_hz <= p250.frequency_hz;
   return r;
 }
 

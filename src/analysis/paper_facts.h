@@ -15,8 +15,8 @@
 namespace swum {
 
 struct FactResult {
-  std::string id;           // e.g. "E8 dead zone"
-  std::string statement;    // what the paper reports
+  std::string id;         // e.g. "E8 dead zone"
+  std::string statement;  // what the paper reports
   std::string paper_value;
   std::string model_value;  // the model's numbers behind the verdict
   bool holds = false;
@@ -28,12 +28,12 @@ class PaperFacts {
   // this object.
   PaperFacts(const MotorModel& nonlinear, const MotorModel& linear);
 
-  FactResult natural_frequencies() const;                      // E1, within 0.2 %
-  FactResult dead_zone();                                      // E8, 40 kHz
-  FactResult saturation();                                     // E8, NL saturates, linear not
-  FactResult peak_frequency(double vpp, double paper_hz);      // E10, within ±200 Hz
-  FactResult drift();                                          // E10/E11
-  FactResult load_advantage(double vpp, double aware_hz);      // E12 vs 40.4 kHz, 1-3 N
+  FactResult natural_frequencies() const;                  // E1, within 0.2 %
+  FactResult dead_zone();                                  // E8, 40 kHz
+  FactResult saturation();                                 // E8, NL saturates, linear not
+  FactResult peak_frequency(double vpp, double paper_hz);  // E10, within ±200 Hz
+  FactResult drift();                                      // E10/E11
+  FactResult load_advantage(double vpp, double aware_hz);  // E12 vs 40.4 kHz, 1-3 N
   std::vector<FactResult> all();
 
   // Frequency of maximum no-load speed (39-41 kHz, 100 Hz grid refined to 25 Hz), memoised.

@@ -44,8 +44,7 @@ struct WindowStats {
     r.mean_friction_force_n = ft_sum / T;
     r.mean_normal_force_n = fn_sum / T;
     r.damping_power_w = power_sum / T;
-    r.friction_force_std_n =
-        std::sqrt(std::max(0.0, ft2_sum / T - r.mean_friction_force_n * r.mean_friction_force_n));
+    r.friction_force_std_n = std::sqrt(std::max(0.0, ft2_sum / T - r.mean_friction_force_n * r.mean_friction_force_n));
   }
 };
 
@@ -66,8 +65,8 @@ SteadyStateResult window_loop(const SteadyStateOptions& opt, Run&& run, Position
     ++r.windows;
     if (!std::isnan(previous_speed)) {
       r.speed_change_mm_s = r.speed_mm_s - previous_speed;
-      const double tolerance =
-          std::max(opt.speed_tolerance_mm_s, opt.speed_relative_tolerance * std::abs(r.speed_mm_s));
+      const double tolerance = std::max(opt.speed_tolerance_mm_s,
+                                        opt.speed_relative_tolerance * std::abs(r.speed_mm_s));
       if (std::abs(r.speed_change_mm_s) <= tolerance) {
         r.ok = true;
         return r;
@@ -76,8 +75,7 @@ SteadyStateResult window_loop(const SteadyStateOptions& opt, Run&& run, Position
     previous_speed = r.speed_mm_s;
     if (elapsed + opt.window_s > opt.max_s + 1e-12) {
       r.failure = std::string("did not settle within ") + std::to_string(opt.max_s) +
-                  " s: last two windows differ by " + std::to_string(r.speed_change_mm_s) +
-                  " mm/s";
+                  " s: last two windows differ by " + std::to_string(r.speed_change_mm_s) + " mm/s";
       return r;
     }
   }
@@ -98,8 +96,7 @@ SteadyStateResult run_to_steady_state(const MotorModel& model, const OperatingPo
   sim.set_slow_states(point.stator_temperature_rise_k, point.sliding_distance_m, point.freeze_slow_states);
   const double dt = sim.time_step_s();
   const double g_tv = model.coefficients().g_tv;
-  const double damping_factor =
-      thermal_factors(model.coefficients().effects, point.stator_temperature_rise_k).damping;
+  const double damping_factor = thermal_factors(model.coefficients().effects, point.stator_temperature_rise_k).damping;
   const double c1 = model.coefficients().c1_n_s_m * damping_factor;
   const double c2 = model.coefficients().c2_n_s_m * damping_factor;
   std::uint64_t total_steps = 0;
@@ -116,9 +113,8 @@ SteadyStateResult run_to_steady_state(const MotorModel& model, const OperatingPo
                c1 * s.q1_dot_m_s * s.q1_dot_m_s + c2 * s.q2_dot_m_s * s.q2_dot_m_s);
       }
       if (opt.trace && opt.trace_every_steps > 0 && total_steps % opt.trace_every_steps == 0) {
-        opt.trace(TraceSample{s.time_s, s.q1_m, s.q1_dot_m_s, s.q2_m, s.q2_dot_m_s,
-                              -1e6 * s.q1_m, 1e6 * g_tv * s.q2_m, f.normal_n, f.friction_n,
-                              s.mover_position_m, s.mover_velocity_m_s});
+        opt.trace(TraceSample{s.time_s, s.q1_m, s.q1_dot_m_s, s.q2_m, s.q2_dot_m_s, -1e6 * s.q1_m, 1e6 * g_tv * s.q2_m,
+                              f.normal_n, f.friction_n, s.mover_position_m, s.mover_velocity_m_s});
       }
     }
     r.steps = total_steps;
@@ -126,8 +122,8 @@ SteadyStateResult run_to_steady_state(const MotorModel& model, const OperatingPo
     if (sim.diverged()) {
       r.diverged = true;
       r.ok = false;
-      r.failure = std::string("diverged (non-finite or runaway state) at t = ") +
-                  std::to_string(sim.state().time_s) + " s";
+      r.failure = std::string("diverged (non-finite or runaway state) at t = ") + std::to_string(sim.state().time_s) +
+                  " s";
       return false;
     }
     return true;
@@ -137,8 +133,7 @@ SteadyStateResult run_to_steady_state(const MotorModel& model, const OperatingPo
   return result;
 }
 
-SteadyStateResult run_to_steady_state_reference(const MotorModel& model,
-                                                const OperatingPoint& point,
+SteadyStateResult run_to_steady_state_reference(const MotorModel& model, const OperatingPoint& point,
                                                 const SteadyStateOptions& opt) {
   DriveInput drive;
   drive.vpp = point.vpp;
@@ -166,8 +161,8 @@ SteadyStateResult run_to_steady_state_reference(const MotorModel& model,
       if (w != nullptr) w->add(tn - t_prev, -xn[0], g_tv * xn[2], f.normal_n, f.friction_n);
       t_prev = tn;
       if (opt.trace && opt.trace_every_steps > 0 && accepted % opt.trace_every_steps == 0) {
-        opt.trace(TraceSample{tn, xn[0], xn[1], xn[2], xn[3], -1e6 * xn[0], 1e6 * g_tv * xn[2],
-                              f.normal_n, f.friction_n, xn[4], xn[5]});
+        opt.trace(TraceSample{tn, xn[0], xn[1], xn[2], xn[3], -1e6 * xn[0], 1e6 * g_tv * xn[2], f.normal_n,
+                              f.friction_n, xn[4], xn[5]});
       }
     };
     const auto stats = integrate_dormand_prince(ode, t, t + duration_s, x, dp, observer);

@@ -39,9 +39,9 @@ struct TraceSample {
 };
 
 struct SteadyStateOptions {
-  double settle_s = 0.030;   // discarded transient (speed settles with tau ~ 5-10 ms)
-  double window_s = 0.010;   // averaging window
-  double max_s = 0.100;      // give up (ok = false, values of the last window) after this
+  double settle_s = 0.030;  // discarded transient (speed settles with tau ~ 5-10 ms)
+  double window_s = 0.010;  // averaging window
+  double max_s = 0.100;     // give up (ok = false, values of the last window) after this
   // Two consecutive windows agree when |speed_k - speed_k-1| <= max(abs, rel |speed_k|).
   double speed_tolerance_mm_s = 0.5;
   double speed_relative_tolerance = 0.005;
@@ -54,32 +54,31 @@ struct SteadyStateOptions {
 };
 
 struct SteadyStateResult {
-  bool ok = false;        // settled and did not diverge
-  bool diverged = false;  // NaN guard tripped (values meaningless)
-  std::string failure;    // why not ok
-  double speed_mm_s = 0.0;          // mean mover speed over the last window (dx_m / T)
-  double tip_normal_um = 0.0;       // (max - min)/2 of u_tip = -q1 over the last window
-  double tip_tangential_um = 0.0;   // (max - min)/2 of w_tip = gTv q2
-  double contact_fraction = 0.0;    // fraction of time with F_N > 0
+  bool ok = false;                     // settled and did not diverge
+  bool diverged = false;               // NaN guard tripped (values meaningless)
+  std::string failure;                 // why not ok
+  double speed_mm_s = 0.0;             // mean mover speed over the last window (dx_m / T)
+  double tip_normal_um = 0.0;          // (max - min)/2 of u_tip = -q1 over the last window
+  double tip_tangential_um = 0.0;      // (max - min)/2 of w_tip = gTv q2
+  double contact_fraction = 0.0;       // fraction of time with F_N > 0
   double mean_friction_force_n = 0.0;  // mean F_T on the mover
   double mean_normal_force_n = 0.0;    // mean F_N
   double friction_force_std_n = 0.0;   // standard deviation of F_T over the window
   double damping_power_w = 0.0;        // mean C1 q1'^2 + C2 q2'^2 (heats the stator)
-  double speed_change_mm_s = 0.0;   // speed difference of the last two windows
-  double sim_s = 0.0;               // simulated time in total
-  std::uint64_t steps = 0;          // solver steps in total (accepted steps for the reference)
+  double speed_change_mm_s = 0.0;      // speed difference of the last two windows
+  double sim_s = 0.0;                  // simulated time in total
+  std::uint64_t steps = 0;             // solver steps in total (accepted steps for the reference)
   int windows = 0;
   MotorState final_state;  // where the run ended (fixed-step solver only): the next point of a sweep starts here
 };
 
 // Fixed-step semi-implicit solver (the HIL scheme, model.time_step_s()).
-[[nodiscard]] SteadyStateResult run_to_steady_state(const MotorModel& model,
-                                                    const OperatingPoint& point,
+[[nodiscard]] SteadyStateResult run_to_steady_state(const MotorModel& model, const OperatingPoint& point,
                                                     const SteadyStateOptions& options = {});
 
 // Same procedure with the adaptive Dormand-Prince reference on the full erf model
 // (kappa = 3.6 * 10^a). Slow in stick-dominated regimes; meant for accuracy checks.
-[[nodiscard]] SteadyStateResult run_to_steady_state_reference(
-    const MotorModel& model, const OperatingPoint& point, const SteadyStateOptions& options = {});
+[[nodiscard]] SteadyStateResult run_to_steady_state_reference(const MotorModel& model, const OperatingPoint& point,
+                                                              const SteadyStateOptions& options = {});
 
 }  // namespace swum

@@ -35,8 +35,7 @@ class GaussianSource {
 
 }  // namespace
 
-std::vector<AmplitudeMeasurement> synthesize_amplitudes(const MotorParameters& parameters,
-                                                        std::span<const double> vpps,
+std::vector<AmplitudeMeasurement> synthesize_amplitudes(const MotorParameters& parameters, std::span<const double> vpps,
                                                         std::span<const double> frequencies_hz,
                                                         const SyntheticAmplitudeOptions& options) {
   const MotorModel model(parameters);

@@ -23,8 +23,9 @@ struct SyntheticAmplitudeOptions {
 
 // Grid vpps x frequencies (voltages swept upwards in the given order at each frequency).
 // Points where the sweep has no stable branch are left out.
-[[nodiscard]] std::vector<AmplitudeMeasurement> synthesize_amplitudes(
-    const MotorParameters& parameters, std::span<const double> vpps,
-    std::span<const double> frequencies_hz, const SyntheticAmplitudeOptions& options = {});
+[[nodiscard]] std::vector<AmplitudeMeasurement> synthesize_amplitudes(const MotorParameters& parameters,
+                                                                      std::span<const double> vpps,
+                                                                      std::span<const double> frequencies_hz,
+                                                                      const SyntheticAmplitudeOptions& options = {});
 
 }  // namespace swum

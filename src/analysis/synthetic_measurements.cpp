@@ -1,8 +1,8 @@
 #include "analysis/synthetic_measurements.h"
 
 #include <algorithm>
-#include <map>
 #include <cmath>
+#include <map>
 #include <numbers>
 
 namespace swum {
@@ -28,8 +28,7 @@ double GaussianNoise::next() {
   return radius * std::cos(2.0 * std::numbers::pi * u2);
 }
 
-MeasurementSet synthesize_measurements(const MotorParameters& parameters,
-                                       std::span<const Measurement> points,
+MeasurementSet synthesize_measurements(const MotorParameters& parameters, std::span<const Measurement> points,
                                        const SynthOptions& options, const ParallelFor& parallel) {
   const int repeats = std::max(1, options.repeats);
   GaussianNoise noise(options.seed);
@@ -45,8 +44,8 @@ MeasurementSet synthesize_measurements(const MotorParameters& parameters,
       readings.push_back(reading);
     }
   }
-  const std::vector<Predictions> predicted =
-      predict_points(std::span(&parameters, 1), readings, options.prediction, parallel);
+  const std::vector<Predictions> predicted = predict_points(std::span(&parameters, 1), readings, options.prediction,
+                                                            parallel);
   MeasurementSet set;
   set.has_quantity = options.quantities;
   set.has_time = !points.empty();

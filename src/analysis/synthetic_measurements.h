@@ -31,8 +31,7 @@ struct SynthOptions {
 // ignored). Diverged points are left out. The result keeps the points' order (repeats adjacent;
 // with frequency jitter each repeat is a reading of its own, at its own jittered frequency).
 [[nodiscard]] MeasurementSet synthesize_measurements(const MotorParameters& parameters,
-                                                     std::span<const Measurement> points,
-                                                     const SynthOptions& options,
+                                                     std::span<const Measurement> points, const SynthOptions& options,
                                                      const ParallelFor& parallel);
 
 // Standard normal deviate from a 64-bit engine (Box-Muller; the same on every platform).

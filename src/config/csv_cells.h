@@ -27,7 +27,7 @@ enum class CsvCellTrim {
 
 // The cells between commas: "a,,b," has four, an empty line one (empty) cell.
 [[nodiscard]] inline std::vector<std::string_view> split_csv_cells(std::string_view line,
-                                                                  CsvCellTrim trim = CsvCellTrim::blanks) {
+                                                                   CsvCellTrim trim = CsvCellTrim::blanks) {
   std::vector<std::string_view> cells;
   std::size_t start = 0;
   while (true) {

@@ -25,15 +25,13 @@ std::string allowed_text(const ParameterSpec& spec) {
          format_parameter_value(spec, spec.max_value) + "] " + std::string(spec.unit);
 }
 
-[[noreturn]] void fail(std::string_view source_name, const toml::source_region& region,
-                       const ParameterSpec& spec, const std::string& problem) {
-  throw ParameterError(where(source_name, region) + ": " + std::string(spec.section) + "." +
-                       std::string(spec.key) + " " + problem + " (allowed: " +
-                       allowed_text(spec) + ")");
+[[noreturn]] void fail(std::string_view source_name, const toml::source_region& region, const ParameterSpec& spec,
+                       const std::string& problem) {
+  throw ParameterError(where(source_name, region) + ": " + std::string(spec.section) + "." + std::string(spec.key) +
+                       " " + problem + " (allowed: " + allowed_text(spec) + ")");
 }
 
-double read_value(const toml::node& node, const ParameterSpec& spec,
-                  std::string_view source_name) {
+double read_value(const toml::node& node, const ParameterSpec& spec, std::string_view source_name) {
   const auto& region = node.source();
   const auto in_range = [&](double v) {
     if (v < spec.min_value || v > spec.max_value) {
@@ -78,14 +76,12 @@ double read_value(const toml::node& node, const ParameterSpec& spec,
 
 }  // namespace
 
-MotorParameters parse_motor_parameters(std::string_view toml_text,
-                                       std::string_view source_name) {
+MotorParameters parse_motor_parameters(std::string_view toml_text, std::string_view source_name) {
   toml::table root;
   try {
     root = toml::parse(toml_text, source_name);
   } catch (const toml::parse_error& e) {
-    throw ParameterError(where(source_name, e.source()) + ": TOML syntax error: " +
-                         std::string(e.description()));
+    throw ParameterError(where(source_name, e.source()) + ": TOML syntax error: " + std::string(e.description()));
   }
   MotorParameters parameters{};
   const auto known_section = [](std::string_view name) {
@@ -97,8 +93,7 @@ MotorParameters parse_motor_parameters(std::string_view toml_text,
   // A table of sub-sections ("effects" holds "effects.thermal", ...).
   const auto known_parent = [](std::string_view name) {
     for (const auto& spec : parameter_specs()) {
-      if (spec.section.size() > name.size() && spec.section.starts_with(name) &&
-          spec.section[name.size()] == '.') {
+      if (spec.section.size() > name.size() && spec.section.starts_with(name) && spec.section[name.size()] == '.') {
         return true;
       }
     }
@@ -118,15 +113,14 @@ MotorParameters parse_motor_parameters(std::string_view toml_text,
   const auto read_section = [&](const std::string& section, const toml::node& section_node) {
     const auto* table = section_node.as_table();
     if (table == nullptr) {
-      throw ParameterError(where(source_name, section_node.source()) + ": " + section +
-                           " must be a table ([" + section + "])");
+      throw ParameterError(where(source_name, section_node.source()) + ": " + section + " must be a table ([" +
+                           section + "])");
     }
     for (auto&& [key, node] : *table) {
       const auto* spec = find_parameter_spec(section, key.str());
       if (spec == nullptr) {
-        throw ParameterError(where(source_name, node.source()) + ": unknown key " + section +
-                             "." + std::string(key.str()) +
-                             " (see docs/parameters.md for the valid keys)");
+        throw ParameterError(where(source_name, node.source()) + ": unknown key " + section + "." +
+                             std::string(key.str()) + " (see docs/parameters.md for the valid keys)");
       }
       spec->set(parameters, read_value(node, *spec, source_name));
     }
@@ -139,14 +133,14 @@ MotorParameters parse_motor_parameters(std::string_view toml_text,
     }
     const auto* parent = section_node.as_table();
     if (!known_parent(section) || parent == nullptr) {
-      throw ParameterError(where(source_name, section_node.source()) + ": unknown section [" +
-                           section + "] (known: " + known_sections() + ")");
+      throw ParameterError(where(source_name, section_node.source()) + ": unknown section [" + section +
+                           "] (known: " + known_sections() + ")");
     }
     for (auto&& [sub_key, sub_node] : *parent) {
       const std::string sub_section = section + "." + std::string(sub_key.str());
       if (!known_section(sub_section)) {
-        throw ParameterError(where(source_name, sub_node.source()) + ": unknown section [" +
-                             sub_section + "] (known: " + known_sections() + ")");
+        throw ParameterError(where(source_name, sub_node.source()) + ": unknown section [" + sub_section +
+                             "] (known: " + known_sections() + ")");
       }
       read_section(sub_section, sub_node);
     }
@@ -164,8 +158,7 @@ std::string format_motor_parameters(const MotorParameters& parameters) {
       section = spec.section;
       out += std::string("[") + std::string(section) + "]\n";
     }
-    out += std::string(spec.key) + " = " + format_parameter_value(spec, spec.get(parameters)) +
-           "\n";
+    out += std::string(spec.key) + " = " + format_parameter_value(spec, spec.get(parameters)) + "\n";
   }
   return out;
 }

@@ -13,8 +13,7 @@ namespace swum {
 // absent keep their MotorParameters{} default. Throws ParameterError (message: source name,
 // line, section.key, the problem and the allowed range) on syntax errors, unknown sections
 // or keys, wrong types, NaN/Inf and out-of-range values.
-[[nodiscard]] MotorParameters parse_motor_parameters(std::string_view toml_text,
-                                                     std::string_view source_name);
+[[nodiscard]] MotorParameters parse_motor_parameters(std::string_view toml_text, std::string_view source_name);
 
 // The inverse: a complete TOML document with every parameter (round-trips through
 // parse_motor_parameters).

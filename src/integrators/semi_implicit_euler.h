@@ -11,15 +11,14 @@
 namespace swum {
 
 template <typename S>
-concept SplitSecondOrderSystem =
-    requires(S& s, double t, double dt, const typename S::Vector& cq, typename S::Vector& out) {
-      s.explicit_acceleration(t, cq, cq, out);
-      s.implicit_velocity_correction(t, dt, cq, cq, out);
-    };
+concept SplitSecondOrderSystem = requires(S& s, double t, double dt, const typename S::Vector& cq,
+                                          typename S::Vector& out) {
+  s.explicit_acceleration(t, cq, cq, out);
+  s.implicit_velocity_correction(t, dt, cq, cq, out);
+};
 
 template <SplitSecondOrderSystem S>
-inline void semi_implicit_euler_step(S& system, double t, double dt, typename S::Vector& q,
-                                     typename S::Vector& v) {
+inline void semi_implicit_euler_step(S& system, double t, double dt, typename S::Vector& q, typename S::Vector& v) {
   typename S::Vector a{};
   system.explicit_acceleration(t, q, v, a);
   typename S::Vector v_new{};

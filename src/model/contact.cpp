@@ -7,8 +7,8 @@ namespace swum {
 double erf_implicit_friction_n(double v_star, double compliance, double limit_n, double kappa) {
   if (limit_n <= 0.0 || v_star == 0.0) return 0.0;
   const double sign = v_star > 0.0 ? 1.0 : -1.0;
-  const double vs = sign * v_star;                // solve for v >= 0 by symmetry
-  const double cap = compliance * limit_n;        // C: largest velocity change friction can make
+  const double vs = sign * v_star;          // solve for v >= 0 by symmetry
+  const double cap = compliance * limit_n;  // C: largest velocity change friction can make
   const double slope0 = 2.0 / std::sqrt(std::numbers::pi) * kappa;
   // g(v) = v + C erf(kappa v) - vs: increasing, concave on v >= 0; both starts have g <= 0.
   const double v_linear = vs / (1.0 + cap * slope0);

@@ -16,16 +16,15 @@ struct DriveVoltages {
 };
 
 struct DriveWaveform {
-  double amplitude_v = 0.0;   // V0
-  double cos_phase = 0.0;     // cos(phase)
-  double sin_phase = 1.0;     // sin(phase)
+  double amplitude_v = 0.0;  // V0
+  double cos_phase = 0.0;    // cos(phase)
+  double sin_phase = 1.0;    // sin(phase)
   double angular_frequency_rad_s = 0.0;
   double rotation_cos = 1.0;  // cos(w dt)
   double rotation_sin = 0.0;  // sin(w dt)
 };
 
-[[nodiscard]] inline DriveWaveform make_drive_waveform(const DriveInput& input,
-                                                       double amplitude_per_volt,
+[[nodiscard]] inline DriveWaveform make_drive_waveform(const DriveInput& input, double amplitude_per_volt,
                                                        double time_step_s) {
   DriveWaveform w;
   w.amplitude_v = amplitude_per_volt * input.vpp;
@@ -38,10 +37,8 @@ struct DriveWaveform {
   return w;
 }
 
-[[nodiscard]] inline DriveVoltages drive_voltages(const DriveWaveform& w, double sin_theta,
-                                                  double cos_theta) {
-  return {w.amplitude_v * sin_theta,
-          w.amplitude_v * (sin_theta * w.cos_phase + cos_theta * w.sin_phase)};
+[[nodiscard]] inline DriveVoltages drive_voltages(const DriveWaveform& w, double sin_theta, double cos_theta) {
+  return {w.amplitude_v * sin_theta, w.amplitude_v * (sin_theta * w.cos_phase + cos_theta * w.sin_phase)};
 }
 
 // theta += w dt. The modulus drifts by ~1e-16 per step; call renormalise_phasor() every few

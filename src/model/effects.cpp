@@ -29,8 +29,8 @@ EffectCoefficients make_effect_coefficients(const MotorParameters& p, const Moda
   return e;
 }
 
-double droop_gain(const EffectCoefficients& e, double w, double s, double c, double cos_phase,
-                  double sin_phase, double amplitude_v, Analytic q1, Analytic q2) {
+double droop_gain(const EffectCoefficients& e, double w, double s, double c, double cos_phase, double sin_phase,
+                  double amplitude_v, Analytic q1, Analytic q2) {
   // Divider 1/(1 + j x), x = w R_s C0.
   const double x = w * e.source_resistance_ohm * e.clamped_capacitance_f;
   const double divider = 1.0 / std::sqrt(1.0 + x * x);
@@ -45,8 +45,8 @@ double droop_gain(const EffectCoefficients& e, double w, double s, double c, dou
     return std::sqrt(re * re + im * im) / amplitude_v;
   };
   const double gain_a = phase_gain(s, c, e.charge_a_q1, e.charge_a_q2);
-  const double gain_b = phase_gain(s * cos_phase + c * sin_phase, c * cos_phase - s * sin_phase,
-                                   e.charge_b_q1, e.charge_b_q2);
+  const double gain_b = phase_gain(s * cos_phase + c * sin_phase, c * cos_phase - s * sin_phase, e.charge_b_q1,
+                                   e.charge_b_q2);
   return 0.5 * (gain_a + gain_b) * divider;
 }
 

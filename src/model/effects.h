@@ -43,27 +43,22 @@ struct ThermalFactors {
   double stiffness = 1.0;
   double damping = 1.0;
 };
-[[nodiscard]] inline ThermalFactors thermal_factors(const EffectCoefficients& e,
-                                                    double temperature_rise_k) {
+[[nodiscard]] inline ThermalFactors thermal_factors(const EffectCoefficients& e, double temperature_rise_k) {
   if (!e.thermal) return {};
-  return {1.0 + e.stiffness_per_k * temperature_rise_k,
-          1.0 + e.damping_per_k * temperature_rise_k};
+  return {1.0 + e.stiffness_per_k * temperature_rise_k, 1.0 + e.damping_per_k * temperature_rise_k};
 }
 
 // dT/dt = (R_th P - T)/tau over `duration_s` at constant power: exact exponential step.
-[[nodiscard]] inline double thermal_step_k(const EffectCoefficients& e, double temperature_rise_k,
-                                           double power_w, double duration_s) {
+[[nodiscard]] inline double thermal_step_k(const EffectCoefficients& e, double temperature_rise_k, double power_w,
+                                           double duration_s) {
   const double target = e.thermal_resistance_k_per_w * power_w;
-  return target + (temperature_rise_k - target) *
-                      std::exp(-duration_s * e.inverse_time_constant_per_s);
+  return target + (temperature_rise_k - target) * std::exp(-duration_s * e.inverse_time_constant_per_s);
 }
 
 // Wear effect: mu_c(s) / mu_c = 1 + d (1 - exp(-s/s0)) (clamped at 0).
-[[nodiscard]] inline double wear_friction_factor(const EffectCoefficients& e,
-                                                 double sliding_distance_m) {
+[[nodiscard]] inline double wear_friction_factor(const EffectCoefficients& e, double sliding_distance_m) {
   if (!e.wear) return 1.0;
-  const double f = 1.0 + e.friction_change *
-                             (1.0 - std::exp(-sliding_distance_m * e.inverse_run_in_distance_per_m));
+  const double f = 1.0 + e.friction_change * (1.0 - std::exp(-sliding_distance_m * e.inverse_run_in_distance_per_m));
   return f > 0.0 ? f : 0.0;
 }
 
@@ -77,9 +72,8 @@ struct Analytic {
 // Amplifier droop: ratio of the drive amplitude at the piezo to the commanded one, mean of
 // the two phases: V = (V_cmd - R_s I_m)/(1 + j w R_s C0), I_m = j w (Q_q1 q1 + Q_q2 q2)
 // (analytic signals). Returns 1/|1 + j w R_s C0| when there is no drive.
-[[nodiscard]] double droop_gain(const EffectCoefficients& e, double angular_frequency_rad_s,
-                                double sin_theta, double cos_theta, double cos_phase,
-                                double sin_phase, double amplitude_v, Analytic q1,
+[[nodiscard]] double droop_gain(const EffectCoefficients& e, double angular_frequency_rad_s, double sin_theta,
+                                double cos_theta, double cos_phase, double sin_phase, double amplitude_v, Analytic q1,
                                 Analytic q2);
 
 }  // namespace swum

@@ -21,8 +21,8 @@ StatorGeometry calibrate_geometry(const StatorParameters& s) {
   g.substrate_thickness_m = s.substrate_thickness_mm * 1e-3;
   g.piezo_thickness_m = s.piezo_thickness_mm * 1e-3;
   g.length_m = cl / (2.0 * s.target_l1_frequency_hz);
-  g.half_height_m = std::sqrt(3.0) * 2.0 * std::numbers::pi * s.target_b2_frequency_hz *
-                    g.length_m * g.length_m / (bl * bl * cl);
+  g.half_height_m = std::sqrt(3.0) * 2.0 * std::numbers::pi * s.target_b2_frequency_hz * g.length_m * g.length_m /
+                    (bl * bl * cl);
   return g;
 }
 

@@ -17,9 +17,7 @@ struct Zone {
   bool group_a;
 };
 
-double y_moment(double y0, double y1, int n) {
-  return (std::pow(y1, n + 1) - std::pow(y0, n + 1)) / (n + 1);
-}
+double y_moment(double y0, double y1, int n) { return (std::pow(y1, n + 1) - std::pow(y0, n + 1)) / (n + 1); }
 
 // Static preload equilibrium of eq. 14 with V = 0:
 // K1 q + c111 alpha1 q^2 + c1111 beta1 q^3 = gN max(0, F_P - k_e q) + gNP F_P.
@@ -31,8 +29,7 @@ double static_preload_q1(const ModalConstants& c, const MotorParameters& p) {
   double q = (c.g_n + c.g_np) * fp / (c.k1_n_m + c.g_n * ke);
   for (int it = 0; it < 50; ++it) {
     const bool contact = fp - ke * q > 0.0;
-    const double r = c.k1_n_m * q + k2 * q * q + k3 * q * q * q -
-                     (contact ? c.g_n * (fp - ke * q) : 0.0) - c.g_np * fp;
+    const double r = c.k1_n_m * q + k2 * q * q + k3 * q * q * q - (contact ? c.g_n * (fp - ke * q) : 0.0) - c.g_np * fp;
     const double dr = c.k1_n_m + 2.0 * k2 * q + 3.0 * k3 * q * q + (contact ? c.g_n * ke : 0.0);
     const double dq = r / dr;
     q -= dq;
@@ -58,16 +55,14 @@ ModalConstants compute_modal_constants(const MotorParameters& p) {
   c.substrate_area_m2 = 2.0 * hs * ts;
   c.patch_area_m2 = hs * tp;
   c.substrate_inertia_m4 = 2.0 * ts * hs * hs * hs / 3.0;
-  c.mass_per_length_kg_m =
-      s.substrate_density_kg_m3 * c.substrate_area_m2 + 4.0 * s.piezo_density_kg_m3 * c.patch_area_m2;
+  c.mass_per_length_kg_m = s.substrate_density_kg_m3 * c.substrate_area_m2 +
+                           4.0 * s.piezo_density_kg_m3 * c.patch_area_m2;
   const double ap = c.patch_area_m2;
 
   const ModeShapes modes(len);
   const GaussLegendre gl(p.numerics.quadrature_points);
   // Integral over [0, L] as two intervals (the electrode split at L/2).
-  auto over_beam = [&](auto&& f) {
-    return gl.integrate(f, 0.0, 0.5 * len) + gl.integrate(f, 0.5 * len, len);
-  };
+  auto over_beam = [&](auto&& f) { return gl.integrate(f, 0.0, 0.5 * len) + gl.integrate(f, 0.5 * len, len); };
 
   c.phi_b_tip = modes.phi_b(len);
   c.phi_b_slope_tip_per_m = modes.phi_b_d1(len);
@@ -84,10 +79,8 @@ ModalConstants compute_modal_constants(const MotorParameters& p) {
 
   c.m1_kg = c.mass_per_length_kg_m * int_phil2;
   c.m2_kg = c.mass_per_length_kg_m * int_phib2;
-  c.k1_n_m = (s.substrate_youngs_modulus_pa * c.substrate_area_m2 + 4.0 * s.piezo_c11_pa * ap) *
-             int_dphil2;
-  c.k2_n_m = (s.substrate_youngs_modulus_pa * c.substrate_inertia_m4 +
-              s.piezo_c11_pa * hp * hp * ap / 3.0) *
+  c.k1_n_m = (s.substrate_youngs_modulus_pa * c.substrate_area_m2 + 4.0 * s.piezo_c11_pa * ap) * int_dphil2;
+  c.k2_n_m = (s.substrate_youngs_modulus_pa * c.substrate_inertia_m4 + s.piezo_c11_pa * hp * hp * ap / 3.0) *
              int_ddphib2;
   c.c1_n_s_m = s.damping_l1_n_s_m;
   c.c2_n_s_m = s.damping_b2_n_s_m;
@@ -107,10 +100,10 @@ ModalConstants compute_modal_constants(const MotorParameters& p) {
   // Appendix A, electrical (§1.5, layout §1.6): 8 zones = 2 faces x 4; E3 = V/tp.
   const bool standard = p.options.electrode_diagonals == ElectrodeDiagonals::standard;
   const Zone zones[4] = {
-      {0.0, 0.5 * len, 0.0, hs, standard},   // 1 upper-left
-      {0.5 * len, len, 0.0, hs, !standard},  // 2 upper-right
-      {0.0, 0.5 * len, -hs, 0.0, !standard}, // 3 lower-left
-      {0.5 * len, len, -hs, 0.0, standard},  // 4 lower-right
+      {0.0, 0.5 * len, 0.0, hs, standard},    // 1 upper-left
+      {0.5 * len, len, 0.0, hs, !standard},   // 2 upper-right
+      {0.0, 0.5 * len, -hs, 0.0, !standard},  // 3 lower-left
+      {0.5 * len, len, -hs, 0.0, standard},   // 4 lower-right
   };
   constexpr double kFaces = 2.0;
   // Sum_i Int E3^e y^n f(x) dV = Sum_i V_i^e tp^(1-e) Int y^n dy Int f dx.
@@ -123,9 +116,7 @@ ModalConstants compute_modal_constants(const MotorParameters& p) {
     }
     return out;
   };
-  auto scaled = [](ElectricalCoefficient x, double k) {
-    return ElectricalCoefficient{k * x.group_a, k * x.group_b};
-  };
+  auto scaled = [](ElectricalCoefficient x, double k) { return ElectricalCoefficient{k * x.group_a, k * x.group_b}; };
   auto dphil = [&](int m) { return [&, m](double x) { return std::pow(modes.phi_l_d1(x), m); }; };
   auto ddphib = [&](int m) { return [&, m](double x) { return std::pow(modes.phi_b_d2(x), m); }; };
   const double x4 = p.options.electrical_prefactors == ElectricalPrefactors::paper_x4 ? 4.0 : 1.0;
@@ -141,16 +132,12 @@ ModalConstants compute_modal_constants(const MotorParameters& p) {
   c.b[4] = scaled(electrical(1, 3, ddphib(3)), -1.5);
 
   c.kappa_s_per_m = 3.6 * std::pow(10.0, p.contact.erf_steepness_exponent);
-  c.drive_amplitude_per_volt =
-      p.options.voltage_convention == VoltageConvention::peak_to_peak ? 0.5 : 1.0;
+  c.drive_amplitude_per_volt = p.options.voltage_convention == VoltageConvention::peak_to_peak ? 0.5 : 1.0;
 
   c.f_l1_hz = std::sqrt(c.k1_n_m / c.m1_kg) / kTwoPi;
   c.f_b2_hz = std::sqrt(c.k2_n_m / c.m2_kg) / kTwoPi;
-  c.f_l1_full_contact_hz =
-      std::sqrt((c.k1_n_m + c.g_n * p.contact.stiffness_n_m) / c.m1_kg) / kTwoPi;
-  c.f_b2_stick_hz =
-      std::sqrt((c.k2_n_m + c.g_t * c.g_tv * p.contact.tangential_stiffness_n_m) / c.m2_kg) /
-      kTwoPi;
+  c.f_l1_full_contact_hz = std::sqrt((c.k1_n_m + c.g_n * p.contact.stiffness_n_m) / c.m1_kg) / kTwoPi;
+  c.f_b2_stick_hz = std::sqrt((c.k2_n_m + c.g_t * c.g_tv * p.contact.tangential_stiffness_n_m) / c.m2_kg) / kTwoPi;
   c.static_q1_m = static_preload_q1(c, p);
   return c;
 }

@@ -30,20 +30,20 @@ struct ModalConstants {
 
   double m1_kg = 0.0, k1_n_m = 0.0, c1_n_s_m = 0.0;  // eq. 14
   double m2_kg = 0.0, k2_n_m = 0.0, c2_n_s_m = 0.0;  // eq. 15
-  double alpha1 = 0.0;       // 6 Ap Int phiL'^3 (dimensionless)
-  double beta1_per_m = 0.0;  // 8 Ap Int phiL'^4
-  double beta2_per_m = 0.0;  // hp^4 Ap/10 Int phiB''^4
-  double g_n = 0.0;          // lever of F_N on q1: phiL(0) - phiL(L) = 2 (both_ends) or
-                             // -phiL(L) = 1 (back_end_constant)
-  double g_np = 0.0;         // lever of the constant F_P on q1: 0 or phiL(0) = 1
-  double g_t = 0.0;          // phiB(L) + L1 phiB'(L)
-  double g_tv = 0.0;         // tip velocity lever (gT or phiB(L), option)
+  double alpha1 = 0.0;                               // 6 Ap Int phiL'^3 (dimensionless)
+  double beta1_per_m = 0.0;                          // 8 Ap Int phiL'^4
+  double beta2_per_m = 0.0;                          // hp^4 Ap/10 Int phiB''^4
+  double g_n = 0.0;                                  // lever of F_N on q1: phiL(0) - phiL(L) = 2 (both_ends) or
+                                                     // -phiL(L) = 1 (back_end_constant)
+  double g_np = 0.0;                                 // lever of the constant F_P on q1: 0 or phiL(0) = 1
+  double g_t = 0.0;                                  // phiB(L) + L1 phiB'(L)
+  double g_tv = 0.0;                                 // tip velocity lever (gT or phiB(L), option)
 
   // a0 and b0 include e31 (N/V); a1..a4, b1..b4 are multiplied by e311/e3111 in eqs. 14-15.
   std::array<ElectricalCoefficient, 5> a{};
   std::array<ElectricalCoefficient, 5> b{};
 
-  double kappa_s_per_m = 0.0;       // erf steepness 3.6 * 10^a
+  double kappa_s_per_m = 0.0;             // erf steepness 3.6 * 10^a
   double drive_amplitude_per_volt = 0.0;  // V0 per commanded volt (0.5: peak-to-peak)
 
   double f_l1_hz = 0.0;               // sqrt(K1/M1)/2pi

@@ -16,8 +16,7 @@ double reference_friction_n(const MotorCoefficients& k, double fn, const MotorOd
   return erf_friction_n(limit, k.kappa_s_per_m, k.g_tv * x[3] - x[5]);
 }
 
-double reference_guide_n(const MotorCoefficients& k, double ft, double fn, double load_n,
-                         double v_m) {
+double reference_guide_n(const MotorCoefficients& k, double ft, double fn, double load_n, double v_m) {
   if (k.guide_model == GuideFrictionModel::implicit_coulomb) {
     return coulomb_guide_friction_n(k.guide, fn, v_m);
   }
@@ -45,20 +44,17 @@ void MotorOde::derivative(double t, const Vector& x, Vector& dxdt) const {
   const double ft = reference_friction_n(k_, fn, x);
   const double ff = reference_guide_n(k_, ft, fn, in.load_n, x[5]);
   dxdt[0] = x[1];
-  dxdt[1] = k_.m1_inv_per_kg * (modal_force_n(k_.stator.l1, x[0], va, vb) + k_.g_n * fn +
-                                k_.preload_constant_force_n - k_.c1_n_s_m * x[1]);
+  dxdt[1] = k_.m1_inv_per_kg * (modal_force_n(k_.stator.l1, x[0], va, vb) + k_.g_n * fn + k_.preload_constant_force_n -
+                                k_.c1_n_s_m * x[1]);
   dxdt[2] = x[3];
-  dxdt[3] = k_.m2_inv_per_kg *
-            (modal_force_n(k_.stator.b2, x[2], va, vb) - k_.g_t * ft - k_.c2_n_s_m * x[3]);
+  dxdt[3] = k_.m2_inv_per_kg * (modal_force_n(k_.stator.b2, x[2], va, vb) - k_.g_t * ft - k_.c2_n_s_m * x[3]);
   dxdt[4] = x[5];
-  dxdt[5] = mover_acceleration_m_s2(k_.mover_mass_inv_per_kg, k_.mover_damping_n_s_m, ft, ff,
-                                    in.load_n, x[5]);
+  dxdt[5] = mover_acceleration_m_s2(k_.mover_mass_inv_per_kg, k_.mover_damping_n_s_m, ft, ff, in.load_n, x[5]);
   dxdt[6] = 2.0 * std::numbers::pi * in.frequency_hz;
   if (k_.tangential == TangentialContact::jenkins) {
     const double limit = k_.slider_limit_per_normal_force_m_n * fn;
     // F_N' = -k_e q1' in contact.
-    const double limit_rate =
-        fn > 0.0 ? -k_.slider_limit_per_normal_force_m_n * k_.contact_stiffness_n_m * x[1] : 0.0;
+    const double limit_rate = fn > 0.0 ? -k_.slider_limit_per_normal_force_m_n * k_.contact_stiffness_n_m * x[1] : 0.0;
     dxdt[7] = jenkins_deflection_rate_m_s(x[7], limit, limit_rate, k_.g_tv * x[3] - x[5]);
   } else {
     dxdt[7] = 0.0;
@@ -66,8 +62,8 @@ void MotorOde::derivative(double t, const Vector& x, Vector& dxdt) const {
 }
 
 MotorOde::Vector MotorOde::pack(const MotorState& s, double theta_rad) {
-  return {s.q1_m,           s.q1_dot_m_s,          s.q2_m,    s.q2_dot_m_s,
-          s.mover_position_m, s.mover_velocity_m_s, theta_rad, s.contact_deflection_m};
+  return {s.q1_m,    s.q1_dot_m_s,          s.q2_m, s.q2_dot_m_s, s.mover_position_m, s.mover_velocity_m_s,
+          theta_rad, s.contact_deflection_m};
 }
 
 void MotorOde::unpack(const Vector& x, double t, MotorState& s) {

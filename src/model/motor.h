@@ -48,8 +48,7 @@ class MotorSplitSystem {
   void explicit_acceleration(double /*t*/, const Vector& q, const Vector& v, Vector& a) {
     const double fn = normal_force_n(k_.preload_n, k_.contact_stiffness_n_m, q[0]);
     forces_.normal_n = fn;
-    const DoublePair f = modal_forces_n(paired_, DoublePair{q[0], q[1]}, voltages_.va_v,
-                                        voltages_.vb_v);
+    const DoublePair f = modal_forces_n(paired_, DoublePair{q[0], q[1]}, voltages_.va_v, voltages_.vb_v);
     a[0] = a1_per_kg_ * (f[0] + k_.g_n * fn + k_.preload_constant_force_n - k_.c1_n_s_m * v[0]);
     a[1] = a2_per_kg_ * (f[1] - k_.c2_n_s_m * v[1]);
     a[2] = k_.mover_mass_inv_per_kg * (-load_n_ - k_.mover_damping_n_s_m * v[2]);
@@ -57,20 +56,18 @@ class MotorSplitSystem {
 
   // Runtime dispatch to the specialised correction (the simulator's hot loop calls the
   // specialisation directly).
-  void implicit_velocity_correction(double t, double dt, const Vector& q, const Vector& v,
-                                    Vector& v_star) {
-    dispatch([&]<TangentialContact C, GuideFrictionModel G>() {
-      implicit_velocity_correction<C, G>(t, dt, q, v, v_star);
-    });
+  void implicit_velocity_correction(double t, double dt, const Vector& q, const Vector& v, Vector& v_star) {
+    dispatch(
+        [&]<TangentialContact C, GuideFrictionModel G>() { implicit_velocity_correction<C, G>(t, dt, q, v, v_star); });
   }
 
   // Tangential contact (implicit friction, §10 steps 3-4, or the explicit Jenkins spring),
   // guide friction, and for the Jenkins element the return mapping of delta with the
   // positions of the end of the step.
   template <TangentialContact C, GuideFrictionModel G>
-  void implicit_velocity_correction(double /*t*/, double dt, const Vector& q, const Vector& v,
-                                    Vector& v_star) {
-    if (dt != cached_dt_) [[unlikely]] update_step(dt);
+  void implicit_velocity_correction(double /*t*/, double dt, const Vector& q, const Vector& v, Vector& v_star) {
+    if (dt != cached_dt_) [[unlikely]]
+      update_step(dt);
     const double fn = forces_.normal_n;
     const double limit = k_.friction_coefficient * fn;
     double ft = 0.0;
@@ -82,8 +79,7 @@ class MotorSplitSystem {
       ft = f > limit ? limit : (f < -limit ? -limit : f);
     } else {
       if (limit > 0.0) {
-        ft = erf_implicit_friction_n(k_.g_tv * v_star[1] - v_star[2], compliance_, limit,
-                                     k_.kappa_s_per_m);
+        ft = erf_implicit_friction_n(k_.g_tv * v_star[1] - v_star[2], compliance_, limit, k_.kappa_s_per_m);
       }
     }
     v_star[1] -= dt_g_t_over_m2_ * ft;
@@ -102,9 +98,8 @@ class MotorSplitSystem {
     if constexpr (C == TangentialContact::jenkins) {
       const double q1_next = q[0] + dt * v_star[0];
       const double fn_next = normal_force_n(k_.preload_n, k_.contact_stiffness_n_m, q1_next);
-      deflection_m_ = jenkins_return_mapping_m(
-          deflection_m_, dt * (k_.g_tv * v_star[1] - v_star[2]),
-          k_.slider_limit_per_normal_force_m_n * fn_next);
+      deflection_m_ = jenkins_return_mapping_m(deflection_m_, dt * (k_.g_tv * v_star[1] - v_star[2]),
+                                               k_.slider_limit_per_normal_force_m_n * fn_next);
     }
   }
 
@@ -115,30 +110,22 @@ class MotorSplitSystem {
     switch (k_.tangential) {
       case TangentialContact::jenkins:
         return guide == GuideFrictionModel::implicit_coulomb
-                   ? f.template operator()<TangentialContact::jenkins,
-                                           GuideFrictionModel::implicit_coulomb>()
-                   : f.template operator()<TangentialContact::jenkins,
-                                           GuideFrictionModel::smoothed_sign>();
+                   ? f.template operator()<TangentialContact::jenkins, GuideFrictionModel::implicit_coulomb>()
+                   : f.template operator()<TangentialContact::jenkins, GuideFrictionModel::smoothed_sign>();
       case TangentialContact::rigid_erf:
         return guide == GuideFrictionModel::implicit_coulomb
-                   ? f.template operator()<TangentialContact::rigid_erf,
-                                           GuideFrictionModel::implicit_coulomb>()
-                   : f.template operator()<TangentialContact::rigid_erf,
-                                           GuideFrictionModel::smoothed_sign>();
-      case TangentialContact::rigid_projection:
-        break;
+                   ? f.template operator()<TangentialContact::rigid_erf, GuideFrictionModel::implicit_coulomb>()
+                   : f.template operator()<TangentialContact::rigid_erf, GuideFrictionModel::smoothed_sign>();
+      case TangentialContact::rigid_projection: break;
     }
     return guide == GuideFrictionModel::implicit_coulomb
-               ? f.template operator()<TangentialContact::rigid_projection,
-                                       GuideFrictionModel::implicit_coulomb>()
-               : f.template operator()<TangentialContact::rigid_projection,
-                                       GuideFrictionModel::smoothed_sign>();
+               ? f.template operator()<TangentialContact::rigid_projection, GuideFrictionModel::implicit_coulomb>()
+               : f.template operator()<TangentialContact::rigid_projection, GuideFrictionModel::smoothed_sign>();
   }
 
   // Slow effects (effects.h), called by the simulator's housekeeping, never per step:
   // modal stiffness and damping scaled from `base` (thermal) and the friction coefficient (wear).
-  void set_modal_factors(const MotorCoefficients& base, double stiffness_factor,
-                         double damping_factor) {
+  void set_modal_factors(const MotorCoefficients& base, double stiffness_factor, double damping_factor) {
     k_.stator.l1.k = base.stator.l1.k * stiffness_factor;
     k_.stator.b2.k = base.stator.b2.k * stiffness_factor;
     paired_.k = DoublePair{k_.stator.l1.k, k_.stator.b2.k};
@@ -224,8 +211,7 @@ struct SpecialisedMotorSystem {
   void explicit_acceleration(double t, const Vector& q, const Vector& v, Vector& a) {
     system.explicit_acceleration(t, q, v, a);
   }
-  void implicit_velocity_correction(double t, double dt, const Vector& q, const Vector& v,
-                                    Vector& v_star) {
+  void implicit_velocity_correction(double t, double dt, const Vector& q, const Vector& v, Vector& v_star) {
     system.template implicit_velocity_correction<C, G>(t, dt, q, v, v_star);
   }
 };

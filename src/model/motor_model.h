@@ -13,9 +13,9 @@ namespace swum {
 
 // Mutable simulation data (model_spec §4 state y plus time and the drive phasor).
 struct MotorState {
-  double q1_m = 0.0;        // L1 modal coordinate (u_tip = -q1)
+  double q1_m = 0.0;  // L1 modal coordinate (u_tip = -q1)
   double q1_dot_m_s = 0.0;
-  double q2_m = 0.0;        // B2 modal coordinate (w_tip = gTv q2)
+  double q2_m = 0.0;  // B2 modal coordinate (w_tip = gTv q2)
   double q2_dot_m_s = 0.0;
   double mover_position_m = 0.0;
   double mover_velocity_m_s = 0.0;
@@ -25,16 +25,16 @@ struct MotorState {
   // Slow states of the thermal and wear effects (docs/discrepancy.md); stay 0 when disabled.
   double stator_temperature_rise_k = 0.0;  // over ambient
   double sliding_distance_m = 0.0;         // mover travel since the start of the session
-  double drive_sin = 0.0;  // sin(theta), theta = drive phase (V_A = V0 sin theta)
-  double drive_cos = 1.0;  // cos(theta)
+  double drive_sin = 0.0;                  // sin(theta), theta = drive phase (V_A = V0 sin theta)
+  double drive_cos = 1.0;                  // cos(theta)
 };
 
 // Commanded drive, changeable at any step.
 struct DriveInput {
-  double vpp = 0.0;            // voltage as quoted by the paper; V0 per options.voltage_convention
+  double vpp = 0.0;  // voltage as quoted by the paper; V0 per options.voltage_convention
   double frequency_hz = 40000.0;
-  double phase_deg = 90.0;     // phase of V_B ahead of V_A; the sign selects the direction
-  double load_n = 0.0;         // external load force on the mover (opposes +y motion)
+  double phase_deg = 90.0;  // phase of V_B ahead of V_A; the sign selects the direction
+  double load_n = 0.0;      // external load force on the mover (opposes +y motion)
 };
 
 // Tangential contact law used by the solvers (from contact.tangential_stiffness_n_m and
@@ -80,9 +80,7 @@ class MotorModel {
 
   // Tip displacements (m): u_tip = phiL(L) q1 = -q1, w_tip = gTv q2.
   [[nodiscard]] static double tip_normal_m(const MotorState& s) { return -s.q1_m; }
-  [[nodiscard]] double tip_tangential_m(const MotorState& s) const {
-    return coefficients_.g_tv * s.q2_m;
-  }
+  [[nodiscard]] double tip_tangential_m(const MotorState& s) const { return coefficients_.g_tv * s.q2_m; }
 
  private:
   MotorParameters parameters_;

@@ -63,35 +63,30 @@ constexpr std::array<std::string_view, 2> kGuideChoices{"smoothed_sign", "implic
 
 constexpr std::span<const std::string_view> kNone{};
 
-#define SWUM_REAL(SEC, STRUCT, KEY, UNIT, MIN, MAX, DESC)                                     \
-  ParameterSpec {                                                                            \
-    #SEC, #KEY, UNIT, DESC, ParameterKind::real, MIN, MAX, kNone,                            \
-        &get_field<&MotorParameters::SEC, &STRUCT::KEY>,                                     \
-        &set_field<&MotorParameters::SEC, &STRUCT::KEY>                                      \
+#define SWUM_REAL(SEC, STRUCT, KEY, UNIT, MIN, MAX, DESC)                                                            \
+  ParameterSpec {                                                                                                    \
+#SEC, #KEY, UNIT, DESC, ParameterKind::real, MIN, MAX, kNone, &get_field < &MotorParameters::SEC, &STRUCT::KEY>, \
+        &set_field < &MotorParameters::SEC, &STRUCT::KEY>                                                            \
   }
-#define SWUM_INT(SEC, STRUCT, KEY, UNIT, MIN, MAX, DESC)                                      \
-  ParameterSpec {                                                                            \
-    #SEC, #KEY, UNIT, DESC, ParameterKind::integer, MIN, MAX, kNone,                         \
-        &get_field<&MotorParameters::SEC, &STRUCT::KEY>,                                     \
-        &set_field<&MotorParameters::SEC, &STRUCT::KEY>                                      \
+#define SWUM_INT(SEC, STRUCT, KEY, UNIT, MIN, MAX, DESC)                                                 \
+  ParameterSpec {                                                                                        \
+#SEC, #KEY, UNIT, DESC, ParameterKind::integer, MIN, MAX, kNone, &get_field < &MotorParameters::SEC, \
+        &STRUCT::KEY>, &set_field < &MotorParameters::SEC, &STRUCT::KEY>                                 \
   }
-#define SWUM_CHOICE(SEC, STRUCT, KEY, CHOICES, DESC)                                          \
-  ParameterSpec {                                                                            \
-    #SEC, #KEY, "-", DESC, ParameterKind::choice, 0.0,                                       \
-        static_cast<double>(CHOICES.size() - 1), CHOICES,                                    \
-        &get_field<&MotorParameters::SEC, &STRUCT::KEY>,                                     \
-        &set_field<&MotorParameters::SEC, &STRUCT::KEY>                                      \
+#define SWUM_CHOICE(SEC, STRUCT, KEY, CHOICES, DESC)                                                         \
+  ParameterSpec {                                                                                            \
+#SEC, #KEY, "-", DESC, ParameterKind::choice, 0.0, static_cast < double>(CHOICES.size() - 1), CHOICES,   \
+        &get_field < &MotorParameters::SEC, &STRUCT::KEY>, &set_field < &MotorParameters::SEC, &STRUCT::KEY> \
   }
 
-#define SWUM_EFFECT(EFFECT, STRUCT, KEY, KIND, UNIT, MIN, MAX, DESC)                          \
-  ParameterSpec {                                                                            \
-    "effects." #EFFECT, #KEY, UNIT, DESC, ParameterKind::KIND, MIN, MAX, kNone,              \
-        &get_effect_field<&EffectParameters::EFFECT, &STRUCT::KEY>,                          \
-        &set_effect_field<&EffectParameters::EFFECT, &STRUCT::KEY>                           \
+#define SWUM_EFFECT(EFFECT, STRUCT, KEY, KIND, UNIT, MIN, MAX, DESC)            \
+  ParameterSpec {                                                               \
+    "effects." #EFFECT, #KEY, UNIT, DESC, ParameterKind::KIND, MIN, MAX, kNone, \
+        &get_effect_field<&EffectParameters::EFFECT, &STRUCT::KEY>,             \
+        &set_effect_field<&EffectParameters::EFFECT, &STRUCT::KEY>              \
   }
-#define SWUM_EFFECT_SWITCH(EFFECT, STRUCT, WHAT)                                              \
-  SWUM_EFFECT(EFFECT, STRUCT, enabled, boolean, "-", 0.0, 1.0,                               \
-              "Enables the " WHAT " effect (docs/discrepancy.md)")
+#define SWUM_EFFECT_SWITCH(EFFECT, STRUCT, WHAT) \
+  SWUM_EFFECT(EFFECT, STRUCT, enabled, boolean, "-", 0.0, 1.0, "Enables the " WHAT " effect (docs/discrepancy.md)")
 
 const std::array kSpecs{
     // [stator] Table 1, Table 2 (§7.2 reading), geometry §5
@@ -99,10 +94,8 @@ const std::array kSpecs{
               "Substrate (45 steel) density rho_s (Table 1)"),
     SWUM_REAL(stator, StatorParameters, substrate_youngs_modulus_pa, "Pa", 1e6, 1e13,
               "Substrate Young's modulus E_s (Table 1)"),
-    SWUM_REAL(stator, StatorParameters, piezo_density_kg_m3, "kg/m^3", 100.0, 1e5,
-              "PZT-8 density rho_p (Table 1)"),
-    SWUM_REAL(stator, StatorParameters, piezo_c11_pa, "Pa", 1e6, 1e13,
-              "PZT elastic stiffness c11^E (Table 1)"),
+    SWUM_REAL(stator, StatorParameters, piezo_density_kg_m3, "kg/m^3", 100.0, 1e5, "PZT-8 density rho_p (Table 1)"),
+    SWUM_REAL(stator, StatorParameters, piezo_c11_pa, "Pa", 1e6, 1e13, "PZT elastic stiffness c11^E (Table 1)"),
     SWUM_REAL(stator, StatorParameters, piezo_e31_c_m2, "C/m^2", -1e3, 1e3,
               "Piezoelectric constant e31 (Table 1; physical sign negative)"),
     SWUM_REAL(stator, StatorParameters, c111_pa, "Pa", -1e22, 1e22,
@@ -113,10 +106,8 @@ const std::array kSpecs{
               "Nonlinear electroelastic constant e311 (Table 2)"),
     SWUM_REAL(stator, StatorParameters, e3111_c_per_v_m, "C/(V m)", -1e6, 1e6,
               "Nonlinear electroelastic constant e3111 (Table 2)"),
-    SWUM_REAL(stator, StatorParameters, damping_l1_n_s_m, "N s/m", 0.0, 1e6,
-              "L1 modal damping C1 (Table 1)"),
-    SWUM_REAL(stator, StatorParameters, damping_b2_n_s_m, "N s/m", 0.0, 1e6,
-              "B2 modal damping C2 (Table 1)"),
+    SWUM_REAL(stator, StatorParameters, damping_l1_n_s_m, "N s/m", 0.0, 1e6, "L1 modal damping C1 (Table 1)"),
+    SWUM_REAL(stator, StatorParameters, damping_b2_n_s_m, "N s/m", 0.0, 1e6, "B2 modal damping C2 (Table 1)"),
     SWUM_REAL(stator, StatorParameters, substrate_thickness_mm, "mm", 1e-3, 1e3,
               "Substrate thickness ts (free choice, model_spec §5)"),
     SWUM_REAL(stator, StatorParameters, piezo_thickness_mm, "mm", 1e-3, 1e3,
@@ -149,8 +140,7 @@ const std::array kSpecs{
               "extra state delta); 0 = rigid contact, the paper (calibration term)"),
     // [mover] Table 3
     SWUM_REAL(mover, MoverParameters, mass_kg, "kg", 1e-6, 1e4, "Mover mass m (Table 3)"),
-    SWUM_REAL(mover, MoverParameters, damping_n_s_m, "N s/m", 0.0, 1e6,
-              "Mover viscous damping c (Table 3)"),
+    SWUM_REAL(mover, MoverParameters, damping_n_s_m, "N s/m", 0.0, 1e6, "Mover viscous damping c (Table 3)"),
     SWUM_REAL(mover, MoverParameters, guide_friction_coefficient, "-", 0.0, 10.0,
               "Linear-guide friction coefficient mu_s (Table 3, eq. 24)"),
     SWUM_REAL(mover, MoverParameters, gravity_m_s2, "m/s^2", 0.0, 100.0,
@@ -208,10 +198,10 @@ const std::array kSpecs{
     SWUM_EFFECT(guide_friction, GuideFrictionEffect, extra_coefficient, real, "-", -1.0, 5.0,
                 "Added to mu_s (eq. 24; result clamped at 0) (free parameter)"),
     SWUM_EFFECT_SWITCH(amplifier_droop, AmplifierDroopEffect, "amplifier droop"),
-    SWUM_EFFECT(amplifier_droop, AmplifierDroopEffect, source_resistance_ohm, real, "ohm",
-                0.0, 1e5, "Amplifier source resistance R_s (free parameter)"),
-    SWUM_EFFECT(amplifier_droop, AmplifierDroopEffect, clamped_capacitance_nf, real, "nF",
-                0.0, 1e6, "Clamped capacitance C0 of one phase (fixed)"),
+    SWUM_EFFECT(amplifier_droop, AmplifierDroopEffect, source_resistance_ohm, real, "ohm", 0.0, 1e5,
+                "Amplifier source resistance R_s (free parameter)"),
+    SWUM_EFFECT(amplifier_droop, AmplifierDroopEffect, clamped_capacitance_nf, real, "nF", 0.0, 1e6,
+                "Clamped capacitance C0 of one phase (fixed)"),
 };
 
 #undef SWUM_EFFECT_SWITCH
@@ -262,15 +252,13 @@ MotorParameters with_static_effects(MotorParameters p) {
     p.contact.stiffness_n_m *= std::cbrt(e.preload.preload_factor);
   }
   if (e.guide_friction.enabled) {
-    p.mover.guide_friction_coefficient =
-        std::max(0.0, p.mover.guide_friction_coefficient + e.guide_friction.extra_coefficient);
+    p.mover.guide_friction_coefficient = std::max(0.0, p.mover.guide_friction_coefficient +
+                                                           e.guide_friction.extra_coefficient);
   }
   return p;
 }
 
-std::string ParameterSpec::name() const {
-  return std::string(section) + "." + std::string(key);
-}
+std::string ParameterSpec::name() const { return std::string(section) + "." + std::string(key); }
 
 std::string quoted(std::string_view text) {
   std::string out;
@@ -297,15 +285,13 @@ std::string format_parameter_value(const ParameterSpec& spec, double value) {
       if (index < spec.choices.size()) return quoted(spec.choices[index]);
       return "<invalid>";
     }
-    case ParameterKind::boolean:
-      return value != 0.0 ? "true" : "false";
+    case ParameterKind::boolean: return value != 0.0 ? "true" : "false";
     case ParameterKind::integer: {
       char buffer[32];
       std::snprintf(buffer, sizeof buffer, "%lld", static_cast<long long>(value));
       return buffer;
     }
-    case ParameterKind::real:
-      break;
+    case ParameterKind::real: break;
   }
   return number_text(value);
 }
@@ -332,13 +318,12 @@ void validate_parameters(const MotorParameters& parameters, std::string_view sou
       allowed = std::string("[") + format_parameter_value(spec, spec.min_value) + ", " +
                 format_parameter_value(spec, spec.max_value) + "] " + std::string(spec.unit);
     }
-    throw ParameterError(std::string(source_name) + ": " + std::string(spec.section) + "." +
-                         std::string(spec.key) + " " + problem + " (allowed: " + allowed + ")");
+    throw ParameterError(std::string(source_name) + ": " + std::string(spec.section) + "." + std::string(spec.key) +
+                         " " + problem + " (allowed: " + allowed + ")");
   }
   const auto& s = parameters.stator;
   if (s.geometry == GeometryMode::explicit_size && s.half_height_mm >= s.length_mm) {
-    throw ParameterError(std::string(source_name) +
-                         ": stator.half_height_mm must be smaller than stator.length_mm");
+    throw ParameterError(std::string(source_name) + ": stator.half_height_mm must be smaller than stator.length_mm");
   }
 }
 
@@ -371,12 +356,11 @@ std::string render_parameters_markdown() {
     } else if (spec.kind == ParameterKind::boolean) {
       allowed = "`true`, `false`";
     } else {
-      allowed = format_parameter_value(spec, spec.min_value) + " .. " +
-                format_parameter_value(spec, spec.max_value);
+      allowed = format_parameter_value(spec, spec.min_value) + " .. " + format_parameter_value(spec, spec.max_value);
     }
     out += "| `" + std::string(spec.key) + "` | " + std::string(spec.unit) + " | `" +
-           format_parameter_value(spec, spec.get(defaults)) + "` | " + allowed + " | " +
-           std::string(spec.description) + " |\n";
+           format_parameter_value(spec, spec.get(defaults)) + "` | " + allowed + " | " + std::string(spec.description) +
+           " |\n";
   }
   return out;
 }

@@ -84,8 +84,8 @@ struct StatorParameters {
   GeometryMode geometry = GeometryMode::from_frequencies;
   double target_l1_frequency_hz = 39516.0;
   double target_b2_frequency_hz = 39469.0;
-  double length_mm = 61.632;      // used only with geometry = explicit
-  double half_height_mm = 5.4314; // used only with geometry = explicit
+  double length_mm = 61.632;           // used only with geometry = explicit
+  double half_height_mm = 5.4314;      // used only with geometry = explicit
   double tip_lever_over_length = 0.0;  // L1/L of §2.4: gT = phiB(L) + L1 phiB'(L)
 };
 
@@ -93,8 +93,8 @@ struct StatorParameters {
 struct ContactParameters {
   double preload_n = 24.8;
   double stiffness_n_m = 2.58e7;
-  double friction_coefficient = 0.35;     // mu_c
-  double erf_steepness_exponent = 6.0;    // a: kappa = 3.6 * 10^a s/m (eq. 22)
+  double friction_coefficient = 0.35;   // mu_c
+  double erf_steepness_exponent = 6.0;  // a: kappa = 3.6 * 10^a s/m (eq. 22)
   PreloadApplication preload_application = PreloadApplication::both_ends;
   // Jenkins element: tangential spring k_t in series with the Coulomb slider; 0 = rigid (paper).
   double tangential_stiffness_n_m = 0.0;
@@ -121,8 +121,8 @@ struct ModelOptions {
 struct NumericsParameters {
   double time_step_ns = 1.0e9 / (96.0 * 40000.0);  // 96 steps per 40 kHz cycle (§10)
   FrictionSolver friction_solver = FrictionSolver::coulomb_projection;
-  int quadrature_points = 400;             // Gauss-Legendre points per interval (§1.5)
-  double divergence_limit_um = 1000.0;     // |q1|, |q2| above this = runaway (NaN guard)
+  int quadrature_points = 400;                // Gauss-Legendre points per interval (§1.5)
+  double divergence_limit_um = 1000.0;        // |q1|, |q2| above this = runaway (NaN guard)
   double divergence_speed_limit_m_s = 100.0;  // |v_m| above this = runaway
 };
 
@@ -146,17 +146,17 @@ struct ElectroelasticEffect {
 struct ThermalEffect {
   bool enabled = false;
   double thermal_resistance_k_per_w = 4.0;       // free: R_th
-  double time_constant_s = 30.0;                  // fixed: tau
-  double stiffness_coefficient_per_k = -2.0e-4;   // fixed: a_K (PZT-8 c11, steel E ~ -2e-4/K)
-  double damping_coefficient_per_k = 5.0e-3;      // fixed: a_C (Qm of PZT-8 drops with T)
+  double time_constant_s = 30.0;                 // fixed: tau
+  double stiffness_coefficient_per_k = -2.0e-4;  // fixed: a_K (PZT-8 c11, steel E ~ -2e-4/K)
+  double damping_coefficient_per_k = 5.0e-3;     // fixed: a_C (Qm of PZT-8 drops with T)
 };
 
 // Friction pair wear: mu_c(s) = mu_c (1 + d (1 - exp(-s/s0))), s = mover travel (sliding)
 // distance accumulated since the start of the session.
 struct WearEffect {
   bool enabled = false;
-  double friction_change = 0.3;      // free: d (relative change of mu_c after run-in; + = wear roughens)
-  double run_in_distance_m = 20.0;   // fixed: s0
+  double friction_change = 0.3;     // free: d (relative change of mu_c after run-in; + = wear roughens)
+  double run_in_distance_m = 20.0;  // fixed: s0
 };
 
 // Preload error: F_P -> f F_P and, for a Hertzian contact (k ~ F^(1/3)), k_e -> f^(1/3) k_e.
@@ -176,8 +176,8 @@ struct GuideFrictionEffect {
 // applied to the drive amplitude.
 struct AmplifierDroopEffect {
   bool enabled = false;
-  double source_resistance_ohm = 60.0;    // free: R_s
-  double clamped_capacitance_nf = 10.0;   // fixed: C0 per phase
+  double source_resistance_ohm = 60.0;   // free: R_s
+  double clamped_capacitance_nf = 10.0;  // fixed: C0 per phase
 };
 
 struct EffectParameters {
@@ -224,10 +224,10 @@ struct ParameterSpec {
   std::string_view unit;
   std::string_view description;
   ParameterKind kind;
-  double min_value;  // inclusive (real/integer)
-  double max_value;  // inclusive (real/integer)
+  double min_value;                           // inclusive (real/integer)
+  double max_value;                           // inclusive (real/integer)
   std::span<const std::string_view> choices;  // kind == choice: names, index = enum value
-  double (*get)(const MotorParameters&);       // bool -> 0/1, choice -> index
+  double (*get)(const MotorParameters&);      // bool -> 0/1, choice -> index
   void (*set)(MotorParameters&, double);
 
   // "section.key" (e.g. "effects.thermal.time_constant_s").
@@ -238,8 +238,7 @@ struct ParameterSpec {
 [[nodiscard]] std::span<const ParameterSpec> parameter_specs();
 
 // Looks up "section.key"; nullptr if unknown.
-[[nodiscard]] const ParameterSpec* find_parameter_spec(std::string_view section,
-                                                       std::string_view key);
+[[nodiscard]] const ParameterSpec* find_parameter_spec(std::string_view section, std::string_view key);
 
 // Checks every value against its spec (finite, in range, valid choice). Throws ParameterError
 // naming source_name and the first offending key.

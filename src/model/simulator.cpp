@@ -39,9 +39,7 @@ inline double flush_tiny(double x) { return std::abs(x) < 1e-200 ? 0.0 : x; }
 }  // namespace
 
 void MotorSimulator::advance(std::uint64_t steps) {
-  system_.dispatch([&]<TangentialContact C, GuideFrictionModel G>() {
-    advance_specialised<C, G>(steps);
-  });
+  system_.dispatch([&]<TangentialContact C, GuideFrictionModel G>() { advance_specialised<C, G>(steps); });
 }
 
 template <TangentialContact C, GuideFrictionModel G>
@@ -68,13 +66,13 @@ void MotorSimulator::advance_specialised(std::uint64_t steps) {
     if ((++housekeeping & 63U) == 0U) {
       renormalise_phasor(s, c);
       for (auto& x : v) x = flush_tiny(x);
-      if (effects.any()) [[unlikely]] update_effects(q, v, s, c, waveform);
+      if (effects.any()) [[unlikely]]
+        update_effects(q, v, s, c, waveform);
     }
     // Runaway limits on q1, q2, v_m; NaN fails every comparison and a NaN/Inf anywhere makes
     // the sum's difference with itself NaN.
     const double sum = v[0] + v[1] + q[2];
-    const bool sane = q[0] * q[0] + q[1] * q[1] < position_limit_sq &&
-                      v[2] * v[2] < speed_limit_sq && sum - sum == 0.0;
+    const bool sane = q[0] * q[0] + q[1] * q[1] < position_limit_sq && v[2] * v[2] < speed_limit_sq && sum - sum == 0.0;
     if (!sane) [[unlikely]] {
       const MotorState rest = model_.rest_state(t);
       q = {rest.q1_m, rest.q2_m, rest.mover_position_m};
@@ -97,9 +95,8 @@ void MotorSimulator::advance_specialised(std::uint64_t steps) {
   state_.time_s = t;
 }
 
-void MotorSimulator::update_effects(const MotorSplitSystem::Vector& q,
-                                    const MotorSplitSystem::Vector& v, double sin_theta,
-                                    double cos_theta, DriveWaveform& waveform) {
+void MotorSimulator::update_effects(const MotorSplitSystem::Vector& q, const MotorSplitSystem::Vector& v,
+                                    double sin_theta, double cos_theta, DriveWaveform& waveform) {
   const EffectCoefficients& e = model_.coefficients().effects;
   constexpr double kBlockSteps = 64.0;
   const double block_s = kBlockSteps * dt_;
@@ -109,8 +106,7 @@ void MotorSimulator::update_effects(const MotorSplitSystem::Vector& q,
       // fixed phase there, so the phase-independent cycle mean heats the stator.
       const double power_w = system_.mean_damping_power_w(q[0] - model_.constants().static_q1_m, q[1], v,
                                                           waveform.angular_frequency_rad_s);
-      state_.stator_temperature_rise_k =
-          thermal_step_k(e, state_.stator_temperature_rise_k, power_w, block_s);
+      state_.stator_temperature_rise_k = thermal_step_k(e, state_.stator_temperature_rise_k, power_w, block_s);
     }
     if (e.wear) state_.sliding_distance_m += block_s * std::abs(v[2]);
     apply_slow_states();
@@ -120,8 +116,8 @@ void MotorSimulator::update_effects(const MotorSplitSystem::Vector& q,
     const double inv_w = w > 0.0 ? 1.0 / w : 0.0;
     const Analytic z1{q[0] - model_.constants().static_q1_m, -v[0] * inv_w};
     const Analytic z2{q[1], -v[1] * inv_w};
-    const double target = swum::droop_gain(e, w, sin_theta, cos_theta, waveform.cos_phase,
-                                     waveform.sin_phase, waveform_.amplitude_v, z1, z2);
+    const double target = swum::droop_gain(e, w, sin_theta, cos_theta, waveform.cos_phase, waveform.sin_phase,
+                                           waveform_.amplitude_v, z1, z2);
     // Half-way per block (~1 drive period): the modes respond over ~20 periods, so the
     // discrete feedback through the motional current stays smooth and stable.
     droop_gain_ += 0.5 * (target - droop_gain_);
@@ -137,13 +133,11 @@ void MotorSimulator::apply_slow_states() {
     system_.set_modal_factors(k, f.stiffness, f.damping);
   }
   if (e.wear) {
-    system_.set_friction_coefficient(k.friction_coefficient *
-                                     wear_friction_factor(e, state_.sliding_distance_m));
+    system_.set_friction_coefficient(k.friction_coefficient * wear_friction_factor(e, state_.sliding_distance_m));
   }
 }
 
-void MotorSimulator::set_slow_states(double temperature_rise_k, double sliding_distance_m,
-                                     bool frozen) {
+void MotorSimulator::set_slow_states(double temperature_rise_k, double sliding_distance_m, bool frozen) {
   const EffectCoefficients& e = model_.coefficients().effects;
   state_.stator_temperature_rise_k = e.thermal ? temperature_rise_k : 0.0;
   state_.sliding_distance_m = e.wear ? sliding_distance_m : 0.0;

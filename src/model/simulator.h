@@ -50,9 +50,7 @@ class MotorSimulator {
 
   [[nodiscard]] const InterfaceForces& forces() const { return system_.forces(); }
   [[nodiscard]] MotorOutputs outputs() const;
-  [[nodiscard]] DriveVoltages voltages() const {
-    return drive_voltages(waveform_, state_.drive_sin, state_.drive_cos);
-  }
+  [[nodiscard]] DriveVoltages voltages() const { return drive_voltages(waveform_, state_.drive_sin, state_.drive_cos); }
   [[nodiscard]] double time_step_s() const { return dt_; }
   [[nodiscard]] const MotorModel& model() const { return model_; }
 
@@ -75,8 +73,8 @@ class MotorSimulator {
   void advance_specialised(std::uint64_t steps);
 
   // Housekeeping of the enabled effects (effects.h), every 64 steps.
-  void update_effects(const MotorSplitSystem::Vector& q, const MotorSplitSystem::Vector& v,
-                      double sin_theta, double cos_theta, DriveWaveform& waveform);
+  void update_effects(const MotorSplitSystem::Vector& q, const MotorSplitSystem::Vector& v, double sin_theta,
+                      double cos_theta, DriveWaveform& waveform);
   void apply_slow_states();
 
   const MotorModel& model_;

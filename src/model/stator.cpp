@@ -2,8 +2,7 @@
 
 namespace swum {
 
-StatorForceCoefficients make_stator_force_coefficients(const ModalConstants& c,
-                                                       const StatorParameters& s) {
+StatorForceCoefficients make_stator_force_coefficients(const ModalConstants& c, const StatorParameters& s) {
   StatorForceCoefficients out;
   auto fill = [&](ModeForceCoefficients& m, const std::array<ElectricalCoefficient, 5>& x) {
     m.lin0_a = x[0].group_a;

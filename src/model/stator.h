@@ -27,12 +27,11 @@ struct StatorForceCoefficients {
   ModeForceCoefficients b2;  // eq. 15
 };
 
-[[nodiscard]] StatorForceCoefficients make_stator_force_coefficients(
-    const ModalConstants& constants, const StatorParameters& stator);
+[[nodiscard]] StatorForceCoefficients make_stator_force_coefficients(const ModalConstants& constants,
+                                                                     const StatorParameters& stator);
 
 // Generalised modal force (N) of one mode at coordinate q (m) and phase voltages (V).
-[[nodiscard]] inline double modal_force_n(const ModeForceCoefficients& m, double q, double va,
-                                          double vb) {
+[[nodiscard]] inline double modal_force_n(const ModeForceCoefficients& m, double q, double va, double vb) {
   const double va2 = va * va;
   const double vb2 = vb * vb;
   const double c0 = m.lin0_a * va + m.lin0_b * vb + m.sq0_a * va2 + m.sq0_b * vb2;
@@ -51,11 +50,9 @@ struct PairedForceCoefficients {
   DoublePair k, k2, k3;
 };
 
-[[nodiscard]] PairedForceCoefficients make_paired_force_coefficients(
-    const StatorForceCoefficients& c);
+[[nodiscard]] PairedForceCoefficients make_paired_force_coefficients(const StatorForceCoefficients& c);
 
-[[nodiscard]] inline DoublePair modal_forces_n(const PairedForceCoefficients& m, DoublePair q,
-                                               double va, double vb) {
+[[nodiscard]] inline DoublePair modal_forces_n(const PairedForceCoefficients& m, DoublePair q, double va, double vb) {
   const DoublePair a = {va, va};
   const DoublePair b = {vb, vb};
   const DoublePair a2 = a * a;

@@ -9,9 +9,9 @@
 
 #include <algorithm>
 #include <fstream>
-#include <vector>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include "config/parameter_file.h"
 #include "model/simulator.h"
@@ -34,8 +34,8 @@ double thread_cpu_s() {
 // Counters (plain numbers, not rates): ns_per_step = thread CPU ns per step, taken as the best
 // of the batches of this run (a shared machine only ever slows a batch down);
 // real_time_factor = step / (CPU time per step) for that best batch.
-void run(benchmark::State& state, const swum::MotorParameters& p, double vpp,
-         double frequency_hz, double load_n = 0.0) {
+void run(benchmark::State& state, const swum::MotorParameters& p, double vpp, double frequency_hz,
+         double load_n = 0.0) {
   const swum::MotorModel model(p);
   swum::MotorSimulator sim(model);
   sim.set_drive({vpp, frequency_hz, 90.0, load_n});
@@ -61,19 +61,13 @@ void BM_Calibrated_Slip_400Vpp_40kHz(benchmark::State& s) { run(s, calibrated(),
 // Stick-dominated: 50 Vpp at 40 kHz (dead zone: contact sticks elastically, mover at rest).
 void BM_Calibrated_Stick_50Vpp_40kHz(benchmark::State& s) { run(s, calibrated(), 50.0, 40000.0); }
 // Separation: 400 Vpp at 39.5 kHz (largest normal amplitude, contact open ~half the cycle).
-void BM_Calibrated_Separation_400Vpp_39k5Hz(benchmark::State& s) {
-  run(s, calibrated(), 400.0, 39500.0);
-}
+void BM_Calibrated_Separation_400Vpp_39k5Hz(benchmark::State& s) { run(s, calibrated(), 400.0, 39500.0); }
 // Loaded mover, guide friction holding: 0 Vpp with 0.5 N load (stuck below mu_s (F_N + m g)).
 void BM_Calibrated_Rest_Loaded(benchmark::State& s) { run(s, calibrated(), 0.0, 40000.0, 0.5); }
 
 // Paper reference set (rigid contact, tanh guide friction).
-void BM_Reference_Slip_400Vpp_40kHz(benchmark::State& s) {
-  run(s, swum::MotorParameters{}, 400.0, 40000.0);
-}
-void BM_Reference_Stick_100Vpp_40k4Hz(benchmark::State& s) {
-  run(s, swum::MotorParameters{}, 100.0, 40400.0);
-}
+void BM_Reference_Slip_400Vpp_40kHz(benchmark::State& s) { run(s, swum::MotorParameters{}, 400.0, 40000.0); }
+void BM_Reference_Stick_100Vpp_40k4Hz(benchmark::State& s) { run(s, swum::MotorParameters{}, 100.0, 40400.0); }
 void BM_Reference_ErfNewton_400Vpp_40kHz(benchmark::State& s) {
   swum::MotorParameters p{};
   p.numerics.friction_solver = swum::FrictionSolver::erf_newton;

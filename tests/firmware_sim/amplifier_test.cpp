@@ -10,7 +10,7 @@ namespace {
 AmplifierConfig config() {
   AmplifierConfig c;
   c.tick_s = 1e-4;
-  c.watchdog_s = 0.01;  // 100 ticks
+  c.watchdog_s = 0.01;               // 100 ticks
   c.amplitude_slew_vpp_per_s = 1e5;  // 10 Vpp per tick
   c.frequency_slew_hz_per_s = 1e6;   // 100 Hz per tick
   return c;

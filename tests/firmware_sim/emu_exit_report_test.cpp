@@ -50,9 +50,7 @@ void count(DropCounters& drops, Drop reason, int n) {
   for (int i = 0; i < n; ++i) drops.count(reason);
 }
 
-TEST(EmuExitReport, LoopAndCommandsOnlyWithoutTransports) {
-  EXPECT_EQ(format_exit_report(loop_only()), kLoopLines);
-}
+TEST(EmuExitReport, LoopAndCommandsOnlyWithoutTransports) { EXPECT_EQ(format_exit_report(loop_only()), kLoopLines); }
 
 TEST(EmuExitReport, StoppedBySignal) {
   ExitStatistics s = loop_only();
@@ -79,9 +77,8 @@ TEST(EmuExitReport, ModbusTcpCountsAndCloses) {
   ExitStatistics s = loop_only();
   s.modbus_tcp = &tcp;
   EXPECT_EQ(format_exit_report(s),
-            kLoopLines +
-                "  modbus    1000 requests, 7 exceptions, 12 connections\n"
-                "  modbus tcp closed: no slot 3, evicted 1, idle 2, frame timeout 4, reply timeout 5\n");
+            kLoopLines + "  modbus    1000 requests, 7 exceptions, 12 connections\n"
+                         "  modbus tcp closed: no slot 3, evicted 1, idle 2, frame timeout 4, reply timeout 5\n");
 }
 
 TEST(EmuExitReport, ModbusRtuCountsAndDiscards) {

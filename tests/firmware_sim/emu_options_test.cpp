@@ -104,14 +104,61 @@ TEST(EmuOptions, DefaultsAreTheDocumentedOnes) {
 }
 
 TEST(EmuOptions, EachOptionSetsItsField) {
-  const EmuOptions o = parse_with_config(
-      {"--can", "vcan0", "--node", "42", "--modbus", "rtu:/dev/ttyUSB0:115200", "--modbus-unit", "247",
-       "--modbus-idle-timeout-ms", "0", "--modbus-frame-timeout-ms", "86400000", "--modbus-evict-idle-ms", "250",
-       "--gpio", "gpiochip1:enable=3,fault=4", "--encoder-resolution-um", "2.5", "--encoder-max-rate", "5000",
-       "--tick-hz", "2000", "--duration", "2.5", "--speedup", "0", "--spin-us", "50", "--watchdog-ms", "250",
-       "--telemetry-hz", "2000", "--heartbeat-ms", "0", "--frequency-min", "35000", "--frequency-max", "45000",
-       "--amplitude-max", "300", "--load-max", "5", "--frequency-slew", "2e7", "--amplitude-slew", "0",
-       "--frequency", "41000", "--phase", "-90", "--rt", "--cpu", "1", "--ready-fd", "3"});
+  const EmuOptions o = parse_with_config({"--can",
+                                          "vcan0",
+                                          "--node",
+                                          "42",
+                                          "--modbus",
+                                          "rtu:/dev/ttyUSB0:115200",
+                                          "--modbus-unit",
+                                          "247",
+                                          "--modbus-idle-timeout-ms",
+                                          "0",
+                                          "--modbus-frame-timeout-ms",
+                                          "86400000",
+                                          "--modbus-evict-idle-ms",
+                                          "250",
+                                          "--gpio",
+                                          "gpiochip1:enable=3,fault=4",
+                                          "--encoder-resolution-um",
+                                          "2.5",
+                                          "--encoder-max-rate",
+                                          "5000",
+                                          "--tick-hz",
+                                          "2000",
+                                          "--duration",
+                                          "2.5",
+                                          "--speedup",
+                                          "0",
+                                          "--spin-us",
+                                          "50",
+                                          "--watchdog-ms",
+                                          "250",
+                                          "--telemetry-hz",
+                                          "2000",
+                                          "--heartbeat-ms",
+                                          "0",
+                                          "--frequency-min",
+                                          "35000",
+                                          "--frequency-max",
+                                          "45000",
+                                          "--amplitude-max",
+                                          "300",
+                                          "--load-max",
+                                          "5",
+                                          "--frequency-slew",
+                                          "2e7",
+                                          "--amplitude-slew",
+                                          "0",
+                                          "--frequency",
+                                          "41000",
+                                          "--phase",
+                                          "-90",
+                                          "--rt",
+                                          "--cpu",
+                                          "1",
+                                          "--ready-fd",
+                                          "3"});
   EXPECT_EQ(o.can_interface, "vcan0");
   EXPECT_EQ(o.can_node, 42);
   EXPECT_EQ(o.modbus_spec, "rtu:/dev/ttyUSB0:115200");
@@ -169,9 +216,11 @@ TEST(EmuOptions, UsageErrorsKeepCli11TextAndExitCode) {
       {{"--config", kConfig, "--node", "128"}, 105, "--node: Value 128 not in range 1 to 127"},
       {{"--config", kConfig, "--modbus-unit", "248"}, 105, "--modbus-unit: Value 248 not in range 1 to 247"},
       {{"--config", kConfig, "--tick-hz", "50"}, 105, "--tick-hz: Value 50 not in range 100.000000 to 100000.000000"},
-      {{"--config", kConfig, "--telemetry-hz", "3000"}, 105,
+      {{"--config", kConfig, "--telemetry-hz", "3000"},
+       105,
        "--telemetry-hz: Value 3000 not in range 0.000000 to 2000.000000"},
-      {{"--config", kConfig, "--encoder-max-rate", "0.5"}, 105,
+      {{"--config", kConfig, "--encoder-max-rate", "0.5"},
+       105,
        "--encoder-max-rate: Value 0.5 not in range 1.000000 to 1000000.000000"},
       {{"--config", kConfig, "--spin-us", "2e6"}, 105, "--spin-us: Value 2e6 not in range 0.000000 to 1000000.000000"},
       {{"--config", kConfig, "--frequency-max", "abc"}, 104, "Could not convert: --frequency-max = abc"},
@@ -215,9 +264,10 @@ TEST(EmuOptions, ModbusMillisecondsRefusedWithOptionAndText) {
 }
 
 TEST(EmuOptions, AmplifierConfigInSiUnits) {
-  const AmplifierConfig amp = amplifier_config(parse_with_config(
-      {"--watchdog-ms", "250", "--frequency-min", "35000", "--frequency-max", "45000", "--amplitude-max", "300",
-       "--load-max", "5", "--frequency-slew", "2e7", "--amplitude-slew", "0", "--frequency", "41000", "--phase", "-90"}));
+  const AmplifierConfig amp = amplifier_config(
+      parse_with_config({"--watchdog-ms", "250", "--frequency-min", "35000", "--frequency-max", "45000",
+                         "--amplitude-max", "300", "--load-max", "5", "--frequency-slew", "2e7", "--amplitude-slew",
+                         "0", "--frequency", "41000", "--phase", "-90"}));
   EXPECT_DOUBLE_EQ(amp.watchdog_s, 0.25);
   EXPECT_EQ(amp.limits.min_frequency_hz, 35000.0);
   EXPECT_EQ(amp.limits.max_frequency_hz, 45000.0);
@@ -312,8 +362,8 @@ TEST(EmuOptions, ModbusTcpOptions) {
 }
 
 TEST(EmuOptions, CanTransportConfigInSiUnits) {
-  const CanTransportConfig can =
-      can_transport_config(parse_with_config({"--node", "127", "--telemetry-hz", "250", "--heartbeat-ms", "500"}));
+  const CanTransportConfig can = can_transport_config(
+      parse_with_config({"--node", "127", "--telemetry-hz", "250", "--heartbeat-ms", "500"}));
   EXPECT_EQ(can.node, 127);
   EXPECT_EQ(can.telemetry_hz, 250.0);
   EXPECT_DOUBLE_EQ(can.heartbeat_s, 0.5);
@@ -324,8 +374,9 @@ TEST(EmuOptions, CanTransportConfigInSiUnits) {
 }
 
 TEST(EmuOptions, GpioConfigInSiUnits) {
-  const GpioConfig gpio = gpio_config(parse_with_config(
-      {"--gpio", "gpiochip1:enable=3,fault=4,a=5,b=6", "--encoder-resolution-um", "2.5", "--encoder-max-rate", "5000"}));
+  const GpioConfig gpio = gpio_config(
+      parse_with_config({"--gpio", "gpiochip1:enable=3,fault=4,a=5,b=6", "--encoder-resolution-um", "2.5",
+                         "--encoder-max-rate", "5000"}));
   EXPECT_EQ(gpio.chip, "gpiochip1");
   EXPECT_EQ(gpio.enable, 3);
   EXPECT_EQ(gpio.fault, 4);
@@ -355,8 +406,8 @@ TEST(EmuOptions, LoopConfig) {
   EXPECT_EQ(loop.speedup, 4.0);
   EXPECT_TRUE(loop.realtime);
   EXPECT_DOUBLE_EQ(loop.spin_s, 50e-6);
-  EXPECT_EQ(loop.max_ticks, 5000u);          // 2.5 emulated s at 2 kHz
-  EXPECT_EQ(loop.stats_every_ticks, 200u);   // ~10 times per emulated second
+  EXPECT_EQ(loop.max_ticks, 5000u);         // 2.5 emulated s at 2 kHz
+  EXPECT_EQ(loop.stats_every_ticks, 200u);  // ~10 times per emulated second
   const LoopConfig defaults = loop_config(parse_with_config({}));
   EXPECT_EQ(defaults.speedup, 1.0);
   EXPECT_FALSE(defaults.realtime);

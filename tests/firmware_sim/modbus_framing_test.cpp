@@ -21,7 +21,8 @@ TEST(ParseMilliseconds, RejectsNamingTheText) {
   for (const char* bad : {"", "abc", "1.5", "2e3", "500ms", " 5", "5 ", "+5", "0x10"}) {
     int v = 7;
     const std::string e = parse_milliseconds(bad, 0, 1000, v);
-    EXPECT_NE(e.find(std::string("'") + bad + "' is not a whole number of milliseconds (0 to 1000 ms)"), std::string::npos)
+    EXPECT_NE(e.find(std::string("'") + bad + "' is not a whole number of milliseconds (0 to 1000 ms)"),
+              std::string::npos)
         << bad << ": " << e;
     EXPECT_EQ(v, 7) << bad;
   }
@@ -50,18 +51,18 @@ int final_length(const std::vector<std::uint8_t>& frame) {
 
 TEST(RtuRequestLength, FollowsTheFunctionCode) {
   EXPECT_EQ(rtu::request_length({}), 2);
-  EXPECT_EQ(final_length({7, 3, 0, 0, 0, 10, 0, 0}), 8);   // read holding
-  EXPECT_EQ(final_length({7, 4, 0, 0, 0, 1, 0, 0}), 8);    // read input
+  EXPECT_EQ(final_length({7, 3, 0, 0, 0, 10, 0, 0}), 8);  // read holding
+  EXPECT_EQ(final_length({7, 4, 0, 0, 0, 1, 0, 0}), 8);   // read input
   EXPECT_EQ(final_length({7, 6, 0, 3, 0x0F, 0xA0, 0, 0}), 8);
-  EXPECT_EQ(final_length({7, 0, 0, 0, 0, 0, 0, 0}), 8);    // function 0: as the reads (libmodbus)
+  EXPECT_EQ(final_length({7, 0, 0, 0, 0, 0, 0, 0}), 8);  // function 0: as the reads (libmodbus)
   std::vector<std::uint8_t> fc16{7, 16, 0, 1, 0, 2, 4, 1, 2, 3, 4, 0, 0};
-  EXPECT_EQ(final_length(fc16), 13);                       // 7 + byte count 4 + CRC
+  EXPECT_EQ(final_length(fc16), 13);                             // 7 + byte count 4 + CRC
   EXPECT_EQ(final_length({7, 22, 0, 0, 0, 0, 0, 0, 0, 0}), 10);  // mask write
   std::vector<std::uint8_t> fc23(13 + 2 + 2, 0);
   fc23[0] = 7, fc23[1] = 23, fc23[10] = 2;
   EXPECT_EQ(final_length(fc23), 15);
-  EXPECT_EQ(final_length({7, 0x11, 0, 0}), 4);              // report slave id: unit, function, CRC
-  EXPECT_EQ(final_length({7, 0x2B, 0, 0}), 4);              // unknown: the same
+  EXPECT_EQ(final_length({7, 0x11, 0, 0}), 4);               // report slave id: unit, function, CRC
+  EXPECT_EQ(final_length({7, 0x2B, 0, 0}), 4);               // unknown: the same
   EXPECT_EQ(final_length({7, 16, 0, 0, 0, 123, 246}), 255);  // 9 + 246 = 255: fits
   EXPECT_EQ(final_length({7, 16, 0, 0, 0, 124, 248}), -1);   // 259: above 256 bytes
 }

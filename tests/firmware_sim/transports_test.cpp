@@ -143,8 +143,8 @@ StampedCommand command_through(const StampRewritingBus::Rewrite& rewrite) {
   config.node = 3;
   config.telemetry_hz = 0;
   config.heartbeat_s = 0;
-  CanTransport transport(std::make_unique<StampRewritingBus>(network->attach("emu"), rewrite), nullptr, config,
-                         shared, AmplifierLimits{});
+  CanTransport transport(std::make_unique<StampRewritingBus>(network->attach("emu"), rewrite), nullptr, config, shared,
+                         AmplifierLimits{});
   transport.start();
   StampedCommand out;
   protocol::can::CommandFrame c;
@@ -239,7 +239,8 @@ TEST_F(CanTransportTest, TelemetryAndHeartbeatAreSent) {
 TEST_F(CanTransportTest, SurvivesFullTransmitQueueAndBusOff) {
   network->fail_next_sends(20);
   network->inject_error_frame(0x40 /* CAN_ERR_BUSOFF */);
-  ASSERT_TRUE(eventually([&] { return transport->stats().tx_dropped.load() >= 20 && transport->stats().bus_off.load() >= 1; }));
+  ASSERT_TRUE(
+      eventually([&] { return transport->stats().tx_dropped.load() >= 20 && transport->stats().bus_off.load() >= 1; }));
   send_command(5);
   Command c;
   ASSERT_TRUE(pop(c));

@@ -28,15 +28,15 @@
 
 // ============================== ADAPTER ==============================
 // Emulator side (firmware_sim/ today):
+#include "can_codec.h"  // ids_for_node, crc8, CommandFrame/AuxFrame encode/decode/to_command, AliveCounter, encode_<telemetry>
+#include "can_telemetry_decode.h"  // decode_status/motion/drive/output/clock
 #include "codes.h"                 // Reason, AmpState, FaultCode, Action, CommandSource, to_string()
 #include "command.h"               // Command, AmplifierLimits
-#include "telemetry.h"             // Telemetry, RejectSnapshot
-#include "can_codec.h"             // ids_for_node, crc8, CommandFrame/AuxFrame encode/decode/to_command, AliveCounter, encode_<telemetry>
-#include "can_telemetry_decode.h"  // decode_status/motion/drive/output/clock
 #include "endpoint.h"              // parse_modbus_endpoint
-#include "modbus_server.h"         // ModbusTcpServer (the emulator's Modbus TCP framing)
 #include "modbus_codec.h"          // parse_request, decide, fill_holding, fill_input, holding::/input:: addresses
+#include "modbus_server.h"         // ModbusTcpServer (the emulator's Modbus TCP framing)
 #include "shared_state.h"          // SharedState
+#include "telemetry.h"             // Telemetry, RejectSnapshot
 // Host side (host/device/ and host/output/ today):
 #include "device/can_device.h"     // CanDevice (CAN client: command/aux frames out, telemetry sets in)
 #include "device/device.h"         // DeviceTelemetry, DriveSetpoint, DeviceAction, DeviceTimeouts, reject_reason_name
@@ -88,7 +88,9 @@ inline void fill_holding(const Telemetry& t, std::span<std::uint16_t, kHoldingCo
 inline void fill_input(const Telemetry& t, const RejectSnapshot& s, std::span<std::uint16_t, kInputCount> r) {
   mb::fill_input(t, s, r);
 }
-inline std::string parse_endpoint(const std::string& text, Endpoint& out) { return protocol::parse_modbus_endpoint(text, out); }
+inline std::string parse_endpoint(const std::string& text, Endpoint& out) {
+  return protocol::parse_modbus_endpoint(text, out);
+}
 inline const char* reason_name(Reason r) { return protocol::to_string(r); }
 inline const char* state_name(protocol::AmpState s) { return protocol::to_string(s); }
 inline const char* fault_name(protocol::FaultCode f) { return protocol::to_string(f); }
@@ -107,7 +109,8 @@ using nlohmann::json;
 std::vector<std::uint8_t> from_hex(const std::string& text) {
   if (text.size() % 2 != 0) throw std::invalid_argument("odd hex string '" + text + "'");
   std::vector<std::uint8_t> bytes;
-  for (std::size_t i = 0; i < text.size(); i += 2) bytes.push_back(static_cast<std::uint8_t>(std::stoul(text.substr(i, 2), nullptr, 16)));
+  for (std::size_t i = 0; i < text.size(); i += 2)
+    bytes.push_back(static_cast<std::uint8_t>(std::stoul(text.substr(i, 2), nullptr, 16)));
   return bytes;
 }
 std::string to_hex(std::span<const std::uint8_t> bytes) {
@@ -407,8 +410,9 @@ json modbus_exchange(const json& in) {
     const auto unit = request.at("unit").get<std::uint8_t>();
     ++transaction;
     const auto length = static_cast<std::uint16_t>(pdu.size() + 1);
-    std::vector<std::uint8_t> adu{static_cast<std::uint8_t>(transaction >> 8), static_cast<std::uint8_t>(transaction & 0xFF),
-                                  0, 0, static_cast<std::uint8_t>(length >> 8), static_cast<std::uint8_t>(length & 0xFF), unit};
+    std::vector<std::uint8_t> adu{
+        static_cast<std::uint8_t>(transaction >> 8), static_cast<std::uint8_t>(transaction & 0xFF), 0,   0,
+        static_cast<std::uint8_t>(length >> 8),      static_cast<std::uint8_t>(length & 0xFF),      unit};
     adu.insert(adu.end(), pdu.begin(), pdu.end());
     std::string answer;
     std::uint8_t header[7];
@@ -442,7 +446,10 @@ json codes(const json&) {
   for (int i = 0; i <= 3; ++i) states.push_back(a::state_name(static_cast<a::emu::AmpState>(i)));
   for (int i = 0; i <= 3; ++i) faults.push_back(a::fault_name(static_cast<a::emu::FaultCode>(i)));
   for (int i = -1; i <= 18; ++i) host_names.push_back(a::host_reject_name(i));
-  return {{"reasons_0_17", reasons}, {"states_0_3", states}, {"faults_0_3", faults}, {"host_reject_names_m1_18", host_names}};
+  return {{"reasons_0_17", reasons},
+          {"states_0_3", states},
+          {"faults_0_3", faults},
+          {"host_reject_names_m1_18", host_names}};
 }
 
 // ---------------------------------------------------------------- emulator: CAN
@@ -527,8 +534,8 @@ json can_telemetry_encode(const json& in) {
   const auto ids = a::can::ids_for_node(in.at("node").get<std::uint8_t>());
   // LoopStats (0x480+N) is all timing: not captured. Output's last two bytes (lateness p50)
   // carry the zero statistics of the input.
-  return {{"status", frame_text(a::can::encode_status(t, rejects_from(in.at("rejects")), in.at("counter").get<std::uint8_t>(),
-                                                      ids.status))},
+  return {{"status", frame_text(a::can::encode_status(t, rejects_from(in.at("rejects")),
+                                                      in.at("counter").get<std::uint8_t>(), ids.status))},
           {"motion", frame_text(a::can::encode_motion(t, ids.motion))},
           {"drive", frame_text(a::can::encode_drive(t, ids.drive))},
           {"output", frame_text(a::can::encode_output(t, ids.output))},
@@ -545,9 +552,15 @@ json can_telemetry_decode(const json& in) {
     a::can::StatusFields s;
     ok = a::can::decode_status(f, s);
     if (ok)
-      out = {{"state", s.state},           {"enable_line", s.enable_line},   {"drive_on", s.drive_on},
-             {"at_setpoint", s.at_setpoint}, {"fault", s.fault},             {"last_reject", s.last_reject},
-             {"reject_count", s.reject_count}, {"applied_count", s.applied_count}, {"status_counter", s.status_counter}};
+      out = {{"state", s.state},
+             {"enable_line", s.enable_line},
+             {"drive_on", s.drive_on},
+             {"at_setpoint", s.at_setpoint},
+             {"fault", s.fault},
+             {"last_reject", s.last_reject},
+             {"reject_count", s.reject_count},
+             {"applied_count", s.applied_count},
+             {"status_counter", s.status_counter}};
   } else if (as == "motion") {
     a::can::MotionFields m;
     ok = a::can::decode_motion(f, m);
@@ -556,7 +569,9 @@ json can_telemetry_decode(const json& in) {
     a::can::DriveFields d;
     ok = a::can::decode_drive(f, d);
     if (ok)
-      out = {{"tip_normal_um", d.tip_normal_um}, {"tip_tangential_um", d.tip_tangential_um}, {"vpp", d.vpp},
+      out = {{"tip_normal_um", d.tip_normal_um},
+             {"tip_tangential_um", d.tip_tangential_um},
+             {"vpp", d.vpp},
              {"phase_deg", d.phase_deg}};
   } else if (as == "output") {
     a::can::OutputFields o;
@@ -675,8 +690,9 @@ class RecordingSlave {
         }
       }
       const auto length = static_cast<std::uint16_t>(reply.size() + 1);
-      std::vector<std::uint8_t> adu{h[0], h[1], h[2], h[3], static_cast<std::uint8_t>(length >> 8),
-                                    static_cast<std::uint8_t>(length & 0xFF), h[6]};
+      std::vector<std::uint8_t> adu{
+          h[0], h[1], h[2], h[3], static_cast<std::uint8_t>(length >> 8), static_cast<std::uint8_t>(length & 0xFF),
+          h[6]};
       adu.insert(adu.end(), reply.begin(), reply.end());
       if (!write_all(fd, adu)) break;
     }
@@ -820,8 +836,9 @@ bool json_matches(const json& expected, const json& actual, double relative, std
     if (expected.is_number_float() || actual.is_number_float()) {
       const double e = expected.get<double>(), x = actual.get<double>();
       if (e == x) return true;
-      return std::abs(e - x) <= relative * std::max(std::abs(e), std::abs(x)) ? true
-                                                                              : fail(": " + expected.dump() + " vs " + actual.dump());
+      return std::abs(e - x) <= relative * std::max(std::abs(e), std::abs(x))
+                 ? true
+                 : fail(": " + expected.dump() + " vs " + actual.dump());
     }
     return expected == actual ? true : fail(": " + expected.dump() + " vs " + actual.dump());
   }
@@ -838,7 +855,8 @@ bool json_matches(const json& expected, const json& actual, double relative, std
   }
   if (expected.is_array()) {
     if (expected.size() != actual.size())
-      return fail(": " + std::to_string(expected.size()) + " elements expected, " + std::to_string(actual.size()) + " found");
+      return fail(": " + std::to_string(expected.size()) + " elements expected, " + std::to_string(actual.size()) +
+                  " found");
     for (std::size_t i = 0; i < expected.size(); ++i) {
       if (!json_matches(expected[i], actual[i], relative, where)) return fail("[" + std::to_string(i) + "]" + where);
     }

@@ -32,10 +32,13 @@ std::string hex8(unsigned v) {
   std::snprintf(b, sizeof b, "%02x", v & 0xFFU);
   return b;
 }
-std::string read_pdu(unsigned fc, unsigned address, unsigned quantity) { return hex8(fc) + hex16(address) + hex16(quantity); }
+std::string read_pdu(unsigned fc, unsigned address, unsigned quantity) {
+  return hex8(fc) + hex16(address) + hex16(quantity);
+}
 std::string write1(unsigned address, unsigned value) { return "06" + hex16(address) + hex16(value); }
 std::string write_n(unsigned address, const std::vector<unsigned>& values) {
-  std::string s = "10" + hex16(address) + hex16(static_cast<unsigned>(values.size())) + hex8(2 * static_cast<unsigned>(values.size()));
+  std::string s = "10" + hex16(address) + hex16(static_cast<unsigned>(values.size())) +
+                  hex8(2 * static_cast<unsigned>(values.size()));
   for (unsigned v : values) s += hex16(v);
   return s;
 }
@@ -44,7 +47,11 @@ unsigned lo(std::uint32_t v) { return v & 0xFFFFU; }
 unsigned i16(int v) { return static_cast<unsigned>(v) & 0xFFFFU; }
 
 json setpoints(json f, json a, json p, json l, json fs, json as) {
-  return {{"frequency_hz", f}, {"amplitude_vpp", a}, {"phase_deg", p}, {"load_n", l}, {"frequency_slew_hz_per_s", fs},
+  return {{"frequency_hz", f},
+          {"amplitude_vpp", a},
+          {"phase_deg", p},
+          {"load_n", l},
+          {"frequency_slew_hz_per_s", fs},
           {"amplitude_slew_vpp_per_s", as}};
 }
 
@@ -69,59 +76,65 @@ json telemetry(const json& overrides = json::object()) {
   return t;
 }
 
-const json kDriving = telemetry({{"tick", 123456},
-                                 {"sim_time_s", 12.3456},
-                                 {"state", 1},
-                                 {"setpoints", setpoints(40123.456, 250.0, 90.0, 0.5, 1.0e6, 1.0e5)},
-                                 {"output", {{"frequency_hz", 40123.4567}, {"vpp", 250.0}, {"phase_deg", 90.0}, {"load_n", 0.5}}},
-                                 {"speed_m_s", 0.2345678},
-                                 {"tick_speed_m_s", 0.231},
-                                 {"position_m", -0.0123456},
-                                 {"tip_normal_um", 3.2105},
-                                 {"tip_tangential_um", 2.4449},
-                                 {"applied_commands", 42},
-                                 {"last_sequence", 77}});
-const json kFault = telemetry({{"tick", 987654321},
-                               {"sim_time_s", 98765.4321},
-                               {"state", 2},
-                               {"fault", 2},
-                               {"enable_line", false},
-                               {"at_setpoint", false},
-                               {"setpoints", setpoints(39000.0, 300.0, -90.0, -1.25, 0.0, 0.0)},
-                               {"output", {{"frequency_hz", 39000.0}, {"vpp", 300.0}, {"phase_deg", -90.0}, {"load_n", -1.25}}},
-                               {"speed_m_s", -0.5},
-                               {"tick_speed_m_s", -0.51234},
-                               {"position_m", -1.0},
-                               {"tip_normal_um", 0.0004},
-                               {"tip_tangential_um", 0.0005},
-                               {"applied_commands", 300},
-                               {"last_sequence", 1000}});
-const json kTimeout = telemetry({{"tick", 1000},
-                                 {"sim_time_s", 0.1},
-                                 {"state", 2},
-                                 {"fault", 1},
-                                 {"output", {{"frequency_hz", 40000.0}, {"vpp", 0.0}, {"phase_deg", 90.0}, {"load_n", 0.0}}}});
-const json kExtremes = telemetry({{"tick", 4294967301ULL},  // 2^32 + 5
-                                  {"sim_time_s", 5.0e6},
-                                  {"state", 1},
-                                  {"setpoints", setpoints(50000.0, 600.0, 180.0, 30.0, 1.0e7, 1.0e7)},
-                                  {"output", {{"frequency_hz", 5.0e6}, {"vpp", 7000.0}, {"phase_deg", -200.0}, {"load_n", -40.0}}},
-                                  {"speed_m_s", 3000.0},
-                                  {"tick_speed_m_s", -3000.0},
-                                  {"position_m", -5000.0},
-                                  {"tip_normal_um", 70.0},
-                                  {"tip_tangential_um", 65.5355},
-                                  {"applied_commands", 4294967297ULL},
-                                  {"last_sequence", 8589934595ULL}});
-const json kNonFinite = telemetry({{"state", 1},
-                                   {"sim_time_s", "nan"},
-                                   {"output", {{"frequency_hz", "nan"}, {"vpp", "inf"}, {"phase_deg", "nan"}, {"load_n", "-inf"}}},
-                                   {"speed_m_s", "nan"},
-                                   {"tick_speed_m_s", "inf"},
-                                   {"position_m", "-inf"},
-                                   {"tip_normal_um", "nan"},
-                                   {"tip_tangential_um", "inf"}});
-const json kEnabledIdle = telemetry({{"tick", 7}, {"sim_time_s", 0.0007}, {"state", 1}, {"enable_line", false}, {"at_setpoint", false}});
+const json kDriving = telemetry(
+    {{"tick", 123456},
+     {"sim_time_s", 12.3456},
+     {"state", 1},
+     {"setpoints", setpoints(40123.456, 250.0, 90.0, 0.5, 1.0e6, 1.0e5)},
+     {"output", {{"frequency_hz", 40123.4567}, {"vpp", 250.0}, {"phase_deg", 90.0}, {"load_n", 0.5}}},
+     {"speed_m_s", 0.2345678},
+     {"tick_speed_m_s", 0.231},
+     {"position_m", -0.0123456},
+     {"tip_normal_um", 3.2105},
+     {"tip_tangential_um", 2.4449},
+     {"applied_commands", 42},
+     {"last_sequence", 77}});
+const json kFault = telemetry(
+    {{"tick", 987654321},
+     {"sim_time_s", 98765.4321},
+     {"state", 2},
+     {"fault", 2},
+     {"enable_line", false},
+     {"at_setpoint", false},
+     {"setpoints", setpoints(39000.0, 300.0, -90.0, -1.25, 0.0, 0.0)},
+     {"output", {{"frequency_hz", 39000.0}, {"vpp", 300.0}, {"phase_deg", -90.0}, {"load_n", -1.25}}},
+     {"speed_m_s", -0.5},
+     {"tick_speed_m_s", -0.51234},
+     {"position_m", -1.0},
+     {"tip_normal_um", 0.0004},
+     {"tip_tangential_um", 0.0005},
+     {"applied_commands", 300},
+     {"last_sequence", 1000}});
+const json kTimeout = telemetry(
+    {{"tick", 1000},
+     {"sim_time_s", 0.1},
+     {"state", 2},
+     {"fault", 1},
+     {"output", {{"frequency_hz", 40000.0}, {"vpp", 0.0}, {"phase_deg", 90.0}, {"load_n", 0.0}}}});
+const json kExtremes = telemetry(
+    {{"tick", 4294967301ULL},  // 2^32 + 5
+     {"sim_time_s", 5.0e6},
+     {"state", 1},
+     {"setpoints", setpoints(50000.0, 600.0, 180.0, 30.0, 1.0e7, 1.0e7)},
+     {"output", {{"frequency_hz", 5.0e6}, {"vpp", 7000.0}, {"phase_deg", -200.0}, {"load_n", -40.0}}},
+     {"speed_m_s", 3000.0},
+     {"tick_speed_m_s", -3000.0},
+     {"position_m", -5000.0},
+     {"tip_normal_um", 70.0},
+     {"tip_tangential_um", 65.5355},
+     {"applied_commands", 4294967297ULL},
+     {"last_sequence", 8589934595ULL}});
+const json kNonFinite = telemetry(
+    {{"state", 1},
+     {"sim_time_s", "nan"},
+     {"output", {{"frequency_hz", "nan"}, {"vpp", "inf"}, {"phase_deg", "nan"}, {"load_n", "-inf"}}},
+     {"speed_m_s", "nan"},
+     {"tick_speed_m_s", "inf"},
+     {"position_m", "-inf"},
+     {"tip_normal_um", "nan"},
+     {"tip_tangential_um", "inf"}});
+const json kEnabledIdle = telemetry(
+    {{"tick", 7}, {"sim_time_s", 0.0007}, {"state", 1}, {"enable_line", false}, {"at_setpoint", false}});
 
 class Vectors {
  public:
@@ -212,8 +225,8 @@ void modbus_cases(Vectors& v) {
       {"FC06 address 500", write1(500, 1)},
       {"FC06 one byte short", "06000000"},
       {"FC16 frequency 40123.456 Hz, 250.5 Vpp, 90 deg, 0.25 N", write_n(1, {hi(f1), lo(f1), 2505, 9000, 250})},
-      {"FC16 all holding registers", write_n(0, {1, hi(f2), lo(f2), 4000, i16(-4550), i16(-2000), hi(1000000), lo(1000000),
-                                                 hi(100000), lo(100000)})},
+      {"FC16 all holding registers",
+       write_n(0, {1, hi(f2), lo(f2), 4000, i16(-4550), i16(-2000), hi(1000000), lo(1000000), hi(100000), lo(100000)})},
       {"FC16 enable + frequency + amplitude", write_n(0, {1, hi(f1), lo(f1), 4000})},
       {"FC16 frequency 29999.999 Hz", write_n(1, {hi(f_low), lo(f_low)})},
       {"FC16 frequency 50000.000 Hz (limit)", write_n(1, {hi(f_high), lo(f_high)})},
@@ -225,7 +238,8 @@ void modbus_cases(Vectors& v) {
       {"FC16 address 500", write_n(500, {1})},
       {"FC16 byte count does not match quantity", "10000300010400010002"},
       {"FC16 quantity 124", q124},
-      {"FC16 quantity 0", "1000000000" "00"},
+      {"FC16 quantity 0", "1000000000"
+                          "00"},
   };
   for (const auto& p : pdus) v.add("emu.modbus.request", p.name, {{"pdu", p.pdu}});
 
@@ -243,7 +257,8 @@ void modbus_cases(Vectors& v) {
         {{"telemetry", kDriving}, {"rejects", {{"last", 2}, {"count", 3}}}});
   v.add("emu.modbus.input_registers", "numerical fault, enable line low",
         {{"telemetry", kFault}, {"rejects", {{"last", 15}, {"count", 70000}}}});
-  v.add("emu.modbus.input_registers", "watchdog fault", {{"telemetry", kTimeout}, {"rejects", {{"last", 12}, {"count", 1}}}});
+  v.add("emu.modbus.input_registers", "watchdog fault",
+        {{"telemetry", kTimeout}, {"rejects", {{"last", 12}, {"count", 1}}}});
   v.add("emu.modbus.input_registers", "saturation and wrap-around",
         {{"telemetry", kExtremes}, {"rejects", {{"last", 16}, {"count", 4294967303ULL}}}});
   v.add("emu.modbus.input_registers", "non-finite values", {{"telemetry", kNonFinite}, {"rejects", no_rejects}});
@@ -263,9 +278,10 @@ void modbus_cases(Vectors& v) {
   v.add("emu.modbus.exchange", "fault snapshot",
         {{"telemetry", kFault}, {"requests", {req(read_pdu(0x04, 0, 23)), req(read_pdu(0x03, 0, 10))}}});
 
-  for (const char* text : {"tcp://127.0.0.1:1502", "tcp://localhost:502", "tcp://0.0.0.0:0", "tcp://192.168.1.20:65535",
-                           "rtu:/dev/ttyUSB0:19200", "rtu:/dev/ttyS1", "udp://1.2.3.4:5", "tcp://127.0.0.1",
-                           "tcp://127.0.0.1:65536", "tcp://127.0.0.1:-1", "tcp://127.0.0.1:port", "rtu:/dev/ttyUSB0:0", ""})
+  for (const char* text :
+       {"tcp://127.0.0.1:1502", "tcp://localhost:502", "tcp://0.0.0.0:0", "tcp://192.168.1.20:65535",
+        "rtu:/dev/ttyUSB0:19200", "rtu:/dev/ttyS1", "udp://1.2.3.4:5", "tcp://127.0.0.1", "tcp://127.0.0.1:65536",
+        "tcp://127.0.0.1:-1", "tcp://127.0.0.1:port", "rtu:/dev/ttyUSB0:0", ""})
     v.add("emu.modbus.endpoint", std::string("'") + text + "'", {{"text", text}});
 }
 
@@ -307,7 +323,8 @@ void can_cases(Vectors& v) {
     json in;
   };
   auto cmd = [](unsigned node, unsigned mode, unsigned alive, json f, json p, json a) {
-    return json{{"node", node}, {"mode", mode}, {"alive", alive}, {"frequency_hz", f}, {"phase_deg", p}, {"amplitude_vpp", a}};
+    return json{{"node", node},      {"mode", mode},   {"alive", alive},
+                {"frequency_hz", f}, {"phase_deg", p}, {"amplitude_vpp", a}};
   };
   const std::vector<Cmd> commands = {
       {"enable 40 kHz 90 deg 250 Vpp", cmd(1, 1, 1, 40000.0, 90.0, 250.0)},
@@ -339,7 +356,11 @@ void can_cases(Vectors& v) {
   v.add("emu.can.command_decode", "node 1 payload under 0x202", {{"frame", "202" + good.substr(3)}});
 
   auto aux = [](unsigned node, unsigned alive, json load, json fs, json as) {
-    return json{{"node", node}, {"alive", alive}, {"load_n", load}, {"frequency_slew_hz_per_s", fs}, {"amplitude_slew_vpp_per_s", as}};
+    return json{{"node", node},
+                {"alive", alive},
+                {"load_n", load},
+                {"frequency_slew_hz_per_s", fs},
+                {"amplitude_slew_vpp_per_s", as}};
   };
   const std::vector<Cmd> auxes = {
       {"load 0.5 N, 1 MHz/s, 100 kVpp/s", aux(1, 1, 0.5, 1.0e6, 1.0e5)},
@@ -370,10 +391,22 @@ void can_cases(Vectors& v) {
   };
   const long long ms = 1000000;
   v.add("emu.can.alive_counter", "ahead by 1..7 accepted, repeat and 8..15 stale, wrap",
-        steps({{5, 0}, {5, 1 * ms}, {6, 2 * ms}, {13, 3 * ms}, {5, 4 * ms}, {14, 5 * ms}, {15, 6 * ms}, {0, 7 * ms},
-               {0, 8 * ms}, {15, 9 * ms}, {7, 10 * ms}, {6, 11 * ms}}));
-  v.add("emu.can.alive_counter", "resynchronised after more than 1 s, not after exactly 1 s",
-        steps({{3, 0}, {3, 1000 * ms}, {3, 2000 * ms + 1}, {2, 2000 * ms + 2}, {10, 3000 * ms + 3}, {11, 3000 * ms + 4}}));
+        steps({{5, 0},
+               {5, 1 * ms},
+               {6, 2 * ms},
+               {13, 3 * ms},
+               {5, 4 * ms},
+               {14, 5 * ms},
+               {15, 6 * ms},
+               {0, 7 * ms},
+               {0, 8 * ms},
+               {15, 9 * ms},
+               {7, 10 * ms},
+               {6, 11 * ms}}));
+  v.add(
+      "emu.can.alive_counter", "resynchronised after more than 1 s, not after exactly 1 s",
+      steps(
+          {{3, 0}, {3, 1000 * ms}, {3, 2000 * ms + 1}, {2, 2000 * ms + 2}, {10, 3000 * ms + 3}, {11, 3000 * ms + 4}}));
   v.add("emu.can.alive_counter", "first frame with any counter",
         steps({{0, 5 * ms}, {1, 6 * ms}, {9, 7 * ms}, {8, 8 * ms}}));
 
@@ -387,10 +420,12 @@ void can_cases(Vectors& v) {
       v.add("emu.can.telemetry_decode", std::string(kind) + ": " + s.name, {{"as", kind}, {"frame", set.at(kind)}});
   }
   for (const char* kind : {"status", "motion", "drive", "output", "clock"}) {
-    v.add("emu.can.telemetry_decode", std::string(kind) + ": all bits set", {{"as", kind}, {"frame", "181#ffffffffffffffff"}});
+    v.add("emu.can.telemetry_decode", std::string(kind) + ": all bits set",
+          {{"as", kind}, {"frame", "181#ffffffffffffffff"}});
     v.add("emu.can.telemetry_decode", std::string(kind) + ": DLC 7", {{"as", kind}, {"frame", "181#ffffffffffffff"}});
   }
-  v.add("emu.can.telemetry_decode", "motion: 29-bit identifier", {{"as", "motion"}, {"frame", "00000281#0100000002000000"}});
+  v.add("emu.can.telemetry_decode", "motion: 29-bit identifier",
+        {{"as", "motion"}, {"frame", "00000281#0100000002000000"}});
 }
 
 // Input registers as a client reads them: the emulator's image of a telemetry snapshot, timing 0.
@@ -410,7 +445,7 @@ json command(const char* action) { return {{"call", "command"}, {"action", actio
 void host_cases(Vectors& v) {
   json by_hand = json::array();
   for (int i = 0; i < 35; ++i) by_hand.push_back(0);
-  by_hand[0] = 0x1F;   // every status bit
+  by_hand[0] = 0x1F;  // every status bit
   by_hand[1] = 1;
   by_hand[2] = 0;
   by_hand[3] = 9;
@@ -432,11 +467,11 @@ void host_cases(Vectors& v) {
 
   v.add("host.modbus.session", "setpoints, slews, commands",
         {{"calls",
-          {drive(40123.456, 250.5, 90.0, 0.25), drive(39500.0, 0.0, -90.0, -1.5), drive(40000.0005, 123.45, -179.995, 0.0005),
-           drive(40000.0, 7000.0, 90.0, 0.0), drive(40000.0, 100.0, 400.0, 0.0), drive(40000.0, 100.0, 90.0, -40.0),
-           drive(-1.0, 100.0, 90.0, 0.0), drive(40000.0, "nan", 90.0, 0.0), slew(1.0e6, 1.0e5), slew(0.5, 0.0),
-           slew(1234.9, 99.99), slew(-1.0, 0.0), slew(5.0e9, 0.0), command("keep_alive"), command("enable"),
-           command("disable"), command("reset_fault")}}});
+          {drive(40123.456, 250.5, 90.0, 0.25), drive(39500.0, 0.0, -90.0, -1.5),
+           drive(40000.0005, 123.45, -179.995, 0.0005), drive(40000.0, 7000.0, 90.0, 0.0),
+           drive(40000.0, 100.0, 400.0, 0.0), drive(40000.0, 100.0, 90.0, -40.0), drive(-1.0, 100.0, 90.0, 0.0),
+           drive(40000.0, "nan", 90.0, 0.0), slew(1.0e6, 1.0e5), slew(0.5, 0.0), slew(1234.9, 99.99), slew(-1.0, 0.0),
+           slew(5.0e9, 0.0), command("keep_alive"), command("enable"), command("disable"), command("reset_fault")}}});
   v.add("host.modbus.session", "telemetry reads",
         {{"calls",
           {{{"call", "read"}, {"input_registers", served_registers(telemetry(), {{"last", 0}, {"count", 0}})}},
@@ -451,7 +486,8 @@ void host_cases(Vectors& v) {
     const json e = encode_set(s);
     char loop_stats[32];
     std::snprintf(loop_stats, sizeof loop_stats, "%03X#0000000000000000", 0x480U + s.node);
-    return json::array({e.at("status"), e.at("motion"), e.at("drive"), std::string(loop_stats), e.at("clock"), e.at("output")});
+    return json::array(
+        {e.at("status"), e.at("motion"), e.at("drive"), std::string(loop_stats), e.at("clock"), e.at("output")});
   };
   const auto& sets = telemetry_sets();
   const json rest = full_set(sets[0]);
@@ -461,15 +497,20 @@ void host_cases(Vectors& v) {
   missing_drive.erase(2);
   json short_status = driving;
   short_status[0] = short_status[0].get<std::string>().substr(0, 18);  // DLC 7
-  json other_node = full_set(sets[2]);  // node 42
+  json other_node = full_set(sets[2]);                                 // node 42
   json set_then_rest = missing_drive;  // an incomplete set is discarded, the next one returned
   for (const auto& f : extremes) set_then_rest.push_back(f);
 
-  json calls = {drive(40000.0, 250.0, 90.0, 0.0), command("enable"), drive(39500.0, 300.0, -90.0, 1.5), slew(1.0e6, 1.0e5),
-                slew(150.0, 5.0), slew(0.0, 0.0), slew(99.0, 9.99)};
+  json calls = {drive(40000.0, 250.0, 90.0, 0.0),
+                command("enable"),
+                drive(39500.0, 300.0, -90.0, 1.5),
+                slew(1.0e6, 1.0e5),
+                slew(150.0, 5.0),
+                slew(0.0, 0.0),
+                slew(99.0, 9.99)};
   for (int i = 0; i < 13; ++i) calls.push_back(command("keep_alive"));  // the alive counter wraps
-  for (const json& c : {command("disable"), command("reset_fault"), command("keep_alive"), drive(39876.54, 100.1, -90.05, 1.5),
-                        drive(40000.0, 100.0, 90.0, -40.0)})
+  for (const json& c : {command("disable"), command("reset_fault"), command("keep_alive"),
+                        drive(39876.54, 100.1, -90.05, 1.5), drive(40000.0, 100.0, 90.0, -40.0)})
     calls.push_back(c);
   v.add("host.can.session", "commands, node 1", {{"node", 1}, {"connect_frames", rest}, {"calls", calls}});
 
@@ -495,7 +536,8 @@ void host_cases(Vectors& v) {
 
 int main(int argc, char** argv) {
   if (argc != 2) {
-    std::cerr << "usage: " << argv[0] << " OUT.json   (see tests/golden/README.md: only for a deliberate protocol change)\n";
+    std::cerr << "usage: " << argv[0]
+              << " OUT.json   (see tests/golden/README.md: only for a deliberate protocol change)\n";
     return 2;
   }
   Vectors v;

@@ -83,7 +83,8 @@ TEST(CodecGoldenFile, ComparisonIsExactForIntegersAndTextAndTightForFloats) {
   EXPECT_FALSE(swum::golden::json_matches(json(0.1), json(0.1000001), kRelative, where));
   EXPECT_FALSE(swum::golden::json_matches(json(513), json(514), kRelative, where));
   EXPECT_FALSE(swum::golden::json_matches(json("201#00"), json("201#01"), kRelative, where));
-  EXPECT_FALSE(swum::golden::json_matches(json::parse(R"({"a":1})"), json::parse(R"({"a":1,"b":2})"), kRelative, where));
+  EXPECT_FALSE(
+      swum::golden::json_matches(json::parse(R"({"a":1})"), json::parse(R"({"a":1,"b":2})"), kRelative, where));
   EXPECT_FALSE(swum::golden::json_matches(json::parse("[1,2]"), json::parse("[1,2,3]"), kRelative, where));
   EXPECT_FALSE(swum::golden::json_matches(json(nullptr), json(0), kRelative, where));
 }

@@ -21,9 +21,8 @@ std::string error_of(const std::string& text, int min_amplitudes = 4) {
 }
 
 TEST(AmplitudeCsv, ReadsRowsWithEmptyAmplitudeCells) {
-  const auto rows = parse_amplitude_csv(std::string(kHeader) +
-                                            "# comment\n50,39500,0.41,0.72\n\n100,39500,,1.28\n"
-                                            "150,39500,1.2,\r\n",
+  const auto rows = parse_amplitude_csv(std::string(kHeader) + "# comment\n50,39500,0.41,0.72\n\n100,39500,,1.28\n"
+                                                               "150,39500,1.2,\r\n",
                                         "data.csv");
   ASSERT_EQ(rows.size(), 3u);
   EXPECT_DOUBLE_EQ(rows[0].vpp, 50.0);
@@ -36,8 +35,7 @@ TEST(AmplitudeCsv, ReadsRowsWithEmptyAmplitudeCells) {
 
 TEST(AmplitudeCsv, ColumnsInAnyOrderAndExtraColumnsIgnored) {
   const auto rows = parse_amplitude_csv(
-      "branch,tip_tangential_um,vpp,frequency_hz,tip_normal_um\n0,1,2,39000,3\n1,4,5,39000,6\n",
-      "data.csv");
+      "branch,tip_tangential_um,vpp,frequency_hz,tip_normal_um\n0,1,2,39000,3\n1,4,5,39000,6\n", "data.csv");
   ASSERT_EQ(rows.size(), 2u);
   EXPECT_DOUBLE_EQ(rows[1].vpp, 5.0);
   EXPECT_DOUBLE_EQ(*rows[1].tip_normal_um, 6.0);
@@ -64,17 +62,13 @@ TEST(AmplitudeCsv, NegativeVoltageIsAnError) {
 }
 
 TEST(AmplitudeCsv, NegativeAmplitudeAndBadFrequencyAreErrors) {
-  EXPECT_NE(error_of(std::string(kHeader) + "50,39500,-0.4,0.7\n").find("data.csv:2:3:"),
-            std::string::npos);
-  EXPECT_NE(error_of(std::string(kHeader) + "50,0,0.4,0.7\n").find("data.csv:2:2:"),
-            std::string::npos);
-  EXPECT_NE(error_of(std::string(kHeader) + "50,39500,inf,0.7\n").find("not finite"),
-            std::string::npos);
+  EXPECT_NE(error_of(std::string(kHeader) + "50,39500,-0.4,0.7\n").find("data.csv:2:3:"), std::string::npos);
+  EXPECT_NE(error_of(std::string(kHeader) + "50,0,0.4,0.7\n").find("data.csv:2:2:"), std::string::npos);
+  EXPECT_NE(error_of(std::string(kHeader) + "50,39500,inf,0.7\n").find("not finite"), std::string::npos);
 }
 
 TEST(AmplitudeCsv, WrongCellCountAndEmptyRowAreErrors) {
-  EXPECT_NE(error_of(std::string(kHeader) + "50,39500,0.4\n").find("data.csv:2:"),
-            std::string::npos);
+  EXPECT_NE(error_of(std::string(kHeader) + "50,39500,0.4\n").find("data.csv:2:"), std::string::npos);
   EXPECT_NE(error_of(std::string(kHeader) + "50,39500,,\n").find("both"), std::string::npos);
 }
 

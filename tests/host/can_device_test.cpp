@@ -5,8 +5,8 @@
 
 #include <gtest/gtest.h>
 
-#include <chrono>
 #include <linux/can/error.h>
+#include <chrono>
 
 #include <atomic>
 #include <mutex>

@@ -41,12 +41,12 @@ TEST(SwumCli, ModesJsonHasTheNaturalFrequencies) {
 }
 
 TEST(SwumCli, SimulateJsonHasTheContractFields) {
-  const CliRun r = swum({"simulate", "--config", kConfig, "--vpp", "400", "--frequency", "40000",
-                      "--duration", "0.02", "--json"});
+  const CliRun r = swum(
+      {"simulate", "--config", kConfig, "--vpp", "400", "--frequency", "40000", "--duration", "0.02", "--json"});
   ASSERT_EQ(r.status, 0) << r.output;
   const auto j = nlohmann::json::parse(r.output);
-  for (const char* key : {"speed_mm_s", "tip_normal_um", "tip_tangential_um", "contact_fraction",
-                          "sim_s", "wall_s", "realtime_factor"}) {
+  for (const char* key :
+       {"speed_mm_s", "tip_normal_um", "tip_tangential_um", "contact_fraction", "sim_s", "wall_s", "realtime_factor"}) {
     ASSERT_TRUE(j.contains(key)) << key;
     EXPECT_TRUE(j.at(key).is_number()) << key;
   }
@@ -56,15 +56,14 @@ TEST(SwumCli, SimulateJsonHasTheContractFields) {
 
 TEST(SwumCli, SimulateTraceIsACsvWithTimeAndForces) {
   const fs::path trace = scratch("trace.csv");
-  const CliRun r = swum({"simulate", "--config", kConfig, "--vpp", "300", "--frequency", "40000",
-                      "--duration", "0.004", "--trace", trace.string()});
+  const CliRun r = swum({"simulate", "--config", kConfig, "--vpp", "300", "--frequency", "40000", "--duration", "0.004",
+                         "--trace", trace.string()});
   ASSERT_EQ(r.status, 0) << r.output;
   std::ifstream in(trace);
   std::string header;
   std::getline(in, header);
   EXPECT_EQ(header.rfind("time_s,q1_m,q1_dot_m_s,q2_m,q2_dot_m_s,tip_normal_um", 0), 0u) << header;
-  EXPECT_NE(header.find("normal_force_n,friction_force_n,mover_position_m,mover_velocity_m_s"),
-            std::string::npos);
+  EXPECT_NE(header.find("normal_force_n,friction_force_n,mover_position_m,mover_velocity_m_s"), std::string::npos);
   int lines = 0;
   for (std::string line; std::getline(in, line);) ++lines;
   EXPECT_GT(lines, 100);  // 4 ms at ~48 samples per 25 us period
@@ -73,8 +72,8 @@ TEST(SwumCli, SimulateTraceIsACsvWithTimeAndForces) {
 TEST(SwumCli, SweepWritesOneRowPerPointAndAPlot) {
   const fs::path csv = scratch("sweep.csv");
   const fs::path png = scratch("sweep.png");
-  const CliRun r = swum({"sweep", "--config", kConfig, "--vpp", "200,400", "--frequency",
-                      "40000:40400:200", "--jobs", "2", "--out", csv.string(), "--plot", png.string()});
+  const CliRun r = swum({"sweep", "--config", kConfig, "--vpp", "200,400", "--frequency", "40000:40400:200", "--jobs",
+                         "2", "--out", csv.string(), "--plot", png.string()});
   ASSERT_EQ(r.status, 0) << r.output;
   std::istringstream text(slurp(csv));
   std::string header;
@@ -117,12 +116,23 @@ INSTANTIATE_TEST_SUITE_P(
         BadArguments{{"simulate", "--config", kConfig, "--vpp", "100", "--frequency", "4e4x"}, 2, "--frequency"},
         BadArguments{{"simulate", "--config", kConfig, "--vpp", "-5", "--frequency", "40000"}, 2, "--vpp"},
         BadArguments{{"simulate", "--config", kConfig, "--vpp", "100", "--frequency", "inf"}, 2, "--frequency"},
-        BadArguments{{"simulate", "--config", kConfig, "--vpp", "100", "--frequency", "40000", "--phase", "400"}, 2, "--phase"},
-        BadArguments{{"simulate", "--config", "/nonexistent/m.toml", "--vpp", "100", "--frequency", "40000"}, 1, "/nonexistent/m.toml"},
+        BadArguments{
+            {"simulate", "--config", kConfig, "--vpp", "100", "--frequency", "40000", "--phase", "400"}, 2, "--phase"},
+        BadArguments{{"simulate", "--config", "/nonexistent/m.toml", "--vpp", "100", "--frequency", "40000"},
+                     1,
+                     "/nonexistent/m.toml"},
         BadArguments{{"simulate", "--vpp", "100", "--frequency", "40000"}, 2, "--config"},
-        BadArguments{{"sweep", "--config", kConfig, "--vpp", "100,,200", "--frequency", "40000", "--out", "/tmp/x.csv"}, 2, "--vpp"},
-        BadArguments{{"sweep", "--config", kConfig, "--vpp", "100", "--frequency", "41000:40000:100", "--out", "/tmp/x.csv"}, 2, "--frequency"},
-        BadArguments{{"sweep", "--config", kConfig, "--vpp", "100", "--frequency", "40000", "--out", "/nonexistent/x.csv"}, 1, "/nonexistent/x.csv"},
+        BadArguments{{"sweep", "--config", kConfig, "--vpp", "100,,200", "--frequency", "40000", "--out", "/tmp/x.csv"},
+                     2,
+                     "--vpp"},
+        BadArguments{{"sweep", "--config", kConfig, "--vpp", "100", "--frequency", "41000:40000:100", "--out",
+                      "/tmp/x.csv"},
+                     2,
+                     "--frequency"},
+        BadArguments{{"sweep", "--config", kConfig, "--vpp", "100", "--frequency", "40000", "--out",
+                      "/nonexistent/x.csv"},
+                     1,
+                     "/nonexistent/x.csv"},
         BadArguments{{"modes", "--config", kConfig, "--bogus"}, 2, "--bogus"}));
 
 TEST(SwumCli, ConfigErrorsNameFileAndKey) {

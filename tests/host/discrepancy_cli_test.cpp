@@ -27,8 +27,8 @@ fs::path points_csv() {
   const fs::path path = scratch("points.csv");
   std::string text = "vpp,frequency_hz,load_n,time_s\n";
   for (int i = 0; i < 32; ++i) {
-    text += std::to_string(120 + (i * 37) % 271) + "," + std::to_string(40000 + (i * 290) % 900) +
-            "," + std::to_string(i % 4) + "," + std::to_string(3 * i) + "\n";
+    text += std::to_string(120 + (i * 37) % 271) + "," + std::to_string(40000 + (i * 290) % 900) + "," +
+            std::to_string(i % 4) + "," + std::to_string(3 * i) + "\n";
   }
   write(path, text);
   return path;
@@ -36,15 +36,14 @@ fs::path points_csv() {
 
 TEST(SwumDiscrepancy, NamesAHiddenGuideFrictionAndWritesTheReport) {
   const fs::path data = scratch("guide.csv");
-  const CliRun s = run_swum({"synth", "--config", kConfig, "--effect",
-                             "guide_friction:extra_coefficient=0.04", "--points",
-                             points_csv().string(), "--noise", "0.02", "--seed", "4", "--out",
+  const CliRun s = run_swum({"synth", "--config", kConfig, "--effect", "guide_friction:extra_coefficient=0.04",
+                             "--points", points_csv().string(), "--noise", "0.02", "--seed", "4", "--out",
                              data.string()});
   ASSERT_EQ(s.status, 0) << s.output;
   const fs::path out = scratch("report");
   fs::remove_all(out);
-  const CliRun r = run_swum({"discrepancy", "--config", kConfig, "--measured", data.string(),
-                             "--out", out.string(), "--json"});
+  const CliRun r = run_swum(
+      {"discrepancy", "--config", kConfig, "--measured", data.string(), "--out", out.string(), "--json"});
   ASSERT_EQ(r.status, 0) << r.output;
   const auto j = nlohmann::json::parse(r.output);
   ASSERT_GE(j["effects"].size(), 1u) << r.output;
@@ -57,45 +56,41 @@ TEST(SwumDiscrepancy, NamesAHiddenGuideFrictionAndWritesTheReport) {
     EXPECT_TRUE(fs::exists(out / file)) << file;
   }
   // The augmented config re-reads and runs.
-  const CliRun sim = run_swum({"simulate", "--config", (out / "augmented.toml").string(), "--vpp",
-                               "200", "--frequency", "40500", "--json"});
+  const CliRun sim = run_swum(
+      {"simulate", "--config", (out / "augmented.toml").string(), "--vpp", "200", "--frequency", "40500", "--json"});
   EXPECT_EQ(sim.status, 0) << sim.output;
 }
 
 TEST(SwumDiscrepancy, BadInputsAreOneLineErrorsWithExitCodes) {
   const fs::path bad = scratch("bad.csv");
   write(bad, "vpp,frequency_hz,load_n,speed_mm_s\n100,40000,0,12\n100,40100,zero,3\n");
-  CliRun r = run_swum({"discrepancy", "--config", kConfig, "--measured", bad.string(), "--out",
-                       scratch("bad_out").string()});
+  CliRun r = run_swum(
+      {"discrepancy", "--config", kConfig, "--measured", bad.string(), "--out", scratch("bad_out").string()});
   EXPECT_EQ(r.status, 1) << r.output;
-  EXPECT_NE(r.output.find(bad.string() + ":3:3: column load_n: 'zero' is not a number"),
-            std::string::npos)
-      << r.output;
-  r = run_swum({"discrepancy", "--config", kConfig, "--measured", bad.string(), "--out",
-                scratch("bad_out").string(), "--effects", "thermal,magic"});
+  EXPECT_NE(r.output.find(bad.string() + ":3:3: column load_n: 'zero' is not a number"), std::string::npos) << r.output;
+  r = run_swum({"discrepancy", "--config", kConfig, "--measured", bad.string(), "--out", scratch("bad_out").string(),
+                "--effects", "thermal,magic"});
   EXPECT_EQ(r.status, 2) << r.output;
   EXPECT_NE(r.output.find("unknown effect 'magic'"), std::string::npos) << r.output;
   const fs::path out = scratch("never.csv");
-  r = run_swum({"synth", "--config", kConfig, "--effect", "wear:speed=3", "--points",
-                points_csv().string(), "--noise", "0.02", "--seed", "1", "--out", out.string()});
+  r = run_swum({"synth", "--config", kConfig, "--effect", "wear:speed=3", "--points", points_csv().string(), "--noise",
+                "0.02", "--seed", "1", "--out", out.string()});
   EXPECT_EQ(r.status, 2) << r.output;
-  EXPECT_NE(r.output.find("--effect: effect 'wear': 'speed=3' is not key=value"), std::string::npos)
-      << r.output;
-  r = run_swum({"synth", "--config", kConfig, "--effect", "friction", "--points",
-                points_csv().string(), "--noise", "0.02", "--seed", "1", "--out", out.string()});
+  EXPECT_NE(r.output.find("--effect: effect 'wear': 'speed=3' is not key=value"), std::string::npos) << r.output;
+  r = run_swum({"synth", "--config", kConfig, "--effect", "friction", "--points", points_csv().string(), "--noise",
+                "0.02", "--seed", "1", "--out", out.string()});
   EXPECT_EQ(r.status, 2) << r.output;
   EXPECT_NE(r.output.find("unknown effect 'friction'"), std::string::npos) << r.output;
   EXPECT_FALSE(fs::exists(out));
   // Too few operating points to hold any out: refused before any fitting, naming the count.
   const fs::path few = scratch("few.csv");
   write(few, "vpp,frequency_hz,load_n,speed_mm_s\n100,40000,0,12\n200,40100,0,30\n200,40100,0,31\n");
-  r = run_swum({"discrepancy", "--config", kConfig, "--measured", few.string(), "--out",
-                scratch("few_out").string()});
+  r = run_swum({"discrepancy", "--config", kConfig, "--measured", few.string(), "--out", scratch("few_out").string()});
   EXPECT_EQ(r.status, 1) << r.output;
   EXPECT_NE(r.output.find("2 distinct operating points; the workflow needs at least 16"), std::string::npos)
       << r.output;
-  r = run_swum({"discrepancy", "--config", kConfig, "--measured", few.string(), "--out",
-                scratch("few_out").string(), "--effects", ","});
+  r = run_swum({"discrepancy", "--config", kConfig, "--measured", few.string(), "--out", scratch("few_out").string(),
+                "--effects", ","});
   EXPECT_EQ(r.status, 2) << r.output;
   EXPECT_NE(r.output.find("--effects: empty list"), std::string::npos) << r.output;
 }
@@ -103,15 +98,14 @@ TEST(SwumDiscrepancy, BadInputsAreOneLineErrorsWithExitCodes) {
 TEST(SwumSynth, LinearRepeatsAndNoiseFreeDataAreReproducible) {
   const fs::path a = scratch("a.csv"), b = scratch("b.csv");
   for (const fs::path& p : {a, b}) {
-    const CliRun r = run_swum({"synth", "--config", kConfig, "--linear", "--effect", "thermal",
-                               "--points", points_csv().string(), "--noise", "0.02", "--seed",
-                               "7", "--repeats", "2", "--out", p.string()});
+    const CliRun r = run_swum({"synth", "--config", kConfig, "--linear", "--effect", "thermal", "--points",
+                               points_csv().string(), "--noise", "0.02", "--seed", "7", "--repeats", "2", "--out",
+                               p.string()});
     ASSERT_EQ(r.status, 0) << r.output;
   }
   const std::string text = swum::test::read_file(a);
   EXPECT_EQ(text, swum::test::read_file(b));
-  EXPECT_NE(text.find("vpp,frequency_hz,load_n,time_s,speed_mm_s,tip_normal_um,tip_tangential_um"),
-            std::string::npos);
+  EXPECT_NE(text.find("vpp,frequency_hz,load_n,time_s,speed_mm_s,tip_normal_um,tip_tangential_um"), std::string::npos);
   EXPECT_EQ(std::count(text.begin(), text.end(), '\n'), 2 + 64);  // comment, header, 2 x 32
 }
 

@@ -17,10 +17,10 @@ namespace swum::host::test {
 
 class FakeDevice : public Device {
  public:
-  double read_step_s = 0.002;      // device time per read
-  double watchdog_s = 0.1;         // 0 = off
+  double read_step_s = 0.002;  // device time per read
+  double watchdog_s = 0.1;     // 0 = off
   double speed_time_constant_s = 0.005;
-  double max_frequency_hz = 50000.0;  // setpoints above are rejected (reason 1)
+  double max_frequency_hz = 50000.0;            // setpoints above are rejected (reason 1)
   std::optional<double> fault_at_frequency_hz;  // numerical fault when driven there (once)
   std::optional<int> fail_after_reads;          // the link breaks (DeviceError) after N reads
   std::function<void(int reads)> on_read;       // e.g. raise(SIGINT)

@@ -56,9 +56,8 @@ TEST(SweepTable, AModelSweepKeepsTheOfflineLayout) {
   SweepRow ok{300, 40400, 0, true, "ok", 210.5, 1.4, 1.2};
   SweepRow diverged{300, 40300, 0, false, "diverged"};
   const std::string csv = format_sweep_csv({ok, diverged});
-  EXPECT_EQ(csv,
-            "vpp,frequency_hz,load_n,speed_mm_s,tip_normal_um,tip_tangential_um,status\n"
-            "300,40400,0,210.5,1.4,1.2,ok\n300,40300,0,,,,diverged\n");
+  EXPECT_EQ(csv, "vpp,frequency_hz,load_n,speed_mm_s,tip_normal_um,tip_tangential_um,status\n"
+                 "300,40400,0,210.5,1.4,1.2,ok\n300,40300,0,,,,diverged\n");
   const std::vector<SweepRow> again = parse_sweep_csv(csv, "model.csv");
   ASSERT_EQ(again.size(), 2u);
   EXPECT_FALSE(again[0].time_s || again[0].sweep);

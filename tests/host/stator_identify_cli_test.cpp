@@ -46,12 +46,11 @@ fs::path synthetic_csv(const std::string& name, const swum::MotorParameters& tru
 TEST(SwumStator, CsvHasTheContractColumnsAndEveryBranch) {
   const fs::path out = scratch("stator.csv");
   fs::remove(out);
-  const CliRun r = swum_run({"stator", "--config", kLiteral, "--vpp", "400", "--frequency",
-                             "39000:39500:250", "--out", out.string()});
+  const CliRun r = swum_run(
+      {"stator", "--config", kLiteral, "--vpp", "400", "--frequency", "39000:39500:250", "--out", out.string()});
   ASSERT_EQ(r.status, 0) << r.output;
   const std::string csv = slurp(out);
-  EXPECT_EQ(csv.substr(0, csv.find('\n')),
-            "vpp,frequency_hz,branch,stable,tip_normal_um,tip_tangential_um");
+  EXPECT_EQ(csv.substr(0, csv.find('\n')), "vpp,frequency_hz,branch,stable,tip_normal_um,tip_tangential_um");
   // 39.0 kHz: three tangential branches (upper and lower stable, middle unstable); 39.25 and
   // 39.5 kHz: one each.
   EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 1 + 3 + 1 + 1) << csv;
@@ -59,13 +58,11 @@ TEST(SwumStator, CsvHasTheContractColumnsAndEveryBranch) {
 }
 
 TEST(SwumStator, JsonHasRowsAndTheSofteningBackbone) {
-  const CliRun r = swum_run({"stator", "--config", kLiteral, "--vpp", "50,400", "--frequency",
-                             "39500", "--json"});
+  const CliRun r = swum_run({"stator", "--config", kLiteral, "--vpp", "50,400", "--frequency", "39500", "--json"});
   ASSERT_EQ(r.status, 0) << r.output;
   const auto j = nlohmann::json::parse(r.output);
   ASSERT_EQ(j.at("rows").size(), 2u);
-  for (const char* key : {"vpp", "frequency_hz", "branch", "stable", "tip_normal_um",
-                          "tip_tangential_um"}) {
+  for (const char* key : {"vpp", "frequency_hz", "branch", "stable", "tip_normal_um", "tip_tangential_um"}) {
     EXPECT_TRUE(j.at("rows")[0].contains(key)) << key;
   }
   ASSERT_EQ(j.at("backbone").size(), 2u);
@@ -77,9 +74,8 @@ TEST(SwumStator, PlotWritesBothAxes) {
   const fs::path png = scratch("stator.png");
   fs::remove(png);
   fs::remove(scratch("stator_normal.png"));
-  const CliRun r = swum_run({"stator", "--config", kLiteral, "--vpp", "100,400", "--frequency",
-                             "38500:40000:50", "--plot", png.string(), "--out",
-                             scratch("s.csv").string()});
+  const CliRun r = swum_run({"stator", "--config", kLiteral, "--vpp", "100,400", "--frequency", "38500:40000:50",
+                             "--plot", png.string(), "--out", scratch("s.csv").string()});
   ASSERT_EQ(r.status, 0) << r.output;
   EXPECT_GT(fs::file_size(png), 1000u);
   EXPECT_GT(fs::file_size(scratch("stator_normal.png")), 1000u);
@@ -92,8 +88,8 @@ TEST(SwumIdentify, RoundTripWritesANewConfigAndFlagsWhatIsNotIdentifiable) {
   fs::remove(out);
   fs::remove_all(report);
   const std::string config_before = slurp(kLiteral);
-  const CliRun r = swum_run({"identify", "--config", kLiteral, "--amplitudes", data.string(),
-                             "--out", out.string(), "--report", report.string(), "--json"});
+  const CliRun r = swum_run({"identify", "--config", kLiteral, "--amplitudes", data.string(), "--out", out.string(),
+                             "--report", report.string(), "--json"});
   ASSERT_EQ(r.status, 0) << r.output;
   EXPECT_EQ(slurp(kLiteral), config_before);
   const auto j = nlohmann::json::parse(r.output);
@@ -123,8 +119,8 @@ TEST(SwumIdentify, RoundTripWritesANewConfigAndFlagsWhatIsNotIdentifiable) {
 
 TEST(SwumIdentify, TablePrintsStandardErrorsAndTheResidual) {
   const fs::path data = synthetic_csv("linear.csv", swum::linearised(swum::MotorParameters{}));
-  const CliRun r = swum_run({"identify", "--config", kLiteral, "--amplitudes", data.string(),
-                             "--out", scratch("fitted_linear.toml").string()});
+  const CliRun r = swum_run({"identify", "--config", kLiteral, "--amplitudes", data.string(), "--out",
+                             scratch("fitted_linear.toml").string()});
   ASSERT_EQ(r.status, 0) << r.output;
   EXPECT_NE(r.output.find("c1111_pa"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("NOT significantly non-zero"), std::string::npos) << r.output;
@@ -148,11 +144,9 @@ TEST_P(SwumIdentifyRejects, MalformedCsvWithFileLineColumn) {
   write(data, GetParam().text);
   const fs::path out = scratch(std::string(GetParam().name) + ".toml");
   fs::remove(out);
-  const CliRun r = swum_run({"identify", "--config", kLiteral, "--amplitudes", data.string(),
-                             "--out", out.string()});
+  const CliRun r = swum_run({"identify", "--config", kLiteral, "--amplitudes", data.string(), "--out", out.string()});
   EXPECT_EQ(r.status, 1) << r.output;
-  EXPECT_NE(r.output.find(data.string() + ":" + GetParam().expected), std::string::npos)
-      << r.output;
+  EXPECT_NE(r.output.find(data.string() + ":" + GetParam().expected), std::string::npos) << r.output;
   EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << r.output;
   EXPECT_FALSE(fs::exists(out));
 }
@@ -162,14 +156,11 @@ INSTANTIATE_TEST_SUITE_P(
     ::testing::Values(
         BadCsv{"missing_column", "vpp,frequency_hz,tip_normal_um\n50,39500,0.4\n",
                "1:4: missing column tip_tangential_um"},
-        BadCsv{"non_numeric",
-               "vpp,frequency_hz,tip_normal_um,tip_tangential_um\n50,39500,0.4,0.7\n100,39500,x,1\n",
+        BadCsv{"non_numeric", "vpp,frequency_hz,tip_normal_um,tip_tangential_um\n50,39500,0.4,0.7\n100,39500,x,1\n",
                "3:3: column tip_normal_um: 'x' is not a number"},
-        BadCsv{"negative_voltage",
-               "vpp,frequency_hz,tip_normal_um,tip_tangential_um\n-50,39500,0.4,0.7\n",
+        BadCsv{"negative_voltage", "vpp,frequency_hz,tip_normal_um,tip_tangential_um\n-50,39500,0.4,0.7\n",
                "2:1: column vpp: negative value"},
-        BadCsv{"too_few",
-               "vpp,frequency_hz,tip_normal_um,tip_tangential_um\n50,39500,0.4,0.7\n100,39500,0.8,\n",
+        BadCsv{"too_few", "vpp,frequency_hz,tip_normal_um,tip_tangential_um\n50,39500,0.4,0.7\n100,39500,0.8,\n",
                "3: only 3 amplitude values"}),
     [](const auto& info) { return std::string(info.param.name); });
 
@@ -177,8 +168,8 @@ TEST(SwumIdentify, RefusesToOverwriteTheInputConfig) {
   const fs::path data = synthetic_csv("t.csv", swum::MotorParameters{});
   const fs::path copy = scratch("copy.toml");
   write(copy, slurp(kLiteral));
-  const CliRun r = swum_run({"identify", "--config", copy.string(), "--amplitudes", data.string(),
-                             "--out", copy.string()});
+  const CliRun r = swum_run(
+      {"identify", "--config", copy.string(), "--amplitudes", data.string(), "--out", copy.string()});
   EXPECT_EQ(r.status, 2) << r.output;
   EXPECT_EQ(slurp(copy), slurp(kLiteral));
 }

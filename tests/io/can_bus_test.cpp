@@ -1,4 +1,5 @@
-// io/can_bus.h (and the frame type it carries, protocol/can_frame.h): validation, cansend notation, filter semantics, error-frame decoding.
+// io/can_bus.h (and the frame type it carries, protocol/can_frame.h): validation, cansend notation, filter semantics,
+// error-frame decoding.
 #include <gtest/gtest.h>
 #include <linux/can/error.h>
 
@@ -68,8 +69,8 @@ TEST(CanFrame, FiltersFollowKernelSemantics) {
   f.id = 0x123;
   EXPECT_TRUE(matches(CanFilter{0x123, 0x7FF, false}, f));
   EXPECT_FALSE(matches(CanFilter{0x124, 0x7FF, false}, f));
-  EXPECT_TRUE(matches(CanFilter{0x100, 0x700, false}, f));   // range 0x100..0x1FF
-  EXPECT_FALSE(matches(CanFilter{0x123, 0x7FF, true}, f));   // kind must match
+  EXPECT_TRUE(matches(CanFilter{0x100, 0x700, false}, f));  // range 0x100..0x1FF
+  EXPECT_FALSE(matches(CanFilter{0x123, 0x7FF, true}, f));  // kind must match
   f.extended = true;
   EXPECT_TRUE(matches(CanFilter{0x123, 0x1FFFFFFF, true}, f));
   EXPECT_FALSE(matches(CanFilter{0x123, 0x7FF, false}, f));

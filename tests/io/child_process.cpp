@@ -71,7 +71,8 @@ std::optional<int> ChildProcess::wait(std::chrono::milliseconds timeout) {
   } while (r < 0 && errno == EINTR);
   if (r == 0) return std::nullopt;
   int status = 0;
-  if (::waitpid(pid_, &status, 0) != pid_) throw std::runtime_error("waitpid failed: " + std::string(std::strerror(errno)));
+  if (::waitpid(pid_, &status, 0) != pid_)
+    throw std::runtime_error("waitpid failed: " + std::string(std::strerror(errno)));
   reaped_ = true;
   if (WIFEXITED(status)) return WEXITSTATUS(status);
   return 128 + WTERMSIG(status);
@@ -82,7 +83,8 @@ std::string ChildProcess::read_stdout(std::chrono::milliseconds timeout) {
   if (out_fd_ < 0) return out;
   const auto deadline = std::chrono::steady_clock::now() + timeout;
   for (;;) {
-    const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now());
+    const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline -
+                                                                            std::chrono::steady_clock::now());
     if (left.count() <= 0) return out;
     pollfd pfd{out_fd_, POLLIN, 0};
     const int r = ::poll(&pfd, 1, static_cast<int>(left.count()));

@@ -83,9 +83,13 @@ TEST_F(FakeGpio, RisingOnlyIgnoresFallingAndWakesAcrossThreads) {
 }
 
 TEST_F(FakeGpio, ClearErrors) {
-  EXPECT_NE(error_of([&] { gpio.request_output({"gpiochip9", 0, "t"}, false); }).find("no such GPIO chip 'gpiochip9'"),
+  EXPECT_NE(error_of([&] {
+              gpio.request_output({"gpiochip9", 0, "t"}, false);
+            }).find("no such GPIO chip 'gpiochip9'"),
             std::string::npos);
-  EXPECT_NE(error_of([&] { gpio.request_output({"gpiochip0", 8, "t"}, false); }).find("offset out of range"),
+  EXPECT_NE(error_of([&] {
+              gpio.request_output({"gpiochip0", 8, "t"}, false);
+            }).find("offset out of range"),
             std::string::npos);
   auto held = gpio.request_output({"gpiochip0", 2, "holder"}, false);
   const auto busy = error_of([&] { gpio.request_input({"gpiochip0", 2, "t"}, GpioEdge::none, GpioBias::as_is); });

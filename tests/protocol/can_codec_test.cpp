@@ -78,7 +78,8 @@ class CanDbc : public ::testing::Test {
     for (const auto& [name, s] : m.signals) {
       EXPECT_TRUE(s.little_endian) << name;
       if (!values.contains(name)) continue;
-      EXPECT_NEAR(dbc_decode(s, f), values.at(name), tolerance + 1e-9 * std::abs(values.at(name))) << message << "." << name;
+      EXPECT_NEAR(dbc_decode(s, f), values.at(name), tolerance + 1e-9 * std::abs(values.at(name)))
+          << message << "." << name;
     }
     for (const auto& [name, v] : values) EXPECT_TRUE(m.signals.contains(name)) << message << " lacks " << name;
   }
@@ -106,8 +107,15 @@ TEST_F(CanDbc, CommandEncodingAgrees) {
   c.amplitude_vpp = 399.75;
   const CanFrame f = encode_command(c, ids.command);
   expect_frame("Command", f,
-               {{"Mode", 1}, {"Reserved1", 0}, {"AliveCounter", 9}, {"Frequency", 40123.4}, {"Phase", -90.5},
-                {"Amplitude", 399.75}, {"Reserved2", 0}, {"Crc", f.data[7]}}, 1e-6);
+               {{"Mode", 1},
+                {"Reserved1", 0},
+                {"AliveCounter", 9},
+                {"Frequency", 40123.4},
+                {"Phase", -90.5},
+                {"Amplitude", 399.75},
+                {"Reserved2", 0},
+                {"Crc", f.data[7]}},
+               1e-6);
   // The other way: a frame built from the DBC decodes to the same values in the code.
   CanFrame g;
   g.id = ids.command;
@@ -136,8 +144,13 @@ TEST_F(CanDbc, AuxEncodingAgrees) {
   a.amplitude_slew_vpp_per_s = 1e5;
   const CanFrame f = encode_aux(a, ids.aux);
   expect_frame("AuxCommand", f,
-               {{"Reserved1", 0}, {"AliveCounter", 3}, {"Load", -1.5}, {"FrequencySlew", 1e6},
-                {"AmplitudeSlew", 1e5}, {"Crc", f.data[7]}}, 1e-9);
+               {{"Reserved1", 0},
+                {"AliveCounter", 3},
+                {"Load", -1.5},
+                {"FrequencySlew", 1e6},
+                {"AmplitudeSlew", 1e5},
+                {"Crc", f.data[7]}},
+               1e-9);
   AuxFrame back;
   ASSERT_EQ(decode_aux(f, back), Reason::none);
   EXPECT_NEAR(back.load_n, -1.5, 1e-12);
@@ -165,15 +178,22 @@ TEST_F(CanDbc, TelemetryEncodingAgrees) {
   t.stats.overruns = 7;
   const RejectSnapshot r{Reason::stale_alive_counter, 258};
   expect_frame("Status", encode_status(t, r, 200, ids.status),
-               {{"State", 2}, {"EnableLine", 1}, {"DriveOn", 0}, {"AtSetpoint", 1}, {"FaultCode", 2},
-                {"LastReject", 8}, {"RejectCount", 2}, {"AppliedCount", 300 % 256}, {"StatusCounter", 200}});
+               {{"State", 2},
+                {"EnableLine", 1},
+                {"DriveOn", 0},
+                {"AtSetpoint", 1},
+                {"FaultCode", 2},
+                {"LastReject", 8},
+                {"RejectCount", 2},
+                {"AppliedCount", 300 % 256},
+                {"StatusCounter", 200}});
   expect_frame("Motion", encode_motion(t, ids.motion), {{"Speed", -198.4}, {"Position", 12.3}}, 1e-6);
   expect_frame("Drive", encode_drive(t, ids.drive),
                {{"TipNormal", 2.945}, {"TipTangential", 1.062}, {"AmplitudeOut", 399.9}, {"PhaseOut", -90.25}}, 1e-6);
   expect_frame("LoopStats", encode_loop_stats(t, ids.loop_stats),
                {{"LatenessP99", 12}, {"LatenessP999", 45}, {"LatenessMax", 90}, {"Overruns", 7}});
-  expect_frame("Output", encode_output(t, ids.output), {{"FrequencyOut", 40123.456}, {"LoadOut", -0.5}, {"LatenessP50", 3}},
-               1e-6);
+  expect_frame("Output", encode_output(t, ids.output),
+               {{"FrequencyOut", 40123.456}, {"LoadOut", -0.5}, {"LatenessP50", 3}}, 1e-6);
   t.sim_time_s = 1234.5678;
   t.tick = 12345678;
   expect_frame("Clock", encode_clock(t, ids.clock), {{"SimTime", 1234.567}, {"Tick", 12345678}}, 1e-6);
@@ -219,11 +239,11 @@ TEST(CanProtocol, AliveCounterRules) {
   const std::int64_t t = 5'000'000'000;
   EXPECT_EQ(a.check(9, t), Reason::none);  // first frame: anything
   a.accept(9, t);
-  EXPECT_EQ(a.check(9, t), Reason::stale_alive_counter);   // repeat
-  EXPECT_EQ(a.check(8, t), Reason::stale_alive_counter);   // older
+  EXPECT_EQ(a.check(9, t), Reason::stale_alive_counter);  // repeat
+  EXPECT_EQ(a.check(8, t), Reason::stale_alive_counter);  // older
   EXPECT_EQ(a.check(10, t), Reason::none);
-  EXPECT_EQ(a.check(0, t), Reason::none);                  // wrap, 7 ahead
-  EXPECT_EQ(a.check(1, t), Reason::stale_alive_counter);   // 8 ahead
+  EXPECT_EQ(a.check(0, t), Reason::none);                 // wrap, 7 ahead
+  EXPECT_EQ(a.check(1, t), Reason::stale_alive_counter);  // 8 ahead
   // A controller that restarts counts from its own start: after 1 s of silence any counter goes.
   EXPECT_EQ(a.check(1, t + kAliveResyncNs), Reason::stale_alive_counter);
   EXPECT_EQ(a.check(1, t + kAliveResyncNs + 1), Reason::none);

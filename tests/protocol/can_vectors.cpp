@@ -30,16 +30,22 @@ int main() {
   c.phase_deg = -123.4;
   c.amplitude_vpp = 345.5;
   const auto cf = can::encode_command(c, ids.command);
-  print("Command", cf, {{"Mode", 1}, {"AliveCounter", 11}, {"Frequency", 40321.7}, {"Phase", -123.4}, {"Amplitude", 345.5},
-                        {"Crc", cf.data[7]}});
+  print("Command", cf,
+        {{"Mode", 1},
+         {"AliveCounter", 11},
+         {"Frequency", 40321.7},
+         {"Phase", -123.4},
+         {"Amplitude", 345.5},
+         {"Crc", cf.data[7]}});
   can::AuxFrame a;
   a.alive = 4;
   a.load_n = -2.345;
   a.frequency_slew_hz_per_s = 250000;
   a.amplitude_slew_vpp_per_s = 5000;
   const auto af = can::encode_aux(a, ids.aux);
-  print("AuxCommand", af, {{"AliveCounter", 4}, {"Load", -2.345}, {"FrequencySlew", 250000}, {"AmplitudeSlew", 5000},
-                           {"Crc", af.data[7]}});
+  print(
+      "AuxCommand", af,
+      {{"AliveCounter", 4}, {"Load", -2.345}, {"FrequencySlew", 250000}, {"AmplitudeSlew", 5000}, {"Crc", af.data[7]}});
   Telemetry t;
   t.state = AmpState::enabled;
   t.enable_line = true;
@@ -60,14 +66,22 @@ int main() {
   t.stats.overruns = 3;
   const RejectSnapshot r{Reason::bad_checksum, 1234};
   print("Status", can::encode_status(t, r, 17, ids.status),
-        {{"State", 1}, {"EnableLine", 1}, {"DriveOn", 1}, {"AtSetpoint", 0}, {"FaultCode", 0}, {"LastReject", 7},
-         {"RejectCount", 1234 % 256}, {"AppliedCount", 1000 % 256}, {"StatusCounter", 17}});
+        {{"State", 1},
+         {"EnableLine", 1},
+         {"DriveOn", 1},
+         {"AtSetpoint", 0},
+         {"FaultCode", 0},
+         {"LastReject", 7},
+         {"RejectCount", 1234 % 256},
+         {"AppliedCount", 1000 % 256},
+         {"StatusCounter", 17}});
   print("Motion", can::encode_motion(t, ids.motion), {{"Speed", 198.449}, {"Position", -42.1}});
   print("Drive", can::encode_drive(t, ids.drive),
         {{"TipNormal", 2.946}, {"TipTangential", 1.063}, {"AmplitudeOut", 400}, {"PhaseOut", 90}});
   print("LoopStats", can::encode_loop_stats(t, ids.loop_stats),
         {{"LatenessP99", 21}, {"LatenessP999", 70}, {"LatenessMax", 180}, {"Overruns", 3}});
-  print("Output", can::encode_output(t, ids.output), {{"FrequencyOut", 40000.5}, {"LoadOut", 0.75}, {"LatenessP50", 4}});
+  print("Output", can::encode_output(t, ids.output),
+        {{"FrequencyOut", 40000.5}, {"LoadOut", 0.75}, {"LatenessP50", 4}});
   t.sim_time_s = 3600.25;
   t.tick = 36002500;
   print("Clock", can::encode_clock(t, ids.clock), {{"SimTime", 3600.25}, {"Tick", 36002500}});

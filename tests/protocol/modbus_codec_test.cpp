@@ -15,8 +15,11 @@ std::vector<std::uint8_t> read_pdu(std::uint8_t function, std::uint16_t address,
           static_cast<std::uint8_t>(quantity >> 8), static_cast<std::uint8_t>(quantity)};
 }
 std::vector<std::uint8_t> write_multiple(std::uint16_t address, const std::vector<std::uint16_t>& values) {
-  std::vector<std::uint8_t> pdu{kWriteMultipleRegisters, static_cast<std::uint8_t>(address >> 8),
-                                static_cast<std::uint8_t>(address), 0, static_cast<std::uint8_t>(values.size()),
+  std::vector<std::uint8_t> pdu{kWriteMultipleRegisters,
+                                static_cast<std::uint8_t>(address >> 8),
+                                static_cast<std::uint8_t>(address),
+                                0,
+                                static_cast<std::uint8_t>(values.size()),
                                 static_cast<std::uint8_t>(2 * values.size())};
   for (auto v : values) {
     pdu.push_back(static_cast<std::uint8_t>(v >> 8));
@@ -49,7 +52,7 @@ TEST(RegisterMap, BadAddressesAndQuantities) {
   EXPECT_EQ(half.exception, kIllegalDataAddress);
   EXPECT_EQ(half.reason, Reason::split_value);
   EXPECT_EQ(run(read_pdu(kReadInputRegisters, input::kSpeed, 1)).exception, kIllegalDataAddress);
-  EXPECT_EQ(run({0x2B, 0x0E, 0x01, 0x00}).exception, kIllegalFunction);  // device identification
+  EXPECT_EQ(run({0x2B, 0x0E, 0x01, 0x00}).exception, kIllegalFunction);         // device identification
   EXPECT_EQ(run({kReadInputRegisters, 0, 0, 0}).exception, kIllegalDataValue);  // short
 }
 
@@ -151,20 +154,31 @@ TEST(RegisterMapJson, InputRegistersAgreeWithTheCode) {
   t.last_sequence = 4242;
   std::array<std::uint16_t, input::kCount> regs{};
   fill_input(t, RejectSnapshot{Reason::bad_checksum, 70000}, regs);
-  const std::map<std::string, double> expected{
-      {"status", 1 + 4 + 8},       {"state", 1},
-      {"fault_code", 1},       {"last_reject_reason", 7},
-      {"reject_count", 70000}, {"applied_commands", 123456},
-      {"speed", -0.198449},    {"position", 0.012345},
-      {"tip_normal_amplitude", 2.945}, {"tip_tangential_amplitude", 1.062},
-      {"frequency_output", 40123.456}, {"amplitude_output", 399.9},
-      {"phase_output", -90.25},        {"load_output", 1.234},
-      {"tick", 987654},        {"sim_time", 98.765},
-      {"lateness_p50", 3},     {"lateness_p99", 12},
-      {"lateness_p999", 45},   {"lateness_max", 90},
-      {"compute_p99", 31},     {"compute_max", 52},
-      {"overruns", 77},        {"tick_speed", 0.2},
-      {"last_sequence", 4242}};
+  const std::map<std::string, double> expected{{"status", 1 + 4 + 8},
+                                               {"state", 1},
+                                               {"fault_code", 1},
+                                               {"last_reject_reason", 7},
+                                               {"reject_count", 70000},
+                                               {"applied_commands", 123456},
+                                               {"speed", -0.198449},
+                                               {"position", 0.012345},
+                                               {"tip_normal_amplitude", 2.945},
+                                               {"tip_tangential_amplitude", 1.062},
+                                               {"frequency_output", 40123.456},
+                                               {"amplitude_output", 399.9},
+                                               {"phase_output", -90.25},
+                                               {"load_output", 1.234},
+                                               {"tick", 987654},
+                                               {"sim_time", 98.765},
+                                               {"lateness_p50", 3},
+                                               {"lateness_p99", 12},
+                                               {"lateness_p999", 45},
+                                               {"lateness_max", 90},
+                                               {"compute_p99", 31},
+                                               {"compute_max", 52},
+                                               {"overruns", 77},
+                                               {"tick_speed", 0.2},
+                                               {"last_sequence", 4242}};
   EXPECT_EQ(map["input_registers"].size(), expected.size());
   unsigned words = 0;
   for (const auto& entry : map["input_registers"]) {
@@ -189,13 +203,9 @@ TEST(RegisterMapJson, HoldingRegistersAgreeWithTheCode) {
   t.setpoints.amplitude_slew_vpp_per_s = 1e5;
   std::array<std::uint16_t, holding::kCount> regs{};
   fill_holding(t, regs);
-  const std::map<std::string, double> expected{{"command", 0},
-                                               {"frequency_setpoint", 40400.5},
-                                               {"amplitude_setpoint", 321.4},
-                                               {"phase_setpoint", -45.5},
-                                               {"load_force", -2.5},
-                                               {"frequency_slew", 1e6},
-                                               {"amplitude_slew", 1e5}};
+  const std::map<std::string, double> expected{
+      {"command", 0},       {"frequency_setpoint", 40400.5}, {"amplitude_setpoint", 321.4}, {"phase_setpoint", -45.5},
+      {"load_force", -2.5}, {"frequency_slew", 1e6},         {"amplitude_slew", 1e5}};
   unsigned words = 0;
   for (const auto& entry : map["holding_registers"]) {
     const std::string name = entry["name"];
@@ -217,7 +227,8 @@ TEST(RegisterMapJson, ReasonCodesAgree) {
   const nlohmann::json map = load_map();
   for (const auto& [code, name] : map["reason_codes"].items()) {
     std::string text = to_string(static_cast<Reason>(std::stoi(code)));
-    for (auto& ch : text) if (ch == ' ' || ch == '-') ch = '_';
+    for (auto& ch : text)
+      if (ch == ' ' || ch == '-') ch = '_';
     std::string expected = name;
     // The code's texts are human-readable; the JSON uses identifiers. Compare the first word.
     EXPECT_EQ(text.substr(0, text.find('_')), expected.substr(0, expected.find('_'))) << code;

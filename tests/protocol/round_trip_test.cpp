@@ -16,9 +16,9 @@ namespace {
 
 // The PDU of a write-multiple request of `values` at `address` (what libmodbus sends).
 std::vector<std::uint8_t> write_pdu(std::uint16_t address, std::span<const std::uint16_t> values) {
-  std::vector<std::uint8_t> pdu{modbus::kWriteMultipleRegisters, static_cast<std::uint8_t>(address >> 8),
-                                static_cast<std::uint8_t>(address), 0, static_cast<std::uint8_t>(values.size()),
-                                static_cast<std::uint8_t>(2 * values.size())};
+  std::vector<std::uint8_t> pdu{modbus::kWriteMultipleRegisters,          static_cast<std::uint8_t>(address >> 8),
+                                static_cast<std::uint8_t>(address),       0,
+                                static_cast<std::uint8_t>(values.size()), static_cast<std::uint8_t>(2 * values.size())};
   for (const std::uint16_t v : values) {
     pdu.push_back(static_cast<std::uint8_t>(v >> 8));
     pdu.push_back(static_cast<std::uint8_t>(v));
@@ -172,7 +172,8 @@ TEST(CanRoundTrip, TelemetryFramesDecodeToWhatTheDeviceEncoded) {
   const Telemetry t = sample();
   const can::Ids ids = can::ids_for_node(1);
   can::StatusFields s;
-  ASSERT_EQ(can::decode_status(can::encode_status(t, RejectSnapshot{Reason::bad_checksum, 258}, 17, ids.status), s), Reason::none);
+  ASSERT_EQ(can::decode_status(can::encode_status(t, RejectSnapshot{Reason::bad_checksum, 258}, 17, ids.status), s),
+            Reason::none);
   EXPECT_EQ(s.state, static_cast<std::uint8_t>(AmpState::enabled));
   EXPECT_TRUE(s.drive_on);
   EXPECT_EQ(s.last_reject, static_cast<std::uint8_t>(Reason::bad_checksum));

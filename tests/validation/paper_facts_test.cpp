@@ -37,8 +37,7 @@ class CalibratedMotor : public ::testing::Test {
     delete nonlinear_;
   }
   static void expect(const FactResult& fact) {
-    EXPECT_TRUE(fact.holds) << fact.id << ": paper " << fact.paper_value << "; model "
-                            << fact.model_value;
+    EXPECT_TRUE(fact.holds) << fact.id << ": paper " << fact.paper_value << "; model " << fact.model_value;
   }
   static inline MotorModel* nonlinear_ = nullptr;
   static inline MotorModel* linear_ = nullptr;

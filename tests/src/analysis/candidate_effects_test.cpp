@@ -52,15 +52,13 @@ TEST(CandidateEffects, BareNameUsesTheDocumentedDefaultAndKeysOverride) {
 }
 
 TEST(CandidateEffects, BadArgumentsAreNamed) {
-  EXPECT_EQ(error_of("heat"),
-            "unknown effect 'heat' (known: electroelastic, thermal, wear, preload, "
-            "guide_friction, amplifier_droop)");
+  EXPECT_EQ(error_of("heat"), "unknown effect 'heat' (known: electroelastic, thermal, wear, preload, "
+                              "guide_friction, amplifier_droop)");
   EXPECT_NE(error_of("thermal:tau=3").find("'tau=3' is not key=value with a key of effects.thermal"),
             std::string::npos);
   EXPECT_NE(error_of("thermal:time_constant_s").find("is not key=value"), std::string::npos);
   EXPECT_NE(error_of("thermal:time_constant_s=20,").find("'' is not key=value"), std::string::npos);
-  EXPECT_EQ(error_of("preload:preload_factor=abc"),
-            "effect 'preload': preload_factor = 'abc' is not a finite number");
+  EXPECT_EQ(error_of("preload:preload_factor=abc"), "effect 'preload': preload_factor = 'abc' is not a finite number");
   EXPECT_NE(error_of("preload:preload_factor=99").find("out of range"), std::string::npos);
   EXPECT_NE(error_of("thermal:").find("expected key=value"), std::string::npos);
 }
@@ -74,13 +72,11 @@ TEST(CandidateEffects, EffectTablesRoundTripThroughTheParameterFile) {
   EXPECT_EQ(again.effects.amplifier_droop.source_resistance_ohm, 75.0);
   EXPECT_TRUE(again.effects.guide_friction.enabled);
   EXPECT_FALSE(again.effects.thermal.enabled);
-  const MotorParameters nested = parse_motor_parameters(
-      "[effects.thermal]\nenabled = true\ntime_constant_s = 12\n", "nested.toml");
+  const MotorParameters nested = parse_motor_parameters("[effects.thermal]\nenabled = true\ntime_constant_s = 12\n",
+                                                        "nested.toml");
   EXPECT_EQ(nested.effects.thermal.time_constant_s, 12.0);
-  EXPECT_THROW((void)parse_motor_parameters("[effects.heat]\nenabled = true\n", "x.toml"),
-               ParameterError);
-  EXPECT_THROW((void)parse_motor_parameters("[effects.thermal]\nenabled = 3\n", "x.toml"),
-               ParameterError);
+  EXPECT_THROW((void)parse_motor_parameters("[effects.heat]\nenabled = true\n", "x.toml"), ParameterError);
+  EXPECT_THROW((void)parse_motor_parameters("[effects.thermal]\nenabled = 3\n", "x.toml"), ParameterError);
 }
 
 }  // namespace

@@ -10,8 +10,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
-#include <ostream>
 #include <fstream>
+#include <ostream>
 #include <random>
 #include <sstream>
 #include <string>
@@ -140,14 +140,16 @@ TEST_P(UsersData, HiddenEffectIsNamedAloneRecoveredAndClosesTheGap) {
   ASSERT_NE(effect, nullptr);
   // Magnitude drawn (seeded by the design's name) across the plausible range.
   std::uint64_t seed = 1469598103934665603ULL;
-  for (const char* ch = c.design.name; *ch != 0; ++ch) seed = (seed ^ static_cast<unsigned char>(*ch)) * 1099511628211ULL;
+  for (const char* ch = c.design.name; *ch != 0; ++ch)
+    seed = (seed ^ static_cast<unsigned char>(*ch)) * 1099511628211ULL;
   std::mt19937_64 rng(seed);
   const double truth = uniform(rng, effect->plausible_low, effect->plausible_high);
   const MotorParameters baseline = calibrated();
   MotorParameters hidden = baseline;
   enable_effect(hidden, *effect, truth);
   const std::vector<Measurement> points = design_points(c.design, seed);
-  const MeasurementSet data = synthesize_measurements(hidden, points, bench_noise(c.design, seed + 1), test::two_thread_for);
+  const MeasurementSet data = synthesize_measurements(hidden, points, bench_noise(c.design, seed + 1),
+                                                      test::two_thread_for);
   const MeasurementSet clean = clean_readings(hidden, points, c.design);
   ASSERT_GE(data.rows.size(), points.size() * c.design.repeats * 9 / 10);
 
@@ -169,8 +171,9 @@ TEST_P(UsersData, HiddenEffectIsNamedAloneRecoveredAndClosesTheGap) {
   RecordProperty("value", std::to_string(r.effects[0].value));
 }
 
-INSTANTIATE_TEST_SUITE_P(Designs, UsersData, ::testing::ValuesIn(kCases),
-                         [](const auto& info) { return std::string(info.param.effect) + "_" + info.param.design.name; });
+INSTANTIATE_TEST_SUITE_P(Designs, UsersData, ::testing::ValuesIn(kCases), [](const auto& info) {
+  return std::string(info.param.effect) + "_" + info.param.design.name;
+});
 
 // Noise only, pooled over every design: at least 95 % of the sessions name nothing. The
 // default run pools 60 sessions; SWUM_NEGATIVE_CONTROL_SESSIONS=200 is the longer run of
@@ -196,8 +199,8 @@ TEST(UsersDataNegativeControl, NamesNothingInAtLeast95PercentOfSessions) {
     ++sessions_by_design[which];
     const auto seed = static_cast<std::uint64_t>(7919 * (s + 1));
     const std::vector<Measurement> points = design_points(d, seed);
-    const MeasurementSet data =
-        synthesize_measurements(baseline, points, bench_noise(d, seed + 3, 5.0), test::two_thread_for);
+    const MeasurementSet data = synthesize_measurements(baseline, points, bench_noise(d, seed + 3, 5.0),
+                                                        test::two_thread_for);
     const DiscrepancyResult r = run_discrepancy(baseline, data, {}, test::two_thread_for);
     if (!r.effects.empty()) {
       ++named;
@@ -216,8 +219,8 @@ TEST(UsersDataNegativeControl, NamesNothingInAtLeast95PercentOfSessions) {
     }
     (cdf > 0.05 ? lo : hi) = p;
   }
-  std::printf("negative control: %d of %d sessions named an effect (rate %.3f, 95 %% upper bound %.3f)\n",
-              named, sessions, static_cast<double>(named) / sessions, hi);
+  std::printf("negative control: %d of %d sessions named an effect (rate %.3f, 95 %% upper bound %.3f)\n", named,
+              sessions, static_cast<double>(named) / sessions, hi);
   for (std::size_t k = 0; k < designs.size(); ++k) {
     std::printf("  %-36s %d of %d named\n", designs[k].name, named_by_design[k], sessions_by_design[k]);
   }

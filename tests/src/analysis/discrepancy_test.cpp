@@ -27,9 +27,7 @@ MotorParameters calibrated() { return test::calibrated_motor(); }
 // operates), loads 0-3 N, one point every 3 s.
 std::vector<Measurement> session_points(int count, std::uint64_t seed) {
   std::mt19937_64 rng(seed);
-  auto uniform = [&](double a, double b) {
-    return a + (b - a) * static_cast<double>(rng() >> 11) * 0x1.0p-53;
-  };
+  auto uniform = [&](double a, double b) { return a + (b - a) * static_cast<double>(rng() >> 11) * 0x1.0p-53; };
   std::vector<Measurement> points;
   for (int i = 0; i < count; ++i) {
     Measurement m;
@@ -42,8 +40,8 @@ std::vector<Measurement> session_points(int count, std::uint64_t seed) {
   return points;
 }
 
-MeasurementSet synth(const MotorParameters& p, const std::vector<Measurement>& points,
-                     double noise, std::uint64_t seed) {
+MeasurementSet synth(const MotorParameters& p, const std::vector<Measurement>& points, double noise,
+                     std::uint64_t seed) {
   SynthOptions o;
   o.relative_noise = noise;
   o.seed = seed;
@@ -104,8 +102,8 @@ TEST_P(HiddenEffect, IsNamedFirstRecoveredAndClosesTheGap) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Library, HiddenEffect,
-                         ::testing::Values("electroelastic", "thermal", "wear", "preload",
-                                           "guide_friction", "amplifier_droop"),
+                         ::testing::Values("electroelastic", "thermal", "wear", "preload", "guide_friction",
+                                           "amplifier_droop"),
                          [](const auto& info) { return info.param; });
 
 TEST(Discrepancy, NegativeControlNamesNothingInAtLeast95PercentOfSeeds) {
@@ -148,8 +146,7 @@ TEST(Discrepancy, TwoHiddenEffectsAreNamedInOrderOfSize) {
   const std::string larger = size_guide > size_droop ? "guide_friction" : "amplifier_droop";
   const std::string smaller = size_guide > size_droop ? "amplifier_droop" : "guide_friction";
 
-  const DiscrepancyResult r =
-      run_discrepancy(baseline, synth(both, points, 0.02, 9), {}, test::two_thread_for);
+  const DiscrepancyResult r = run_discrepancy(baseline, synth(both, points, 0.02, 9), {}, test::two_thread_for);
   std::string rounds;
   for (const auto& round : r.rounds) {
     rounds += "\n  " + round.verdict;

@@ -64,11 +64,9 @@ TEST(HarmonicBalance, AftProjectionIsExactFromFiveSamples) {
     const StatorResponse rb = b.solve(400.0, f);
     ASSERT_EQ(ra.tangential.branches.size(), rb.tangential.branches.size());
     for (std::size_t i = 0; i < ra.tangential.branches.size(); ++i) {
-      EXPECT_NEAR(ra.tangential.branches[i].tip_amplitude_um,
-                  rb.tangential.branches[i].tip_amplitude_um, 1e-10);
+      EXPECT_NEAR(ra.tangential.branches[i].tip_amplitude_um, rb.tangential.branches[i].tip_amplitude_um, 1e-10);
     }
-    EXPECT_NEAR(ra.normal.branches[0].tip_amplitude_um, rb.normal.branches[0].tip_amplitude_um,
-                1e-10);
+    EXPECT_NEAR(ra.normal.branches[0].tip_amplitude_um, rb.normal.branches[0].tip_amplitude_um, 1e-10);
   }
 }
 
@@ -91,7 +89,9 @@ TEST(HarmonicBalance, ClosedFormAgreesWithAftToFiveDigits) {  // model_spec §6.
 TEST(HarmonicBalance, ReproducesModelSpecSection91) {
   const FreeStatorHarmonicBalance hb(table2_model());
   const FreeStatorHarmonicBalance lin(linear_model());
-  struct Row { double vpp, u, w, u_lin, w_lin; };
+  struct Row {
+    double vpp, u, w, u_lin, w_lin;
+  };
   for (const Row& row : {Row{50, 0.41, 0.72, 0.41, 0.75}, Row{100, 0.83, 1.28, 0.82, 1.50},
                          Row{250, 1.88, 2.18, 2.05, 3.75}, Row{400, 2.49, 2.68, 3.29, 6.00}}) {
     const StatorResponse r = hb.solve(row.vpp, 39500.0);
@@ -181,9 +181,13 @@ TEST(HarmonicBalance, SensitivitiesMatchFiniteDifferences) {
       field(plus) += steps[p];
       field(minus) -= steps[p];
       const double ap = FreeStatorHarmonicBalance(model.constants(), plus)
-                            .solve_mode(mode, 300.0, 39500.0).branches.front().tip_amplitude_um;
+                            .solve_mode(mode, 300.0, 39500.0)
+                            .branches.front()
+                            .tip_amplitude_um;
       const double am = FreeStatorHarmonicBalance(model.constants(), minus)
-                            .solve_mode(mode, 300.0, 39500.0).branches.front().tip_amplitude_um;
+                            .solve_mode(mode, 300.0, 39500.0)
+                            .branches.front()
+                            .tip_amplitude_um;
       const double fd = (ap - am) / (2 * steps[p]);
       const double an = b.tip_amplitude_sensitivity_um[p];
       EXPECT_NEAR(an, fd, 1e-4 * std::abs(fd) + 1e-9 * std::abs(b.tip_amplitude_um / steps[p]))
@@ -204,8 +208,10 @@ TEST(HarmonicBalance, AgreesWithTimeDomainOnEveryStableBranch) {
     for (double f : {39000.0, 39250.0, 39500.0, 39750.0, 40000.0}) {
       const StatorResponse r = hb.solve(vpp, f);
       std::vector<const ModeBranch*> stable[2];
-      for (const ModeBranch& b : r.normal.branches) if (b.stable) stable[0].push_back(&b);
-      for (const ModeBranch& b : r.tangential.branches) if (b.stable) stable[1].push_back(&b);
+      for (const ModeBranch& b : r.normal.branches)
+        if (b.stable) stable[0].push_back(&b);
+      for (const ModeBranch& b : r.tangential.branches)
+        if (b.stable) stable[1].push_back(&b);
       ASSERT_FALSE(stable[0].empty());
       ASSERT_FALSE(stable[1].empty());
       const std::size_t n = std::max(stable[0].size(), stable[1].size());
@@ -215,10 +221,8 @@ TEST(HarmonicBalance, AgreesWithTimeDomainOnEveryStableBranch) {
         const ModeBranch& b2 = *stable[1][std::min(k, stable[1].size() - 1)];
         const auto& h1 = b1.harmonics;
         const auto& h2 = b2.harmonics;
-        const std::array<double, 4> x0 = {h1.offset_m + h1.cos_m, w * h1.sin_m,
-                                          h2.offset_m + h2.cos_m, w * h2.sin_m};
-        const FreeStatorAmplitudes td =
-            simulate_free_stator(model.constants(), model.parameters().stator, vpp, f, x0);
+        const std::array<double, 4> x0 = {h1.offset_m + h1.cos_m, w * h1.sin_m, h2.offset_m + h2.cos_m, w * h2.sin_m};
+        const FreeStatorAmplitudes td = simulate_free_stator(model.constants(), model.parameters().stator, vpp, f, x0);
         ASSERT_TRUE(td.ok);
         ++runs;
         const double e1 = std::abs(td.tip_normal_um / b1.tip_amplitude_um - 1.0);
@@ -231,8 +235,7 @@ TEST(HarmonicBalance, AgreesWithTimeDomainOnEveryStableBranch) {
   }
   RecordProperty("worst_relative_difference", std::to_string(worst));
   RecordProperty("runs", runs);
-  std::printf("HB vs time domain: %d runs, worst relative difference %.3g %%\n", runs,
-              100 * worst);
+  std::printf("HB vs time domain: %d runs, worst relative difference %.3g %%\n", runs, 100 * worst);
 }
 
 TEST(HarmonicBalance, UnstableBranchIsLeftInTheTimeDomain) {
@@ -247,12 +250,12 @@ TEST(HarmonicBalance, UnstableBranchIsLeftInTheTimeDomain) {
   const auto& h1 = r.normal.branches[0].harmonics;
   for (double nudge : {1.01, 0.99}) {
     const auto& h2 = middle.harmonics;
-    const std::array<double, 4> x0 = {h1.offset_m + h1.cos_m, w * h1.sin_m,
-                                      h2.offset_m + nudge * h2.cos_m, nudge * w * h2.sin_m};
+    const std::array<double, 4> x0 = {h1.offset_m + h1.cos_m, w * h1.sin_m, h2.offset_m + nudge * h2.cos_m,
+                                      nudge * w * h2.sin_m};
     FreeStatorRunOptions opt;
     opt.settle_s = 0.03;
-    const FreeStatorAmplitudes td =
-        simulate_free_stator(model.constants(), model.parameters().stator, 400.0, f, x0, opt);
+    const FreeStatorAmplitudes td = simulate_free_stator(model.constants(), model.parameters().stator, 400.0, f, x0,
+                                                         opt);
     ASSERT_TRUE(td.ok);
     const double upper = r.tangential.branches[0].tip_amplitude_um;
     const double lower = r.tangential.branches[2].tip_amplitude_um;

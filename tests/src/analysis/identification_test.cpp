@@ -30,12 +30,11 @@ MotorParameters offset_prior() {
 
 void print(const IdentificationResult& r) {
   for (const auto& e : r.parameters) {
-    std::printf("  %-16s prior %+.4e  value %+.4e  se %.3e  %s%s\n", std::string(e.key).c_str(),
-                e.prior, e.value, e.standard_error, e.identifiable ? "identified" : "NOT identifiable",
+    std::printf("  %-16s prior %+.4e  value %+.4e  se %.3e  %s%s\n", std::string(e.key).c_str(), e.prior, e.value,
+                e.standard_error, e.identifiable ? "identified" : "NOT identifiable",
                 e.significant ? " (significant)" : "");
   }
-  std::printf("  rms relative residual %.4f, starts %d, rounds %d\n", r.rms_relative_residual,
-              r.starts_run, r.rounds);
+  std::printf("  rms relative residual %.4f, starts %d, rounds %d\n", r.rms_relative_residual, r.starts_run, r.rounds);
 }
 
 TEST(Identification, RoundTripRecoversTheIdentifiableParameters) {
@@ -82,8 +81,8 @@ TEST(Identification, RoundTripRecoversTheIdentifiableParameters) {
       const auto u = predicted_branch(hb, StatorMode::l1, x.vpp, x.frequency_hz, x.tip_normal_um);
       const auto w = predicted_branch(hb, StatorMode::b2, x.vpp, x.frequency_hz, x.tip_tangential_um);
       ASSERT_TRUE(u && w);
-      for (double e : {u->tip_amplitude_um / *x.tip_normal_um - 1.0,
-                       w->tip_amplitude_um / *x.tip_tangential_um - 1.0}) {
+      for (double e :
+           {u->tip_amplitude_um / *x.tip_normal_um - 1.0, w->tip_amplitude_um / *x.tip_tangential_um - 1.0}) {
         sum2 += e * e;
         worst = std::max(worst, std::abs(e));
         ++n;

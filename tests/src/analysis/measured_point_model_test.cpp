@@ -23,9 +23,8 @@ Measurement at(double vpp, double frequency_hz, double time_s, std::optional<int
 }
 
 TEST(PredictionChains, SweepsRunInSessionOrderAndSpotPointsAlone) {
-  const std::vector<Measurement> points{at(100, 41000, 3, 1), at(200, 40000, 0, std::nullopt),
-                                        at(100, 40500, 4, 1), at(300, 41000, 1, 0),
-                                        at(100, 40900, 3.5, 1)};
+  const std::vector<Measurement> points{at(100, 41000, 3, 1), at(200, 40000, 0, std::nullopt), at(100, 40500, 4, 1),
+                                        at(300, 41000, 1, 0), at(100, 40900, 3.5, 1)};
   const auto chains = prediction_chains(points);
   ASSERT_EQ(chains.size(), 3u);
   EXPECT_EQ(chains[0], (std::vector<std::size_t>{1}));        // spot point at t = 0
@@ -54,8 +53,8 @@ TEST(SweepContinuation, DownwardSweepHoldsTheUpperBranchBelowThePeak) {
   double largest_gap_mm_s = 0.0;
   for (std::size_t i = 0; i < sweep.size(); ++i) {
     ASSERT_TRUE(by_sweep[i].ok && from_rest[i].ok);
-    largest_gap_mm_s = std::max(largest_gap_mm_s, std::abs(by_sweep[i].value(Quantity::speed) -
-                                                           from_rest[i].value(Quantity::speed)));
+    largest_gap_mm_s = std::max(largest_gap_mm_s,
+                                std::abs(by_sweep[i].value(Quantity::speed) - from_rest[i].value(Quantity::speed)));
   }
   // Above the peak the two agree (one branch); somewhere below it they part by far more than
   // the 0.5 mm/s steady-state tolerance.

@@ -43,16 +43,14 @@ TEST(Measurements, ParsesAnyColumnOrderCommentsAndEmptyCells) {
 TEST(Measurements, ErrorsNameFileLineAndColumn) {
   EXPECT_EQ(error_of("vpp,frequency_hz,load_n,speed_mm_s\n100,40000,0,abc\n"),
             "data.csv:2:4: column speed_mm_s: 'abc' is not a number");
-  EXPECT_EQ(error_of("vpp,frequency_hz,load_n,speed_mm_s\n100,40000,0\n"),
-            "data.csv:2:4: expected 4 cells, found 3");
+  EXPECT_EQ(error_of("vpp,frequency_hz,load_n,speed_mm_s\n100,40000,0\n"), "data.csv:2:4: expected 4 cells, found 3");
   EXPECT_EQ(error_of("vpp,frequency_hz,speed_mm_s\n"),
             "data.csv:1:4: missing column load_n (required: vpp, frequency_hz, load_n)");
   EXPECT_EQ(error_of("vpp,frequency_hz,load_n\n100,40000,0\n"),
             "data.csv:1:4: no measured quantity: add speed_mm_s, tip_normal_um or tip_tangential_um");
   EXPECT_NE(error_of("vpp,frequency_hz,load_n,speed,x\n").find("data.csv:1:4: unknown column 'speed'"),
             std::string::npos);
-  EXPECT_EQ(error_of("vpp,frequency_hz,load_n,speed_mm_s\n-5,40000,0,1\n"),
-            "data.csv:2:1: column vpp: must be >= 0");
+  EXPECT_EQ(error_of("vpp,frequency_hz,load_n,speed_mm_s\n-5,40000,0,1\n"), "data.csv:2:1: column vpp: must be >= 0");
   EXPECT_EQ(error_of("vpp,frequency_hz,load_n,speed_mm_s\n5,0,0,1\n"),
             "data.csv:2:2: column frequency_hz: 0 is outside 1000..200000 Hz");
   EXPECT_EQ(error_of("vpp,frequency_hz,load_n,speed_mm_s\n5,4e10,0,1\n"),
@@ -65,8 +63,7 @@ TEST(Measurements, ErrorsNameFileLineAndColumn) {
   with_nul += '\0';
   with_nul += "0000,0,1\n";  // a NUL must not cut the message short
   EXPECT_EQ(error_of(with_nul), "data.csv:2:2: column frequency_hz: '4\\x000000' is not a number");
-  EXPECT_EQ(error_of("vpp,frequency_hz,load_n,speed_mm_s\n5,40000,0,\n"),
-            "data.csv:2: no measured value in this row");
+  EXPECT_EQ(error_of("vpp,frequency_hz,load_n,speed_mm_s\n5,40000,0,\n"), "data.csv:2: no measured value in this row");
   EXPECT_EQ(error_of("vpp,frequency_hz,load_n,time_s,speed_mm_s\n5,40000,0,,3\n"),
             "data.csv:2:4: column time_s is empty");
   EXPECT_EQ(error_of("vpp,vpp,load_n\n"), "data.csv:1:2: column vpp appears twice");
@@ -151,9 +148,8 @@ TEST(Measurements, ReadsALogByTheDeviceClockAndItsRunningStretches) {
   EXPECT_EQ(*set.rows[1].sweep, 0);
   EXPECT_EQ(*set.rows[2].sweep, 1);  // after the fault the drive started again from rest
   EXPECT_EQ(set.rows[2].load_n, 1.0);
-  EXPECT_EQ(set.ignored_columns,
-            (std::vector<std::string>{"host_time_s", "position_mm", "last_reject", "lateness_p99_us",
-                                      "lateness_max_us", "overruns"}));
+  EXPECT_EQ(set.ignored_columns, (std::vector<std::string>{"host_time_s", "position_mm", "last_reject",
+                                                           "lateness_p99_us", "lateness_max_us", "overruns"}));
   EXPECT_EQ(set.skipped_by_reason.at("drive_off"), 2);  // state 0, and state 1 at 0 Vpp
   EXPECT_EQ(set.skipped_by_reason.at("fault_numerical"), 1);
   EXPECT_EQ(set.skipped_by_reason.at("fault_command_timeout"), 1);
@@ -201,16 +197,16 @@ TEST(Measurements, SweepAndLogColumnsAreCheckedToo) {
   // only when no row is left.
   EXPECT_EQ(error_of(log_header + ",250,40500,0,120,90,1,0\n"),
             "data.csv:3: no usable rows: 1 row left out (1 no_device_time)");
-  const MeasurementSet set =
-      parse_measurements_csv(log_header + ",250,40500,0,120,90,1,0\n0.5,250,40500,0,121,90,1,0\n", "data.csv");
+  const MeasurementSet set = parse_measurements_csv(
+      log_header + ",250,40500,0,120,90,1,0\n0.5,250,40500,0,121,90,1,0\n", "data.csv");
   ASSERT_EQ(set.rows.size(), 1u);
   EXPECT_EQ(set.skipped_by_reason.at("no_device_time"), 1);
   EXPECT_EQ(*set.rows[0].time_s, 0.5);
 }
 
 TEST(Measurements, OperatingPointsNeedNoQuantities) {
-  const MeasurementSet points =
-      parse_operating_points_csv("vpp,frequency_hz,load_n,time_s\n200,40500,1,0\n", "points.csv");
+  const MeasurementSet points = parse_operating_points_csv("vpp,frequency_hz,load_n,time_s\n200,40500,1,0\n",
+                                                           "points.csv");
   ASSERT_EQ(points.rows.size(), 1u);
   EXPECT_TRUE(points.has_time);
 }

@@ -13,8 +13,7 @@ using swum::CurveSample;
 using swum::pick_operating_point;
 
 // Lorentzian-like peak at f0 (Hz), height h, half width w; points 39300..40600 step `step`.
-std::vector<CurveSample> peak_curve(double f0, double h, double w, double step = 50.0,
-                                    double jump_below = -1.0) {
+std::vector<CurveSample> peak_curve(double f0, double h, double w, double step = 50.0, double jump_below = -1.0) {
   std::vector<CurveSample> c;
   for (double f = 39300.0; f <= 40600.0 + 1e-9; f += step) {
     double v = h / (1.0 + std::pow((f - f0) / w, 2));
@@ -116,7 +115,8 @@ TEST(PickOperatingPoint, UnsortedInputGivesTheSameAnswer) {
 
 TEST(PickOperatingPoint, FailedPointBelowThePeakIsACollapse) {
   auto c = peak_curve(39500.0, 800.0, 600.0);
-  for (auto& p : c) if (p.frequency_hz < 39480.0) p.ok = false;
+  for (auto& p : c)
+    if (p.frequency_hz < 39480.0) p.ok = false;
   const auto r = pick_operating_point(c);
   ASSERT_TRUE(r.decided) << r.reason;
   EXPECT_DOUBLE_EQ(r.peak_frequency_hz, 39500.0);

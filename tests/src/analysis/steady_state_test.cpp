@@ -34,8 +34,7 @@ void expect_rel(double actual, double expected, double rel, const char* what) {
 // Fixed-step (default 96 steps per 40 kHz cycle) against the adaptive reference, over the SAME
 // window (settle 30 ms, then exactly two 10 ms windows; the last one is compared), so that the
 // difference is the discretisation error only and not a different averaging interval.
-void compare_with_reference(const MotorModel& model, double vpp, double f_hz, double speed_rel,
-                            double amplitude_rel) {
+void compare_with_reference(const MotorModel& model, double vpp, double f_hz, double speed_rel, double amplitude_rel) {
   SteadyStateOptions opt;
   opt.max_s = opt.settle_s + 2.0 * opt.window_s;
   opt.speed_tolerance_mm_s = 1e9;  // always two windows

@@ -50,8 +50,7 @@ TEST(ParameterFile, CalibratedConfigIsReferencePlusTheCalibration) {
   EXPECT_NEAR(p.numerics.time_step_ns, 1e9 / (64 * 40000.0), 1e-9);  // chosen for speed, docs/performance.md
   p.numerics.time_step_ns = d.numerics.time_step_ns;
   EXPECT_EQ(format_motor_parameters(p), format_motor_parameters(d));
-  const MotorModel model(parse_motor_parameters(read_text(SWUM_SOURCE_DIR "/config/li2019.toml"),
-                                                "li2019.toml"));
+  const MotorModel model(parse_motor_parameters(read_text(SWUM_SOURCE_DIR "/config/li2019.toml"), "li2019.toml"));
   EXPECT_NEAR(model.constants().f_l1_hz, 39516.0, 0.002 * 39516.0);  // paper natural frequencies
   EXPECT_NEAR(model.constants().f_b2_hz, 39469.0, 0.002 * 39469.0);
 }

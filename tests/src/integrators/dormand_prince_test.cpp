@@ -30,8 +30,7 @@ TEST(DormandPrince, MeetsTightTolerance) {
   opt.relative_tolerance = 1e-11;
   opt.absolute_tolerance = {1e-13, 1e-13};
   int calls = 0;
-  const auto stats =
-      integrate_dormand_prince(sys, 0.0, 10.0, x, opt, [&](double, const auto&) { ++calls; });
+  const auto stats = integrate_dormand_prince(sys, 0.0, 10.0, x, opt, [&](double, const auto&) { ++calls; });
   ASSERT_TRUE(stats.ok);
   EXPECT_EQ(static_cast<std::uint64_t>(calls), stats.accepted);
   EXPECT_NEAR(x[0], exact(10.0, sys.w, sys.zeta), 1e-9);

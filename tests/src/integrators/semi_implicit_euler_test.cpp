@@ -17,8 +17,7 @@ struct Oscillator {
   void explicit_acceleration(double, const Vector& q, const Vector& v, Vector& a) const {
     a[0] = -w * w * q[0] - (implicit_damping ? 0.0 : 2 * zeta * w * v[0]);
   }
-  void implicit_velocity_correction(double, double dt, const Vector&, const Vector&,
-                                    Vector& v_star) const {
+  void implicit_velocity_correction(double, double dt, const Vector&, const Vector&, Vector& v_star) const {
     if (implicit_damping) v_star[0] /= 1.0 + dt * 2 * zeta * w;
   }
 };

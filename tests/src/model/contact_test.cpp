@@ -9,7 +9,7 @@ namespace {
 
 TEST(NormalForce, SeparationAndPreload) {
   EXPECT_DOUBLE_EQ(normal_force_n(24.8, 2.58e7, 0.0), 24.8);
-  EXPECT_NEAR(normal_force_n(24.8, 2.58e7, -1e-6), 24.8 + 25.8, 1e-9);  // tip pushed in
+  EXPECT_NEAR(normal_force_n(24.8, 2.58e7, -1e-6), 24.8 + 25.8, 1e-9);          // tip pushed in
   EXPECT_DOUBLE_EQ(normal_force_n(24.8, 2.58e7, 24.8 / 2.58e7 * 1.0001), 0.0);  // separated
 }
 
@@ -87,11 +87,11 @@ TEST(JenkinsElement, SticksElasticallyBelowTheConeAndSlidesAtIt) {
 
 TEST(JenkinsElement, ContinuousFormIsThePlayOperator) {
   const double lim = 4e-8;
-  EXPECT_EQ(jenkins_deflection_rate_m_s(1e-8, lim, 0.0, 0.3), 0.3);    // stick: delta' = v_rel
+  EXPECT_EQ(jenkins_deflection_rate_m_s(1e-8, lim, 0.0, 0.3), 0.3);     // stick: delta' = v_rel
   EXPECT_EQ(jenkins_deflection_rate_m_s(lim, lim, -0.01, 0.3), -0.01);  // slip: follows the cone
-  EXPECT_EQ(jenkins_deflection_rate_m_s(lim, lim, 0.0, -0.3), -0.3);   // unloading: elastic
+  EXPECT_EQ(jenkins_deflection_rate_m_s(lim, lim, 0.0, -0.3), -0.3);    // unloading: elastic
   EXPECT_EQ(jenkins_deflection_rate_m_s(-lim, lim, 0.02, -0.3), -0.02);
-  EXPECT_EQ(jenkins_deflection_rate_m_s(0.0, 0.0, 0.0, 0.3), 0.0);      // separation
+  EXPECT_EQ(jenkins_deflection_rate_m_s(0.0, 0.0, 0.0, 0.3), 0.0);  // separation
 }
 
 }  // namespace

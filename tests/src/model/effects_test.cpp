@@ -21,8 +21,7 @@ MotorParameters jenkins_motor() {
   return p;
 }
 
-MotorState run(const MotorParameters& p, std::uint64_t steps, double* droop = nullptr,
-               double frequency_hz = 40300.0) {
+MotorState run(const MotorParameters& p, std::uint64_t steps, double* droop = nullptr, double frequency_hz = 40300.0) {
   const MotorModel model(p);
   MotorSimulator sim(model);
   sim.set_drive(DriveInput{250.0, frequency_hz, 90.0, 1.0});
@@ -54,7 +53,7 @@ TEST_P(ThermalSteadyState, HeatsTowardsRthTimesTheMeanDampingPower) {
   MotorParameters p = jenkins_motor();
   p.effects.thermal.enabled = true;
   p.effects.thermal.thermal_resistance_k_per_w = 5.0;
-  p.effects.thermal.time_constant_s = 0.01;               // short, so the test sees it settle
+  p.effects.thermal.time_constant_s = 0.01;                    // short, so the test sees it settle
   const MotorState s = run(p, 200000, nullptr, frequency_hz);  // 78 ms
   EXPECT_GT(s.stator_temperature_rise_k, 1.0);
   // Steady state: T = R_th P with P the time-averaged damping power at that temperature.

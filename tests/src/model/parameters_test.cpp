@@ -15,8 +15,7 @@ namespace {
 TEST(ParameterSpecs, KeysAreUniqueAndDefaultsValid) {
   std::set<std::string> keys;
   for (const auto& spec : parameter_specs()) {
-    EXPECT_TRUE(keys.insert(std::string(spec.section) + "." + std::string(spec.key)).second)
-        << spec.key;
+    EXPECT_TRUE(keys.insert(std::string(spec.section) + "." + std::string(spec.key)).second) << spec.key;
     EXPECT_FALSE(spec.description.empty()) << spec.key;
     EXPECT_LE(spec.min_value, spec.max_value) << spec.key;
   }

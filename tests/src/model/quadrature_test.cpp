@@ -17,8 +17,7 @@ TEST(GaussLegendre, WeightsSumToTwoAndExactForPolynomials) {
     const int d = 2 * n - 1;
     if (d <= 41) {
       const double exact = (std::pow(2.0, d + 1) - 0.0) / (d + 1);  // Int_0^2 x^d dx
-      EXPECT_NEAR(gl.integrate([d](double x) { return std::pow(x, d); }, 0.0, 2.0), exact,
-                  1e-12 * exact);
+      EXPECT_NEAR(gl.integrate([d](double x) { return std::pow(x, d); }, 0.0, 2.0), exact, 1e-12 * exact);
     }
   }
 }
@@ -26,8 +25,7 @@ TEST(GaussLegendre, WeightsSumToTwoAndExactForPolynomials) {
 TEST(GaussLegendre, SmoothFunctionsToMachinePrecision) {
   const GaussLegendre gl(400);
   EXPECT_NEAR(gl.integrate([](double x) { return std::sin(x); }, 0.0, std::numbers::pi), 2.0, 1e-13);
-  EXPECT_NEAR(gl.integrate([](double x) { return std::exp(x); }, 0.0, 1.0), std::numbers::e - 1.0,
-              1e-14);
+  EXPECT_NEAR(gl.integrate([](double x) { return std::exp(x); }, 0.0, 1.0), std::numbers::e - 1.0, 1e-14);
 }
 
 }  // namespace

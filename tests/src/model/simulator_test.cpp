@@ -182,7 +182,7 @@ TEST(ImplicitCoulombGuide, HoldsBelowBreakawayAndSlidesAbove) {
   MotorSimulator slide(model);
   slide.set_drive({0.0, 40000.0, 90.0, 1.05 * breakaway});
   slide.advance(200000);
-  EXPECT_LT(slide.state().mover_velocity_m_s, -1e-3);  // pushed backwards by the load
+  EXPECT_LT(slide.state().mover_velocity_m_s, -1e-3);    // pushed backwards by the load
   EXPECT_NEAR(slide.forces().guide_n, breakaway, 1e-6);  // full Coulomb force opposes motion
 }
 

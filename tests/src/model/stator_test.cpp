@@ -35,16 +35,14 @@ TEST(StatorForces, EquationFourteenTermByTerm) {
   auto sq = [&](const ElectricalCoefficient& x) { return x.group_a * va * va + x.group_b * vb * vb; };
   const double expected_l1 = lin(c.a[0]) + st.e311_c_per_v_m * sq(c.a[1]) +
                              (st.e311_c_per_v_m * lin(c.a[2]) + st.e3111_c_per_v_m * sq(c.a[3])) * q +
-                             st.e3111_c_per_v_m * lin(c.a[4]) * q * q - c.k1_n_m * q -
-                             st.c111_pa * c.alpha1 * q * q - st.c1111_pa * c.beta1_per_m * q * q * q;
-  EXPECT_NEAR(modal_force_n(model.coefficients().stator.l1, q, va, vb), expected_l1,
-              1e-12 * std::abs(expected_l1));
+                             st.e3111_c_per_v_m * lin(c.a[4]) * q * q - c.k1_n_m * q - st.c111_pa * c.alpha1 * q * q -
+                             st.c1111_pa * c.beta1_per_m * q * q * q;
+  EXPECT_NEAR(modal_force_n(model.coefficients().stator.l1, q, va, vb), expected_l1, 1e-12 * std::abs(expected_l1));
   const double expected_b2 = lin(c.b[0]) + st.e311_c_per_v_m * sq(c.b[1]) +
                              (st.e311_c_per_v_m * lin(c.b[2]) + st.e3111_c_per_v_m * sq(c.b[3])) * q +
                              st.e3111_c_per_v_m * lin(c.b[4]) * q * q - c.k2_n_m * q -
                              st.c1111_pa * c.beta2_per_m * q * q * q;
-  EXPECT_NEAR(modal_force_n(model.coefficients().stator.b2, q, va, vb), expected_b2,
-              1e-12 * std::abs(expected_b2));
+  EXPECT_NEAR(modal_force_n(model.coefficients().stator.b2, q, va, vb), expected_b2, 1e-12 * std::abs(expected_b2));
 }
 
 }  // namespace
