@@ -11,6 +11,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "codes.h"
+
 namespace swum::host {
 
 // Anything that went wrong talking to the device: the message names the device, what was
@@ -39,7 +41,7 @@ struct DeviceTelemetry {
   // counting; absent when the protocol is polled (Modbus: every read is a fresh snapshot).
   std::optional<std::uint32_t> sample_counter;
   std::uint32_t sample_counter_modulus = 0;
-  int state = 0;  // 0 disabled, 1 enabled, 2 fault
+  int state = 0;  // protocol::AmpState: 0 disabled, 1 enabled, 2 fault
   int fault_code = 0;
   bool drive_on = false;
   bool enable_line = true;
@@ -57,6 +59,9 @@ struct DeviceTelemetry {
   double lateness_p99_us = 0.0;
   double lateness_max_us = 0.0;
   std::uint32_t overruns = 0;
+
+  bool is(protocol::AmpState s) const { return state == static_cast<int>(s); }
+  bool rejected_for(protocol::Reason r) const { return last_reject == static_cast<int>(r); }
 };
 
 class Device {

@@ -15,7 +15,6 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-constexpr int kReasonFaultActive = 12;  // docs/protocols.md reason codes
 constexpr double kFrequencyReachedHz = 0.5;
 constexpr double kAmplitudeReachedVpp = 0.5;
 
@@ -77,9 +76,10 @@ class Session {
       reject_count_ = last_.reject_count;
       // A keep-alive that crossed a fault is refused with "fault active": the fault itself is
       // what the caller handles.
-      if (last_.last_reject != kReasonFaultActive && last_.state != 2) {
-        throw DeviceError(device_.name() + ": the device rejected a command: " + reject_reason_name(last_.last_reject) +
-                          (last_.last_reject == 13 ? " (the hardware enable input is low)" : ""));
+      if (!last_.rejected_for(protocol::Reason::fault_active) && !last_.is(protocol::AmpState::fault)) {
+        throw DeviceError(
+            device_.name() + ": the device rejected a command: " + reject_reason_name(last_.last_reject) +
+            (last_.rejected_for(protocol::Reason::enable_line_low) ? " (the hardware enable input is low)" : ""));
       }
     }
     return last_;
@@ -92,7 +92,7 @@ class Session {
     for (;;) {
       const DeviceTelemetry& t = read(keep_alive_s);
       if (done(t)) return true;
-      if (t.state == 2) return false;
+      if (t.is(protocol::AmpState::fault)) return false;
       // Host-side guard too: a device clock that stands still must not hang us.
       const double host_s = std::chrono::duration<double>(Clock::now() - host_start).count();
       if (time_of(t) - start > timeout_s || host_s > 10.0 * timeout_s + 5.0) return false;
@@ -161,10 +161,11 @@ class Sweeper {
   // Starts the drive from rest: the points measured after it are a new continuous sweep.
   bool start_voltage(double vpp, double frequency_hz, double load_n) {
     ++sweep_id_;
-    if (session_.last().state == 2) session_.command(DeviceAction::reset_fault);
+    if (session_.last().is(protocol::AmpState::fault)) session_.command(DeviceAction::reset_fault);
     session_.set_drive({frequency_hz, 0.0, plan_.phase_deg, load_n});
     session_.command(DeviceAction::enable);
-    if (!session_.read_until([](const DeviceTelemetry& t) { return t.state == 1; }, 1.0, plan_.keep_alive_s)) {
+    if (!session_.read_until([](const DeviceTelemetry& t) { return t.is(protocol::AmpState::enabled); }, 1.0,
+                             plan_.keep_alive_s)) {
       throw DeviceError(session_.device().name() + ": the drive did not enable (state " +
                         std::to_string(session_.last().state) + ", fault " +
                         std::to_string(session_.last().fault_code) +
@@ -191,7 +192,7 @@ class Sweeper {
     int n = 0;
     const bool dwelt = session_.read_until(
         [&](const DeviceTelemetry& t) {
-          if (t.state != 1) return false;
+          if (!t.is(protocol::AmpState::enabled)) return false;
           sum += t.speed_mm_s;
           sum2 += t.speed_mm_s * t.speed_mm_s;
           normal += t.tip_normal_um;
@@ -226,10 +227,10 @@ class Sweeper {
     row.time_s = session_.session_time();  // when it was given up
     // One word per status (CSV column): fault_command_timeout, fault_numerical, timeout.
     const int fault = session_.last().fault_code;
-    row.status = session_.last().state != 2 ? "timeout"
-                 : fault == 1               ? "fault_command_timeout"
-                 : fault == 2               ? "fault_numerical"
-                                            : "fault_" + std::to_string(fault);
+    row.status = !session_.last().is(protocol::AmpState::fault) ? "timeout"
+                 : fault == 1                                   ? "fault_command_timeout"
+                 : fault == 2                                   ? "fault_numerical"
+                                                                : "fault_" + std::to_string(fault);
     return row;
   }
 

@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <set>
 
+#include "codes.h"  // protocol/: the state and fault codes a log file records
 #include "config/csv_cells.h"
 
 namespace swum {
@@ -116,8 +117,8 @@ bool is_numbered_fault(std::string_view word) {
 
 // The fault of a device as a sweep's status names it (host/device/device_sweep.cpp).
 std::string fault_reason(int code) {
-  if (code == 1) return "fault_command_timeout";
-  if (code == 2) return "fault_numerical";
+  if (code == static_cast<int>(protocol::FaultCode::command_timeout)) return "fault_command_timeout";
+  if (code == static_cast<int>(protocol::FaultCode::numerical)) return "fault_numerical";
   return "fault_" + std::to_string(code);
 }
 
@@ -254,14 +255,16 @@ MeasurementSet parse_csv(std::string_view text, std::string_view source, bool ne
     }
     if (const int c = control_index(Control::state); c >= 0) {
       const int state = whole_number(c, "state");
-      if (state < 0 || state > 2) {
+      constexpr int kDisabled = static_cast<int>(protocol::AmpState::disabled);
+      constexpr int kFault = static_cast<int>(protocol::AmpState::fault);
+      if (state < kDisabled || state > kFault) {
         reader.fail(line_number, c + 1,
                     "column state: " + std::to_string(state) +
                         " is not a drive state (0 disabled, 1 running, 2 fault)");
       }
       const int fault_column = control_index(Control::fault_code);
-      if (reason.empty() && state == 0) reason = "drive_off";
-      if (reason.empty() && state == 2)
+      if (reason.empty() && state == kDisabled) reason = "drive_off";
+      if (reason.empty() && state == kFault)
         reason = fault_column >= 0 ? fault_reason(whole_number(fault_column, "fault_code")) : "fault";
     }
     std::array<std::optional<double>, kColumnCount> v;
