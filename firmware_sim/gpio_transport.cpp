@@ -3,7 +3,10 @@
 #include <time.h>
 
 #include <cmath>
+#include <limits>
 #include <sstream>
+
+#include "whole_number.h"
 
 namespace swum::emu {
 
@@ -17,13 +20,9 @@ std::string parse_gpio_spec(const std::string& text, GpioConfig& out) {
     const auto eq = item.find('=');
     if (eq == std::string::npos) return "expected NAME=OFFSET in '" + item + "'";
     const std::string name = item.substr(0, eq);
-    int offset = -1;
-    try {
-      offset = std::stoi(item.substr(eq + 1));
-    } catch (const std::exception&) {
-      return "bad line offset in '" + item + "'";
-    }
-    if (offset < 0) return "bad line offset in '" + item + "'";
+    const auto parsed = protocol::parse_whole_number(item.substr(eq + 1), 0, std::numeric_limits<int>::max());
+    if (!parsed) return "bad line offset in '" + item + "'";
+    const int offset = static_cast<int>(*parsed);
     if (name == "enable") out.enable = offset;
     else if (name == "fault") out.fault = offset;
     else if (name == "a") out.encoder_a = offset;

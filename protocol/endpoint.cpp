@@ -1,7 +1,8 @@
 #include "endpoint.h"
 
-#include <charconv>
-#include <stdexcept>
+#include <limits>
+
+#include "whole_number.h"
 
 namespace swum::protocol {
 
@@ -12,13 +13,12 @@ std::string parse_modbus_endpoint(const std::string& text, ModbusEndpoint& out) 
     if (colon == std::string::npos) return "expected tcp://HOST:PORT";
     out.tcp = true;
     out.host = rest.substr(0, colon);
-    try {
-      const int port = std::stoi(rest.substr(colon + 1));
-      if (port < 0 || port > 65535) return "port out of range";
-      out.port = static_cast<std::uint16_t>(port);
-    } catch (const std::exception&) {
-      return "bad port in '" + text + "'";
-    }
+    const std::string port_text = rest.substr(colon + 1);
+    const auto port = parse_whole_number(port_text, std::numeric_limits<long long>::min(),
+                                         std::numeric_limits<long long>::max());
+    if (!port) return "bad port in '" + text + "'";
+    if (*port < 0 || *port > 65535) return "port " + port_text + " out of range (0 to 65535) in '" + text + "'";
+    out.port = static_cast<std::uint16_t>(*port);
     if (out.host == "localhost") out.host = "127.0.0.1";
     return {};
   }
@@ -31,12 +31,9 @@ std::string parse_modbus_endpoint(const std::string& text, ModbusEndpoint& out) 
       return {};
     }
     out.device = rest.substr(0, colon);
-    try {
-      out.baud = std::stoi(rest.substr(colon + 1));
-    } catch (const std::exception&) {
-      return "bad baud rate in '" + text + "'";
-    }
-    if (out.baud <= 0) return "bad baud rate in '" + text + "'";
+    const auto baud = parse_whole_number(rest.substr(colon + 1), 1, std::numeric_limits<int>::max());
+    if (!baud) return "bad baud rate in '" + text + "'";
+    out.baud = static_cast<int>(*baud);
     return {};
   }
   return "expected tcp://HOST:PORT or rtu:/dev/DEVICE:BAUD, got '" + text + "'";

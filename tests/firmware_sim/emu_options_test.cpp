@@ -347,7 +347,18 @@ TEST(EmuOptions, BadModbusEndpointRefused) {
   EXPECT_EQ(error("bogus"), "--modbus: expected tcp://HOST:PORT or rtu:/dev/DEVICE:BAUD, got 'bogus'");
   EXPECT_EQ(error("tcp://host"), "--modbus: expected tcp://HOST:PORT");
   EXPECT_EQ(error("tcp://127.0.0.1:x"), "--modbus: bad port in 'tcp://127.0.0.1:x'");
-  EXPECT_EQ(error("tcp://127.0.0.1:65536"), "--modbus: port out of range");
+  EXPECT_EQ(error("tcp://127.0.0.1:65536"),
+            "--modbus: port 65536 out of range (0 to 65535) in 'tcp://127.0.0.1:65536'");
+  // Whole numbers only: a prefix is not a port (std::stoi read "15x" as 15, "1502.9" as 1502).
+  EXPECT_EQ(error("tcp://127.0.0.1:15x"), "--modbus: bad port in 'tcp://127.0.0.1:15x'");
+  EXPECT_EQ(error("tcp://127.0.0.1:1502.9"), "--modbus: bad port in 'tcp://127.0.0.1:1502.9'");
+  EXPECT_EQ(error("tcp://127.0.0.1: 1502"), "--modbus: bad port in 'tcp://127.0.0.1: 1502'");
+  EXPECT_EQ(error("tcp://127.0.0.1:+1502"), "--modbus: bad port in 'tcp://127.0.0.1:+1502'");
+  EXPECT_EQ(error("tcp://127.0.0.1:"), "--modbus: bad port in 'tcp://127.0.0.1:'");
+  EXPECT_EQ(error("tcp://127.0.0.1:99999999999999999999"),
+            "--modbus: bad port in 'tcp://127.0.0.1:99999999999999999999'");
+  EXPECT_EQ(error("rtu:/dev/null:9600x"), "--modbus: bad baud rate in 'rtu:/dev/null:9600x'");
+  EXPECT_EQ(error("rtu:/dev/null:-9600"), "--modbus: bad baud rate in 'rtu:/dev/null:-9600'");
   EXPECT_EQ(error("rtu:/dev/null:abc"), "--modbus: bad baud rate in 'rtu:/dev/null:abc'");
   EXPECT_EQ(error("rtu:/dev/null:0"), "--modbus: bad baud rate in 'rtu:/dev/null:0'");
 }
@@ -396,6 +407,9 @@ TEST(EmuOptions, BadGpioSpecRefused) {
   EXPECT_EQ(error("gpiochip0:enable"), "--gpio: expected NAME=OFFSET in 'enable'");
   EXPECT_EQ(error("gpiochip0:enable=x"), "--gpio: bad line offset in 'enable=x'");
   EXPECT_EQ(error("gpiochip0:fault=-1"), "--gpio: bad line offset in 'fault=-1'");
+  EXPECT_EQ(error("gpiochip0:enable=3x"), "--gpio: bad line offset in 'enable=3x'");
+  EXPECT_EQ(error("gpiochip0:enable=3.5"), "--gpio: bad line offset in 'enable=3.5'");
+  EXPECT_EQ(error("gpiochip0:enable= 3"), "--gpio: bad line offset in 'enable= 3'");
   EXPECT_EQ(error("gpiochip0:reset=1"), "--gpio: unknown GPIO line 'reset' (enable, fault, a, b)");
   EXPECT_EQ(error("gpiochip0:enable=1,a=2"), "--gpio: the encoder needs both a= and b=");
 }
