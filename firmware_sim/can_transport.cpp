@@ -54,7 +54,8 @@ CanTransport::CanTransport(std::unique_ptr<io::CanBus> rx_bus, std::unique_ptr<i
       shared_(shared),
       limits_(limits) {
   if (config.node < protocol::can::kMinNode || config.node > protocol::can::kMaxNode)
-    throw std::invalid_argument("CAN node id must be 1..127");
+    throw std::invalid_argument("CAN node id must be " + std::to_string(protocol::can::kMinNode) + ".." +
+                                std::to_string(protocol::can::kMaxNode));
   const std::array<io::CanFilter, 2> filters{io::CanFilter{ids_.command, io::kCanStandardIdMax, false},
                                              io::CanFilter{ids_.aux, io::kCanStandardIdMax, false}};
   const io::CanResult r = rx_bus_->set_filters(filters);

@@ -122,7 +122,8 @@ void open_can(const EmuOptions& o, SharedState& shared, const AmplifierLimits& l
   io::SocketCanBus::Options tx_options;
   tx_options.receive_error_frames = false;
   auto tx = std::make_unique<io::SocketCanBus>(o.can_interface, tx_options);
-  const std::array<io::CanFilter, 1> none{io::CanFilter{0x7FF, 0x7FF, true}};  // nothing
+  const std::array<io::CanFilter, 1> none{
+      io::CanFilter{io::kCanStandardIdMax, io::kCanStandardIdMax, true}};  // nothing
   if (const auto r = tx->set_filters(none); !r.ok()) throw std::runtime_error("CAN: " + r.message);
   t.can = std::make_unique<CanTransport>(std::move(rx), std::move(tx), can_transport_config(o), shared, limits);
   t.ready += " can=" + o.can_interface + " node=" + std::to_string(o.can_node);

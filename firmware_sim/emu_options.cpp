@@ -7,6 +7,8 @@
 #include <sstream>
 #include <tuple>
 
+#include "can_codec.h"
+
 namespace swum::emu {
 
 EmuOptions parse_emu_options(int argc, const char* const* argv) {
@@ -18,7 +20,8 @@ EmuOptions parse_emu_options(int argc, const char* const* argv) {
   std::string modbus_evict_text = std::to_string(o.modbus_evict_idle_ms);
   app.add_option("--config", o.config_path, "motor parameter file (TOML)")->required()->check(CLI::ExistingFile);
   app.add_option("--can", o.can_interface, "SocketCAN interface (e.g. vcan0); CAN off when absent");
-  app.add_option("--node", o.can_node, "CAN node id")->check(CLI::Range(1, 127));
+  app.add_option("--node", o.can_node, "CAN node id")
+      ->check(CLI::Range(int{protocol::can::kMinNode}, int{protocol::can::kMaxNode}));
   app.add_option("--modbus", o.modbus_spec, "tcp://HOST:PORT (port 0: any free port), rtu:/dev/TTY:BAUD, or none")
       ->capture_default_str();
   app.add_option("--modbus-unit", o.modbus_unit, "Modbus RTU unit id")->check(CLI::Range(1, 247));

@@ -3,6 +3,7 @@
 #include <time.h>
 
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <sstream>
 
@@ -60,26 +61,46 @@ void GpioTransport::stop() {
   if (io_thread_.joinable()) io_thread_.join();
   if (encoder_thread_.joinable()) encoder_thread_.join();
   shared_.enable_line.store(true);
+  if (const auto errors = stats_.line_errors.load(); errors > 0) {
+    std::fprintf(stderr, "swum-emu: GPIO: %llu line operations failed (first: %s)\n",
+                 static_cast<unsigned long long>(errors), first_error_.c_str());
+  }
+}
+
+template <typename Operation>
+bool GpioTransport::guarded(Operation&& operation) {
+  try {
+    operation();
+    return true;
+  } catch (const io::GpioError& e) {
+    if (stats_.line_errors.fetch_add(1) == 0) {
+      const std::lock_guard lock(first_error_mutex_);
+      first_error_ = e.what();
+    }
+    const timespec pause{0, 1'000'000};  // a failing line is retried at most once per ms
+    ::nanosleep(&pause, nullptr);
+    return false;
+  }
 }
 
 void GpioTransport::io_loop() {
   bool fault_level = false;
   while (!stopping_.load(std::memory_order_relaxed)) {
     if (enable_) {
-      io::GpioEvent event;
-      if (enable_->wait_edge(event, std::chrono::milliseconds(1)) == io::GpioWait::event)
-        stats_.enable_edges.fetch_add(1);
-      shared_.enable_line.store(enable_->get());  // the level after the event(s)
+      const bool read = guarded([&] {
+        io::GpioEvent event;
+        if (enable_->wait_edge(event, std::chrono::milliseconds(1)) == io::GpioWait::event)
+          stats_.enable_edges.fetch_add(1);
+        shared_.enable_line.store(enable_->get());  // the level after the event(s)
+      });
+      if (!read) shared_.enable_line.store(false);  // cannot see the input: fail safe, drive off
     } else {
       const timespec pause{0, 1'000'000};
       ::nanosleep(&pause, nullptr);
     }
     if (fault_) {
       const bool level = shared_.telemetry.load().state == AmpState::fault;
-      if (level != fault_level) {
-        fault_->set(level);
-        fault_level = level;
-      }
+      if (level != fault_level && guarded([&] { fault_->set(level); })) fault_level = level;
     }
   }
 }
@@ -101,8 +122,10 @@ void GpioTransport::encoder_loop() {
       const std::int64_t old_state = ((count % 4) + 4) % 4;
       count += target > count ? 1 : -1;
       const std::int64_t state = ((count % 4) + 4) % 4;
-      if (kA[state] != kA[old_state]) a_->set(kA[state]);
-      if (kB[state] != kB[old_state]) b_->set(kB[state]);
+      guarded([&] {
+        if (kA[state] != kA[old_state]) a_->set(kA[state]);
+        if (kB[state] != kB[old_state]) b_->set(kB[state]);
+      });
       stats_.encoder_count.store(count);
       stats_.encoder_edges.fetch_add(1);
       next += period;

@@ -9,6 +9,7 @@
 
 #include <atomic>
 #include <cstdint>
+#include <mutex>
 #include <string>
 #include <thread>
 
@@ -33,6 +34,9 @@ struct GpioStats {
   std::atomic<std::uint64_t> enable_edges{0};
   std::atomic<std::int64_t> encoder_count{0};
   std::atomic<std::uint64_t> encoder_edges{0};
+  // Line operations the kernel refused (chip gone, line released under us): counted, the loop
+  // goes on; the enable input reads as low (drive off) while it cannot be read.
+  std::atomic<std::uint64_t> line_errors{0};
 };
 
 class GpioTransport {
@@ -49,6 +53,10 @@ class GpioTransport {
  private:
   void io_loop();
   void encoder_loop();
+  // Runs one line operation; a GpioError is counted (and its first message kept) instead of
+  // leaving the thread, which would end the process. False when it failed.
+  template <typename Operation>
+  bool guarded(Operation&& operation);
   GpioConfig config_;
   SharedState& shared_;
   std::unique_ptr<io::GpioInputLine> enable_;
@@ -58,6 +66,8 @@ class GpioTransport {
   double encoder_origin_m_ = 0.0;
   std::thread io_thread_, encoder_thread_;
   GpioStats stats_;
+  std::mutex first_error_mutex_;
+  std::string first_error_;  // error path only
 };
 
 }  // namespace swum::emu

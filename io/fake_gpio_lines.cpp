@@ -14,6 +14,7 @@ struct FakeGpioLines::State {
     std::optional<bool> bias_pull_up;  // from the request
     GpioEdge edge = GpioEdge::none;
     std::deque<GpioEvent> events;
+    bool failing = false;  // fault injection (fail_operations)
   };
   struct Chip {
     std::string label;
@@ -72,6 +73,12 @@ class FakeLineBase {
 
  protected:
   State::Line& line() { return state_->line(config_.chip, config_.offset, ""); }
+  // The line, for an operation: throws as the real adapter does while a failure is injected.
+  State::Line& operable_line(const char* operation) {
+    auto& l = line();
+    if (l.failing) throw GpioError(where(config_) + ": " + operation + ": Input/output error (injected)", EIO);
+    return l;
+  }
   std::shared_ptr<State> state_;
   GpioLineConfig config_;
 };
@@ -81,11 +88,11 @@ class FakeOutput final : public GpioOutputLine, FakeLineBase {
   using FakeLineBase::FakeLineBase;
   void set(bool value) override {
     std::lock_guard lock(state_->mutex);
-    line().output_value = value;
+    operable_line("set").output_value = value;
   }
   bool get() const override {
     std::lock_guard lock(state_->mutex);
-    return const_cast<FakeOutput*>(this)->line().output_value;
+    return const_cast<FakeOutput*>(this)->operable_line("get").output_value;
   }
 };
 
@@ -94,11 +101,11 @@ class FakeInput final : public GpioInputLine, FakeLineBase {
   using FakeLineBase::FakeLineBase;
   bool get() const override {
     std::lock_guard lock(state_->mutex);
-    return State::level_of(const_cast<FakeInput*>(this)->line());
+    return State::level_of(const_cast<FakeInput*>(this)->operable_line("get"));
   }
   GpioWait wait_edge(GpioEvent& event, std::chrono::milliseconds timeout) override {
     std::unique_lock lock(state_->mutex);
-    auto& l = line();
+    auto& l = operable_line("wait for edges");
     if (l.edge == GpioEdge::none)
       throw GpioError(where(config_) + ": requested without edge detection, cannot wait for edges", EINVAL);
     if (!state_->changed.wait_for(lock, timeout, [&] { return !l.events.empty(); })) return GpioWait::timeout;
@@ -170,6 +177,12 @@ bool FakeGpioLines::level(const std::string& chip, unsigned offset) const {
 std::string FakeGpioLines::consumer(const std::string& chip, unsigned offset) const {
   std::lock_guard lock(state_->mutex);
   return state_->line(chip, offset, "").consumer;
+}
+
+void FakeGpioLines::fail_operations(const std::string& chip, unsigned offset, bool failing) {
+  std::lock_guard lock(state_->mutex);
+  state_->line(chip, offset, "").failing = failing;
+  state_->changed.notify_all();
 }
 
 }  // namespace swum::io

@@ -257,6 +257,12 @@ InputImage decode_input(std::span<const std::uint16_t, input::kCount> r) {
   auto i16 = [&](std::uint16_t a) { return static_cast<std::int16_t>(r[a]); };
   auto ns = [&](std::uint16_t a) { return static_cast<std::uint64_t>(r[a] * kTimingNsPerCount); };
   image.status_bits = r[input::kStatus];
+  image.state_code = r[input::kState];
+  image.fault_code = r[input::kFault];
+  image.last_reject_code = r[input::kLastReject];
+  constexpr double kMillimetresPerMicrometre = 1e-3;  // speed counts are um/s, position counts um
+  image.speed_mm_s = i32(input::kSpeed) * kMillimetresPerMicrometre;
+  image.position_mm = i32(input::kPosition) * kMillimetresPerMicrometre;
   t.enable_line = (image.status_bits & kStatusEnableLine) != 0;
   t.at_setpoint = (image.status_bits & kStatusAtSetpoint) != 0;
   t.state = static_cast<AmpState>(r[input::kState]);

@@ -150,6 +150,12 @@ struct InputImage {
   std::uint16_t status_bits = 0;  // kStatus* (telemetry.h)
   Telemetry telemetry;
   RejectSnapshot rejects;
+  // The code registers as they were read (the enums above hold 8 bits: a device that sends a
+  // code this build does not know must be reported as it is, not wrapped).
+  std::uint16_t state_code = 0, fault_code = 0, last_reject_code = 0;
+  // Speed and position in the controller's units, counts * 1e-3 as the CAN decoder computes
+  // them (can_telemetry_decode.h MotionFields): one value per raw count on both buses.
+  double speed_mm_s = 0.0, position_mm = 0.0;
 };
 InputImage decode_input(std::span<const std::uint16_t, input::kCount> registers);
 

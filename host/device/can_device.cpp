@@ -27,7 +27,8 @@ std::uint8_t parse_node(const std::string& address, std::string& interface) {
   int node = 0;
   const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), node);
   if (error != std::errc{} || end != text.data() + text.size() || node < can::kMinNode || node > can::kMaxNode) {
-    throw std::invalid_argument("--can: node must be an integer 1..127, got '" + text + "'");
+    throw std::invalid_argument("--can: node must be an integer " + std::to_string(can::kMinNode) + ".." +
+                                std::to_string(can::kMaxNode) + ", got '" + text + "'");
   }
   return static_cast<std::uint8_t>(node);
 }
@@ -172,14 +173,14 @@ DeviceTelemetry CanDevice::read() {
       have_status = true;
       seen = 0;
       t.sample_counter = s.status_counter;
-      t.sample_counter_modulus = 256;
+      t.sample_counter_modulus = 1U << can::signals::kStatusCounter.length;
       t.state = s.state;
       t.fault_code = s.fault;
       t.drive_on = s.drive_on;
       t.enable_line = s.enable_line;
       t.last_reject = s.last_reject;
       t.reject_count = s.reject_count;
-      t.reject_count_modulus = 256;
+      t.reject_count_modulus = 1U << can::signals::kStatusRejectCount.length;
     } else if (!have_status) {
       continue;  // the middle of a set whose status frame we missed
     } else if (f.id == ids.motion) {

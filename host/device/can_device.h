@@ -6,6 +6,7 @@
 #include <string>
 
 #include "can_bus.h"
+#include "can_codec.h"
 #include "device/device.h"
 
 namespace swum::host {
@@ -36,7 +37,7 @@ class CanDevice final : public Device {
   DriveSetpoint setpoint_;
   double frequency_slew_hz_per_s_ = 0.0;
   double vpp_slew_per_s_ = 0.0;
-  std::uint8_t mode_ = 0;  // what keep-alives repeat: 0 disable, 1 enable
+  std::uint8_t mode_ = protocol::can::mode::kDisable;  // what keep-alives repeat: 0 disable, 1 enable
   std::uint8_t command_alive_ = 0;
   std::uint8_t aux_alive_ = 0;
 };

@@ -7,6 +7,8 @@
 #include <string>
 #include <thread>
 
+#include "analysis/measurements.h"  // fault_status_word
+#include "can_codec.h"              // the CAN slew step (the coarser of the two protocols)
 #include "commands/command_error.h"
 #include "device/stop_signal.h"
 
@@ -226,11 +228,8 @@ class Sweeper {
     row.ok = false;
     row.time_s = session_.session_time();  // when it was given up
     // One word per status (CSV column): fault_command_timeout, fault_numerical, timeout.
-    const int fault = session_.last().fault_code;
-    row.status = !session_.last().is(protocol::AmpState::fault) ? "timeout"
-                 : fault == 1                                   ? "fault_command_timeout"
-                 : fault == 2                                   ? "fault_numerical"
-                                                                : "fault_" + std::to_string(fault);
+    row.status = session_.last().is(protocol::AmpState::fault) ? fault_status_word(session_.last().fault_code)
+                                                               : "timeout";
     return row;
   }
 
@@ -252,7 +251,7 @@ void check_plan(const DeviceSweepPlan& plan) {
     throw std::invalid_argument("--dwell-ms: must be within (0, 60000]");
   // The protocols carry the slew limit in 1 Vpp/s (Modbus) and 10 Vpp/s (CAN) steps and read 0
   // as "unlimited": a slower ramp would silently become a voltage step.
-  if (!(plan.ramp_vpp_per_s >= 10.0 && plan.ramp_vpp_per_s <= 1e6)) {
+  if (!(plan.ramp_vpp_per_s >= protocol::can::signals::kAuxAmplitudeSlew.factor && plan.ramp_vpp_per_s <= 1e6)) {
     throw std::invalid_argument("--ramp-vpp-per-s: must be within 10..1000000 (0 would mean no ramp at all)");
   }
   if (!(plan.keep_alive_s > 0.0 && plan.keep_alive_s <= 0.05))

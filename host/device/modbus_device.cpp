@@ -124,15 +124,15 @@ DeviceTelemetry ModbusDevice::read() {
   DeviceTelemetry t;
   t.received = std::chrono::steady_clock::now();
   t.device_time_s = d.sim_time_s;
-  t.state = static_cast<int>(d.state);
-  t.fault_code = static_cast<int>(d.fault);
+  t.state = image.state_code;
+  t.fault_code = image.fault_code;
   t.enable_line = d.enable_line;
   t.drive_on = (image.status_bits & protocol::kStatusDriveOn) != 0;
-  t.last_reject = static_cast<int>(image.rejects.last);
+  t.last_reject = image.last_reject_code;
   t.reject_count = static_cast<std::uint32_t>(image.rejects.count);
   t.reject_count_modulus = 0;  // full 32 bits
-  t.speed_mm_s = d.speed_m_s * 1e3;
-  t.position_mm = d.position_m * 1e3;
+  t.speed_mm_s = image.speed_mm_s;
+  t.position_mm = image.position_mm;
   t.tip_normal_um = d.tip_normal_um;
   t.tip_tangential_um = d.tip_tangential_um;
   t.frequency_hz = d.output.frequency_hz;

@@ -116,12 +116,6 @@ bool is_numbered_fault(std::string_view word) {
 }
 
 // The fault of a device as a sweep's status names it (host/device/device_sweep.cpp).
-std::string fault_reason(int code) {
-  if (code == static_cast<int>(protocol::FaultCode::command_timeout)) return "fault_command_timeout";
-  if (code == static_cast<int>(protocol::FaultCode::numerical)) return "fault_numerical";
-  return "fault_" + std::to_string(code);
-}
-
 std::string known_columns() {
   std::string text = "known: ";
   for (std::string_view name : kNames) text += std::string(name) + ", ";
@@ -265,7 +259,7 @@ MeasurementSet parse_csv(std::string_view text, std::string_view source, bool ne
       const int fault_column = control_index(Control::fault_code);
       if (reason.empty() && state == kDisabled) reason = "drive_off";
       if (reason.empty() && state == kFault)
-        reason = fault_column >= 0 ? fault_reason(whole_number(fault_column, "fault_code")) : "fault";
+        reason = fault_column >= 0 ? fault_status_word(whole_number(fault_column, "fault_code")) : "fault";
     }
     std::array<std::optional<double>, kColumnCount> v;
     for (int k = 0; k < kColumnCount; ++k) {
@@ -402,6 +396,12 @@ std::size_t count_operating_points(const MeasurementSet& set) {
   std::set<std::array<double, 3>> points;
   for (const Measurement& m : set.rows) points.insert({m.vpp, m.frequency_hz, m.load_n});
   return points.size();
+}
+
+std::string fault_status_word(int code) {
+  if (code == static_cast<int>(protocol::FaultCode::command_timeout)) return "fault_command_timeout";
+  if (code == static_cast<int>(protocol::FaultCode::numerical)) return "fault_numerical";
+  return "fault_" + std::to_string(code);
 }
 
 }  // namespace swum

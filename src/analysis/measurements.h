@@ -25,6 +25,11 @@ class MeasurementError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+// The one-word status a sweep row records for a device fault (host/output/sweep_table.h):
+// fault_command_timeout, fault_numerical, fault_<code> for a code this build does not know. The
+// device sweep writes it and the measurements reader reads it back: one vocabulary.
+[[nodiscard]] std::string fault_status_word(int fault_code);
+
 // The measured quantities, in column order.
 enum class Quantity { speed, tip_normal, tip_tangential };
 inline constexpr std::size_t kQuantityCount = 3;

@@ -291,6 +291,35 @@ TEST(GpioTransport, EnableLineFaultLineAndEncoder) {
   gpio.stop();
 }
 
+// A line operation the kernel refuses must not end the process (an exception leaving the GPIO
+// thread would call std::terminate): it is counted, the enable input reads as low while it
+// cannot be read (drive off), and everything works again once the line does.
+TEST(GpioTransport, LineErrorsAreCountedAndTheEnableInputFailsSafe) {
+  io::FakeGpioLines lines;
+  lines.add_chip("chip0", 8);
+  lines.drive("chip0", 0, true);
+  SharedState shared;
+  GpioConfig config;
+  ASSERT_EQ(parse_gpio_spec("chip0:enable=0,fault=1", config), "");
+  GpioTransport gpio(lines, config, shared);
+  gpio.start();
+  ASSERT_TRUE(eventually([&] { return shared.enable_line.load(); }));
+
+  lines.fail_operations("chip0", 0, true);
+  lines.fail_operations("chip0", 1, true);
+  Telemetry t;
+  t.state = AmpState::fault;
+  shared.telemetry.store(t);
+  EXPECT_TRUE(eventually([&] { return !shared.enable_line.load() && gpio.stats().line_errors.load() >= 2; }));
+  EXPECT_FALSE(lines.level("chip0", 1));  // the fault output could not be set
+
+  lines.fail_operations("chip0", 0, false);
+  lines.fail_operations("chip0", 1, false);
+  EXPECT_TRUE(eventually([&] { return shared.enable_line.load(); }));
+  EXPECT_TRUE(eventually([&] { return lines.level("chip0", 1); }));  // set once the line works
+  gpio.stop();
+}
+
 TEST(GpioTransport, SpecParsing) {
   GpioConfig c;
   EXPECT_EQ(parse_gpio_spec("gpiochip1:enable=3,fault=4", c), "");

@@ -138,6 +138,27 @@ TEST(ModbusRoundTrip, InputRegistersDecodeToWhatTheDeviceFilled) {
   EXPECT_EQ(d.last_sequence, 99u);
 }
 
+TEST(ModbusRoundTrip, ControllerUnitsMatchTheCanDecoderAndUnknownCodesStayAsSent) {
+  std::array<std::uint16_t, modbus::input::kCount> r{};
+  modbus::put_u32(r, modbus::input::kSpeed, static_cast<std::uint32_t>(-123457));  // um/s
+  modbus::put_u32(r, modbus::input::kPosition, 1500001);                           // um
+  r[modbus::input::kState] = 258;  // no such state: must not read as 2 (fault)
+  r[modbus::input::kLastReject] = 300;
+  const modbus::InputImage image = modbus::decode_input(r);
+  // Bit for bit what the CAN decoder gives for the same counts (both compute counts * 1e-3).
+  CanFrame motion;
+  motion.dlc = 8;
+  can::put_raw(motion, can::signals::kMotionSpeed, static_cast<std::uint32_t>(-123457));
+  can::put_raw(motion, can::signals::kMotionPosition, 1500001);
+  can::MotionFields m;
+  ASSERT_EQ(can::decode_motion(motion, m), Reason::none);
+  EXPECT_EQ(image.speed_mm_s, m.speed_mm_s);
+  EXPECT_EQ(image.position_mm, m.position_mm);
+  EXPECT_EQ(image.speed_mm_s, -123457 * 1e-3);
+  EXPECT_EQ(image.state_code, 258);
+  EXPECT_EQ(image.last_reject_code, 300);
+}
+
 TEST(CanRoundTrip, CommandAndAuxFramesDecodeToWhatWasEncoded) {
   const can::Ids ids = can::ids_for_node(5);
   can::CommandFrame c;
