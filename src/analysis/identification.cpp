@@ -9,6 +9,7 @@
 #include <ceres/ceres.h>
 #include <Eigen/Dense>
 
+#include "config/number_format.h"
 #include "model/modal_constants.h"
 #include "model/motor_model.h"
 
@@ -154,11 +155,7 @@ FitOutcome fit(const FitContext& ctx, const std::vector<Observation>& obs, const
   return best;
 }
 
-std::string short_number(double v) {
-  char text[32];
-  std::snprintf(text, sizeof text, "%.3g", v);
-  return text;
-}
+std::string short_number(double v) { return format_number(v, "%.3g"); }
 
 }  // namespace
 

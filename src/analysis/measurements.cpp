@@ -9,6 +9,7 @@
 
 #include "codes.h"  // protocol/: the state and fault codes a log file records
 #include "config/csv_cells.h"
+#include "config/number_format.h"
 
 namespace swum {
 namespace {
@@ -31,11 +32,7 @@ constexpr std::array<PlausibleRange, kColumnCount> kPlausibleRange{{
     {1000.0, "0..1000 um"},
     {1.0e9, "0..1000000000"},
 }};
-std::string format_cell(double value) {
-  char text[32];
-  std::snprintf(text, sizeof text, "%g", value);
-  return text;
-}
+std::string format_cell(double value) { return format_number(value, "%g"); }
 
 class Reader {
  public:
@@ -351,11 +348,7 @@ std::string format_measurements_csv(const MeasurementSet& set) {
     if (set.has_quantity[static_cast<std::size_t>(q)]) out += "," + std::string(quantity_column(q));
   }
   out += "\n";
-  char buffer[64];
-  auto add = [&](double value) {
-    std::snprintf(buffer, sizeof buffer, "%.10g", value);
-    out += buffer;
-  };
+  auto add = [&](double value) { out += format_number(value, "%.10g"); };
   for (const Measurement& m : set.rows) {
     add(m.vpp);
     out += ",";

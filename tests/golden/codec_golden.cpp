@@ -27,7 +27,7 @@
 #include <utility>
 
 // ============================== ADAPTER ==============================
-// Emulator side (firmware_sim/ today):
+// Wire codecs (protocol/ today) and the emulator (firmware_sim/):
 #include "can_codec.h"  // ids_for_node, crc8, CommandFrame/AuxFrame encode/decode/to_command, AliveCounter, encode_<telemetry>
 #include "can_telemetry_decode.h"  // decode_status/motion/drive/output/clock
 #include "codes.h"                 // Reason, AmpState, FaultCode, Action, CommandSource, to_string()

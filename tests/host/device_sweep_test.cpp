@@ -1,4 +1,4 @@
-// The live sweep procedure (host/device_sweep.cpp) on a fake device with the emulator's
+// The live sweep procedure (host/device/device_sweep.cpp) on a fake device with the emulator's
 // contract: downward sweeps from zero amplitude, a fed watchdog, measured speeds, recovery from
 // a fault, rejected commands and Ctrl-C never leave the drive on.
 #include "device/device_sweep.h"

@@ -1,4 +1,4 @@
-// A device for tests that obeys the contract of host/device.h like swum-emu does: a device
+// A device for tests that obeys the contract of host/device/device.h like swum-emu does: a device
 // clock that advances per read, enable/disable/fault states, a command watchdog on the device
 // clock, an amplitude slew limit, first-order speed response to a resonance curve whose peak
 // drifts down with voltage, and silent rejection (counted, reason readable) like CAN.

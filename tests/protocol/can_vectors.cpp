@@ -1,4 +1,4 @@
-// Prints frames encoded by firmware_sim/can_protocol with the physical values they carry, one
+// Prints frames encoded by protocol/can_codec with the physical values they carry, one
 // JSON object per line, for an independent decoder (dbc_canmatrix_check.py, python3-canmatrix).
 #include <cstdio>
 #include <map>

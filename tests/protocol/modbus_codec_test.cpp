@@ -218,20 +218,44 @@ TEST(RegisterMapJson, HoldingRegistersAgreeWithTheCode) {
     std::vector<std::uint16_t> values(regs.begin() + static_cast<long>(entry["address"]),
                                       regs.begin() + static_cast<long>(entry["address"]) + (wide ? 2 : 1));
     const Decision d = run(write_multiple(entry["address"], values));
-    EXPECT_EQ(d.exception, kNoException) << name;
+    ASSERT_EQ(d.exception, kNoException) << name;
+    ASSERT_TRUE(d.has_command) << name;
+    const Command& c = d.command;
+    const std::map<std::string, double> written{{"command", static_cast<double>(c.action)},
+                                                {"frequency_setpoint", c.frequency_hz},
+                                                {"amplitude_setpoint", c.amplitude_vpp},
+                                                {"phase_setpoint", c.phase_deg},
+                                                {"load_force", c.load_n},
+                                                {"frequency_slew", c.frequency_slew_hz_per_s},
+                                                {"amplitude_slew", c.amplitude_slew_vpp_per_s}};
+    EXPECT_NEAR(written.at(name), expected.at(name), 1e-6) << name;
   }
   EXPECT_EQ(words, holding::kCount);
 }
 
 TEST(RegisterMapJson, ReasonCodesAgree) {
   const nlohmann::json map = load_map();
+  // The code's texts are human-readable ("slew limit out of range"), the JSON's identifiers
+  // ("slew_out_of_range"): every word of the identifier must appear in the text, in order, so a
+  // swapped pair of codes (illegal_address / illegal_function) fails.
+  auto words = [](const std::string& s) {
+    std::vector<std::string> out(1);
+    for (const char ch : s) {
+      if (ch == ' ' || ch == '_') out.emplace_back();
+      else out.back() += ch;
+    }
+    return out;
+  };
+  ASSERT_EQ(map["reason_codes"].size(), std::size_t{kMaxReason} + 1);
   for (const auto& [code, name] : map["reason_codes"].items()) {
-    std::string text = to_string(static_cast<Reason>(std::stoi(code)));
-    for (auto& ch : text)
-      if (ch == ' ' || ch == '-') ch = '_';
-    std::string expected = name;
-    // The code's texts are human-readable; the JSON uses identifiers. Compare the first word.
-    EXPECT_EQ(text.substr(0, text.find('_')), expected.substr(0, expected.find('_'))) << code;
+    const std::vector<std::string> text = words(to_string(static_cast<Reason>(std::stoi(code))));
+    std::size_t at = 0;
+    for (const std::string& word : words(name.get<std::string>())) {
+      while (at < text.size() && text[at] != word) ++at;
+      EXPECT_LT(at, text.size()) << "reason " << code << ": '" << word << "' of " << name << " not in order in '"
+                                 << to_string(static_cast<Reason>(std::stoi(code))) << "'";
+      ++at;
+    }
   }
 }
 

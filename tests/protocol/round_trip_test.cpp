@@ -34,6 +34,14 @@ modbus::Decision device_decides(std::uint16_t address, std::span<const std::uint
   return modbus::decide(request, AmplifierLimits{});
 }
 
+TEST(ModbusScales, BothDirectionsAreReciprocal) {
+  for (const modbus::Scale s :
+       {modbus::kFrequencyScale, modbus::kAmplitudeScale, modbus::kPhaseScale, modbus::kLoadScale, modbus::kSlewScale,
+        modbus::kMicroScale, modbus::kTipScale, modbus::kSimTimeScale}) {
+    EXPECT_NEAR(s.unit_per_count * s.count_per_unit, 1.0, 1e-15) << s.unit_per_count;
+  }
+}
+
 TEST(ModbusRoundTrip, DriveWriteBecomesTheSameCommandOnTheDevice) {
   struct Case {
     double frequency_hz, vpp, phase_deg, load_n;
