@@ -1,11 +1,9 @@
 // `swum log`: timestamped telemetry of a live device to CSV, as a passive observer (it sends
-// no commands, so the controller under test keeps the drive). Rows are written as they arrive
-// and flushed, so a crash or Ctrl-C loses nothing already received; gaps are counted.
-#include <cerrno>
+// no commands, so the controller under test keeps the drive). Rows are written as they arrive,
+// so a crash or Ctrl-C loses nothing already received; gaps are counted.
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <cstring>
 #include <memory>
 #include <string>
 #include <thread>
@@ -15,6 +13,7 @@
 #include "device/device_options.h"
 #include "device/stop_signal.h"
 #include "output/log_table.h"
+#include "output/partial_file.h"
 
 namespace swum::host {
 namespace {
@@ -26,33 +25,6 @@ struct LogOptions {
   std::string out_path;
 };
 
-class CsvFile {
- public:
-  explicit CsvFile(const std::string& path) : path_(path), file_(std::fopen(path.c_str(), "w")) {
-    if (file_ == nullptr) throw CommandError("cannot write " + path + ": " + std::strerror(errno));
-  }
-  ~CsvFile() {
-    if (file_ != nullptr) std::fclose(file_);
-  }
-  CsvFile(const CsvFile&) = delete;
-  CsvFile& operator=(const CsvFile&) = delete;
-  void write(const std::string& text) {
-    if (std::fputs(text.c_str(), file_) < 0) throw CommandError("writing " + path_ + ": " + std::strerror(errno));
-  }
-  void flush() {
-    if (std::fflush(file_) != 0) throw CommandError("writing " + path_ + ": " + std::strerror(errno));
-  }
-  void close() {
-    const bool ok = std::fclose(file_) == 0;
-    file_ = nullptr;
-    if (!ok) throw CommandError("closing " + path_ + ": " + std::strerror(errno));
-  }
-
- private:
-  std::string path_;
-  std::FILE* file_;
-};
-
 void run_log(const LogOptions& o) {
   if (!(o.duration_s > 0.0)) throw std::invalid_argument("--duration: must be > 0");
   if (!(o.duration_s <= 1e7)) throw std::invalid_argument("--duration: must be <= 1e7 s");
@@ -60,8 +32,9 @@ void run_log(const LogOptions& o) {
     throw std::invalid_argument("--rate-hz: must be within 0.01..10000");
   StopSignal stop;
   const auto device = open_device(o.device.address, o.device.timeouts());
-  CsvFile out(o.out_path);
-  out.write(kLogCsvHeader);
+  // Each row is written as it arrives (one write(2) each) to OUT.partial, renamed to OUT when
+  // the log ends (--duration or Ctrl-C); a killed run or a device error leaves OUT.partial.
+  PartialFile out(o.out_path, kLogCsvHeader);
   using Clock = std::chrono::steady_clock;
   const auto start = Clock::now();
   const auto period = std::chrono::duration<double>(1.0 / o.rate_hz);
@@ -71,7 +44,6 @@ void run_log(const LogOptions& o) {
   std::optional<std::uint32_t> last_counter;
   auto next = start;
   const auto end = start + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(o.duration_s));
-  auto last_flush = start;
   std::string stop_reason;
   while (Clock::now() - start < std::chrono::duration<double>(o.duration_s)) {
     if (StopSignal::requested()) {
@@ -83,7 +55,8 @@ void run_log(const LogOptions& o) {
       t = device->read();
     } catch (const DeviceError& e) {
       if (StopSignal::requested()) continue;
-      out.flush();
+      std::fprintf(stderr, "swum: the %zu samples received before the error are in %s\n", samples,
+                   out.partial().c_str());
       throw;
     }
     const double host_s = std::chrono::duration<double>(t.received - start).count();
@@ -98,12 +71,8 @@ void run_log(const LogOptions& o) {
       }
       last_counter = t.sample_counter;
     }
-    out.write(format_log_row(host_s, t));
+    out.append(format_log_row(host_s, t));
     ++samples;
-    if (Clock::now() - last_flush > std::chrono::milliseconds(200)) {
-      out.flush();
-      last_flush = Clock::now();
-    }
     if (!t.sample_counter) {
       next += std::chrono::duration_cast<Clock::duration>(period);
       const auto now = Clock::now();
@@ -116,14 +85,12 @@ void run_log(const LogOptions& o) {
         next += behind * std::chrono::duration_cast<Clock::duration>(period);
       }
       // Wait for the next poll in short naps: Ctrl-C and the end of --duration end it at once.
-      out.flush();
-      last_flush = Clock::now();
       while (Clock::now() < next && Clock::now() < end && !StopSignal::requested()) {
         std::this_thread::sleep_for(std::min<Clock::duration>(next - Clock::now(), std::chrono::milliseconds(20)));
       }
     }
   }
-  out.close();
+  out.commit();
   const double elapsed = std::chrono::duration<double>(Clock::now() - start).count();
   std::printf("%zu samples in %.2f s from %s (%.1f per s) -> %s; %zu gaps, %zu samples missing\n", samples, elapsed,
               device->name().c_str(), samples / std::max(elapsed, 1e-9), o.out_path.c_str(), gaps, missing);

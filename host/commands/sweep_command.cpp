@@ -2,20 +2,22 @@
 // (--config, all cores) or measured on a live device (--modbus / --can, docs/host.md).
 #include <algorithm>
 #include <cstdio>
+#include <filesystem>
 #include <memory>
 #include <string>
 #include <vector>
 
 #include "commands/command_error.h"
 #include "commands/commands.h"
+#include "config/number_format.h"
 #include "device/device_options.h"
 #include "device/device_sweep.h"
 #include "device/stop_signal.h"
 #include "offline/motor_config.h"
 #include "offline/offline_sweep.h"
+#include "output/partial_file.h"
 #include "output/progress_bar.h"
 #include "output/sweep_table.h"
-#include "output/text_files.h"
 #include "output/value_lists.h"
 
 namespace swum::host {
@@ -34,11 +36,182 @@ struct SweepOptions {
   double ramp_vpp_per_s = 2000.0;
   std::string out_path;
   std::string plot_path;
+  bool resume = false;
 };
 
-void write_outputs(const SweepOptions& o, const std::vector<SweepRow>& rows) {
-  write_text_file_atomically(o.out_path, format_sweep_csv(rows));
+// What --resume keeps of OUT.partial: its rows (parsed) and their lines, header first.
+struct Kept {
+  std::vector<SweepRow> rows;
+  std::vector<std::string> lines;
+
+  std::size_t bytes(std::size_t rows_kept) const {
+    std::size_t n = 0;
+    for (std::size_t i = 0; i <= rows_kept; ++i) n += lines[i].size() + 1;
+    return n;
+  }
+};
+
+// OUT.partial for --resume: the header of this kind of sweep, then rows at the first points of
+// this sweep's plan, in order. The file has no room for the options themselves (a sweep file
+// is plain CSV), so a file of another grid is recognised by its points.
+Kept read_kept(const std::string& out_path, const std::string& header, const std::vector<SweepRow>& planned) {
+  Kept kept;
+  kept.lines = read_partial_lines(out_path);
+  const std::string partial = partial_path(out_path).string();
+  if (kept.lines.empty()) return kept;  // killed before its header was written: start afresh
+  if (kept.lines[0] + "\n" != header) {
+    throw CommandError("--resume: " + partial + " does not start with this sweep's header (a " +
+                       (header == format_sweep_header(kDeviceSweep) ? "model" : "device") +
+                       " sweep, or not a sweep file?)");
+  }
+  std::string text;
+  for (const std::string& line : kept.lines) text += line + "\n";
+  kept.rows = parse_sweep_csv(text, partial);
+  if (kept.rows.size() + 1 != kept.lines.size()) throw CommandError("--resume: " + partial + " has empty lines");
+  if (kept.rows.size() > planned.size()) {
+    throw CommandError("--resume: " + partial + " has " + std::to_string(kept.rows.size()) +
+                       " rows, more than the points of this sweep (" + std::to_string(planned.size()) +
+                       "): other --vpp, --frequency or --load?");
+  }
+  auto at = [](const SweepRow& r) {
+    return format_number(r.vpp) + "," + format_number(r.frequency_hz) + "," + format_number(r.load_n) + ",";
+  };
+  for (std::size_t i = 0; i < kept.rows.size(); ++i) {
+    const std::string where = at(planned[i]);
+    if (kept.lines[i + 1].compare(0, where.size(), where) != 0) {
+      throw CommandError("--resume: row " + std::to_string(i + 1) + " of " + partial +
+                         " is not at this sweep's point " + std::to_string(i + 1) + " (vpp,frequency_hz,load_n " +
+                         where.substr(0, where.size() - 1) + "): other --vpp, --frequency or --load?");
+    }
+  }
+  return kept;
+}
+
+// A fresh run never overwrites the rows of an unfinished one: they may be an hour of measurements.
+void refuse_to_overwrite_partial(const std::string& out_path) {
+  std::error_code ec;
+  if (std::filesystem::exists(partial_path(out_path), ec) && read_partial_lines(out_path).size() > 1) {
+    throw CommandError(partial_path(out_path).string() +
+                       " holds an unfinished sweep: continue it with --resume, or delete it to start afresh");
+  }
+}
+
+// OUT.partial with the header and the first `rows_kept` rows of `kept`, ready for the next row.
+PartialFile open_partial(const std::string& out_path, const std::string& header, const Kept& kept,
+                         std::size_t rows_kept) {
+  if (rows_kept == 0) return PartialFile(out_path, header);
+  return PartialFile::resume(out_path, kept.bytes(rows_kept));
+}
+
+// The run stopped (Ctrl-C, device error, ...): its rows stay in OUT.partial, which --resume
+// continues; a fresh run that wrote no row leaves nothing behind.
+void keep_unfinished(const SweepOptions& o, PartialFile& file, std::size_t written, std::size_t new_rows,
+                     std::size_t planned) {
+  if (!o.resume && new_rows == 0) {
+    try {
+      file.discard();
+    } catch (...) {
+      // Nothing of value in it; the error being reported is the one that matters.
+    }
+    return;
+  }
+  std::fprintf(stderr, "swum: %zu of %zu points are in %s: the same command with --resume continues the sweep\n",
+               written, planned, file.partial().c_str());
+}
+
+// The run completed: OUT.partial becomes OUT, then the plot and the failed points.
+void finish(const SweepOptions& o, PartialFile& file, const std::vector<SweepRow>& rows, bool live) {
+  file.commit();
   if (!o.plot_path.empty() && !rows.empty()) write_sweep_plot(rows, o.plot_path);
+  const auto failed = std::count_if(rows.begin(), rows.end(), [](const SweepRow& r) { return !r.ok; });
+  if (failed > 0) {
+    throw CommandError(std::to_string(failed) + " of " + std::to_string(rows.size()) +
+                           " points failed (status column of " + o.out_path + ")",
+                       live ? kExitFailure : kExitDiverged);
+  }
+}
+
+void run_model_sweep(const SweepOptions& o, const OfflineGrid& grid) {
+  const std::string header = format_sweep_header(kModelSweep);
+  std::vector<SweepRow> rows = model_sweep_points(grid);
+  const MotorModel model(load_motor_parameters(o.config_path));
+  Kept kept;
+  if (o.resume) {
+    kept = read_kept(o.out_path, header, rows);
+    // Another --config or --phase gives other numbers at the same points: the last row, computed
+    // again, must come out the same to the last digit.
+    if (!kept.rows.empty()) {
+      const std::size_t last = kept.rows.size() - 1;
+      if (format_sweep_row(kModelSweep, run_model_point(model, rows[last], grid.phase_deg)) !=
+          kept.lines[last + 1] + "\n") {
+        throw CommandError("--resume: the last row of " + partial_path(o.out_path).string() +
+                           " is not what this sweep computes at that point (other --config or --phase?)");
+      }
+    }
+    std::copy(kept.rows.begin(), kept.rows.end(), rows.begin());
+  } else {
+    refuse_to_overwrite_partial(o.out_path);
+  }
+  const std::size_t first = kept.rows.size();
+  PartialFile file = open_partial(o.out_path, header, kept, first);
+  // Points complete out of order on the workers; the file gets them in grid order.
+  InOrderRows writer(file, first);
+  const StopSignal stop;
+  try {
+    sweep_model(model, grid, rows, first, [&](std::size_t i) {
+      writer.complete(i, format_sweep_row(kModelSweep, rows[i]));
+      // Ctrl-C: no new point starts; those under way finish and are written.
+      if (StopSignal::requested() && writer.written() < rows.size()) {
+        throw CommandError("interrupted", kExitInterrupted);
+      }
+    });
+  } catch (...) {
+    keep_unfinished(o, file, writer.written(), writer.written() - first, rows.size());
+    throw;
+  }
+  finish(o, file, rows, false);
+}
+
+void run_device_sweep(const SweepOptions& o, const DeviceSweepPlan& plan) {
+  check_plan(plan);  // before the device is touched or --out is written
+  const std::string header = format_sweep_header(kDeviceSweep);
+  const std::vector<SweepRow> planned = device_sweep_points(plan);
+  Kept kept;
+  DeviceSweepStart start;
+  std::size_t keep = 0;
+  if (o.resume) {
+    kept = read_kept(o.out_path, header, planned);
+    start = device_sweep_start(plan, kept.rows, keep);
+    kept.rows.resize(keep);  // a curve cut short is measured again, from its top frequency
+  } else {
+    refuse_to_overwrite_partial(o.out_path);
+  }
+  if (o.resume && keep == planned.size()) {  // killed after its last point: nothing to measure
+    PartialFile file = open_partial(o.out_path, header, kept, keep);
+    finish(o, file, kept.rows, true);
+    return;
+  }
+  const StopSignal stop;
+  const auto device = open_device(o.device.address, o.device.timeouts());
+  PartialFile file = open_partial(o.out_path, header, kept, keep);
+  ProgressBar progress("sweep " + device->name(), planned.size() - keep);
+  std::vector<SweepRow> rows = kept.rows;
+  std::size_t written = keep;
+  try {
+    sweep_device(
+        *device, plan, rows,
+        [&](const SweepRow& row) {
+          file.append(format_sweep_row(kDeviceSweep, row));
+          ++written;
+          progress.advance();
+        },
+        start);
+  } catch (...) {
+    // Ctrl-C or a device error: the drive is already off; the rows measured are in the file.
+    keep_unfinished(o, file, written, written - keep, planned.size());
+    throw;
+  }
+  finish(o, file, rows, true);
 }
 
 void run_sweep(const SweepOptions& o) {
@@ -54,45 +227,19 @@ void run_sweep(const SweepOptions& o) {
   if (live == !o.config_path.empty()) {
     throw std::invalid_argument("give either --config (model) or a device (--modbus / --can)");
   }
-
-  std::vector<SweepRow> rows;
   if (!live) {
-    rows = sweep_model(MotorModel(load_motor_parameters(o.config_path)), grid);
-  } else {
-    DeviceSweepPlan plan;
-    plan.voltages = grid.voltages;
-    plan.frequencies_hz = grid.frequencies_hz;
-    plan.loads_n = grid.loads_n;
-    plan.phase_deg = o.phase_deg;
-    plan.settle_s = o.settle_ms * 1e-3;
-    plan.dwell_s = o.dwell_ms * 1e-3;
-    plan.ramp_vpp_per_s = o.ramp_vpp_per_s;
-    check_plan(plan);  // before the device is touched or --out is written
-    StopSignal stop;
-    const auto device = open_device(o.device.address, o.device.timeouts());
-    ProgressBar progress("sweep " + device->name(),
-                         plan.voltages.size() * plan.frequencies_hz.size() * plan.loads_n.size());
-    try {
-      sweep_device(*device, plan, rows, [&](const SweepRow&) { progress.advance(); });
-    } catch (...) {
-      // Ctrl-C or a device error: keep what was measured (the drive is already off); an
-      // existing --out is left alone when nothing was measured.
-      if (!rows.empty()) {
-        write_outputs(o, rows);
-        std::fprintf(stderr, "swum: %zu points measured before the stop were written to %s\n", rows.size(),
-                     o.out_path.c_str());
-      }
-      throw;
-    }
+    run_model_sweep(o, grid);
+    return;
   }
-  write_outputs(o, rows);
-
-  const auto failed = std::count_if(rows.begin(), rows.end(), [](const SweepRow& r) { return !r.ok; });
-  if (failed > 0) {
-    throw CommandError(std::to_string(failed) + " of " + std::to_string(rows.size()) +
-                           " points failed (status column of " + o.out_path + ")",
-                       live ? kExitFailure : kExitDiverged);
-  }
+  DeviceSweepPlan plan;
+  plan.voltages = grid.voltages;
+  plan.frequencies_hz = grid.frequencies_hz;
+  plan.loads_n = grid.loads_n;
+  plan.phase_deg = o.phase_deg;
+  plan.settle_s = o.settle_ms * 1e-3;
+  plan.dwell_s = o.dwell_ms * 1e-3;
+  plan.ramp_vpp_per_s = o.ramp_vpp_per_s;
+  run_device_sweep(o, plan);
 }
 
 }  // namespace
@@ -117,6 +264,8 @@ void add_sweep_command(CLI::App& app) {
       ->capture_default_str();
   sub->add_option("--out", o->out_path, "output CSV")->required();
   sub->add_option("--plot", o->plot_path, "output PNG plot");
+  sub->add_flag("--resume", o->resume,
+                "continue the unfinished sweep in OUT.partial (same options) instead of starting afresh");
   sub->callback([o] { run_sweep(*o); });
 }
 

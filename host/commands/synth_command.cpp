@@ -11,6 +11,7 @@
 #include "commands/commands.h"
 #include "offline/motor_config.h"
 #include "offline/parallel_for.h"
+#include "output/partial_file.h"
 #include "output/text_files.h"
 
 namespace swum::host {
@@ -82,16 +83,20 @@ void run_synth(const SynthCommandOptions& o) {
   options.amplitude_floor_um = o.amplitude_floor_um;
   options.frequency_jitter_hz = o.frequency_jitter_hz;
   options.quantities = quantities;
-  const MeasurementSet data = synthesize_measurements(parameters, points.rows, options,
-                                                      make_parallel_for(static_cast<unsigned>(o.jobs)));
-  const std::size_t dropped = points.rows.size() * static_cast<std::size_t>(o.repeats) - data.rows.size();
   std::string header = "# swum synth --config " + o.config_path + (o.linear ? " --linear" : "");
   for (const std::string& e : o.effects) header += " --effect " + e;
   header += " --noise " + std::to_string(o.noise) + " --seed " + std::to_string(o.seed);
   header += " --speed-floor-mm-s " + std::to_string(o.speed_floor_mm_s) + " --amplitude-floor-um " +
             std::to_string(o.amplitude_floor_um) + " --frequency-jitter-hz " + std::to_string(o.frequency_jitter_hz) +
             "\n";
-  write_text_file_atomically(o.out_path, header + format_measurements_csv(data));
+  // Rows go to OUT.partial as they are final (a killed run leaves whole rows), OUT at the end.
+  const MeasurementSet layout = synthesis_layout(points.rows, options);
+  PartialFile file(o.out_path, header + format_measurements_header(layout));
+  const MeasurementSet data = synthesize_measurements(
+      parameters, points.rows, options, make_parallel_for(static_cast<unsigned>(o.jobs)),
+      [&](const Measurement& row) { file.append(format_measurement_row(layout, row)); });
+  file.commit();
+  const std::size_t dropped = points.rows.size() * static_cast<std::size_t>(o.repeats) - data.rows.size();
   std::printf("wrote %zu rows to %s%s\n", data.rows.size(), o.out_path.c_str(),
               dropped > 0 ? (" (" + std::to_string(dropped) + " diverged readings left out)").c_str() : "");
 }

@@ -145,7 +145,11 @@ class DriveOffGuard {
 
 class Sweeper {
  public:
-  Sweeper(Device& device, const DeviceSweepPlan& plan) : session_(device, plan.poll_interval_s), plan_(plan) {}
+  Sweeper(Device& device, const DeviceSweepPlan& plan, const DeviceSweepStart& start)
+      : session_(device, plan.poll_interval_s),
+        plan_(plan),
+        sweep_id_(start.first_sweep_id - 1),
+        time_offset_s_(start.time_offset_s) {}
 
   // Drive on at `vpp`, reached by the device's slew limit, at `frequency_hz`.
   bool ramp_to(double vpp, double frequency_hz, double load_n) {
@@ -189,7 +193,7 @@ class Sweeper {
       return failed(row);
     }
     const double dwell_end = session_.time_of(session_.last()) + plan_.dwell_s;
-    row.time_s = session_.session_time();
+    row.time_s = time_now();
     double sum = 0.0, sum2 = 0.0, normal = 0.0, tangential = 0.0;
     int n = 0;
     const bool dwelt = session_.read_until(
@@ -216,7 +220,7 @@ class Sweeper {
   // A row of the current sweep at the current device time, not (yet) measured.
   SweepRow unmeasured(double vpp, double frequency_hz, double load_n, const std::string& status) const {
     SweepRow row{vpp, frequency_hz, load_n, false, status};
-    row.time_s = session_.session_time();
+    row.time_s = time_now();
     row.sweep = sweep_id_;
     return row;
   }
@@ -224,9 +228,12 @@ class Sweeper {
   Session& session() { return session_; }
 
  private:
+  // time_s of a row: device time since the session began, after the rows of earlier runs.
+  double time_now() const { return time_offset_s_ + session_.session_time(); }
+
   SweepRow failed(SweepRow row) {
     row.ok = false;
-    row.time_s = session_.session_time();  // when it was given up
+    row.time_s = time_now();  // when it was given up
     // One word per status (CSV column): fault_command_timeout, fault_numerical, timeout.
     row.status = session_.last().is(protocol::AmpState::fault) ? fault_status_word(session_.last().fault_code)
                                                                : "timeout";
@@ -235,8 +242,15 @@ class Sweeper {
 
   Session session_;
   const DeviceSweepPlan& plan_;
-  int sweep_id_ = -1;  // continuous sweeps started so far, minus one
+  int sweep_id_;  // id of the continuous sweep under way (the first one started is sweep_id_ + 1)
+  double time_offset_s_;
 };
+
+// The frequencies in sweep order: from the highest down.
+std::vector<double> downward(std::vector<double> frequencies) {
+  std::sort(frequencies.begin(), frequencies.end(), std::greater<>());
+  return frequencies;
+}
 
 }  // namespace
 
@@ -261,17 +275,42 @@ void check_plan(const DeviceSweepPlan& plan) {
   }
 }
 
-void sweep_device(Device& device, const DeviceSweepPlan& plan, std::vector<SweepRow>& rows,
-                  const PointDone& point_done) {
-  check_plan(plan);
-  std::vector<double> frequencies = plan.frequencies_hz;
-  std::sort(frequencies.begin(), frequencies.end(), std::greater<>());
-  DriveOffGuard drive_off(device);
-  Sweeper sweeper(device, plan);
-  sweeper.session().command(DeviceAction::disable);
-  device.set_slew(0.0, plan.ramp_vpp_per_s);
+std::vector<SweepRow> device_sweep_points(const DeviceSweepPlan& plan) {
+  const std::vector<double> frequencies = downward(plan.frequencies_hz);
+  std::vector<SweepRow> points;
   for (double load : plan.loads_n) {
     for (double vpp : plan.voltages) {
+      for (double f : frequencies) points.push_back(SweepRow{vpp, f, load});
+    }
+  }
+  return points;
+}
+
+DeviceSweepStart device_sweep_start(const DeviceSweepPlan& plan, const std::vector<SweepRow>& finished,
+                                    std::size_t& kept) {
+  const std::size_t curve = std::max<std::size_t>(plan.frequencies_hz.size(), 1);
+  DeviceSweepStart start;
+  start.curves_done = finished.size() / curve;
+  kept = start.curves_done * curve;
+  for (std::size_t i = 0; i < kept; ++i) {
+    start.first_sweep_id = std::max(start.first_sweep_id, finished[i].sweep.value_or(-1) + 1);
+    start.time_offset_s = std::max(start.time_offset_s, finished[i].time_s.value_or(0.0));
+  }
+  return start;
+}
+
+void sweep_device(Device& device, const DeviceSweepPlan& plan, std::vector<SweepRow>& rows, const PointDone& point_done,
+                  const DeviceSweepStart& start) {
+  check_plan(plan);
+  const std::vector<double> frequencies = downward(plan.frequencies_hz);
+  DriveOffGuard drive_off(device);
+  Sweeper sweeper(device, plan, start);
+  sweeper.session().command(DeviceAction::disable);
+  device.set_slew(0.0, plan.ramp_vpp_per_s);
+  std::size_t curve = 0;
+  for (double load : plan.loads_n) {
+    for (double vpp : plan.voltages) {
+      if (curve++ < start.curves_done) continue;  // measured by the run this one resumes
       // Each voltage starts above resonance at zero amplitude and ramps up there: a softening
       // resonator is approached from the high-frequency side (it can jump down below the peak).
       bool on = sweeper.start_voltage(vpp, frequencies.front(), load);

@@ -3,6 +3,7 @@
 // obeying the same contract can test it.
 #pragma once
 
+#include <cstddef>
 #include <functional>
 #include <vector>
 
@@ -29,13 +30,32 @@ struct DeviceSweepPlan {
 // commands call it before they open the device or touch any file.
 void check_plan(const DeviceSweepPlan& plan);
 
-// Called after each point (progress).
+// Called after each point (progress, the row written to the file).
 using PointDone = std::function<void(const SweepRow&)>;
 
-// Runs the plan; the drive is off (disabled) when it returns or throws. Throws DeviceError
-// on a device problem, CommandError(kExitInterrupted) on Ctrl-C; `rows` holds what was
-// measured until then.
+// Where a resumed sweep starts (`swum sweep --resume`, docs/host.md): the first `curves_done`
+// (load, voltage) curves are measured already; the next one is measured whole from its top
+// frequency, since a curve is one continuous downward pass (a curve cut short is measured
+// again: its points depend on the way down, hysteresis).
+struct DeviceSweepStart {
+  std::size_t curves_done = 0;
+  int first_sweep_id = 0;      // sweep ids go on from here ...
+  double time_offset_s = 0.0;  // ... and time_s from here (the pause between runs not counted)
+};
+
+// The plan's points in the order they are measured (and written): for each load, each
+// voltage, the frequencies from the highest down. One curve = one (load, voltage).
+std::vector<SweepRow> device_sweep_points(const DeviceSweepPlan& plan);
+
+// How much of `finished` (rows of an interrupted sweep of `plan`, in order) a resumed sweep
+// keeps: the whole curves; `kept` is set to their number of rows.
+DeviceSweepStart device_sweep_start(const DeviceSweepPlan& plan, const std::vector<SweepRow>& finished,
+                                    std::size_t& kept);
+
+// Runs the plan (from `start`: the curves before it are skipped); appends a row to `rows` per
+// point; the drive is off (disabled) when it returns or throws. Throws DeviceError on a device
+// problem, CommandError(kExitInterrupted) on Ctrl-C; `rows` holds what was measured until then.
 void sweep_device(Device& device, const DeviceSweepPlan& plan, std::vector<SweepRow>& rows,
-                  const PointDone& point_done = {});
+                  const PointDone& point_done = {}, const DeviceSweepStart& start = {});
 
 }  // namespace swum::host

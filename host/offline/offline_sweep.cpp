@@ -9,9 +9,8 @@
 #include "output/progress_bar.h"
 
 namespace swum::host {
-namespace {
 
-SweepRow run_point(const MotorModel& model, const SweepRow& at, double phase_deg) {
+SweepRow run_model_point(const MotorModel& model, const SweepRow& at, double phase_deg) {
   SweepRow row = at;
   OperatingPoint point;
   point.vpp = at.vpp;
@@ -32,8 +31,6 @@ SweepRow run_point(const MotorModel& model, const SweepRow& at, double phase_deg
   return row;
 }
 
-}  // namespace
-
 void check_grid(const OfflineGrid& grid) {
   auto check = [](const std::vector<double>& values, double lo, double hi, const char* option, const char* range) {
     if (values.empty()) throw std::invalid_argument(std::string(option) + ": no values");
@@ -49,18 +46,31 @@ void check_grid(const OfflineGrid& grid) {
   check({grid.phase_deg}, -180.0, 180.0, "--phase", "-180..180 deg");
 }
 
-std::vector<SweepRow> sweep_model(const MotorModel& model, const OfflineGrid& grid) {
+std::vector<SweepRow> model_sweep_points(const OfflineGrid& grid) {
   std::vector<SweepRow> rows;
   for (double v : grid.voltages) {
     for (double load : grid.loads_n) {
       for (double f : grid.frequencies_hz) rows.push_back(SweepRow{v, f, load});
     }
   }
-  ProgressBar progress("sweep", rows.size());
-  make_parallel_for(static_cast<unsigned>(std::max(grid.jobs, 0)))(rows.size(), [&](std::size_t i) {
-    rows[i] = run_point(model, rows[i], grid.phase_deg);
+  return rows;
+}
+
+void sweep_model(const MotorModel& model, const OfflineGrid& grid, std::vector<SweepRow>& rows, std::size_t first,
+                 const ModelPointDone& point_done) {
+  first = std::min(first, rows.size());
+  ProgressBar progress("sweep", rows.size() - first);
+  make_parallel_for(static_cast<unsigned>(std::max(grid.jobs, 0)))(rows.size() - first, [&](std::size_t k) {
+    const std::size_t i = first + k;
+    rows[i] = run_model_point(model, rows[i], grid.phase_deg);
     progress.advance();
+    if (point_done) point_done(i);
   });
+}
+
+std::vector<SweepRow> sweep_model(const MotorModel& model, const OfflineGrid& grid) {
+  std::vector<SweepRow> rows = model_sweep_points(grid);
+  sweep_model(model, grid, rows, 0, {});
   return rows;
 }
 

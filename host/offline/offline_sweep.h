@@ -2,6 +2,8 @@
 // (voltage, load, frequency) point, each from rest (run_to_steady_state), on all cores.
 #pragma once
 
+#include <cstddef>
+#include <functional>
 #include <vector>
 
 #include "model/motor_model.h"
@@ -24,5 +26,21 @@ void check_grid(const OfflineGrid& grid);
 
 // Rows in (voltage, load, frequency) order; failed points have ok = false and a status.
 std::vector<SweepRow> sweep_model(const MotorModel& model, const OfflineGrid& grid);
+
+// The grid's points in that order, not yet computed.
+std::vector<SweepRow> model_sweep_points(const OfflineGrid& grid);
+
+// One point from rest (what every row of a model sweep is).
+SweepRow run_model_point(const MotorModel& model, const SweepRow& at, double phase_deg);
+
+// Called from the worker threads, concurrently, as soon as rows[i] is computed (points complete
+// out of order). What it throws stops the sweep: no new point starts, and the exception is
+// rethrown once the points under way are done (and reported).
+using ModelPointDone = std::function<void(std::size_t i)>;
+
+// Computes rows[first..] in place (rows from model_sweep_points; those before `first` are
+// left alone: a resumed sweep has them already).
+void sweep_model(const MotorModel& model, const OfflineGrid& grid, std::vector<SweepRow>& rows, std::size_t first,
+                 const ModelPointDone& point_done);
 
 }  // namespace swum::host

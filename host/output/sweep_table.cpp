@@ -27,34 +27,48 @@ bool is_physical_failure(const SweepRow& row) {
   return !row.ok && (row.status == "diverged" || row.status == "fault_numerical");
 }
 
-std::string format_sweep_csv(const std::vector<SweepRow>& rows) {
-  bool with_spread = false, with_time = false, with_sweep = false;
+SweepLayout sweep_layout_of(const std::vector<SweepRow>& rows) {
+  SweepLayout layout;
   for (const SweepRow& row : rows) {
-    with_spread = with_spread || row.speed_spread_mm_s >= 0.0;
-    with_time = with_time || row.time_s.has_value();
-    with_sweep = with_sweep || row.sweep.has_value();
+    layout.spread = layout.spread || row.speed_spread_mm_s >= 0.0;
+    layout.time = layout.time || row.time_s.has_value();
+    layout.sweep = layout.sweep || row.sweep.has_value();
   }
+  return layout;
+}
+
+std::string format_sweep_header(const SweepLayout& layout) {
   std::string csv = "vpp,frequency_hz,load_n,";
-  if (with_time) csv += "time_s,";
-  if (with_sweep) csv += "sweep,";
+  if (layout.time) csv += "time_s,";
+  if (layout.sweep) csv += "sweep,";
   csv += "speed_mm_s,tip_normal_um,tip_tangential_um,";
-  csv += with_spread ? "speed_spread_mm_s,status\n" : "status\n";
-  for (const SweepRow& row : rows) {
-    csv += format_number(row.vpp) + "," + format_number(row.frequency_hz) + "," + format_number(row.load_n) + ",";
-    if (with_time) {
-      // Milliseconds: the resolution of the device clocks (Modbus sim_time, CAN Clock frame).
-      csv += (row.time_s ? format_number(*row.time_s, "%.3f") : std::string()) + ",";
-    }
-    if (with_sweep) csv += (row.sweep ? std::to_string(*row.sweep) : std::string()) + ",";
-    if (row.ok) {
-      csv += format_number(row.speed_mm_s) + "," + format_number(row.tip_normal_um) + "," +
-             format_number(row.tip_tangential_um);
-    } else {
-      csv += ",,";
-    }
-    if (with_spread) csv += "," + (row.ok && row.speed_spread_mm_s >= 0.0 ? format_number(row.speed_spread_mm_s) : "");
-    csv += "," + row.status + "\n";
+  csv += layout.spread ? "speed_spread_mm_s,status\n" : "status\n";
+  return csv;
+}
+
+std::string format_sweep_row(const SweepLayout& layout, const SweepRow& row) {
+  std::string csv = format_number(row.vpp) + "," + format_number(row.frequency_hz) + "," + format_number(row.load_n) +
+                    ",";
+  if (layout.time) {
+    // Milliseconds: the resolution of the device clocks (Modbus sim_time, CAN Clock frame).
+    csv += (row.time_s ? format_number(*row.time_s, "%.3f") : std::string()) + ",";
   }
+  if (layout.sweep) csv += (row.sweep ? std::to_string(*row.sweep) : std::string()) + ",";
+  if (row.ok) {
+    csv += format_number(row.speed_mm_s) + "," + format_number(row.tip_normal_um) + "," +
+           format_number(row.tip_tangential_um);
+  } else {
+    csv += ",,";
+  }
+  if (layout.spread) csv += "," + (row.ok && row.speed_spread_mm_s >= 0.0 ? format_number(row.speed_spread_mm_s) : "");
+  csv += "," + row.status + "\n";
+  return csv;
+}
+
+std::string format_sweep_csv(const std::vector<SweepRow>& rows) {
+  const SweepLayout layout = sweep_layout_of(rows);
+  std::string csv = format_sweep_header(layout);
+  for (const SweepRow& row : rows) csv += format_sweep_row(layout, row);
   return csv;
 }
 

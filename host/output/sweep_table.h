@@ -36,10 +36,29 @@ struct SweepRow {
 /// point — for the picking rule a collapse — false when the point was simply not measured.
 bool is_physical_failure(const SweepRow& row);
 
-/// CSV text: header `vpp,frequency_hz,load_n,speed_mm_s,tip_normal_um,tip_tangential_um,status`
-/// then one line per row; a failed row has empty measured cells, never made-up numbers. When
-/// any row has a time or a sweep id (live sweeps), `time_s` and `sweep` follow `load_n`; when
-/// any row has a measured spread, a `speed_spread_mm_s` column follows `tip_tangential_um`.
+/// The optional columns of a sweep file. A device sweep always has all three (kDeviceSweep),
+/// a model sweep none (kModelSweep): their files are written row by row, so the header cannot
+/// wait for the rows.
+struct SweepLayout {
+  bool time = false;    // time_s and ...
+  bool sweep = false;   // ... sweep, after load_n
+  bool spread = false;  // speed_spread_mm_s, after tip_tangential_um
+  bool operator==(const SweepLayout&) const = default;
+};
+inline constexpr SweepLayout kModelSweep{};
+inline constexpr SweepLayout kDeviceSweep{true, true, true};
+
+/// The columns the rows use: time/sweep when any row has one, spread when any row has one.
+SweepLayout sweep_layout_of(const std::vector<SweepRow>& rows);
+/// The header line and one row line (with their '\n') of format_sweep_csv.
+std::string format_sweep_header(const SweepLayout& layout);
+std::string format_sweep_row(const SweepLayout& layout, const SweepRow& row);
+
+/// CSV text (the columns of sweep_layout_of(rows)): header
+/// `vpp,frequency_hz,load_n,speed_mm_s,tip_normal_um,tip_tangential_um,status` then one line per row; a failed row has
+/// empty measured cells, never made-up numbers. When any row has a time or a sweep id (live sweeps), `time_s` and
+/// `sweep` follow `load_n`; when any row has a measured spread, a `speed_spread_mm_s` column follows
+/// `tip_tangential_um`.
 std::string format_sweep_csv(const std::vector<SweepRow>& rows);
 
 /// Reads a sweep CSV (the layouts above; columns found by name, `time_s`, `sweep`,

@@ -73,7 +73,7 @@ std::vector<std::vector<std::size_t>> prediction_chains(std::span<const Measurem
 
 std::vector<Predictions> predict_points(std::span<const MotorParameters> parameters,
                                         std::span<const Measurement> points, const PredictionOptions& options,
-                                        const ParallelFor& parallel) {
+                                        const ParallelFor& parallel, const PointPredicted& point_predicted) {
   const std::size_t n = points.size();
   std::vector<std::unique_ptr<MotorModel>> models;
   for (const MotorParameters& p : parameters) models.push_back(std::make_unique<MotorModel>(p));
@@ -125,6 +125,7 @@ std::vector<Predictions> predict_points(std::span<const MotorParameters> paramet
         p.stator_temperature_rise_k = point.stator_temperature_rise_k;
         p.sliding_distance_m = point.sliding_distance_m;
         carried = r.final_state;
+        if (final_pass && point_predicted) point_predicted(m, i, p);
       }
     });
   }

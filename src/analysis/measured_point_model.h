@@ -61,10 +61,15 @@ struct PredictedPoint {
 
 using Predictions = std::vector<PredictedPoint>;
 
+// Called as soon as a point's prediction for a model is final (its last pass), from the tasks
+// of `parallel`: concurrently, in no particular order. `swum synth` writes rows as they come.
+using PointPredicted = std::function<void(std::size_t model, std::size_t point, const PredictedPoint& p)>;
+
 // Predictions of every point for each parameter set (one batch keeps both cores busy).
 [[nodiscard]] std::vector<Predictions> predict_points(std::span<const MotorParameters> models,
                                                       std::span<const Measurement> points,
-                                                      const PredictionOptions& options, const ParallelFor& parallel);
+                                                      const PredictionOptions& options, const ParallelFor& parallel,
+                                                      const PointPredicted& point_predicted = {});
 
 // The runs a prediction makes, in session order: each sweep (rows sharing a `sweep` id) is one
 // chain whose points start from the state the previous point left; every other row is a chain

@@ -340,33 +340,40 @@ MeasurementSet parse_operating_points_csv(std::string_view text, std::string_vie
   return set;
 }
 
-std::string format_measurements_csv(const MeasurementSet& set) {
+std::string format_measurements_header(const MeasurementSet& set) {
   std::string out = "vpp,frequency_hz,load_n";
   if (set.has_time) out += ",time_s";
   if (set.has_sweep) out += ",sweep";
   for (Quantity q : kQuantities) {
     if (set.has_quantity[static_cast<std::size_t>(q)]) out += "," + std::string(quantity_column(q));
   }
-  out += "\n";
+  return out + "\n";
+}
+
+std::string format_measurement_row(const MeasurementSet& set, const Measurement& m) {
+  std::string out;
   auto add = [&](double value) { out += format_number(value, "%.10g"); };
-  for (const Measurement& m : set.rows) {
-    add(m.vpp);
+  add(m.vpp);
+  out += ",";
+  add(m.frequency_hz);
+  out += ",";
+  add(m.load_n);
+  if (set.has_time) {
     out += ",";
-    add(m.frequency_hz);
-    out += ",";
-    add(m.load_n);
-    if (set.has_time) {
-      out += ",";
-      add(m.time_s.value_or(0.0));
-    }
-    if (set.has_sweep) out += "," + std::to_string(m.sweep.value_or(0));
-    for (Quantity q : kQuantities) {
-      if (!set.has_quantity[static_cast<std::size_t>(q)]) continue;
-      out += ",";
-      if (m.value(q)) add(*m.value(q));
-    }
-    out += "\n";
+    add(m.time_s.value_or(0.0));
   }
+  if (set.has_sweep) out += "," + std::to_string(m.sweep.value_or(0));
+  for (Quantity q : kQuantities) {
+    if (!set.has_quantity[static_cast<std::size_t>(q)]) continue;
+    out += ",";
+    if (m.value(q)) add(*m.value(q));
+  }
+  return out + "\n";
+}
+
+std::string format_measurements_csv(const MeasurementSet& set) {
+  std::string out = format_measurements_header(set);
+  for (const Measurement& m : set.rows) out += format_measurement_row(set, m);
   return out;
 }
 

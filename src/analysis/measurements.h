@@ -107,5 +107,8 @@ inline constexpr std::array<std::string_view, 7> kInformationalColumns{
 
 // The same layout (columns present in `set`; %.10g), for writing data.
 [[nodiscard]] std::string format_measurements_csv(const MeasurementSet& set);
+// Its header line and one row line (each with its '\n'), for files written row by row.
+[[nodiscard]] std::string format_measurements_header(const MeasurementSet& set);
+[[nodiscard]] std::string format_measurement_row(const MeasurementSet& set, const Measurement& m);
 
 }  // namespace swum

@@ -7,6 +7,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <span>
 
 #include "analysis/measured_point_model.h"
@@ -27,12 +28,20 @@ struct SynthOptions {
   PredictionOptions prediction;
 };
 
+// Called with each row of the result, in the result's order, as soon as it is final (from the
+// tasks of `parallel`, one call at a time); what it throws stops the synthesis.
+using SynthRowReady = std::function<void(const Measurement& row)>;
+
 // `points` carry vpp, frequency_hz, load_n and optionally time_s and sweep (their values are
 // ignored). Diverged points are left out. The result keeps the points' order (repeats adjacent;
 // with frequency jitter each repeat is a reading of its own, at its own jittered frequency).
 [[nodiscard]] MeasurementSet synthesize_measurements(const MotorParameters& parameters,
                                                      std::span<const Measurement> points, const SynthOptions& options,
-                                                     const ParallelFor& parallel);
+                                                     const ParallelFor& parallel, const SynthRowReady& row_ready = {});
+
+// The columns synthesize_measurements gives these points (a set without rows): a file's header
+// can be written before the first row is ready.
+[[nodiscard]] MeasurementSet synthesis_layout(std::span<const Measurement> points, const SynthOptions& options);
 
 // Standard normal deviate from a 64-bit engine (Box-Muller; the same on every platform).
 class GaussianNoise {

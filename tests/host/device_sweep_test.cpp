@@ -187,6 +187,79 @@ TEST(DeviceSweep, CtrlCStopsWithTheDriveOffAndKeepsTheRows) {
   EXPECT_LT(rows.size(), 5u);
 }
 
+// `swum sweep --resume`: the plan's order, what an interrupted file keeps, and a run that
+// starts after the curves it keeps.
+TEST(DeviceSweep, PointsAreListedInSweepOrder) {
+  DeviceSweepPlan p = plan_for({100, 300}, {40000, 40400, 40200});
+  p.loads_n = {0.0, 1.0};
+  const std::vector<SweepRow> points = device_sweep_points(p);
+  FakeDevice device;
+  std::vector<SweepRow> rows;
+  sweep_device(device, p, rows);
+  ASSERT_EQ(points.size(), rows.size());
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    EXPECT_EQ(points[i].vpp, rows[i].vpp) << i;
+    EXPECT_EQ(points[i].frequency_hz, rows[i].frequency_hz) << i;
+    EXPECT_EQ(points[i].load_n, rows[i].load_n) << i;
+  }
+}
+
+TEST(DeviceSweep, AResumeKeepsTheWholeCurvesOnly) {
+  const DeviceSweepPlan p = plan_for({100, 200, 300}, {40000, 40400, 40200});
+  FakeDevice device;
+  std::vector<SweepRow> rows;
+  sweep_device(device, p, rows);
+  ASSERT_EQ(rows.size(), 9u);
+  std::size_t kept = 99;
+  // Killed during the second curve (two of its three points in the file): keep the first.
+  DeviceSweepStart start = device_sweep_start(p, {rows.begin(), rows.begin() + 5}, kept);
+  EXPECT_EQ(kept, 3u);
+  EXPECT_EQ(start.curves_done, 1u);
+  EXPECT_EQ(start.first_sweep_id, 1);
+  EXPECT_EQ(start.time_offset_s, *rows[2].time_s);
+  // Killed after a whole curve, and before any point.
+  start = device_sweep_start(p, {rows.begin(), rows.begin() + 6}, kept);
+  EXPECT_EQ(kept, 6u);
+  EXPECT_EQ(start.curves_done, 2u);
+  start = device_sweep_start(p, {}, kept);
+  EXPECT_EQ(kept, 0u);
+  EXPECT_EQ(start.curves_done, 0u);
+  EXPECT_EQ(start.first_sweep_id, 0);
+  EXPECT_EQ(start.time_offset_s, 0.0);
+}
+
+TEST(DeviceSweep, AResumedSweepStartsTheNextCurveFromItsTopFrequencyAtRest) {
+  const DeviceSweepPlan p = plan_for({100, 200, 300}, {40000, 40400, 40200});
+  FakeDevice device;
+  std::vector<SweepRow> rows;
+  DeviceSweepStart start;
+  start.curves_done = 1;
+  start.first_sweep_id = 4;  // the kept rows had a restart after a fault
+  start.time_offset_s = 12.5;
+  sweep_device(device, p, rows, {}, start);
+  const std::vector<SweepRow> points = device_sweep_points(p);
+  ASSERT_EQ(rows.size(), 6u);
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    ASSERT_TRUE(rows[i].ok) << rows[i].status;
+    EXPECT_EQ(rows[i].vpp, points[3 + i].vpp) << i;
+    EXPECT_EQ(rows[i].frequency_hz, points[3 + i].frequency_hz) << i;
+    EXPECT_EQ(rows[i].sweep, 4 + static_cast<int>(i / 3)) << i;
+    EXPECT_GT(*rows[i].time_s, 12.5) << i;
+    if (i > 0) {
+      EXPECT_GT(*rows[i].time_s, *rows[i - 1].time_s) << i;
+    }
+  }
+  // 100 Vpp is never driven; 200 Vpp starts at zero amplitude at the top frequency.
+  EXPECT_EQ(std::count(device.actions.begin(), device.actions.end(), DeviceAction::enable), 2);
+  for (const DriveSetpoint& s : device.setpoints) EXPECT_NE(s.vpp, 100.0);
+  const auto first_driven = std::find_if(device.setpoints.begin(), device.setpoints.end(),
+                                         [](const DriveSetpoint& s) { return s.vpp > 0.0; });
+  ASSERT_NE(first_driven, device.setpoints.begin());
+  EXPECT_EQ(std::prev(first_driven)->vpp, 0.0);
+  EXPECT_EQ(std::prev(first_driven)->frequency_hz, 40400.0);
+  EXPECT_EQ(device.state, 0);
+}
+
 TEST(DeviceSweep, RefusesAnEmptyOrSillyPlan) {
   FakeDevice device;
   std::vector<SweepRow> rows;

@@ -181,7 +181,10 @@ def interrupt_modbus():
             if regs["state"] == 0 or time.monotonic() > deadline:
                 break
         check(regs["state"] == 0, f"drive not disabled after Ctrl-C: state {regs['state']}")
-        with open(out_csv) as f:
+        # The sweep did not finish: its rows stay in OUT.partial (for --resume), OUT is not written.
+        check(not os.path.exists(out_csv), "an unfinished sweep was given the final name")
+        check("--resume" in err and out_csv + ".partial" in err, f"no word of --resume: {err!r}")
+        with open(out_csv + ".partial") as f:
             rows = list(csv.DictReader(f))
         check(len(rows) >= 1, "the points measured before Ctrl-C were not written")
         print(f"Ctrl-C: exit 130, drive disabled, {len(rows)} points kept; stderr: {err.strip()}")

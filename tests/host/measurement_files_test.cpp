@@ -64,6 +64,27 @@ TEST(SweepTable, AModelSweepKeepsTheOfflineLayout) {
   EXPECT_FALSE(again[1].ok);
 }
 
+// The row-by-row writers produce format_sweep_csv's bytes.
+TEST(SweepTable, HeaderAndRowsAreTheWholeTable) {
+  SweepRow ok{300, 40400, 0, true, "ok", 210.5, 1.4, 1.2};
+  SweepRow diverged{300, 40300, 0, false, "diverged"};
+  EXPECT_EQ(sweep_layout_of({ok, diverged}), kModelSweep);
+  EXPECT_EQ(format_sweep_header(kModelSweep) + format_sweep_row(kModelSweep, ok) +
+                format_sweep_row(kModelSweep, diverged),
+            format_sweep_csv({ok, diverged}));
+  SweepRow measured = ok;
+  measured.time_s = 1.25;
+  measured.sweep = 3;
+  measured.speed_spread_mm_s = 0.5;
+  SweepRow timeout{300, 40300, 0, false, "timeout"};
+  timeout.time_s = 2.5;
+  timeout.sweep = 3;
+  EXPECT_EQ(sweep_layout_of({measured, timeout}), kDeviceSweep);
+  EXPECT_EQ(format_sweep_header(kDeviceSweep) + format_sweep_row(kDeviceSweep, measured) +
+                format_sweep_row(kDeviceSweep, timeout),
+            format_sweep_csv({measured, timeout}));
+}
+
 TEST(SweepTable, ABadTimeOrSweepCellNamesLineAndColumn) {
   const std::string header = "vpp,frequency_hz,load_n,time_s,sweep,speed_mm_s,status\n";
   auto error_of = [](const std::string& text) {

@@ -3,6 +3,7 @@
 
 #include <cmath>
 #include <fstream>
+#include <optional>
 #include <sstream>
 #include <vector>
 
@@ -10,6 +11,16 @@
 #include "config/parameter_file.h"
 
 namespace swum::test {
+
+// A measured operating point at a session time, in a sweep (or none: a spot point).
+inline Measurement measurement_at(double vpp, double frequency_hz, double time_s, std::optional<int> sweep) {
+  Measurement m;
+  m.vpp = vpp;
+  m.frequency_hz = frequency_hz;
+  m.time_s = time_s;
+  m.sweep = sweep;
+  return m;
+}
 
 inline MotorParameters calibrated_motor() {
   std::ifstream in(SWUM_SOURCE_DIR "/config/li2019.toml");

@@ -13,18 +13,12 @@
 namespace swum {
 namespace {
 
-Measurement at(double vpp, double frequency_hz, double time_s, std::optional<int> sweep) {
-  Measurement m;
-  m.vpp = vpp;
-  m.frequency_hz = frequency_hz;
-  m.time_s = time_s;
-  m.sweep = sweep;
-  return m;
-}
+using test::measurement_at;
 
 TEST(PredictionChains, SweepsRunInSessionOrderAndSpotPointsAlone) {
-  const std::vector<Measurement> points{at(100, 41000, 3, 1), at(200, 40000, 0, std::nullopt), at(100, 40500, 4, 1),
-                                        at(300, 41000, 1, 0), at(100, 40900, 3.5, 1)};
+  const std::vector<Measurement> points{measurement_at(100, 41000, 3, 1), measurement_at(200, 40000, 0, std::nullopt),
+                                        measurement_at(100, 40500, 4, 1), measurement_at(300, 41000, 1, 0),
+                                        measurement_at(100, 40900, 3.5, 1)};
   const auto chains = prediction_chains(points);
   ASSERT_EQ(chains.size(), 3u);
   EXPECT_EQ(chains[0], (std::vector<std::size_t>{1}));        // spot point at t = 0
@@ -43,8 +37,8 @@ TEST(SweepContinuation, DownwardSweepHoldsTheUpperBranchBelowThePeak) {
   std::vector<Measurement> sweep, spot;
   double t = 0.0;
   for (double f = 40600.0; f >= 39000.0; f -= 100.0) {
-    sweep.push_back(at(400, f, t, 0));
-    spot.push_back(at(400, f, t, std::nullopt));
+    sweep.push_back(measurement_at(400, f, t, 0));
+    spot.push_back(measurement_at(400, f, t, std::nullopt));
     t += 1.0;
   }
   const PredictionOptions options;
