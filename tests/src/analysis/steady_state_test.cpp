@@ -240,6 +240,37 @@ TEST(SteadyState, TraceIsSampledEveryNSteps) {
   EXPECT_EQ(static_cast<std::uint64_t>(samples), r.steps / 96);
 }
 
+// Issue 16 item 3: `swum simulate --duration 2` ran 1.99 s of settling and one window, then
+// said "did not settle ... last two windows differ by 0.000000 mm/s" (one window cannot
+// disagree with anything). A run of at most 2 s stops as soon as two windows agree.
+TEST(SteadyState, RunWithinADurationStopsWhenTwoWindowsAgree) {
+  const SteadyStateOptions opt = steady_state_options_within(2.0);
+  const auto r = run_to_steady_state(calibrated_model(), {400.0, 40000.0}, opt);
+  ASSERT_TRUE(r.ok) << r.failure;
+  EXPECT_GE(r.windows, 2);
+  EXPECT_LE(r.sim_s, 0.1 + 1e-9);  // settle 30 ms + a few 10 ms windows, not 2 s
+  EXPECT_NEAR(r.sim_s, static_cast<double>(r.steps) * calibrated_model().time_step_s(), 1e-9);
+  // Short durations still fit two windows.
+  for (const double d : {0.004, 0.02, 0.05}) {
+    const SteadyStateOptions o = steady_state_options_within(d);
+    EXPECT_GE(o.settle_s, 0.0);
+    EXPECT_LE(o.settle_s + 2.0 * o.window_s, d + 1e-12) << d;
+    EXPECT_DOUBLE_EQ(o.max_s, d);
+  }
+}
+
+TEST(SteadyState, OneWindowIsNotReportedAsTwoThatDiffer) {
+  SteadyStateOptions opt;
+  opt.settle_s = 0.005;
+  opt.window_s = 0.005;
+  opt.max_s = 0.012;  // room for one window only
+  const auto r = run_to_steady_state(calibrated_model(), {400.0, 40000.0}, opt);
+  EXPECT_FALSE(r.ok);
+  EXPECT_EQ(r.windows, 1);
+  EXPECT_EQ(r.failure.find("last two windows"), std::string::npos) << r.failure;
+  EXPECT_NE(r.failure.find("one window"), std::string::npos) << r.failure;
+}
+
 TEST(SteadyState, DivergenceIsReportedNotThrown) {
   MotorParameters p{};
   // The modal part is unconditionally stable (dispersion-corrected inertia); a contact 4e4 x
