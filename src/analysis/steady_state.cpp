@@ -74,14 +74,24 @@ SteadyStateResult window_loop(const SteadyStateOptions& opt, Run&& run, Position
     }
     previous_speed = r.speed_mm_s;
     if (elapsed + opt.window_s > opt.max_s + 1e-12) {
-      r.failure = std::string("did not settle within ") + std::to_string(opt.max_s) +
-                  " s: last two windows differ by " + std::to_string(r.speed_change_mm_s) + " mm/s";
+      r.failure = r.windows < 2 ? std::string("only one window fits within ") + std::to_string(opt.max_s) +
+                                      " s: nothing to compare it with"
+                                : std::string("did not settle within ") + std::to_string(opt.max_s) +
+                                      " s: last two windows differ by " + std::to_string(r.speed_change_mm_s) + " mm/s";
       return r;
     }
   }
 }
 
 }  // namespace
+
+SteadyStateOptions steady_state_options_within(double duration_s) {
+  SteadyStateOptions options;
+  options.window_s = std::min(options.window_s, duration_s / 2.0);
+  options.settle_s = std::clamp(duration_s - 2.0 * options.window_s, 0.0, options.settle_s);
+  options.max_s = duration_s;
+  return options;
+}
 
 SteadyStateResult run_to_steady_state(const MotorModel& model, const OperatingPoint& point,
                                       const SteadyStateOptions& opt) {

@@ -72,6 +72,11 @@ struct SteadyStateResult {
   MotorState final_state;  // where the run ended (fixed-step solver only): the next point of a sweep starts here
 };
 
+// Options of a run of at most duration_s (swum simulate --duration): the default settle and
+// window, shrunk so that at least two windows fit, and the default agreement criterion. The run
+// stops as soon as two consecutive windows agree; it takes duration_s only if they never do.
+[[nodiscard]] SteadyStateOptions steady_state_options_within(double duration_s);
+
 // Fixed-step semi-implicit solver (the HIL scheme, model.time_step_s()).
 [[nodiscard]] SteadyStateResult run_to_steady_state(const MotorModel& model, const OperatingPoint& point,
                                                     const SteadyStateOptions& options = {});
