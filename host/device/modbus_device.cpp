@@ -46,7 +46,15 @@ ModbusDevice::ModbusDevice(const std::string& endpoint_text, const DeviceTimeout
   }
   // Prove the device answers before anyone relies on it: the first answer gets the connect
   // timeout (a device that has just been started may still be busy), later ones the response one.
-  (void)read();
+  // When it does not, the destructor will not run: close the connection here.
+  try {
+    (void)read();
+  } catch (...) {
+    modbus_close(context_);
+    modbus_free(context_);
+    context_ = nullptr;
+    throw;
+  }
   set_timeout(timeouts.response);
 }
 
