@@ -11,6 +11,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <array>
 #include <cerrno>
 #include <charconv>
 #include <cstdio>
@@ -86,6 +87,16 @@ bool serve(modbus_t* ctx, const std::uint8_t* adu, int length, int checksum_leng
   if (exception != protocol::modbus::kNoException) {
     stats.exceptions.fetch_add(1, std::memory_order_relaxed);
     if (exception != protocol::modbus::kServerDeviceBusy) shared.rejects.record(reason, CommandSource::modbus);
+    if (pdu[0] & 0x80) {
+      // libmodbus answers function + 0x80 in one byte: a code that has the top bit already
+      // (128-255, those of exception replies) would come back as function - 128, e.g. 0x84 as
+      // "04 01", a malformed FC04 reply. With the bit cleared in the request it gives function | 0x80.
+      std::array<std::uint8_t, 8> head{};  // the MBAP header (7) or the RTU unit id (1), then the code
+      if (header + 1 > static_cast<int>(head.size())) return false;
+      std::copy_n(adu, header + 1, head.begin());
+      head[static_cast<std::size_t>(header)] &= 0x7F;
+      return modbus_reply_exception(ctx, head.data(), exception) != -1;
+    }
     return modbus_reply_exception(ctx, adu, exception) != -1;
   }
   const Telemetry t = shared.telemetry.load();
