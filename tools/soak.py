@@ -269,14 +269,16 @@ class Quiet:
             self.cv.notify_all()
 
     def checkpoint(self):
+        """Waits while a blackout is on; True when it did."""
         with self.cv:
             if not self.requested:
-                return
+                return False
             self.paused += 1
             self.cv.notify_all()
             while self.requested and not self.stop.is_set():
                 self.cv.wait(0.1)
             self.paused -= 1
+            return True
 
     def hold(self, timeout):
         with self.cv:
@@ -319,8 +321,7 @@ class Client(threading.Thread):
                 self.soak.quiet.leave()
 
     def checkpoint(self):
-        if self.pauses:
-            self.soak.quiet.checkpoint()
+        return self.pauses and self.soak.quiet.checkpoint()
 
     def connect(self):
         if self.link:
@@ -624,7 +625,8 @@ class InvalidWriter(Client):
         while not self.stop.is_set():
             self.rng.shuffle(order)
             for i in order:
-                self.checkpoint()
+                if self.checkpoint():
+                    before = None  # the blackout's amplifier reject came in between
                 if self.stop.is_set():
                     return
                 kind, pdu, code, reason = catalogue[i]
@@ -961,6 +963,7 @@ def parse_exit_report(text):
         "exceptions": num(r"modbus +\d+ requests, (\d+) exceptions"),
         "connections": num(r"exceptions, (\d+) connections"),
         "ticks": num(r"loop statistics: (\d+) ticks"),
+        "taken": num(r"commands +(\d+); accept-to-effect"),
         "overruns": num(r"overruns +(\d+)"),
         "resyncs": num(r"resyncs +(\d+)"),
         "lateness": num(r"lateness +(p50 .*)", cast=str),
@@ -1166,6 +1169,10 @@ class Soak:
             check("exit report: exceptions = exception replies received", report["exceptions"] == exc_total,
                   f"{report['exceptions']} = {exc_total}")
             check("exit report: queue full = BUSY replies", qf == busy, f"{qf} = {busy}")
+            # The loop's accept-to-effect count: one per command taken, at most 64 a tick (fewer
+            # than taken only when more than 64 piled up during a stall of the loop).
+            check("exit report: commands taken by the loop <= accepted (= when no tick took > 64)",
+                  report["taken"] is not None and report["taken"] <= t.accepted, f"{report['taken']} <= {t.accepted}")
             # Every whole frame is served and answered; a truncated or over-long one is not served.
             check("exit report: requests = requests answered", report["requests"] == answered,
                   f"{report['requests']} = {answered}")
