@@ -6,6 +6,7 @@
 #include <netinet/tcp.h>
 #include <poll.h>
 #include <sys/eventfd.h>
+#include <sys/ioctl.h>
 #include <sys/socket.h>
 #include <time.h>
 #include <unistd.h>
@@ -52,6 +53,21 @@ void wake(int eventfd_fd) {
 void shut(int fd) {
   if (fd >= 0 && ::shutdown(fd, SHUT_RDWR) != 0 && errno != ENOTCONN)
     std::fprintf(stderr, "swum-emu: Modbus TCP: %s\n", errno_text("shutdown", errno).c_str());
+}
+
+// Bytes of the next request already in the socket: the connection is no longer idle (idle time
+// ends at a request's first byte), even when its thread has not yet run to read them, as in a
+// starved or descheduled process. False at end of stream.
+bool request_waiting(int fd) {
+  int bytes = 0;
+  return fd >= 0 && ::ioctl(fd, FIONREAD, &bytes) == 0 && bytes > 0;
+}
+
+// Nothing of the reply is waiting in the send queue: the client is not holding it up (a client
+// that does not read keeps the queue full); only the connection's own thread has yet to move on.
+bool nothing_unsent(int fd) {
+  int bytes = 0;
+  return fd >= 0 && ::ioctl(fd, TIOCOUTQ, &bytes) == 0 && bytes == 0;
 }
 
 // The first few connections closed for each reason go to stderr; all are counted.
@@ -244,7 +260,9 @@ void ModbusTcpServer::accept_one(std::uint64_t now) {
     Connection* victim = nullptr;
     const std::uint64_t guard = ms_to_ns(options_.evict_idle_ms);
     for (auto& c : connections_) {
-      if (c->phase == kIdle && now - c->since_ns >= guard && (!victim || c->since_ns < victim->since_ns))
+      // since_ns may be later than `now` (taken before the lock): not idle, and no unsigned wrap.
+      if (c->phase == kIdle && c->since_ns <= now && now - c->since_ns >= guard &&
+          (!victim || c->since_ns < victim->since_ns) && !request_waiting(c->fd))
         victim = c.get();
     }
     if (!victim || connections_.size() >= 2 * static_cast<std::size_t>(options_.max_clients)) {
@@ -298,6 +316,9 @@ int ModbusTcpServer::enforce_deadlines(std::uint64_t now) {
       reason = c->phase == kReceiving ? Drop::frame_timeout : Drop::reply_timeout;
     }
     if (now >= deadline) {
+      // A stall of the server's own thread is not the client's: spare a connection whose next
+      // request is already waiting, or whose reply has left.
+      if (c->phase == kIdle ? request_waiting(c->fd) : c->phase == kReplying && nothing_unsent(c->fd)) continue;
       c->phase = kClosing;
       c->reason = reason;
       shut(c->fd);
