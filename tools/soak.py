@@ -128,10 +128,19 @@ class Link:
     """One Modbus TCP connection to the emulator."""
 
     def __init__(self, port):
+        self.start = time.monotonic()  # of the current request (at first: of the connect)
         self.sock = socket.create_connection(("127.0.0.1", port), timeout=DEADLINE_S)
         self.sock.setsockopt(socket.IPPROTO_TCP, socket.TCP_NODELAY, 1)
         self.tid = random.randrange(0x10000)
         self.buffer = b""
+        self.replies = 0
+        self.window = 0.0
+
+    def mark_sent(self, started):
+        """From the start of the previous request (or the connect) to the end of sending this one:
+        an upper bound of the idle time the server can have counted before this request."""
+        self.window = time.monotonic() - self.start
+        self.start = started
 
     def close(self):
         try:
@@ -169,8 +178,11 @@ class Link:
     def ask(self, pdu, **header):
         """Sends one request; its reply PDU (transaction id and protocol id checked)."""
         self.tid = (self.tid + 1) & 0xFFFF
+        started = time.monotonic()
         self.send(mbap(self.tid, pdu, **header))
+        self.mark_sent(started)
         adu = self.reply()
+        self.replies += 1
         tid, protocol, _ = struct.unpack(">HHH", adu[:6])
         if tid != self.tid or protocol != 0 or len(adu) < 9:
             raise ValueError(f"reply {adu.hex()} to transaction {self.tid}")
@@ -330,25 +342,39 @@ class Client(threading.Thread):
         self.tally.event("connections opened")
         return self.link
 
+    def closed_by_server(self, link, what):
+        """Classifies a close by the server of a connection that was sending `what`. A fresh one
+        (no reply yet) was refused for want of a slot: documented, retried. One that asked within
+        the eviction time must not have been evicted (nor idle-closed): a violation. One whose
+        own pause (a stalled client) reached it may have been: documented."""
+        if link.replies == 0:
+            self.tally.event(f"{self.group}: refused (no slot), retried")
+        elif link.window < EVICT_IDLE_MS / 1000 - 0.05:
+            self.tally.violation("client closed by the server although it asked within the eviction time",
+                                 f"{self.name} {what}: {link.window * 1e3:.0f} ms since its previous request began")
+        else:
+            self.tally.event(f"{self.group}: closed by the server after a pause of its own >= 1 s")
+
     def exchange(self, kind, pdu, write=False):
-        """A valid request on the persistent connection (reconnecting once when the server closed
-        it). The reply PDU, or None when only BUSY refused a write."""
-        for attempt in (1, 2):
+        """A valid request on the persistent connection, on a new one when the server closed it
+        (retried until DEADLINE_S). The reply PDU, or None when only BUSY refused a write."""
+        t_first = time.monotonic()
+        while True:
             if self.link is None:
                 self.connect()
             self.tally.count_sent(kind)
-            t0 = time.monotonic()
             try:
                 reply = self.link.ask(pdu)
-            except Closed as e:
-                self.tally.event(f"{self.group}: closed by the server")
-                if write:
-                    self.tally.doubt()
+            except Closed:
+                self.closed_by_server(self.link, kind)
+                if write and self.link.replies > 0:
+                    self.tally.doubt()  # not read by the server (evicted idle): retried below
                 self.link.close()
                 self.link = None
-                if attempt == 2:
-                    self.tally.violation(f"{self.group}: valid request refused twice", repr(e))
+                if time.monotonic() - t_first > DEADLINE_S:
+                    self.tally.violation("valid request unanswered within the deadline", f"{self.name} {kind}: refused")
                     return None
+                self.stop.wait(0.05)  # the client's retry interval
                 continue
             except NoReply as e:
                 self.tally.violation("valid request unanswered within the deadline", f"{self.name} {kind}: {e}")
@@ -357,7 +383,7 @@ class Client(threading.Thread):
                 self.link.close()
                 self.link = None
                 return None
-            took = time.monotonic() - t0
+            took = time.monotonic() - t_first
             if reply[0] == pdu[0]:
                 self.tally.served(kind, self.group, took, accepted=write)
                 return reply
@@ -369,7 +395,6 @@ class Client(threading.Thread):
                 return None
             self.tally.violation("malformed reply", f"{self.name} {kind} {pdu.hex()} -> {reply.hex()}")
             return None
-        return None
 
     def write(self, kind, pdu):
         reply = self.exchange(kind, pdu, write=True)
@@ -638,7 +663,13 @@ class InvalidWriter(Client):
                 t0 = time.monotonic()
                 try:
                     reply = self.link.ask(pdu)
-                except (Closed, NoReply) as e:
+                except Closed:
+                    self.closed_by_server(self.link, kind)  # never read by the server: not answered
+                    self.link.close()
+                    self.link = None
+                    before = None
+                    continue
+                except NoReply as e:
                     self.tally.violation("invalid request: no exception reply", f"{kind}: {e!r}")
                     self.link.close()
                     self.link = None
@@ -701,7 +732,10 @@ class FramingClient(Client):
         t0 = time.monotonic()
         try:
             reply = link.ask(pdu, **header)
-        except (Closed, NoReply) as e:
+        except Closed:
+            self.closed_by_server(link, kind)
+            return None
+        except NoReply as e:
             self.tally.violation(f"{kind}: no reply", repr(e))
             return None
         self.tally.served(kind, self.group, time.monotonic() - t0)
@@ -724,11 +758,15 @@ class FramingClient(Client):
         pdu = read_pdu(0, 4)
         link.tid = 7
         self.tally.count_sent("MBAP length + surplus bytes")
-        link.send(mbap(7, pdu, length=len(pdu) + 3) + b"\x00\x00")
         t0 = time.monotonic()
+        link.send(mbap(7, pdu, length=len(pdu) + 3) + b"\x00\x00")
+        link.mark_sent(t0)
         try:
             adu = link.reply()
-        except (Closed, NoReply) as e:
+        except Closed:
+            self.closed_by_server(link, "MBAP length + surplus bytes")
+            return None
+        except NoReply as e:
             self.tally.violation("MBAP surplus: no reply to the PDU", repr(e))
             return None
         self.tally.served("MBAP length + surplus bytes", self.group, time.monotonic() - t0)
@@ -756,13 +794,18 @@ class FramingClient(Client):
         n = self.rng.randrange(2, 6)
         tids = list(range(100, 100 + n))
         self.tally.event("pipelined requests", n)
+        t0 = time.monotonic()
         link.send(b"".join(mbap(t, read_pdu(0, INPUT_COUNT)) for t in tids))
+        link.mark_sent(t0)
         for t in tids:
             self.tally.count_sent("pipelined read")
             t0 = time.monotonic()
             try:
                 adu = link.reply()
-            except (Closed, NoReply) as e:
+            except Closed:
+                self.closed_by_server(link, "pipelined read")
+                return None
+            except NoReply as e:
                 self.tally.violation("pipelined requests: reply missing", repr(e))
                 return None
             self.tally.served("pipelined read", self.group, time.monotonic() - t0)
@@ -791,8 +834,8 @@ class FramingClient(Client):
                     self.tally.violation("valid request unanswered within the deadline", f"framing probe: {e}")
                     break
                 except Closed:
+                    self.closed_by_server(link, "framing: slot probe read")
                     link.close()
-                    self.tally.event("framing: refused (no slot), retried")
                     if time.monotonic() - t_first > DEADLINE_S:
                         self.tally.violation("framing client: no slot within the deadline")
                         break
@@ -823,7 +866,7 @@ class Churner(Client):
                 try:
                     reply = self.link.ask(read_pdu(0, INPUT_COUNT))
                 except Closed:
-                    self.tally.event("churn: refused (no slot), retried")
+                    self.closed_by_server(self.link, "churn: first read")
                     if time.monotonic() - t_first > DEADLINE_S:
                         self.tally.violation("valid request unanswered within the deadline", f"{self.name}: {attempts} attempts")
                         break
@@ -1026,13 +1069,14 @@ class Soak:
         emu_harness.EMU = a.emu
         print(f"soak: {a.minutes:g} min of mixed Modbus TCP traffic against {a.emu}")
         print(f"machine: {os.cpu_count()} CPUs, load {load_start[0]:.2f} {load_start[1]:.2f} {load_start[2]:.2f}; seed {a.seed}")
-        print(f"emulator options: --config config/li2019.toml --modbus tcp://127.0.0.1:0 {' '.join(EMU_ARGS)}")
+        print(f"emulator options: --config config/li2019.toml --modbus tcp://127.0.0.1:0 {' '.join(EMU_ARGS)}", flush=True)
         try:
             emu = Emulator(*EMU_ARGS)
         except (RuntimeError, OSError) as e:
             print(f"soak: {e}", file=sys.stderr)
             return 2
         self.emu, self.pid, self.port = emu, emu.proc.pid, emu.port
+        print(f"swum-emu pid {self.pid}, listening on 127.0.0.1:{self.port}", flush=True)
         stderr_lines = []
         drain = threading.Thread(target=lambda: stderr_lines.extend(emu.proc.stderr), daemon=True)
         drain.start()  # the emulator's own log must never fill the pipe and block it
