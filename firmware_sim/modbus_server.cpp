@@ -6,11 +6,13 @@
 #include <netinet/tcp.h>
 #include <poll.h>
 #include <sys/eventfd.h>
+#include <sys/ioctl.h>
 #include <sys/socket.h>
 #include <time.h>
 #include <unistd.h>
 
 #include <algorithm>
+#include <array>
 #include <cerrno>
 #include <charconv>
 #include <cstdio>
@@ -53,6 +55,21 @@ void shut(int fd) {
     std::fprintf(stderr, "swum-emu: Modbus TCP: %s\n", errno_text("shutdown", errno).c_str());
 }
 
+// Bytes of the next request already in the socket: the connection is no longer idle (idle time
+// ends at a request's first byte), even when its thread has not yet run to read them, as in a
+// starved or descheduled process. False at end of stream.
+bool request_waiting(int fd) {
+  int bytes = 0;
+  return fd >= 0 && ::ioctl(fd, FIONREAD, &bytes) == 0 && bytes > 0;
+}
+
+// Nothing of the reply is waiting in the send queue: the client is not holding it up (a client
+// that does not read keeps the queue full); only the connection's own thread has yet to move on.
+bool nothing_unsent(int fd) {
+  int bytes = 0;
+  return fd >= 0 && ::ioctl(fd, TIOCOUTQ, &bytes) == 0 && bytes == 0;
+}
+
 // The first few connections closed for each reason go to stderr; all are counted.
 void log_drop(std::uint64_t nth, Drop reason, const std::string& peer) {
   constexpr std::uint64_t kLogged = 5;
@@ -86,6 +103,16 @@ bool serve(modbus_t* ctx, const std::uint8_t* adu, int length, int checksum_leng
   if (exception != protocol::modbus::kNoException) {
     stats.exceptions.fetch_add(1, std::memory_order_relaxed);
     if (exception != protocol::modbus::kServerDeviceBusy) shared.rejects.record(reason, CommandSource::modbus);
+    if (pdu[0] & 0x80) {
+      // libmodbus answers function + 0x80 in one byte: a code that has the top bit already
+      // (128-255, those of exception replies) would come back as function - 128, e.g. 0x84 as
+      // "04 01", a malformed FC04 reply. With the bit cleared in the request it gives function | 0x80.
+      std::array<std::uint8_t, 8> head{};  // the MBAP header (7) or the RTU unit id (1), then the code
+      if (header + 1 > static_cast<int>(head.size())) return false;
+      std::copy_n(adu, header + 1, head.begin());
+      head[static_cast<std::size_t>(header)] &= 0x7F;
+      return modbus_reply_exception(ctx, head.data(), exception) != -1;
+    }
     return modbus_reply_exception(ctx, adu, exception) != -1;
   }
   const Telemetry t = shared.telemetry.load();
@@ -233,7 +260,9 @@ void ModbusTcpServer::accept_one(std::uint64_t now) {
     Connection* victim = nullptr;
     const std::uint64_t guard = ms_to_ns(options_.evict_idle_ms);
     for (auto& c : connections_) {
-      if (c->phase == kIdle && now - c->since_ns >= guard && (!victim || c->since_ns < victim->since_ns))
+      // since_ns may be later than `now` (taken before the lock): not idle, and no unsigned wrap.
+      if (c->phase == kIdle && c->since_ns <= now && now - c->since_ns >= guard &&
+          (!victim || c->since_ns < victim->since_ns) && !request_waiting(c->fd))
         victim = c.get();
     }
     if (!victim || connections_.size() >= 2 * static_cast<std::size_t>(options_.max_clients)) {
@@ -287,6 +316,9 @@ int ModbusTcpServer::enforce_deadlines(std::uint64_t now) {
       reason = c->phase == kReceiving ? Drop::frame_timeout : Drop::reply_timeout;
     }
     if (now >= deadline) {
+      // A stall of the server's own thread is not the client's: spare a connection whose next
+      // request is already waiting, or whose reply has left.
+      if (c->phase == kIdle ? request_waiting(c->fd) : c->phase == kReplying && nothing_unsent(c->fd)) continue;
       c->phase = kClosing;
       c->reason = reason;
       shut(c->fd);

@@ -237,6 +237,15 @@ def scenario_malformed():
             assert reply[7] == 0x90 and reply[8] == ILLEGAL_DATA_VALUE, reply.hex()
         v = c.inputs()
         assert v["last_reject_reason"] == MAP.reasons["wrong_length"], v
+        # Unsupported function codes: exception 01 under the code with its top bit set, also for
+        # codes that have it already (128-255, those of exception replies): libmodbus alone
+        # answers function + 0x80 in one byte, so 0x84 came back as "04 01", a malformed FC04
+        # reply (found by tools/soak). Each body is what libmodbus frames for the code.
+        with socket.create_connection((emu.host, emu.port), timeout=5) as s:
+            for tid, pdu in enumerate([b"\x2b", b"\x80", b"\x84", b"\xff", b"\x01\x00\x00\x00\x01"], 10):
+                s.sendall(mbap(tid, pdu))
+                reply = s.recv(260)
+                assert reply == mbap(tid, bytes([pdu[0] | 0x80, ILLEGAL_FUNCTION]), unit=1), (pdu.hex(), reply.hex())
         # Truncated frame, then hang up.
         with socket.create_connection((emu.host, emu.port), timeout=5) as s:
             s.sendall(mbap(2, struct.pack(">BHH", 3, 0, 10))[:9])

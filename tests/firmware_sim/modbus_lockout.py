@@ -3,14 +3,16 @@
 client locks the others out"). Raw sockets on 127.0.0.1, frames built here from
 docs/protocols.md; the server's counts are read from its exit report.
 
-usage: modbus_lockout.py SCENARIO   (idle_holders trickle idle_timeout reply_stall options)
+usage: modbus_lockout.py SCENARIO   (idle_holders trickle idle_timeout reply_stall stalled_server options)
 Environment: SWUM_EMU, SWUM_SOURCE_DIR (set by ctest).
 
 No sleep waits for the server: every wait is a select() on a socket with a deadline. The pauses
 a client makes between its own bytes or attempts are the stimulus, not a wait for a result.
 """
+import os
 import re
 import select
+import signal
 import socket
 import struct
 import subprocess
@@ -260,6 +262,46 @@ def scenario_reply_stall():
     counts = drops(emu.output)
     print(emu.output)
     assert counts["reply timeout"] == 1 and counts["idle"] == 0, counts
+
+
+def scenario_stalled_server():
+    """Idle time ends at the first byte of the next request, also when the server has not run to
+    read it yet (a starved or descheduled process; here SIGSTOP). 16 clients hold every slot and
+    each sends a request while the server stands still for longer than the eviction time; then a
+    newcomer connects (the kernel completes it in the listen backlog). On SIGCONT the newcomer is
+    closed for want of a slot, never an active client with its request waiting. The same with a
+    1 s idle timeout and no newcomer: nobody is closed. Found by tools/soak; before the fix an
+    active client was evicted in about 7 rounds of 10, so each case runs 3 rounds."""
+    for idle_ms, newcomer_too in (("60000", True), ("1000", False)):
+        for round_ in range(3):
+            with Emulator("--watchdog-ms", "0", "--modbus-idle-timeout-ms", idle_ms) as emu:
+                clients = [connect(emu) for _ in range(SLOTS)]
+                for i, s in enumerate(clients):
+                    assert ask(s, i) is not None
+                os.kill(emu.proc.pid, signal.SIGSTOP)
+                try:
+                    # The stimulus: the server stands still, past the eviction time or the idle
+                    # timeout, while the clients ask.
+                    select.select([], [], [], (EVICT_IDLE_S if newcomer_too else int(idle_ms) / 1000) + 0.5)
+                    for i, s in enumerate(clients):
+                        s.sendall(mbap(100 + i, READ_STATE))
+                    newcomer = connect(emu) if newcomer_too else None
+                finally:
+                    os.kill(emu.proc.pid, signal.SIGCONT)
+                for i, s in enumerate(clients):
+                    reply = read_reply(s, 10)
+                    assert reply is not None, f"idle {idle_ms} ms, round {round_}: client {i} closed with its request waiting"
+                    assert struct.unpack(">H", reply[:2])[0] == 100 + i, reply.hex()
+                if newcomer:
+                    assert closed_by_server(newcomer, 10), "the newcomer was neither served nor closed"
+                    newcomer.close()
+                for s in clients:
+                    s.close()
+                assert emu.stop() == 0
+            counts = drops(emu.output)
+            print(f"idle {idle_ms} ms, round {round_}: closed by the server: {counts}")
+            assert counts["evicted"] == 0 and counts["idle"] == 0 and counts["reply timeout"] == 0, counts
+            assert counts["no slot"] == (1 if newcomer_too else 0), counts
 
 
 def scenario_options():

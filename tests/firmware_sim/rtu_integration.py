@@ -67,6 +67,10 @@ def main():
                 break
         else:
             raise AssertionError("write not applied")
+        # Unsupported functions: exception 01 under the function code with its top bit set, also
+        # for codes that have it already (128-255; libmodbus alone would wrap 0x84 to 0x04).
+        for function in (0x2B, 0x80, 0x84, 0xFF):
+            assert m.transact(7, bytes([function])) == bytes([function | 0x80, 1]), hex(function)
         # Exceptions: illegal address, illegal value.
         assert m.transact(7, struct.pack(">BHH", 4, 200, 1)) == bytes([0x84, 2])
         assert m.transact(7, struct.pack(">BHH", 6, addr, 7000)) == bytes([0x86, 3])
