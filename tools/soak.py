@@ -34,9 +34,15 @@ Ledger, once the writers stopped and the queue drained (the tick moved on twice)
   accepted (writes answered without exception, counted by the clients)
     = applied (input registers 6-7) + amplifier-rejected (reject count 4-5 minus every exception
       the clients received: each exception also counts as a reject)
-  last sequence (33-34) = accepted + queue-full refusals (each refusal also draws a number)
+  last sequence (33-34) = applied + amplifier-rejected + queue-full refusals (each refusal
+      also draws a number)
 and the exit report (SIGTERM) must agree: same applied / rejected counts, exceptions = those the
 clients received, requests = those answered, connections + "no slot" = connections opened.
+
+Also violations: a valid request unanswered within DEADLINE_S (5 s, refused reconnects
+included), or answered with an exception other than BUSY; an invalid one answered otherwise than
+expected; a client closed by the server although it asked within the eviction time (see
+Client.closed_by_server); the emulator crashing or exiting non-zero.
 
 Resources: VmRSS, threads and open fds of swum-emu every 10 s (see RSS_TOLERANCE_KB and
 check_resources for the rules). Exit status 0 when nothing was violated, 1 otherwise, 2 when
