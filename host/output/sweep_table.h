@@ -64,7 +64,8 @@ std::string format_sweep_csv(const std::vector<SweepRow>& rows);
 /// Reads a sweep CSV (the layouts above; columns found by name, `time_s`, `sweep`,
 /// `speed_spread_mm_s` and `status` optional). A row is ok when status is "ok", "unsettled"
 /// (or absent) and the speed is present.
-/// Throws std::runtime_error naming `source`, the line and the column of a bad cell.
+/// Throws std::runtime_error naming `source` and the line of a bad row, std::invalid_argument
+/// naming them and the column of a cell that is not a finite number.
 std::vector<SweepRow> parse_sweep_csv(const std::string& text, const std::string& source);
 /// Speed vs frequency, one curve per (voltage, load); or speed vs voltage when the sweep
 /// has a single frequency. Failed rows are left out of the curves.
