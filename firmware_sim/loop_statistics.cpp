@@ -91,6 +91,7 @@ const char* to_string(Drop d) {
     case Drop::idle: return "idle";
     case Drop::frame_timeout: return "frame timeout";
     case Drop::reply_timeout: return "reply timeout";
+    case Drop::bad_header: return "bad header";
     case Drop::other_unit: return "other unit";
     case Drop::bad_crc: return "bad crc";
     case Drop::bad_length: return "bad length";

@@ -388,6 +388,11 @@ void ModbusTcpServer::client_loop(Connection& c) {
         }
         break;
       }
+      if (!protocol::modbus::mbap_header_consistent(std::span<const std::uint8_t>(adu, static_cast<std::size_t>(rc)))) {
+        std::lock_guard lock(mutex_);
+        if (c.phase != kClosing) c.reason = Drop::bad_header;  // not answered: its framing cannot be trusted
+        break;
+      }
       if (!enter(c, kReplying)) break;  // the deadline passed just as the frame completed
       if (rc > 0 && !serve(ctx, adu, rc, 0, map, shared_, limits_, stats_)) break;
       if (!enter(c, kIdle)) break;

@@ -114,6 +114,13 @@ struct Request {
   std::array<std::uint16_t, kMaxValues> values{};  // writes
 };
 
+// Modbus TCP: true when an ADU as libmodbus framed it (MBAP header + PDU, read by function code)
+// has protocol identifier 0 and an MBAP length field equal to the bytes that follow it (unit id +
+// PDU). A false one breaks the stream's framing: its extra or missing bytes would be read as the
+// next request, so the server closes the connection (Modbus Messaging on TCP/IP Implementation
+// Guide, 3.1.3: the MBAP header is checked before the PDU).
+bool mbap_header_consistent(std::span<const std::uint8_t> adu);
+
 // PDU = function code + data (no MBAP header, no CRC). Checks the function code and the
 // quantity / byte-count consistency; 0 on success, else the exception code (reason in *reason).
 std::uint8_t parse_request(std::span<const std::uint8_t> pdu, Request& request, Reason* reason);

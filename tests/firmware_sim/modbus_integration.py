@@ -257,19 +257,29 @@ def scenario_malformed():
                 s.recv(260)
             except (socket.timeout, ConnectionResetError):
                 pass
-        # Read request with a wrong PDU length (extra bytes): answered or connection dropped, never a crash.
-        with socket.create_connection((emu.host, emu.port), timeout=5) as s:
-            s.sendall(mbap(3, struct.pack(">BHHH", 4, 0, 1, 0xDEAD)))
-            s.settimeout(2)
-            try:
-                s.recv(260)
-            except (socket.timeout, ConnectionResetError):
-                pass
+        # MBAP headers that contradict the frame: a valid FC04 read under protocol id 1, a read
+        # whose length field counts 2 bytes more than libmodbus frames for FC04 (they would be
+        # read as the next request), one whose length field counts fewer. None is answered; each
+        # connection is closed at once and counted as "bad header" (docs/protocols.md).
+        read = struct.pack(">BHH", 4, 0, 1)
+        for tid, frame in [(3, struct.pack(">HHHB", 3, 1, len(read) + 1, 1) + read),
+                           (4, mbap(4, read + b"\xde\xad")),
+                           (5, mbap(5, read, length=3))]:
+            with socket.create_connection((emu.host, emu.port), timeout=5) as s:
+                s.sendall(frame)
+                s.settimeout(5)
+                try:
+                    reply = s.recv(260)
+                except ConnectionResetError:
+                    reply = b""
+                assert reply == b"", (frame.hex(), reply.hex())
         after = c.inputs()  # the first client is still served
         assert after["state"] == before["state"] and after["applied_commands"] == before["applied_commands"], after
         assert emu.proc.poll() is None, "swum-emu died"
         c.close()
         assert emu.stop() == 0
+        # The three above and the garbage (its bytes 2-3, 0x0203, are no Modbus protocol id).
+        assert "bad header 4" in emu.output, emu.output
 
 
 def scenario_clients():

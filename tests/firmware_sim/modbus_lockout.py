@@ -185,7 +185,7 @@ def scenario_trickle():
         assert emu.stop() == 0
     counts = drops(emu.output)
     print(emu.output)
-    assert counts == {"no slot": 0, "evicted": 0, "idle": 0, "frame timeout": 1, "reply timeout": 0}, counts
+    assert counts == {"no slot": 0, "evicted": 0, "idle": 0, "frame timeout": 1, "reply timeout": 0, "bad header": 0}, counts
 
 
 def scenario_idle_timeout():

@@ -37,6 +37,38 @@ Decision run(const std::vector<std::uint8_t>& pdu) {
   return decide(r, AmplifierLimits{});
 }
 
+// MBAP header (transaction 0x1234, protocol id, length field, unit 1) + PDU, as libmodbus frames it.
+std::vector<std::uint8_t> adu(std::uint16_t protocol_id, std::uint16_t length_field,
+                              const std::vector<std::uint8_t>& pdu) {
+  std::vector<std::uint8_t> a{0x12,
+                              0x34,
+                              static_cast<std::uint8_t>(protocol_id >> 8),
+                              static_cast<std::uint8_t>(protocol_id),
+                              static_cast<std::uint8_t>(length_field >> 8),
+                              static_cast<std::uint8_t>(length_field),
+                              1};
+  for (const std::uint8_t b : pdu) a.push_back(b);  // (insert: a false -Warray-bounds in GCC 12)
+  return a;
+}
+
+TEST(MbapHeader, ProtocolIdZeroAndALengthThatCountsUnitAndPduIsConsistent) {
+  const auto pdu = read_pdu(kReadInputRegisters, 0, 1);
+  EXPECT_TRUE(mbap_header_consistent(adu(0, 6, pdu)));
+  EXPECT_TRUE(mbap_header_consistent(adu(0, 2, {0x2b})));  // the shortest: unit id + function code
+}
+
+TEST(MbapHeader, AnotherProtocolIdOrALengthThatDisagreesIsNot) {
+  const auto pdu = read_pdu(kReadInputRegisters, 0, 1);
+  EXPECT_FALSE(mbap_header_consistent(adu(1, 6, pdu)));       // not Modbus
+  EXPECT_FALSE(mbap_header_consistent(adu(0xFFFF, 6, pdu)));  // not Modbus
+  EXPECT_FALSE(mbap_header_consistent(adu(0, 8, pdu)));       // more bytes announced than framed
+  EXPECT_FALSE(mbap_header_consistent(adu(0, 5, pdu)));       // fewer
+  EXPECT_FALSE(mbap_header_consistent(adu(0, 0, pdu)));
+  const auto whole = adu(0, 6, pdu);
+  EXPECT_FALSE(mbap_header_consistent(std::span<const std::uint8_t>(whole.data(), 7)));  // no function code
+  EXPECT_FALSE(mbap_header_consistent({}));
+}
+
 TEST(RegisterMap, ReadsWithinTheTablesAreAccepted) {
   EXPECT_EQ(run(read_pdu(kReadHoldingRegisters, 0, holding::kCount)).exception, kNoException);
   EXPECT_EQ(run(read_pdu(kReadInputRegisters, 0, input::kCount)).exception, kNoException);
