@@ -11,40 +11,21 @@
 namespace swum {
 namespace {
 
-// Time-weighted statistics of one window.
-struct WindowStats {
+// One window: the statistics of its steps and where the mover started.
+struct WindowStats : WindowStatistics {
   double start_position_m = 0.0;
-  double duration_s = 0.0;
-  double u_min = std::numeric_limits<double>::infinity();
-  double u_max = -std::numeric_limits<double>::infinity();
-  double w_min = std::numeric_limits<double>::infinity();
-  double w_max = -std::numeric_limits<double>::infinity();
-  double contact_s = 0.0;
-  double ft_sum = 0.0, ft2_sum = 0.0, fn_sum = 0.0, power_sum = 0.0;
-
-  void add(double dt, double u, double w, double fn, double ft, double power_w = 0.0) {
-    power_sum += dt * power_w;
-    duration_s += dt;
-    u_min = std::min(u_min, u);
-    u_max = std::max(u_max, u);
-    w_min = std::min(w_min, w);
-    w_max = std::max(w_max, w);
-    if (fn > 0.0) contact_s += dt;
-    ft_sum += dt * ft;
-    ft2_sum += dt * ft * ft;
-    fn_sum += dt * fn;
-  }
 
   void store(double end_position_m, SteadyStateResult& r) const {
     const double T = duration_s;
     r.speed_mm_s = 1e3 * (end_position_m - start_position_m) / T;
-    r.tip_normal_um = 1e6 * 0.5 * (u_max - u_min);
-    r.tip_tangential_um = 1e6 * 0.5 * (w_max - w_min);
+    r.tip_normal_um = 1e6 * 0.5 * (u_max_m - u_min_m);
+    r.tip_tangential_um = 1e6 * 0.5 * (w_max_m - w_min_m);
     r.contact_fraction = contact_s / T;
-    r.mean_friction_force_n = ft_sum / T;
-    r.mean_normal_force_n = fn_sum / T;
-    r.damping_power_w = power_sum / T;
-    r.friction_force_std_n = std::sqrt(std::max(0.0, ft2_sum / T - r.mean_friction_force_n * r.mean_friction_force_n));
+    r.mean_friction_force_n = ft_sum_n_s / T;
+    r.mean_normal_force_n = fn_sum_n_s / T;
+    r.damping_power_w = energy_j / T;
+    r.friction_force_std_n = std::sqrt(
+        std::max(0.0, ft2_sum_n2_s / T - r.mean_friction_force_n * r.mean_friction_force_n));
   }
 };
 
@@ -111,18 +92,28 @@ SteadyStateResult run_to_steady_state(const MotorModel& model, const OperatingPo
   const double c2 = model.coefficients().c2_n_s_m * damping_factor;
   std::uint64_t total_steps = 0;
 
+  const bool traced = opt.trace && opt.trace_every_steps > 0;
   auto run = [&](double duration_s, WindowStats* w, SteadyStateResult& r) {
     const auto steps = static_cast<std::uint64_t>(std::llround(duration_s / dt));
-    for (std::uint64_t k = 0; k < steps; ++k) {
+    if (w != nullptr) {
+      w->c1_n_s_m = c1;
+      w->c2_n_s_m = c2;
+    }
+    if (!traced) {
+      // The hot loop, the window statistics inside it: nothing per step through a call.
+      if (w != nullptr) sim.advance(steps, *w);
+      else sim.advance(steps);
+      total_steps += steps;
+    }
+    for (std::uint64_t k = 0; traced && k < steps; ++k) {
       sim.step();
       ++total_steps;
       const auto& s = sim.state();
       const auto& f = sim.forces();
       if (w != nullptr) {
-        w->add(dt, -s.q1_m, g_tv * s.q2_m, f.normal_n, f.friction_n,
-               c1 * s.q1_dot_m_s * s.q1_dot_m_s + c2 * s.q2_dot_m_s * s.q2_dot_m_s);
+        w->add(dt, -s.q1_m, g_tv * s.q2_m, f.normal_n, f.friction_n, w->damping_power_w(s.q1_dot_m_s, s.q2_dot_m_s));
       }
-      if (opt.trace && opt.trace_every_steps > 0 && total_steps % opt.trace_every_steps == 0) {
+      if (total_steps % opt.trace_every_steps == 0) {
         opt.trace(TraceSample{s.time_s, s.q1_m, s.q1_dot_m_s, s.q2_m, s.q2_dot_m_s, -1e6 * s.q1_m, 1e6 * g_tv * s.q2_m,
                               f.normal_n, f.friction_n, s.mover_position_m, s.mover_velocity_m_s});
       }
@@ -168,7 +159,7 @@ SteadyStateResult run_to_steady_state_reference(const MotorModel& model, const O
     const auto observer = [&](double tn, const MotorOde::Vector& xn) {
       ++accepted;
       const InterfaceForces f = ode.forces(tn, xn);
-      if (w != nullptr) w->add(tn - t_prev, -xn[0], g_tv * xn[2], f.normal_n, f.friction_n);
+      if (w != nullptr) w->add(tn - t_prev, -xn[0], g_tv * xn[2], f.normal_n, f.friction_n, 0.0);
       t_prev = tn;
       if (opt.trace && opt.trace_every_steps > 0 && accepted % opt.trace_every_steps == 0) {
         opt.trace(TraceSample{tn, xn[0], xn[1], xn[2], xn[3], -1e6 * xn[0], 1e6 * g_tv * xn[2], f.normal_n,

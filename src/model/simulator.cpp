@@ -39,11 +39,17 @@ inline double flush_tiny(double x) { return std::abs(x) < 1e-200 ? 0.0 : x; }
 }  // namespace
 
 void MotorSimulator::advance(std::uint64_t steps) {
-  system_.dispatch([&]<TangentialContact C, GuideFrictionModel G>() { advance_specialised<C, G>(steps); });
+  system_.dispatch(
+      [&]<TangentialContact C, GuideFrictionModel G>() { advance_specialised<C, G, false>(steps, nullptr); });
 }
 
-template <TangentialContact C, GuideFrictionModel G>
-void MotorSimulator::advance_specialised(std::uint64_t steps) {
+void MotorSimulator::advance(std::uint64_t steps, WindowStatistics& window) {
+  system_.dispatch(
+      [&]<TangentialContact C, GuideFrictionModel G>() { advance_specialised<C, G, true>(steps, &window); });
+}
+
+template <TangentialContact C, GuideFrictionModel G, bool kWindow>
+void MotorSimulator::advance_specialised(std::uint64_t steps, WindowStatistics* window) {
   SpecialisedMotorSystem<C, G> system{system_};
   MotorSplitSystem::Vector q{state_.q1_m, state_.q2_m, state_.mover_position_m};
   MotorSplitSystem::Vector v{state_.q1_dot_m_s, state_.q2_dot_m_s, state_.mover_velocity_m_s};
@@ -57,6 +63,7 @@ void MotorSimulator::advance_specialised(std::uint64_t steps) {
   const double dt = dt_;
   const double position_limit_sq = position_limit_m_ * position_limit_m_;
   const double speed_limit_sq = speed_limit_m_s_ * speed_limit_m_s_;
+  [[maybe_unused]] const double g_tv = model_.coefficients().g_tv;  // window statistics only
   std::uint64_t housekeeping = housekeeping_steps_;
   for (std::uint64_t k = 0; k < steps; ++k) {
     system_.set_inputs(drive_voltages(waveform, s, c), load);
@@ -80,6 +87,11 @@ void MotorSimulator::advance_specialised(std::uint64_t steps) {
       system_.set_contact_deflection_m(0.0);
       diverged_ = true;
       ++divergence_count_;
+    }
+    if constexpr (kWindow) {
+      // What a caller of step() reads after it: the end state and this step's forces.
+      const InterfaceForces& f = system_.forces();
+      window->add(dt, -q[0], g_tv * q[1], f.normal_n, f.friction_n, window->damping_power_w(v[0], v[1]));
     }
   }
   housekeeping_steps_ = housekeeping;

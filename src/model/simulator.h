@@ -8,6 +8,7 @@
 #include "model/drive.h"
 #include "model/motor.h"
 #include "model/motor_model.h"
+#include "model/window_statistics.h"
 
 namespace swum {
 
@@ -41,6 +42,10 @@ class MotorSimulator {
   void step();
   // `steps` steps (the hot loop).
   void advance(std::uint64_t steps);
+  // The same steps, adding each step's end state and interface forces to `window` (the
+  // steady-state windows): the same trajectory and the same sums as step() in a loop followed
+  // by window.add(...) from state() and forces(), at the cost of the hot loop.
+  void advance(std::uint64_t steps, WindowStatistics& window);
 
   [[nodiscard]] const MotorState& state() const { return state_; }
   // Replaces the state (e.g. a snapshot); the phasor is renormalised.
@@ -69,8 +74,8 @@ class MotorSimulator {
   void clear_diverged() { diverged_ = false; }
 
  private:
-  template <TangentialContact C, GuideFrictionModel G>
-  void advance_specialised(std::uint64_t steps);
+  template <TangentialContact C, GuideFrictionModel G, bool kWindow>
+  void advance_specialised(std::uint64_t steps, WindowStatistics* window);
 
   // Housekeeping of the enabled effects (effects.h), every 64 steps.
   void update_effects(const MotorSplitSystem::Vector& q, const MotorSplitSystem::Vector& v, double sin_theta,
