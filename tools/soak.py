@@ -987,7 +987,7 @@ def category(kind):
     for prefix, name in (("out of range", "invalid: value out of range (03)"), ("unknown command", "invalid: value out of range (03)"),
                          ("split", "invalid: split 32-bit value (02)"), ("illegal address", "invalid: illegal address (02)"),
                          ("bad quantity", "invalid: quantity / byte count (03)"), ("bad byte count", "invalid: quantity / byte count (03)"),
-                         ("bad function", "invalid: function code (01)"), ("MBAP", "framing: MBAP header wrong (answered)"),
+                         ("bad function", "invalid: function code (01)"), ("MBAP", "framing: MBAP header wrong (closed, not answered)"),
                          ("write", "valid writes"), ("churn: keep-alive", "valid writes"), ("keep-alive", "valid writes"),
                          ("enable", "valid writes"), ("disable", "valid writes"), ("reset", "valid writes")):
         if kind.startswith(prefix):
