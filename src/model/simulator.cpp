@@ -114,8 +114,9 @@ void MotorSimulator::update_effects(const MotorSplitSystem::Vector& q, const Mot
   const double block_s = kBlockSteps * dt_;
   if (e.slow() && !slow_states_frozen_) {
     if (e.thermal) {
-      // The block is one drive period at 40 kHz: an instantaneous C v^2 would be sampled at a
-      // fixed phase there, so the phase-independent cycle mean heats the stator.
+      // The block spans about one drive period (64 steps: 1.33 periods at 48 steps per 40 kHz
+      // period), so an instantaneous C v^2 would be sampled at a few recurring phases: the
+      // phase-independent cycle mean heats the stator.
       const double power_w = system_.mean_damping_power_w(q[0] - model_.constants().static_q1_m, q[1], v,
                                                           waveform.angular_frequency_rad_s);
       state_.stator_temperature_rise_k = thermal_step_k(e, state_.stator_temperature_rise_k, power_w, block_s);

@@ -32,8 +32,8 @@ Command run_at(double vpp, double frequency_hz) {
 TEST(EmulatorCore, TickIsAWholeNumberOfModelStepsAt10kHz) {
   SharedState shared;
   EmulatorCore core(test::li2019_model(), core_config(0), shared);
-  // 100 us tick / the config's 390.625 ns step (64 steps per 40 kHz period) = 256 steps.
-  EXPECT_EQ(core.steps_per_tick(), 256U);
+  // 100 us tick / the config's 520.83 ns step (48 steps per 40 kHz period) = 192 steps.
+  EXPECT_EQ(core.steps_per_tick(), 192U);
   EXPECT_NEAR(core.steps_per_tick() * test::li2019_model().time_step_s(), 1e-4, 1e-12);
   core.tick();
   EXPECT_NEAR(core.telemetry().sim_time_s, 1e-4, 1e-12);

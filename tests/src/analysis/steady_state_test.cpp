@@ -71,9 +71,10 @@ void compare_with_reference(const MotorModel& model, double vpp, double f_hz, do
 // scheme), every point started from rest. The grid: the drift-aware frequencies (speed maxima
 // 40.3 / 39.9 / 39.5 kHz at 100 / 250 / 400 Vpp), both flanks of the 100 Vpp and 400 Vpp speed
 // peaks (the 400 Vpp fold lies between 39.375 and 39.4 kHz: 39.4 kHz is its upper edge) and
-// two loaded points. Worst errors at 64 steps per 40 kHz period with the semi-implicit Euler
-// step: speed +0.69 % (100 Vpp, 40 kHz), tip normal +0.17 %, tip tangential +0.26 %
-// (100 Vpp, 40.3 kHz); ~0.8 s of reference per point.
+// two loaded points. Worst errors at 48 steps per 40 kHz period (the config's step since issue
+// 16) with the semi-implicit Euler step: speed +0.48 % (400 Vpp, 40 kHz, 1 N), tip normal
+// +0.29 % (100 Vpp, 40.3 kHz), tip tangential +0.47 % (100 Vpp, 40.45 kHz); at 40 steps the
+// 100 Vpp / 40 kHz point fails (+1.44 % speed); ~0.8 s of reference per point.
 struct GridPoint {
   double vpp, f_hz, load_n;
 };
@@ -106,8 +107,8 @@ INSTANTIATE_TEST_SUITE_P(ValidationGrid, SteadyStateContract,
 // a 25 Hz grid across the peak (100 Vpp: 40.2-40.4 kHz, a flat maximum; 400 Vpp: 39.375-39.525
 // kHz, the maximum just above the fold, where the speed falls from +800 to -80 mm/s). 25 Hz is
 // a tenth of the half-width of the 100 Vpp peak and below the 0.2 kHz uncertainty of the
-// paper's peak. At 64 steps per period both peaks coincide (40.275 and 39.45 kHz) and so does
-// the fold. ~7 s of reference per peak.
+// paper's peak. At 48 (and 64) steps per period both peaks coincide (40.275 and 39.45 kHz) and
+// so does the fold. ~7 s of reference per peak.
 struct PeakGrid {
   double vpp, f_first_hz, f_last_hz;
 };
