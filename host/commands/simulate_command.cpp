@@ -24,6 +24,7 @@ struct SimulateOptions {
   std::string phase_deg = "90";
   std::string duration_s;
   std::string trace_path;
+  bool whole_duration = false;
   bool json = false;
 };
 
@@ -60,6 +61,7 @@ void run_simulate(const SimulateOptions& o) {
     }
     options = steady_state_options_within(duration_s);
   }
+  options.stop_when_settled = !o.whole_duration;
   std::string trace_csv;
   if (!o.trace_path.empty()) {
     trace_csv = "time_s,q1_m,q1_dot_m_s,q2_m,q2_dot_m_s,tip_normal_um,tip_tangential_um,"
@@ -123,6 +125,9 @@ void add_simulate_command(CLI::App& app) {
   sub->add_option("--duration", o->duration_s,
                   "run at most this long (s), stopping when two windows agree (default 0.1)");
   sub->add_option("--trace", o->trace_path, "write a CSV trace of the run");
+  sub->add_flag("--whole-duration", o->whole_duration,
+                "run all of --duration even once two windows agree (timing, slow transients); the result is the last "
+                "window");
   sub->add_flag("--json", o->json, "print one JSON object");
   sub->callback([o] { run_simulate(*o); });
 }

@@ -48,13 +48,12 @@ SteadyStateResult window_loop(const SteadyStateOptions& opt, Run&& run, Position
       r.speed_change_mm_s = r.speed_mm_s - previous_speed;
       const double tolerance = std::max(opt.speed_tolerance_mm_s,
                                         opt.speed_relative_tolerance * std::abs(r.speed_mm_s));
-      if (std::abs(r.speed_change_mm_s) <= tolerance) {
-        r.ok = true;
-        return r;
-      }
+      r.ok = std::abs(r.speed_change_mm_s) <= tolerance;
+      if (r.ok && opt.stop_when_settled) return r;
     }
     previous_speed = r.speed_mm_s;
     if (elapsed + opt.window_s > opt.max_s + 1e-12) {
+      if (r.ok) return r;  // ran on after settling (stop_when_settled false): the last two agree
       r.failure = r.windows < 2 ? std::string("only one window fits within ") + std::to_string(opt.max_s) +
                                       " s: nothing to compare it with"
                                 : std::string("did not settle within ") + std::to_string(opt.max_s) +

@@ -45,6 +45,9 @@ struct SteadyStateOptions {
   // Two consecutive windows agree when |speed_k - speed_k-1| <= max(abs, rel |speed_k|).
   double speed_tolerance_mm_s = 0.5;
   double speed_relative_tolerance = 0.005;
+  // false: run windows until max_s even after two agree (timing runs, slow transients); the
+  // result is the last window, ok when its speed agrees with the one before.
+  bool stop_when_settled = true;
   // Trace: called every trace_every_steps steps (fixed step) or accepted steps (reference).
   std::uint64_t trace_every_steps = 0;  // 0 = no trace
   std::function<void(const TraceSample&)> trace;

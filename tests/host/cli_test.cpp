@@ -54,6 +54,22 @@ TEST(SwumCli, SimulateJsonHasTheContractFields) {
   EXPECT_GT(j.at("tip_normal_um").get<double>(), 0.1);
 }
 
+TEST(SwumCli, SimulateWholeDurationRunsAllOfIt) {
+  const CliRun early = swum(
+      {"simulate", "--config", kConfig, "--vpp", "400", "--frequency", "40000", "--duration", "0.3", "--json"});
+  const CliRun whole = swum({"simulate", "--config", kConfig, "--vpp", "400", "--frequency", "40000", "--duration",
+                             "0.3", "--whole-duration", "--json"});
+  ASSERT_EQ(early.status, 0) << early.output;
+  ASSERT_EQ(whole.status, 0) << whole.output;
+  const auto e = nlohmann::json::parse(early.output);
+  const auto w = nlohmann::json::parse(whole.output);
+  EXPECT_LT(e.at("sim_s").get<double>(), 0.1);  // stopped once two windows agreed
+  EXPECT_NEAR(w.at("sim_s").get<double>(), 0.3, 1e-6);
+  EXPECT_TRUE(w.at("steady").get<bool>());
+  EXPECT_NEAR(w.at("speed_mm_s").get<double>(), e.at("speed_mm_s").get<double>(),
+              0.01 * e.at("speed_mm_s").get<double>());
+}
+
 TEST(SwumCli, SimulateTraceIsACsvWithTimeAndForces) {
   const fs::path trace = scratch("trace.csv");
   const CliRun r = swum({"simulate", "--config", kConfig, "--vpp", "300", "--frequency", "40000", "--duration", "0.004",

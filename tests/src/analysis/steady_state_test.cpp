@@ -260,6 +260,32 @@ TEST(SteadyState, RunWithinADurationStopsWhenTwoWindowsAgree) {
   }
 }
 
+// stop_when_settled = false (swum simulate --whole-duration, issue 16: a real-time factor counts
+// time actually run): every window up to max_s is run, the result is the last one and ok says
+// whether it agrees with the one before; the same settled values as the early stop, within the
+// agreement tolerance.
+TEST(SteadyState, WholeDurationRunsEveryWindowAndReportsTheLast) {
+  SteadyStateOptions whole = steady_state_options_within(0.2);
+  whole.stop_when_settled = false;
+  const auto r = run_to_steady_state(calibrated_model(), {400.0, 40000.0}, whole);
+  ASSERT_TRUE(r.ok) << r.failure;
+  EXPECT_NEAR(r.sim_s, 0.2, 1e-9);
+  EXPECT_EQ(r.windows, 17);  // (0.2 s - 30 ms settle) / 10 ms
+  const auto early = run_to_steady_state(calibrated_model(), {400.0, 40000.0}, steady_state_options_within(0.2));
+  ASSERT_TRUE(early.ok);
+  EXPECT_LT(early.sim_s, 0.1);
+  EXPECT_NEAR(r.speed_mm_s, early.speed_mm_s, 0.01 * early.speed_mm_s);
+  EXPECT_NEAR(r.tip_normal_um, early.tip_normal_um, 0.005 * early.tip_normal_um);
+  // A run that never settles within max_s still says so.
+  SteadyStateOptions strict = whole;
+  strict.speed_tolerance_mm_s = -1.0;
+  strict.speed_relative_tolerance = -1.0;
+  const auto never = run_to_steady_state(calibrated_model(), {400.0, 40000.0}, strict);
+  EXPECT_FALSE(never.ok);
+  EXPECT_NEAR(never.sim_s, 0.2, 1e-9);
+  EXPECT_NE(never.failure.find("did not settle"), std::string::npos) << never.failure;
+}
+
 TEST(SteadyState, OneWindowIsNotReportedAsTwoThatDiffer) {
   SteadyStateOptions opt;
   opt.settle_s = 0.005;
