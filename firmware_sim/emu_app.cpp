@@ -248,7 +248,7 @@ std::string format_exit_report(const ExitStatistics& s) {
            u(m->exceptions.load()), u(m->connections.load()));
     out += format_drops("modbus tcp closed:", m->drops,
                         {Drop::no_slot, Drop::evicted, Drop::idle, Drop::frame_timeout, Drop::reply_timeout,
-                         Drop::bad_header});
+                         Drop::bad_header, Drop::too_long});
   }
   if (const ModbusStats* m = s.modbus_rtu) {
     append(out, "  modbus    %llu requests, %llu exceptions, %llu line errors\n", u(m->requests.load()),

@@ -92,6 +92,7 @@ const char* to_string(Drop d) {
     case Drop::frame_timeout: return "frame timeout";
     case Drop::reply_timeout: return "reply timeout";
     case Drop::bad_header: return "bad header";
+    case Drop::too_long: return "too long";
     case Drop::other_unit: return "other unit";
     case Drop::bad_crc: return "bad crc";
     case Drop::bad_length: return "bad length";

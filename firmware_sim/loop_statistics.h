@@ -79,7 +79,8 @@ enum class Drop : std::uint8_t {
   idle,           // TCP: no request for --modbus-idle-timeout-ms
   frame_timeout,  // TCP, RTU: a request still incomplete at its deadline (first byte + frame timeout)
   reply_timeout,  // TCP: a reply the client did not take within the frame timeout
-  bad_header,     // TCP: MBAP protocol id not 0, or its length field not the frame's (framing lost)
+  bad_header,     // TCP: MBAP protocol id not 0, or a length field shorter than the frame or beyond an ADU
+  too_long,       // TCP: a request longer than an ADU (260 bytes) by its function code's byte count
   other_unit,     // RTU: a well-formed frame for another unit id (not an error: a shared line)
   bad_crc,        // RTU: CRC mismatch (garbage, noise, a frame cut short)
   bad_length,     // RTU: a frame that would exceed 256 bytes

@@ -78,9 +78,29 @@ void log_drop(std::uint64_t nth, Drop reason, const std::string& peer) {
                nth == kLogged ? " (further ones counted only)" : "");
 }
 
+// Reads and drops `count` bytes of the request being received (blocking: the frame deadline
+// shuts the socket down). False on end of stream or an error.
+bool discard_bytes(int fd, std::size_t count) {
+  std::array<std::uint8_t, 256> sink{};
+  while (count > 0) {
+    const ssize_t n = ::recv(fd, sink.data(), std::min(count, sink.size()), 0);
+    if (n > 0) {
+      count -= static_cast<std::size_t>(n);
+    } else if (n < 0 && errno == EINTR) {
+      continue;
+    } else {
+      return false;
+    }
+  }
+  return true;
+}
+
 // One request: validate, queue writes, serve reads. False when the connection should close.
+// `surplus`: the MBAP length counted bytes after what the function code frames; a supported
+// function code with them is malformed (exception 03, wrong length), an unsupported one is
+// refused as such (01).
 bool serve(modbus_t* ctx, const std::uint8_t* adu, int length, int checksum_length, modbus_mapping_t* map,
-           SharedState& shared, const AmplifierLimits& limits, ModbusStats& stats) {
+           SharedState& shared, const AmplifierLimits& limits, ModbusStats& stats, bool surplus = false) {
   stats.requests.fetch_add(1, std::memory_order_relaxed);
   const int header = modbus_get_header_length(ctx);
   const int pdu_length = length - header - checksum_length;
@@ -90,6 +110,10 @@ bool serve(modbus_t* ctx, const std::uint8_t* adu, int length, int checksum_leng
   protocol::modbus::Request request;
   Reason reason = Reason::none;
   std::uint8_t exception = protocol::modbus::parse_request(pdu, request, &reason);
+  if (surplus && exception == protocol::modbus::kNoException) {
+    exception = protocol::modbus::kIllegalDataValue;
+    reason = Reason::wrong_length;
+  }
   protocol::modbus::Decision decision;
   if (exception == protocol::modbus::kNoException) {
     decision = protocol::modbus::decide(request, limits);
@@ -384,17 +408,23 @@ void ModbusTcpServer::client_loop(Connection& c) {
           // ECONNRESET: the client hung up. EMBBADDATA etc.: a malformed frame breaks the TCP
           // stream framing; close the connection.
           if (e == ETIMEDOUT) c.reason = Drop::frame_timeout;
+          else if (e == EMBBADDATA) c.reason = Drop::too_long;  // libmodbus: the frame exceeds an ADU
           else if (e != ECONNRESET && e != 0 && !stopping_.load()) stats_.receive_errors.fetch_add(1);
         }
         break;
       }
-      if (!protocol::modbus::mbap_header_consistent(std::span<const std::uint8_t>(adu, static_cast<std::size_t>(rc)))) {
+      const protocol::modbus::MbapHeaderCheck header = protocol::modbus::check_mbap_header(
+          std::span<const std::uint8_t>(adu, static_cast<std::size_t>(rc)));
+      if (!header.valid) {
         std::lock_guard lock(mutex_);
         if (c.phase != kClosing) c.reason = Drop::bad_header;  // not answered: its framing cannot be trusted
         break;
       }
+      // The rest of the request by its MBAP length (a body libmodbus does not frame), within the
+      // same frame deadline (still kReceiving); a short read means the connection is ending.
+      if (header.surplus_bytes > 0 && !discard_bytes(c.fd, header.surplus_bytes)) break;
       if (!enter(c, kReplying)) break;  // the deadline passed just as the frame completed
-      if (rc > 0 && !serve(ctx, adu, rc, 0, map, shared_, limits_, stats_)) break;
+      if (rc > 0 && !serve(ctx, adu, rc, 0, map, shared_, limits_, stats_, header.surplus_bytes > 0)) break;
       if (!enter(c, kIdle)) break;
     }
   } else {

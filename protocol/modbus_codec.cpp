@@ -60,12 +60,13 @@ void put_u32(std::span<std::uint16_t> r, std::size_t i, std::uint32_t v) {
 bool is_u32_start_holding(std::uint16_t a) { return contains(kHoldingU32, a); }
 bool is_u32_start_input(std::uint16_t a) { return contains(kInputU32, a) || contains(kInputU32More, a); }
 
-bool mbap_header_consistent(std::span<const std::uint8_t> adu) {
+MbapHeaderCheck check_mbap_header(std::span<const std::uint8_t> adu) {
   constexpr std::size_t kHeader = 7;  // transaction id (2), protocol id (2), length (2), unit id (1)
-  if (adu.size() < kHeader + 1) return false;
+  if (adu.size() < kHeader + 1) return {};
   const unsigned protocol_id = (unsigned{adu[2]} << 8) | adu[3];
-  const std::size_t length = (std::size_t{adu[4]} << 8) | adu[5];
-  return protocol_id == 0 && length == adu.size() - 6;
+  const std::size_t announced = 6 + ((std::size_t{adu[4]} << 8) | adu[5]);  // the whole ADU
+  if (protocol_id != 0 || announced < adu.size() || announced > kTcpMaxAduBytes) return {};
+  return {true, announced - adu.size()};
 }
 
 std::uint8_t parse_request(std::span<const std::uint8_t> pdu, Request& r, Reason* reason) {

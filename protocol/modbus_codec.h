@@ -114,12 +114,21 @@ struct Request {
   std::array<std::uint16_t, kMaxValues> values{};  // writes
 };
 
-// Modbus TCP: true when an ADU as libmodbus framed it (MBAP header + PDU, read by function code)
-// has protocol identifier 0 and an MBAP length field equal to the bytes that follow it (unit id +
-// PDU). A false one breaks the stream's framing: its extra or missing bytes would be read as the
-// next request, so the server closes the connection (Modbus Messaging on TCP/IP Implementation
-// Guide, 3.1.3: the MBAP header is checked before the PDU).
-bool mbap_header_consistent(std::span<const std::uint8_t> adu);
+// Modbus TCP: the MBAP header of an ADU as libmodbus framed it (header + PDU, read by what the
+// function code implies; a code libmodbus does not know gets no body). The header's length
+// field counts unit id + PDU and is what frames the request on the wire (Modbus Messaging on
+// TCP/IP Implementation Guide, 3.1.3), so:
+//  * protocol id not 0, or a length field shorter than the framed bytes, or one announcing more
+//    than an ADU holds (260 bytes): not valid: the stream's framing is lost, close;
+//  * a length field longer than the framed bytes: valid, and `surplus_bytes` more belong to
+//    this request (e.g. the body of a function code libmodbus does not know): read them before
+//    the next request.
+struct MbapHeaderCheck {
+  bool valid = false;
+  std::size_t surplus_bytes = 0;
+};
+inline constexpr std::size_t kTcpMaxAduBytes = 260;
+MbapHeaderCheck check_mbap_header(std::span<const std::uint8_t> adu);
 
 // PDU = function code + data (no MBAP header, no CRC). Checks the function code and the
 // quantity / byte-count consistency; 0 on success, else the exception code (reason in *reason).

@@ -733,7 +733,9 @@ class FramingClient(Client):
         link.send(frame[:self.rng.randrange(1, len(frame))])
         return "client hung up"
 
-    def answered(self, link, kind, pdu, **header):
+    def answered(self, link, kind, pdu, exception=None, **header):
+        """The reply PDU to `pdu` (None when closed or unanswered): a normal reply, or with
+        `exception` that exception under the function code."""
         self.tally.count_sent(kind)
         t0 = time.monotonic()
         try:
@@ -744,9 +746,11 @@ class FramingClient(Client):
         except NoReply as e:
             self.tally.violation(f"{kind}: no reply", repr(e))
             return None
-        self.tally.served(kind, self.group, time.monotonic() - t0)
-        if reply[0] != pdu[0]:
+        self.tally.served(kind, self.group, time.monotonic() - t0, exception=exception)
+        expected = pdu[:1] if exception is None else bytes([pdu[0] | 0x80, exception])
+        if reply[:len(expected)] != expected:
             self.tally.violation(f"{kind}: unexpected reply", reply.hex())
+            return None
         return reply
 
     def refused_header(self, link, kind, frame):
@@ -770,26 +774,54 @@ class FramingClient(Client):
         return None
 
     def case_mbap_length(self, link):
+        # A length field shorter than the frame, or beyond an ADU: closed at once. One longer than
+        # the frame (200) announces bytes that never come: closed at the frame timeout.
         pdu = read_pdu(0, INPUT_COUNT)
         length = self.rng.choice((0, 1, 2, 3, 200, 0xFFFF))
-        return self.refused_header(link, "MBAP length wrong (PDU whole)", mbap(1, pdu, length=length))
+        if length != 200:
+            return self.refused_header(link, "MBAP length wrong (PDU whole)", mbap(1, pdu, length=length))
+        self.tally.count_sent("MBAP length announcing bytes never sent")
+        link.send(mbap(1, pdu, length=length))
+        t0 = time.monotonic()
+        if link.wait_closed(DEADLINE_S):
+            if time.monotonic() - t0 < FRAME_TIMEOUT_MS / 1000 - 0.05:
+                self.tally.violation("MBAP length + missing bytes: closed before the frame timeout")
+            self.soak.expected_frame_timeouts += 1
+            return "closed after the frame timeout"
+        self.tally.violation("MBAP length + missing bytes: connection not closed within the deadline")
+        return None
 
     def case_protocol_id(self, link):
         return self.refused_header(link, "MBAP protocol id not 0", mbap(1, read_pdu(0, 4), protocol=0x1234))
 
+    def answered_then_usable(self, link, kind, pdu, exception):
+        """A request the MBAP length frames whole but libmodbus frames shorter: the server reads the
+        rest, answers `exception` under the function code, and the connection stays in step."""
+        if self.answered(link, kind, pdu, exception=exception) is None:
+            return None
+        if self.answered(link, f"{kind}: next request", read_pdu(I["state"], 1)) is None:
+            return None
+        return f"exception {exception:02x}, connection kept in step"
+
     def case_mbap_surplus(self, link):
-        # The length field counts 3 bytes more than libmodbus frames for FC04; 2 are sent: read as
-        # the start of the next request they would break the stream's framing.
-        pdu = read_pdu(0, 4)
-        return self.refused_header(link, "MBAP length + surplus bytes", mbap(7, pdu, length=len(pdu) + 3) + b"\x00\x00")
+        # FC04 and 2 more bytes, counted by the MBAP length: a supported function code with a
+        # body longer than its own: exception 03 (wrong length).
+        return self.answered_then_usable(link, "MBAP length + surplus bytes", read_pdu(0, 4) + b"\x00\x00", 3)
+
+    def case_device_identification(self, link):
+        # FC43/14 Read Device Identification with its body (libmodbus frames FC43 without one;
+        # HMIs probe it on connect): exception 01.
+        return self.answered_then_usable(link, "FC43 read device id (with its body)", b"\x2b\x0e\x01\x00", 1)
 
     def case_too_long(self, link):
         # FC16 announcing 250 data bytes: 263 bytes, more than an ADU (260): closed at once.
         try:
             link.send(mbap(1, struct.pack(">BHHB", 16, 0, 125, 250) + bytes(250), length=257))
         except Closed:
+            self.soak.expected_too_long += 1
             return "closed"  # already while sending
         if link.wait_closed(DEADLINE_S):
+            self.soak.expected_too_long += 1
             return "closed"
         self.tally.violation("too long frame: connection not closed within the deadline")
         return None
@@ -819,7 +851,8 @@ class FramingClient(Client):
 
     def body(self):
         cases = [self.case_truncated_silent, self.case_truncated_hangup, self.case_mbap_length,
-                 self.case_protocol_id, self.case_mbap_surplus, self.case_too_long, self.case_pipelined]
+                 self.case_protocol_id, self.case_mbap_surplus, self.case_device_identification,
+                 self.case_too_long, self.case_pipelined]
         while not self.stop.is_set():
             self.checkpoint()
             case = self.rng.choice(cases)
@@ -987,7 +1020,10 @@ def category(kind):
     for prefix, name in (("out of range", "invalid: value out of range (03)"), ("unknown command", "invalid: value out of range (03)"),
                          ("split", "invalid: split 32-bit value (02)"), ("illegal address", "invalid: illegal address (02)"),
                          ("bad quantity", "invalid: quantity / byte count (03)"), ("bad byte count", "invalid: quantity / byte count (03)"),
-                         ("bad function", "invalid: function code (01)"), ("MBAP", "framing: MBAP header wrong (closed, not answered)"),
+                         ("bad function", "invalid: function code (01)"),
+                         ("MBAP length + surplus", "framing: a body beyond what libmodbus frames (answered)"),
+                         ("FC43", "framing: a body beyond what libmodbus frames (answered)"),
+                         ("MBAP", "framing: MBAP header wrong (closed, not answered)"),
                          ("write", "valid writes"), ("churn: keep-alive", "valid writes"), ("keep-alive", "valid writes"),
                          ("enable", "valid writes"), ("disable", "valid writes"), ("reset", "valid writes")):
         if kind.startswith(prefix):
@@ -1032,6 +1068,7 @@ class Soak:
         self.framing = collections.Counter()
         self.expected_frame_timeouts = 0
         self.expected_bad_headers = 0
+        self.expected_too_long = 0
         self.catalogue_size = 0
         self.samples = []
         self.port = None
@@ -1234,6 +1271,8 @@ class Soak:
                   f"{report['closed'].get('frame timeout')} = {self.expected_frame_timeouts}")
             check("exit report: bad headers = those sent", report["closed"].get("bad header") == self.expected_bad_headers,
                   f"{report['closed'].get('bad header')} = {self.expected_bad_headers}")
+            check("exit report: too long = those sent", report["closed"].get("too long") == self.expected_too_long,
+                  f"{report['closed'].get('too long')} = {self.expected_too_long}")
             check("exit report: reply timeouts = 0", report["closed"].get("reply timeout") == 0, str(report["closed"].get("reply timeout")))
             verified = t.events["amplifier rejects verified (enable in fault)"]
             check("amplifier-rejected >= rejects verified in blackouts", amp_rejected >= verified, f"{amp_rejected} >= {verified}")

@@ -74,13 +74,14 @@ TEST(EmuExitReport, ModbusTcpCountsAndCloses) {
   count(tcp.drops, Drop::frame_timeout, 4);
   count(tcp.drops, Drop::reply_timeout, 5);
   count(tcp.drops, Drop::bad_header, 6);
+  count(tcp.drops, Drop::too_long, 7);
   count(tcp.drops, Drop::bad_crc, 9);  // an RTU reason: not shown for TCP
   ExitStatistics s = loop_only();
   s.modbus_tcp = &tcp;
   EXPECT_EQ(format_exit_report(s),
             kLoopLines + "  modbus    1000 requests, 7 exceptions, 12 connections\n"
                          "  modbus tcp closed: no slot 3, evicted 1, idle 2, frame timeout 4, reply timeout 5, "
-                         "bad header 6\n");
+                         "bad header 6, too long 7\n");
 }
 
 TEST(EmuExitReport, ModbusRtuCountsAndDiscards) {

@@ -8,6 +8,7 @@ import socket
 import struct
 import sys
 import threading
+import time
 
 try:
     import serial_asyncio  # noqa: F401  (pymodbus.client imports it; only Recommended by Debian)
@@ -257,14 +258,14 @@ def scenario_malformed():
                 s.recv(260)
             except (socket.timeout, ConnectionResetError):
                 pass
-        # MBAP headers that contradict the frame: a valid FC04 read under protocol id 1, a read
-        # whose length field counts 2 bytes more than libmodbus frames for FC04 (they would be
-        # read as the next request), one whose length field counts fewer. None is answered; each
-        # connection is closed at once and counted as "bad header" (docs/protocols.md).
+        # MBAP headers that contradict the frame: a valid FC04 read under protocol id 1, one
+        # whose length field counts fewer bytes than the read has, one announcing more than an
+        # ADU holds. None is answered; each connection is closed at once and counted as "bad
+        # header" (docs/protocols.md).
         read = struct.pack(">BHH", 4, 0, 1)
         for tid, frame in [(3, struct.pack(">HHHB", 3, 1, len(read) + 1, 1) + read),
-                           (4, mbap(4, read + b"\xde\xad")),
-                           (5, mbap(5, read, length=3))]:
+                           (5, mbap(5, read, length=3)),
+                           (6, mbap(6, read, length=0xFFFF))]:
             with socket.create_connection((emu.host, emu.port), timeout=5) as s:
                 s.sendall(frame)
                 s.settimeout(5)
@@ -273,6 +274,32 @@ def scenario_malformed():
                 except ConnectionResetError:
                     reply = b""
                 assert reply == b"", (frame.hex(), reply.hex())
+        # The MBAP length frames the request, libmodbus frames by function code: bytes the
+        # length counts beyond that are read as part of the request. FC43/14 (Read Device
+        # Identification, which HMIs probe on connect) with its body: exception 01; FC04 with 2
+        # bytes more than its own: exception 03, reason wrong_length. The connection stays in
+        # step: a read after each is answered.
+        with socket.create_connection((emu.host, emu.port), timeout=5) as s:
+            for tid, pdu, code in [(20, b"\x2b\x0e\x01\x00", ILLEGAL_FUNCTION),
+                                   (21, b"\x08\x00\x00\x12\x34", ILLEGAL_FUNCTION),
+                                   (22, read + b"\xde\xad", ILLEGAL_DATA_VALUE)]:
+                s.sendall(mbap(tid, pdu))
+                reply = s.recv(260)
+                assert reply == mbap(tid, bytes([pdu[0] | 0x80, code])), (pdu.hex(), reply.hex())
+                s.sendall(mbap(tid + 100, read))
+                reply = s.recv(260)
+                assert reply[:2] == struct.pack(">H", tid + 100) and reply[7] == 4, reply.hex()
+        assert c.inputs()["last_reject_reason"] == MAP.reasons["wrong_length"]
+        # A length field announcing bytes that never come: closed at the frame timeout.
+        with socket.create_connection((emu.host, emu.port), timeout=5) as s:
+            s.sendall(mbap(7, read, length=200))
+            s.settimeout(5)
+            t0 = time.monotonic()
+            try:
+                reply = s.recv(260)
+            except ConnectionResetError:
+                reply = b""
+            assert reply == b"" and time.monotonic() - t0 >= 0.45, reply.hex()
         after = c.inputs()  # the first client is still served
         assert after["state"] == before["state"] and after["applied_commands"] == before["applied_commands"], after
         assert emu.proc.poll() is None, "swum-emu died"

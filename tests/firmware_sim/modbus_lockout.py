@@ -97,6 +97,7 @@ def scenario_idle_holders():
     eviction time (1 s), evicting the longest-idle holder."""
     # The idle timeout out of the way (60 s): here only eviction and "no slot" close connections.
     with Emulator("--watchdog-ms", "0", "--modbus-idle-timeout-ms", "60000") as emu:
+        opened = time.monotonic()  # the first holder's connect: no holder is idle longer
         holders = [connect(emu) for _ in range(40)]
         # Those beyond the slots are closed at once (the server never reads from them).
         expired = deadline(10)
@@ -113,11 +114,14 @@ def scenario_idle_holders():
                 break
             refused += 1
             client.close()
-            assert time.monotonic() - t0 < EVICT_IDLE_S + 4, f"not served after {attempts} attempts"
+            assert time.monotonic() - t0 < EVICT_IDLE_S + 1.5, f"not served after {attempts} attempts"
             select.select([], [], [], 0.05)  # the client's retry interval
         served_after = time.monotonic() - t0
         print(f"valid client served after {served_after * 1e3:.0f} ms, {attempts} attempt(s)")
-        assert served_after < EVICT_IDLE_S + 4, served_after  # documented: 1 s; 4 s for a loaded machine
+        # Documented: served once a holder has been idle 1 s, plus the retry interval; 0.5 s more
+        # for a loaded machine. And never before a holder was idle that long (no early eviction).
+        assert served_after < EVICT_IDLE_S + 1.5, served_after
+        assert time.monotonic() - opened >= EVICT_IDLE_S - 0.01, time.monotonic() - opened
         assert ask(client, 2) is not None, "the served client was cut off"
         # It took the slot of one idle holder: 15 holders remain, 25 were closed.
         expired = deadline(10)
@@ -185,7 +189,7 @@ def scenario_trickle():
         assert emu.stop() == 0
     counts = drops(emu.output)
     print(emu.output)
-    assert counts == {"no slot": 0, "evicted": 0, "idle": 0, "frame timeout": 1, "reply timeout": 0, "bad header": 0}, counts
+    assert counts == {"no slot": 0, "evicted": 0, "idle": 0, "frame timeout": 1, "reply timeout": 0, "bad header": 0, "too long": 0}, counts
 
 
 def scenario_idle_timeout():

@@ -141,12 +141,24 @@ def model_kill_resume():
     check(killed < interrupted < total, f"{interrupted} rows after the interrupted resume (had {killed})")
     print(f"SIGINT: {interrupted} of {total} rows kept; stderr: {err.strip()}")
 
-    # --resume to the end: byte for byte the uninterrupted file, the partial gone.
+    # Kept rows are not computed again: the first row (not the last, which --resume recomputes to
+    # check the config) gets a valid but different tip_tangential_um; it must survive.
+    lines = read(partial).split("\n")
+    cells = lines[1].split(",")
+    cells[5] = "0.123456" if cells[5] != "0.123456" else "0.654321"
+    marked = ",".join(cells)
+    lines[1] = marked
+    with open(partial, "w") as f:
+        f.write("\n".join(lines))
+    # --resume to the end: the uninterrupted file byte for byte (but the marked row), the partial gone.
     status, _, err = swum("sweep", "--config", CONFIG, *MODEL_GRID, "--resume", "--out", out)
     check(status == 0, f"resume: exit {status}: {err}")
-    check(read(out) == expected, "the resumed file differs from the uninterrupted one")
+    final = read(out).split("\n")
+    check(final[1] == marked, f"a kept row was computed again: {final[1]!r}, kept {marked!r}")
+    final[1] = expected.split("\n")[1]
+    check("\n".join(final) == expected, "the resumed file differs from the uninterrupted one")
     check(not os.path.exists(partial), "the partial is left after the resume completed")
-    print("resumed: byte-identical to the uninterrupted run")
+    print("resumed: the kept rows as they were, the rest byte-identical to the uninterrupted run")
 
 
 def resume_errors():

@@ -51,22 +51,35 @@ std::vector<std::uint8_t> adu(std::uint16_t protocol_id, std::uint16_t length_fi
   return a;
 }
 
-TEST(MbapHeader, ProtocolIdZeroAndALengthThatCountsUnitAndPduIsConsistent) {
+TEST(MbapHeader, ProtocolIdZeroAndALengthThatCountsUnitAndPduIsValid) {
   const auto pdu = read_pdu(kReadInputRegisters, 0, 1);
-  EXPECT_TRUE(mbap_header_consistent(adu(0, 6, pdu)));
-  EXPECT_TRUE(mbap_header_consistent(adu(0, 2, {0x2b})));  // the shortest: unit id + function code
+  const MbapHeaderCheck whole = check_mbap_header(adu(0, 6, pdu));
+  EXPECT_TRUE(whole.valid);
+  EXPECT_EQ(whole.surplus_bytes, 0U);
+  EXPECT_TRUE(check_mbap_header(adu(0, 2, {0x2b})).valid);  // the shortest: unit id + function code
 }
 
-TEST(MbapHeader, AnotherProtocolIdOrALengthThatDisagreesIsNot) {
+TEST(MbapHeader, ALongerLengthFieldAnnouncesTheRestOfTheRequest) {
+  // FC43/14 Read Device Identification: libmodbus frames the code alone; the MBAP length counts
+  // its 3-byte body, which the server must read as part of this request.
+  const MbapHeaderCheck device_id = check_mbap_header(adu(0, 5, {0x2b}));
+  EXPECT_TRUE(device_id.valid);
+  EXPECT_EQ(device_id.surplus_bytes, 3U);
+  // Up to a whole ADU (260 bytes = 6 + a length field of 254), not beyond.
+  EXPECT_EQ(check_mbap_header(adu(0, 254, read_pdu(kReadInputRegisters, 0, 1))).surplus_bytes, 248U);
+  EXPECT_FALSE(check_mbap_header(adu(0, 255, read_pdu(kReadInputRegisters, 0, 1))).valid);
+  EXPECT_FALSE(check_mbap_header(adu(0, 0xFFFF, read_pdu(kReadInputRegisters, 0, 1))).valid);
+}
+
+TEST(MbapHeader, AnotherProtocolIdOrAShorterLengthIsNotValid) {
   const auto pdu = read_pdu(kReadInputRegisters, 0, 1);
-  EXPECT_FALSE(mbap_header_consistent(adu(1, 6, pdu)));       // not Modbus
-  EXPECT_FALSE(mbap_header_consistent(adu(0xFFFF, 6, pdu)));  // not Modbus
-  EXPECT_FALSE(mbap_header_consistent(adu(0, 8, pdu)));       // more bytes announced than framed
-  EXPECT_FALSE(mbap_header_consistent(adu(0, 5, pdu)));       // fewer
-  EXPECT_FALSE(mbap_header_consistent(adu(0, 0, pdu)));
+  EXPECT_FALSE(check_mbap_header(adu(1, 6, pdu)).valid);       // not Modbus
+  EXPECT_FALSE(check_mbap_header(adu(0xFFFF, 6, pdu)).valid);  // not Modbus
+  EXPECT_FALSE(check_mbap_header(adu(0, 5, pdu)).valid);       // fewer bytes than framed
+  EXPECT_FALSE(check_mbap_header(adu(0, 0, pdu)).valid);
   const auto whole = adu(0, 6, pdu);
-  EXPECT_FALSE(mbap_header_consistent(std::span<const std::uint8_t>(whole.data(), 7)));  // no function code
-  EXPECT_FALSE(mbap_header_consistent({}));
+  EXPECT_FALSE(check_mbap_header(std::span<const std::uint8_t>(whole.data(), 7)).valid);  // no function code
+  EXPECT_FALSE(check_mbap_header({}).valid);
 }
 
 TEST(RegisterMap, ReadsWithinTheTablesAreAccepted) {
