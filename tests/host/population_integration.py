@@ -1,7 +1,8 @@
 #!/usr/bin/python3
 """`swum population` as users run it (docs/population.md): the same study on one process
 (two threads, then one) and under `mpirun -np 2` gives byte-identical files and summaries; a
-study killed with SIGKILL leaves a valid prefix of the uninterrupted run's file.
+study killed with SIGKILL leaves a valid prefix of the uninterrupted run's file, and a smaller
+study's rows are the first rows of a bigger one's.
 
   population_integration.py mpirun_np2 | kill
 
@@ -80,6 +81,11 @@ def kill_study():
     kept = check_prefix(read(partial), expected, 1, "killed study")
     check(1 <= kept < 8, f"{kept} rows after the kill")
     print(f"ok: SIGKILL: {kept} of 8 motors kept in {partial}, each equal to the uninterrupted run's")
+    # Motor i is a function of (seed, i): a smaller study is the bigger one's first rows.
+    smaller = path("smaller.csv")
+    run([SWUM, "population", *STUDY, "--motors", "3", "--threads", "2", "--out", smaller])
+    check(whole_rows(read(smaller), 1) == whole_rows(expected, 1)[:3], "--motors 3 is not the first 3 rows of 8")
+    print("ok: --motors 3 gives the first 3 rows of --motors 8")
 
 
 if __name__ == "__main__":
