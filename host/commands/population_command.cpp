@@ -45,11 +45,11 @@ struct PopulationOptions {
   bool json = false;
 };
 
-constexpr std::uint64_t kMaxMotors = 10000000;
+constexpr std::uint64_t kMaxMotors = 1000000;  // the summary keeps every motor in memory (~0.5 kB each)
 
 // Everything the study needs, read and checked before any motor runs (the same on every rank).
 PopulationStudy prepare(const PopulationOptions& o) {
-  if (o.motors < 1 || o.motors > kMaxMotors) throw std::invalid_argument("--motors: must be within 1..10000000");
+  if (o.motors < 1 || o.motors > kMaxMotors) throw std::invalid_argument("--motors: must be within 1..1000000");
   if (!(o.yield > 0.0 && o.yield <= 1.0)) throw std::invalid_argument("--yield: must be within (0, 1]");
   if (!(o.margin_hz >= 0.0 && o.margin_hz <= 10000.0)) {
     throw std::invalid_argument("--margin-hz: must be within 0..10000");
@@ -147,7 +147,7 @@ void add_population_command(CLI::App& app) {
       "population", "Monte-Carlo motor population: operating frequency and speed per voltage over tolerances");
   sub->add_option("--config", o->config_path, "nominal motor parameter file")->required();
   sub->add_option("--spreads", o->spreads_path, "spreads file: which parameters vary and how (TOML)")->required();
-  sub->add_option("--motors", o->motors, "motors to draw (1..10000000)")->required();
+  sub->add_option("--motors", o->motors, "motors to draw (1..1000000)")->required();
   sub->add_option("--seed", o->seed, "study seed: motor i's parameters depend on (seed, i) only")
       ->capture_default_str();
   sub->add_option("--vpp", o->vpp_list, "voltages, comma list (Vpp)")->required();

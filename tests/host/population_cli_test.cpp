@@ -140,7 +140,7 @@ TEST(SwumPopulation, BadInputIsAOneLineErrorNamingWhatAndWhere) {
     std::string words;
   };
   const std::vector<Case> cases = {
-      {{"--motors", "0"}, 2, "--motors: must be within 1..10000000"},
+      {{"--motors", "0"}, 2, "--motors: must be within 1..1000000"},
       {{"--motors", "-3"}, 2, "--motors"},
       {{"--yield", "1.5"}, 2, "--yield"},
       {{"--vpp", "100,abc"}, 2, "--vpp"},
