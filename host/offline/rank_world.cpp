@@ -171,17 +171,19 @@ void RankWorld::for_each(std::size_t count, unsigned threads, const Compute& com
           changed.wait(lock, [&] { return local_done; });
           continue;
         }
+        // Polled every 2 ms rather than MPI_Probe: OpenMPI's blocking calls spin on a core that
+        // the ranks still computing may need (a result every ~0.1-1 s needs no faster answer).
         MPI_Status status;
         int arrived = 0;
-        if (done) {
-          MPI_Probe(MPI_ANY_SOURCE, kTag, MPI_COMM_WORLD, &status);
-          arrived = 1;
-        } else {
-          MPI_Iprobe(MPI_ANY_SOURCE, kTag, MPI_COMM_WORLD, &arrived, &status);
-        }
+        MPI_Iprobe(MPI_ANY_SOURCE, kTag, MPI_COMM_WORLD, &arrived, &status);
         if (!arrived) {
           std::unique_lock lock(mutex);
-          changed.wait_for(lock, std::chrono::milliseconds(2), [&] { return local_done; });
+          if (local_done) {
+            lock.unlock();
+            std::this_thread::sleep_for(std::chrono::milliseconds(2));
+          } else {
+            changed.wait_for(lock, std::chrono::milliseconds(2), [&] { return local_done; });
+          }
           continue;
         }
         int size = 0;
