@@ -25,6 +25,7 @@ int main(int argc, char** argv) {
   add_log_command(app);
   add_synth_command(app);
   add_discrepancy_command(app);
+  add_population_command(app);
 
   try {
     app.parse(argc, argv);
@@ -38,6 +39,8 @@ int main(int argc, char** argv) {
   } catch (const std::invalid_argument& e) {
     std::fprintf(stderr, "swum: error: %s\n", e.what());
     return kExitUsage;
+  } catch (const ReportedFailure& e) {
+    return e.exit_code();
   } catch (const CommandError& e) {
     std::fprintf(stderr, "swum: error: %s\n", e.what());
     return e.exit_code();

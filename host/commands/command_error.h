@@ -24,4 +24,11 @@ class CommandError : public std::runtime_error {
   int exit_code_;
 };
 
+// A failure already reported on stderr by another process of the same run (a rank of
+// `mpirun ... swum population`): main exits with the code and prints nothing.
+class ReportedFailure : public CommandError {
+ public:
+  explicit ReportedFailure(int exit_code) : CommandError("", exit_code) {}
+};
+
 }  // namespace swum::host

@@ -15,5 +15,6 @@ void add_pick_command(CLI::App& app);         // pick_command.cpp
 void add_log_command(CLI::App& app);          // log_command.cpp
 void add_synth_command(CLI::App& app);        // synth_command.cpp
 void add_discrepancy_command(CLI::App& app);  // discrepancy_command.cpp
+void add_population_command(CLI::App& app);   // population_command.cpp
 
 }  // namespace swum::host

@@ -1,6 +1,7 @@
 // `swum pick (--sweep CSV | --config F | --modbus/--can DEVICE) --vpp LIST`: the operating
 // frequency per voltage by pick_operating_point, from a sweep table, an offline model sweep or
 // a live sweep of a device; optional schedule, JSON and plots (docs/host.md).
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -17,6 +18,7 @@
 #include "device/device_options.h"
 #include "device/device_sweep.h"
 #include "device/stop_signal.h"
+#include "offline/model_pick.h"
 #include "offline/motor_config.h"
 #include "offline/offline_sweep.h"
 #include "output/pick_plots.h"
@@ -45,8 +47,6 @@ struct PickCommandOptions {
   double dwell_ms = 50.0;
   double ramp_vpp_per_s = 2000.0;
 };
-
-bool same(double a, double b) { return std::abs(a - b) < 1e-6 * std::max(1.0, std::abs(a)); }
 
 // The one place a measuring source is chosen: model (offline) or device (live).
 class Source {
@@ -108,23 +108,6 @@ std::vector<SweepRow> read_sweep(const std::string& path) {
   } catch (const std::exception& e) {
     throw CommandError(e.what());
   }
-}
-
-std::vector<CurveSample> curve_at(const std::vector<SweepRow>& rows, double vpp, double load_n) {
-  std::vector<CurveSample> curve;
-  for (const SweepRow& r : rows) {
-    if (!same(r.vpp, vpp) || !same(r.load_n, load_n)) continue;
-    // A point the device never measured (watchdog hiccup, timeout) is a hole in the curve, not
-    // a collapse of the resonance; a blow-up of the model or the motor is.
-    if (!r.ok && !is_physical_failure(r)) continue;
-    CurveSample s;
-    s.frequency_hz = r.frequency_hz;
-    s.ok = r.ok;
-    s.speed_mm_s = r.speed_mm_s;
-    s.spread_mm_s = r.speed_spread_mm_s;
-    curve.push_back(s);
-  }
-  return curve;
 }
 
 double gain_percent(const PickResult& r) {
@@ -235,17 +218,9 @@ void run_pick(const PickCommandOptions& o) {
   }
   PickOptions options;
   options.min_margin_hz = o.margin_hz;
-  std::vector<VoltagePick> picks;
-  bool any_undecided = false;
-  for (double v : voltages) {
-    const auto curve = curve_at(sweep, v, o.load_n);
-    if (curve.empty()) {
-      throw CommandError(source.describe() + ": no rows at " + std::to_string(v) + " Vpp and " +
-                         std::to_string(o.load_n) + " N");
-    }
-    picks.push_back({v, pick_operating_point(curve, options)});
-    any_undecided = any_undecided || !picks.back().result.decided;
-  }
+  const std::vector<VoltagePick> picks = pick_voltages(sweep, voltages, o.load_n, options, source.describe());
+  const bool any_undecided = std::any_of(picks.begin(), picks.end(),
+                                         [](const VoltagePick& p) { return !p.result.decided; });
   report(o, picks);
   if (!o.plot_dir.empty()) write_plots(o, source, sweep, picks, options);
   if (any_undecided) throw CommandError("no frequency picked for some voltages (see reason)", kExitFailure);

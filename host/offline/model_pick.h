@@ -1,0 +1,24 @@
+// The picking step of `swum pick` over a sweep table, shared by `swum pick` (any source) and
+// `swum population` (the model of each drawn motor): curve per voltage, then
+// pick_operating_point (docs/host.md, "swum pick").
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "analysis/operating_point.h"
+#include "output/pick_plots.h"
+#include "output/sweep_table.h"
+
+namespace swum::host {
+
+/// The rows of `rows` at `vpp` and `load_n` as a curve for the picking rule. Points that were
+/// not measured (a device timeout) are holes, not collapses, and are left out.
+std::vector<CurveSample> curve_at(const std::vector<SweepRow>& rows, double vpp, double load_n);
+
+/// pick_operating_point on the curve of every voltage, in the order given. Throws CommandError
+/// "<source>: no rows at V Vpp and L N" when a voltage has no row.
+std::vector<VoltagePick> pick_voltages(const std::vector<SweepRow>& rows, const std::vector<double>& voltages,
+                                       double load_n, const PickOptions& options, const std::string& source);
+
+}  // namespace swum::host
