@@ -1,0 +1,95 @@
+// N independent operating points of one motor model advanced together (issue 16): the fixed
+// step of MotorSimulator (semi-implicit Euler with implicit friction, model_spec §10) on a
+// structure of arrays, one SIMD lane per point (Google Highway, runtime dispatch: SSE2 on any
+// x86-64, AVX2 / AVX-512 where the CPU has them). Every lane runs the same instructions: the
+// contact clamp, separation, the Jenkins return mapping and guide friction are Min/Max and
+// masked selects, never a branch that differs per lane. The lane count is padded up to
+// kLanePadding with idle lanes (rest state, no drive), so a lane's result depends neither on
+// its position nor on the batch size. Against MotorSimulator the lanes agree to rounding (the
+// vector targets contract multiply-adds differently), not to the bit.
+//
+// Supported: rigid Coulomb projection or Jenkins contact, implicit Coulomb or tanh-smoothed
+// guide friction (not the exact sign of a zero smoothing width), no time-domain effects (effects.h). supports() says whether a model is in that
+// set; callers fall back to MotorSimulator otherwise (steady_state_batch.h does).
+//
+// Allocation happens in the constructor only; advance() allocates nothing and throws nothing.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+
+#include "model/motor.h"
+#include "model/motor_model.h"
+
+namespace swum {
+
+// Per-lane statistics gathered at every step since the lane's last reset_window() (the raw sums
+// of steady_state.cpp's window: u = -q1, w = gTv q2, F_N, F_T, C1 q1'^2 + C2 q2'^2).
+struct BatchWindowSums {
+  double u_min_m = 0.0, u_max_m = 0.0, w_min_m = 0.0, w_max_m = 0.0;
+  double contact_s = 0.0;          // time with F_N > 0
+  double friction_n_s = 0.0;       // sum of dt F_T
+  double friction_sq_n2_s = 0.0;   // sum of dt F_T^2
+  double normal_n_s = 0.0;         // sum of dt F_N
+  double damping_energy_j = 0.0;   // sum of dt (C1 q1'^2 + C2 q2'^2)
+};
+
+class BatchSimulator {
+ public:
+  // Lanes are padded up to a multiple of this (the widest double vector Highway dispatches to
+  // on x86-64, AVX-512: 8 lanes).
+  static constexpr std::size_t kLanePadding = 8;
+
+  // Whether the lanes implement this model's step (see above).
+  [[nodiscard]] static bool supports(const MotorModel& model);
+
+  // `lanes` >= 1 lanes, each at rest with no drive. Throws std::invalid_argument if
+  // !supports(model). The model must outlive the simulator.
+  BatchSimulator(const MotorModel& model, std::size_t lanes);
+  ~BatchSimulator();
+  BatchSimulator(const BatchSimulator&) = delete;
+  BatchSimulator& operator=(const BatchSimulator&) = delete;
+
+  [[nodiscard]] std::size_t lanes() const { return lanes_; }
+  [[nodiscard]] const MotorModel& model() const { return model_; }
+  [[nodiscard]] double time_step_s() const { return dt_; }
+
+  // Loads a lane as MotorSimulator::set_drive then set_state would (phasor renormalised,
+  // deflection 0 with a rigid contact), clears its divergence flag and its window sums.
+  void set_lane(std::size_t lane, const MotorState& state, const DriveInput& drive);
+  // Rest state at zero drive (an idle lane); idle lanes of a whole vector are not stepped.
+  void set_idle(std::size_t lane);
+  [[nodiscard]] bool idle(std::size_t lane) const;
+
+  // `steps` steps of every lane that is not idle. The housekeeping of MotorSimulator (phasor
+  // renormalisation, subnormal flush) runs every 64 steps of the batch clock: a lane loaded
+  // when steps_run() is a multiple of 64 steps exactly as a fresh MotorSimulator does.
+  void advance(std::uint64_t steps);
+  [[nodiscard]] std::uint64_t steps_run() const { return clock_steps_; }
+
+  [[nodiscard]] MotorState lane_state(std::size_t lane) const;
+  // Interface forces of the lane's last step (as MotorSimulator::forces()).
+  [[nodiscard]] InterfaceForces lane_forces(std::size_t lane) const;
+
+  // NaN/runaway guard per lane, as MotorSimulator's: the lane is reset to rest, flagged and
+  // counted; the other lanes are untouched.
+  [[nodiscard]] bool lane_diverged(std::size_t lane) const;
+  [[nodiscard]] std::uint64_t lane_divergence_count(std::size_t lane) const;
+
+  void reset_window(std::size_t lane);
+  [[nodiscard]] BatchWindowSums window(std::size_t lane) const;
+
+  // The SoA storage (defined in the .cpp; public for the per-target kernels there).
+  struct Arrays;
+
+ private:
+  const MotorModel& model_;
+  std::size_t lanes_;
+  std::size_t padded_;
+  double dt_;
+  std::uint64_t clock_steps_ = 0;
+  std::unique_ptr<Arrays> a_;
+};
+
+}  // namespace swum

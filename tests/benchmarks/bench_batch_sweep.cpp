@@ -1,0 +1,64 @@
+// Operating points per second of a model sweep on one thread (issue 16: target >= 4x the scalar
+// path per core): the same grid as the scalar loop of every sweep today (run_to_steady_state
+// per point, from rest) and as batches in SIMD lanes (run_points_to_steady_state), side by side.
+// Calibrated motor (config/li2019.toml), 4 voltages x 21 frequencies (39-41 kHz), default
+// steady-state options. Counter points_per_s = points / CPU second of this thread.
+// Run: build/release/tests/benchmarks/bench_batch_sweep  (Release build).
+#include <benchmark/benchmark.h>
+
+#include <fstream>
+#include <sstream>
+#include <vector>
+
+#include "analysis/steady_state_batch.h"
+#include "config/parameter_file.h"
+
+namespace {
+
+swum::MotorParameters calibrated() {
+  std::ifstream in(SWUM_SOURCE_DIR "/config/li2019.toml");
+  std::stringstream text;
+  text << in.rdbuf();
+  return swum::parse_motor_parameters(text.str(), "li2019.toml");
+}
+
+std::vector<swum::OperatingPoint> grid() {
+  std::vector<swum::OperatingPoint> points;
+  for (double vpp : {100.0, 200.0, 300.0, 400.0}) {
+    for (int k = 0; k <= 20; ++k) {
+      swum::OperatingPoint p;
+      p.vpp = vpp;
+      p.frequency_hz = 39000.0 + 100.0 * k;
+      points.push_back(p);
+    }
+  }
+  return points;
+}
+
+void report(benchmark::State& state, std::size_t points) {
+  state.counters["points_per_s"] =
+      benchmark::Counter(static_cast<double>(points), benchmark::Counter::kIsIterationInvariantRate);
+}
+
+void BM_Sweep_Scalar(benchmark::State& state) {
+  const swum::MotorModel model(calibrated());
+  const std::vector<swum::OperatingPoint> points = grid();
+  for (auto _ : state) {
+    for (const swum::OperatingPoint& p : points) benchmark::DoNotOptimize(swum::run_to_steady_state(model, p));
+  }
+  report(state, points.size());
+}
+
+void BM_Sweep_Batch(benchmark::State& state) {
+  const swum::MotorModel model(calibrated());
+  const std::vector<swum::OperatingPoint> points = grid();
+  const auto lanes = static_cast<std::size_t>(state.range(0));
+  for (auto _ : state) benchmark::DoNotOptimize(swum::run_points_to_steady_state(model, points, {}, lanes));
+  report(state, points.size());
+}
+
+}  // namespace
+
+BENCHMARK(BM_Sweep_Scalar)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_Sweep_Batch)->Arg(8)->Arg(16)->Arg(32)->Arg(64)->Unit(benchmark::kMillisecond);
+BENCHMARK_MAIN();
