@@ -7,6 +7,7 @@
 #include <cmath>
 #include <limits>
 #include <stdexcept>
+#include <string>
 #include <vector>
 
 #include "hwy/aligned_allocator.h"
@@ -112,9 +113,10 @@ HWY_INLINE V Clamp(V x, V limit) { return hn::Min(hn::Max(x, hn::Neg(limit)), li
 // +-1 beyond |x| > 4.97 (x = 0 gives 0 from the formula itself).
 HWY_INLINE V ClampedTanh(D d, V x) {
   const V x2 = hn::Mul(x, x);
-  const V num = hn::Mul(
-      x, hn::MulAdd(x2, hn::MulAdd(x2, hn::Add(x2, hn::Set(d, 378.0)), hn::Set(d, 17325.0)), hn::Set(d, 135135.0)));
-  const V den = hn::MulAdd(x2, hn::MulAdd(x2, hn::MulAdd(hn::Set(d, 28.0), x2, hn::Set(d, 3150.0)), hn::Set(d, 62370.0)),
+  const V num = hn::Mul(x, hn::MulAdd(x2, hn::MulAdd(x2, hn::Add(x2, hn::Set(d, 378.0)), hn::Set(d, 17325.0)),
+                                      hn::Set(d, 135135.0)));
+  const V den = hn::MulAdd(x2,
+                           hn::MulAdd(x2, hn::MulAdd(hn::Set(d, 28.0), x2, hn::Set(d, 3150.0)), hn::Set(d, 62370.0)),
                            hn::Set(d, 135135.0));
   const V one = hn::Set(d, 1.0);
   const V t = hn::Min(hn::Max(hn::Div(num, den), hn::Neg(one)), one);
@@ -311,6 +313,8 @@ void AdvanceBatch(const BatchConstants& k, double* base, std::size_t padded, con
   return AdvanceLanes<false, false>(k, base, padded, group_active, steps, clock);
 }
 
+const char* LaneTargetName() { return hwy::TargetName(HWY_TARGET); }
+
 }  // namespace HWY_NAMESPACE
 }  // namespace swum
 HWY_AFTER_NAMESPACE();
@@ -319,6 +323,41 @@ HWY_AFTER_NAMESPACE();
 namespace swum {
 
 HWY_EXPORT(AdvanceBatch);
+HWY_EXPORT(LaneTargetName);
+
+const char* BatchSimulator::simd_target() { return HWY_DYNAMIC_DISPATCH(LaneTargetName)(); }
+
+namespace {
+
+std::int64_t restricted_target = 0;  // restrict_simd_target's choice; 0: none
+
+// The targets compiled in that the CPU runs, whatever restrict_simd_target chose.
+std::vector<std::int64_t> cpu_targets() {
+  hwy::SetSupportedTargetsForTest(0);
+  std::vector<std::int64_t> targets = hwy::SupportedAndGeneratedTargets();
+  hwy::SetSupportedTargetsForTest(restricted_target);
+  return targets;
+}
+
+}  // namespace
+
+std::vector<std::string> BatchSimulator::available_simd_targets() {
+  std::vector<std::string> names;
+  for (const std::int64_t target : cpu_targets()) names.emplace_back(hwy::TargetName(target));
+  return names;
+}
+
+bool BatchSimulator::restrict_simd_target(const std::string& name) {
+  std::int64_t chosen = 0;
+  for (const std::int64_t target : cpu_targets()) {
+    if (name == hwy::TargetName(target)) chosen = target;
+  }
+  if (chosen == 0 && !name.empty()) return false;
+  restricted_target = chosen;
+  hwy::SetSupportedTargetsForTest(restricted_target);
+  hwy::GetChosenTarget().Update(hwy::SupportedTargets());
+  return true;
+}
 
 namespace {
 constexpr double kInfinity = std::numeric_limits<double>::infinity();
@@ -326,7 +365,8 @@ constexpr double kInfinity = std::numeric_limits<double>::infinity();
 
 bool BatchSimulator::supports(const MotorModel& model) {
   const MotorCoefficients& k = model.coefficients();
-  const bool guide_in_lanes = k.guide_model == GuideFrictionModel::implicit_coulomb || k.guide.inverse_sign_width_s_m > 0.0;
+  const bool guide_in_lanes = k.guide_model == GuideFrictionModel::implicit_coulomb ||
+                              k.guide.inverse_sign_width_s_m > 0.0;
   return k.tangential != TangentialContact::rigid_erf && guide_in_lanes && !k.effects.any();
 }
 

@@ -9,8 +9,8 @@
 // vector targets contract multiply-adds differently), not to the bit.
 //
 // Supported: rigid Coulomb projection or Jenkins contact, implicit Coulomb or tanh-smoothed
-// guide friction (not the exact sign of a zero smoothing width), no time-domain effects (effects.h). supports() says whether a model is in that
-// set; callers fall back to MotorSimulator otherwise (steady_state_batch.h does).
+// guide friction (not the exact sign of a zero smoothing width), no time-domain effects (effects.h). supports() says
+// whether a model is in that set; callers fall back to MotorSimulator otherwise (steady_state_batch.h does).
 //
 // Allocation happens in the constructor only; advance() allocates nothing and throws nothing.
 #pragma once
@@ -18,6 +18,8 @@
 #include <cstddef>
 #include <cstdint>
 #include <memory>
+#include <string>
+#include <vector>
 
 #include "model/motor.h"
 #include "model/motor_model.h"
@@ -28,11 +30,11 @@ namespace swum {
 // of steady_state.cpp's window: u = -q1, w = gTv q2, F_N, F_T, C1 q1'^2 + C2 q2'^2).
 struct BatchWindowSums {
   double u_min_m = 0.0, u_max_m = 0.0, w_min_m = 0.0, w_max_m = 0.0;
-  double contact_s = 0.0;          // time with F_N > 0
-  double friction_n_s = 0.0;       // sum of dt F_T
-  double friction_sq_n2_s = 0.0;   // sum of dt F_T^2
-  double normal_n_s = 0.0;         // sum of dt F_N
-  double damping_energy_j = 0.0;   // sum of dt (C1 q1'^2 + C2 q2'^2)
+  double contact_s = 0.0;         // time with F_N > 0
+  double friction_n_s = 0.0;      // sum of dt F_T
+  double friction_sq_n2_s = 0.0;  // sum of dt F_T^2
+  double normal_n_s = 0.0;        // sum of dt F_N
+  double damping_energy_j = 0.0;  // sum of dt (C1 q1'^2 + C2 q2'^2)
 };
 
 class BatchSimulator {
@@ -43,6 +45,15 @@ class BatchSimulator {
 
   // Whether the lanes implement this model's step (see above).
   [[nodiscard]] static bool supports(const MotorModel& model);
+
+  // The instruction set the lanes run on (Highway's name: "AVX3" = AVX-512, "AVX2", "SSE4", ...).
+  [[nodiscard]] static const char* simd_target();
+  // The targets compiled in that this CPU runs, best first.
+  [[nodiscard]] static std::vector<std::string> available_simd_targets();
+  // For tests and benchmarks: run the lanes on `name` (one of available_simd_targets()), or on
+  // the best target again (empty name). False for a name not available. Process-wide; not while
+  // a batch is advancing on another thread.
+  static bool restrict_simd_target(const std::string& name);
 
   // `lanes` >= 1 lanes, each at rest with no drive. Throws std::invalid_argument if
   // !supports(model). The model must outlive the simulator.

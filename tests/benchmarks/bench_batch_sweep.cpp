@@ -8,10 +8,12 @@
 
 #include <fstream>
 #include <sstream>
+#include <string>
 #include <vector>
 
 #include "analysis/steady_state_batch.h"
 #include "config/parameter_file.h"
+#include "model/batch_simulator.h"
 
 namespace {
 
@@ -36,8 +38,8 @@ std::vector<swum::OperatingPoint> grid() {
 }
 
 void report(benchmark::State& state, std::size_t points) {
-  state.counters["points_per_s"] =
-      benchmark::Counter(static_cast<double>(points), benchmark::Counter::kIsIterationInvariantRate);
+  state.counters["points_per_s"] = benchmark::Counter(static_cast<double>(points),
+                                                      benchmark::Counter::kIsIterationInvariantRate);
 }
 
 void BM_Sweep_Scalar(benchmark::State& state) {
@@ -55,10 +57,36 @@ void BM_Sweep_Batch(benchmark::State& state) {
   const auto lanes = static_cast<std::size_t>(state.range(0));
   for (auto _ : state) benchmark::DoNotOptimize(swum::run_points_to_steady_state(model, points, {}, lanes));
   report(state, points.size());
+  state.SetLabel(swum::BatchSimulator::simd_target());
+}
+
+// The same batch (16 lanes) on each instruction set this CPU has (runtime dispatch restricted).
+void BM_Sweep_Batch_Target(benchmark::State& state, const std::string& target) {
+  if (!swum::BatchSimulator::restrict_simd_target(target)) {
+    state.SkipWithError("target not available on this CPU");
+    return;
+  }
+  const swum::MotorModel model(calibrated());
+  const std::vector<swum::OperatingPoint> points = grid();
+  for (auto _ : state) benchmark::DoNotOptimize(swum::run_points_to_steady_state(model, points, {}, 16));
+  report(state, points.size());
+  state.SetLabel(swum::BatchSimulator::simd_target());
+  swum::BatchSimulator::restrict_simd_target("");
 }
 
 }  // namespace
 
 BENCHMARK(BM_Sweep_Scalar)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Sweep_Batch)->Arg(8)->Arg(16)->Arg(32)->Arg(64)->Unit(benchmark::kMillisecond);
-BENCHMARK_MAIN();
+
+int main(int argc, char** argv) {
+  for (const std::string& target : swum::BatchSimulator::available_simd_targets()) {
+    benchmark::RegisterBenchmark(("BM_Sweep_Batch_Target/" + target).c_str(), BM_Sweep_Batch_Target, target)
+        ->Unit(benchmark::kMillisecond);
+  }
+  benchmark::Initialize(&argc, argv);
+  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  return 0;
+}

@@ -127,7 +127,7 @@ TEST(SteadyStateBatch, ConfigurationsOutsideTheLanesFallBackToTheScalarResult) {
   p.effects.thermal.thermal_resistance_k_per_w = 5.0;
   const MotorModel thermal{p};
   EXPECT_FALSE(batch_steady_state_supported(thermal, {}));
-  SteadyStateOptions odd;  // a window that is no whole number of 64-step blocks
+  SteadyStateOptions odd;   // a window that is no whole number of 64-step blocks
   odd.window_s = 0.010004;  // 25610 steps
   EXPECT_FALSE(batch_steady_state_supported(MotorModel{calibrated()}, odd));
   const std::vector<OperatingPoint> points = {at(300.0, 40200.0), at(150.0, 40400.0, 0.5)};

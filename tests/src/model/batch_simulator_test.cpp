@@ -9,6 +9,8 @@
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
+#include <string>
+#include <vector>
 
 #include "config/parameter_file.h"
 #include "model/simulator.h"
@@ -88,6 +90,33 @@ TEST(BatchSimulator, LanesFollowTheScalarSimulatorInEveryRegime) {
       EXPECT_FALSE(batch.lane_diverged(i));
     }
   }
+}
+
+// The default build runs on any x86-64: every target compiled in and available here (SSE2-class
+// up to AVX-512) steps the lanes like the scalar simulator.
+TEST(BatchSimulator, EveryAvailableSimdTargetFollowsTheScalarSimulator) {
+  const MotorModel model{calibrated()};
+  const std::vector<std::string> targets = BatchSimulator::available_simd_targets();
+  ASSERT_FALSE(targets.empty());
+  for (const std::string& target : targets) {
+    SCOPED_TRACE(target);
+    ASSERT_TRUE(BatchSimulator::restrict_simd_target(target));
+    EXPECT_EQ(std::string(BatchSimulator::simd_target()), target);
+    BatchSimulator batch(model, std::size(kRegimes));
+    for (std::size_t i = 0; i < std::size(kRegimes); ++i) batch.set_lane(i, model.rest_state(), kRegimes[i].drive);
+    batch.advance(6400);
+    for (std::size_t i = 0; i < std::size(kRegimes); ++i) {
+      MotorSimulator sim(model);
+      sim.set_drive(kRegimes[i].drive);
+      sim.advance(6400);
+      EXPECT_NEAR(batch.lane_state(i).q1_m, sim.state().q1_m, 1e-12);
+      EXPECT_NEAR(batch.lane_state(i).mover_position_m, sim.state().mover_position_m,
+                  1e-6 * std::abs(sim.state().mover_position_m) + 1e-12);
+    }
+  }
+  EXPECT_TRUE(BatchSimulator::restrict_simd_target(""));
+  EXPECT_FALSE(BatchSimulator::restrict_simd_target("no such target"));
+  EXPECT_EQ(std::string(BatchSimulator::simd_target()), targets.front());
 }
 
 TEST(BatchSimulator, ALanesResultDoesNotDependOnItsPositionOrTheBatchSize) {
