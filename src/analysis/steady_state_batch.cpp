@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <exception>
 #include <limits>
 #include <optional>
 
@@ -83,7 +84,7 @@ class BatchRunner {
       for (const LaneWork& w : work_) {
         if (w.busy) chunk = std::min(chunk, w.steps_left);
       }
-      if (chunk == std::numeric_limits<std::uint64_t>::max()) break;  // every lane idle: done
+      if (chunk == std::numeric_limits<std::uint64_t>::max()) break;  // every lane idle: done or drained
       sim_.advance(chunk);
       for (std::size_t lane = 0; lane < work_.size(); ++lane) {
         LaneWork& w = work_[lane];
@@ -94,6 +95,7 @@ class BatchRunner {
         while (w.busy && w.steps_left == 0) end_phase(lane);
       }
     }
+    if (failure_) std::rethrow_exception(failure_);
     return std::move(results_);
   }
 
@@ -150,8 +152,17 @@ class BatchRunner {
     LaneWork& w = work_[lane];
     w.result.final_state = sim_.lane_state(lane);
     SteadyStateResult& stored = results_[w.chain][w.index] = std::move(w.result);
-    if (point_done_) point_done_(w.chain, w.index, stored);
-    if (w.index + 1 < chains_[w.chain].size()) {
+    if (point_done_) {
+      try {
+        point_done_(w.chain, w.index, stored);
+      } catch (...) {
+        if (!failure_) failure_ = std::current_exception();
+      }
+    }
+    if (failure_) {  // draining: the points under way finish, no new one starts
+      w.busy = false;
+      sim_.set_idle(lane);
+    } else if (w.index + 1 < chains_[w.chain].size()) {
       start_point(lane, w.chain, w.index + 1, stored.final_state);
     } else {
       take_next_chain(lane);
@@ -170,6 +181,7 @@ class BatchRunner {
   std::uint64_t settle_steps_;
   std::uint64_t window_steps_;
   double window_duration_s_ = 0.0;
+  std::exception_ptr failure_;  // the first thing point_done threw
 };
 
 }  // namespace

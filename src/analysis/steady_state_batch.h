@@ -28,7 +28,9 @@ namespace swum {
 using OperatingChain = std::vector<OperatingPoint>;
 
 // Called on the calling thread as soon as a point's result is final (chains complete out of
-// order; within a chain, in order). What it throws propagates; the remaining points are not run.
+// order; within a chain, in order). What it throws stops the run as ParallelFor stops a batch:
+// no new point starts, the points under way in other lanes finish and are reported (what the
+// callback throws then is dropped), and the first exception is rethrown.
 using ChainPointDone = std::function<void(std::size_t chain, std::size_t index, const SteadyStateResult& result)>;
 
 // Lanes of one batch: 16 doubles are two AVX-512 vectors (or four AVX2 ones), enough

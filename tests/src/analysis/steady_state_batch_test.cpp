@@ -7,6 +7,7 @@
 
 #include <cmath>
 #include <optional>
+#include <stdexcept>
 #include <vector>
 
 #include "discrepancy_test_support.h"
@@ -119,6 +120,25 @@ TEST(SteadyStateBatch, ResultsDoNotDependOnTheLaneCountOrTheOrderOfTheQueue) {
     SCOPED_TRACE(i);
     expect_identical(wide[i], narrow[i]);
   }
+}
+
+TEST(SteadyStateBatch, WhatTheCallbackThrowsStopsNewPointsAndThoseUnderWayFinish) {
+  const MotorModel model{calibrated()};
+  std::vector<OperatingChain> chains;
+  for (double f = 39600.0; f <= 40800.0; f += 100.0) chains.push_back({at(300.0, f)});
+  SteadyStateOptions quick;
+  quick.settle_s = 0.010;
+  quick.window_s = 0.005;
+  std::vector<std::size_t> reported;
+  auto throw_first = [&](std::size_t c, std::size_t, const SteadyStateResult& r) {
+    EXPECT_GT(r.windows, 0);
+    reported.push_back(c);
+    if (reported.size() == 1) throw std::runtime_error("stop");
+  };
+  EXPECT_THROW((void)run_chains_to_steady_state(model, chains, quick, 4, throw_first), std::runtime_error);
+  // The point that threw and the three under way in the other lanes; none of the 9 pending.
+  ASSERT_EQ(reported.size(), 4U);
+  for (std::size_t c : reported) EXPECT_LT(c, 4U);
 }
 
 TEST(SteadyStateBatch, ConfigurationsOutsideTheLanesFallBackToTheScalarResult) {
