@@ -112,8 +112,13 @@ class BatchRunner {
     ++next_chain_;
   }
 
-  void start_point(std::size_t lane, std::size_t chain, std::size_t index, const MotorState& state) {
+  void start_point(std::size_t lane, std::size_t chain, std::size_t index, MotorState state) {
     LaneWork& w = work_[lane];
+    // The point's slow states replace the snapshot's, held fixed (run_to_steady_state with
+    // freeze_slow_states; the runner takes only frozen points when thermal or wear is on).
+    const OperatingPoint& point = chains_[chain][index];
+    state.stator_temperature_rise_k = point.stator_temperature_rise_k;
+    state.sliding_distance_m = point.sliding_distance_m;
     w = LaneWork{};
     w.busy = true;
     w.chain = chain;
@@ -198,7 +203,12 @@ std::vector<std::vector<SteadyStateResult>> run_chains_to_steady_state(const Mot
                                                                        const SteadyStateOptions& options,
                                                                        std::size_t lanes,
                                                                        const ChainPointDone& point_done) {
-  if (!batch_steady_state_supported(model, options) || chains.empty()) {
+  // Evolving slow states (thermal, wear) change the model every 64 steps: the scalar path.
+  const bool evolving =
+      model.coefficients().effects.slow() && std::any_of(chains.begin(), chains.end(), [](const OperatingChain& chain) {
+        return std::any_of(chain.begin(), chain.end(), [](const OperatingPoint& p) { return !p.freeze_slow_states; });
+      });
+  if (!batch_steady_state_supported(model, options) || evolving || chains.empty()) {
     return run_chains_scalar(model, chains, options, point_done);
   }
   lanes = std::clamp<std::size_t>(std::min(lanes, chains.size()), 1, 4096);

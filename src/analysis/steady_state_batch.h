@@ -37,9 +37,11 @@ using ChainPointDone = std::function<void(std::size_t chain, std::size_t index, 
 // independent work per step to hide the step's latency (docs/performance.md, issue 16).
 inline constexpr std::size_t kDefaultBatchLanes = 16;
 
-// Whether the lanes run these points: BatchSimulator::supports(model), no trace, and settle and
-// window lengths of whole 64-step housekeeping blocks (so that every point starts its blocks
-// where a fresh MotorSimulator does).
+// Whether the lanes run points with these options: BatchSimulator::supports(model), no trace,
+// and settle and window lengths of whole 64-step housekeeping blocks (so that every point starts
+// its blocks where a fresh MotorSimulator does). With thermal or wear the lanes also need every
+// point's slow states frozen (OperatingPoint::freeze_slow_states, as predictions of measured
+// points have them); run_chains_to_steady_state checks that and otherwise runs the scalar path.
 [[nodiscard]] bool batch_steady_state_supported(const MotorModel& model, const SteadyStateOptions& options);
 
 // results[c][k] for chains[c][k]. One thread; `lanes` lanes at most (fewer for fewer chains).

@@ -50,6 +50,20 @@ enum BatchField : std::size_t {
   kPowerSum,
   kDivergedFlag,
   kDivergedCount,
+  // Per-lane model constants that the frozen slow states of thermal and wear change
+  // (MotorSplitSystem::set_modal_factors / set_friction_coefficient), and those states.
+  kLaneK1,
+  kLaneK2,
+  kLaneC1,
+  kLaneC2,
+  kLaneA1,
+  kLaneA2,
+  kLaneInverseCompliance,
+  kLaneDtGtOverM2,
+  kLaneFriction,
+  kLaneSlider,
+  kLaneTemperature,
+  kLaneDistance,
   kFieldCount
 };
 
@@ -68,6 +82,7 @@ struct BatchConstants {
   double rest_q1 = 0.0;
   bool jenkins = false;
   bool coulomb_guide = true;
+  bool per_lane = false;  // thermal or wear: the lanes' slow states set some constants per lane
 };
 
 struct BatchSimulator::Arrays {
@@ -94,14 +109,14 @@ using D = hn::ScalableTag<double>;
 using V = hn::Vec<D>;
 
 // modal_force_n (stator.h) of one mode in every lane.
-HWY_INLINE V ModalForce(D d, const ModeForceCoefficients& m, V q, V va, V vb, V va2, V vb2) {
+HWY_INLINE V ModalForce(D d, const ModeForceCoefficients& m, V stiffness, V q, V va, V vb, V va2, V vb2) {
   const V c0 = hn::MulAdd(hn::Set(d, m.sq0_b), vb2,
                           hn::MulAdd(hn::Set(d, m.sq0_a), va2,
                                      hn::MulAdd(hn::Set(d, m.lin0_b), vb, hn::Mul(hn::Set(d, m.lin0_a), va))));
   const V c1 = hn::Sub(hn::MulAdd(hn::Set(d, m.sq1_b), vb2,
                                   hn::MulAdd(hn::Set(d, m.sq1_a), va2,
                                              hn::MulAdd(hn::Set(d, m.lin1_b), vb, hn::Mul(hn::Set(d, m.lin1_a), va)))),
-                       hn::Set(d, m.k));
+                       stiffness);
   const V c2 = hn::Sub(hn::MulAdd(hn::Set(d, m.lin2_b), vb, hn::Mul(hn::Set(d, m.lin2_a), va)), hn::Set(d, m.k2));
   return hn::MulAdd(q, hn::MulAdd(q, hn::NegMulAdd(hn::Set(d, m.k3), q, c2), c1), c0);
 }
@@ -124,7 +139,8 @@ HWY_INLINE V ClampedTanh(D d, V x) {
   return hn::IfThenElse(hn::Gt(x, big), one, hn::IfThenElse(hn::Lt(x, hn::Neg(big)), hn::Neg(one), t));
 }
 
-template <bool kJenkins, bool kCoulombGuide>
+// kPerLane: the constants of the slow states are per lane (thermal or wear), else broadcast.
+template <bool kJenkins, bool kCoulombGuide, bool kPerLane>
 HWY_NOINLINE void AdvanceLanes(const BatchConstants& k, double* HWY_RESTRICT base, std::size_t padded,
                                const unsigned char* group_active, std::uint64_t steps, std::uint64_t clock) {
   const D d;
@@ -164,14 +180,15 @@ HWY_NOINLINE void AdvanceLanes(const BatchConstants& k, double* HWY_RESTRICT bas
   const V zero = hn::Zero(d);
   const V one = hn::Set(d, 1.0);
   const V dt = hn::Set(d, k.dt);
-  const V a1 = hn::Set(d, k.a1), a2 = hn::Set(d, k.a2);
-  const V c1 = hn::Set(d, k.c1), c2 = hn::Set(d, k.c2);
+  const V a1_all = hn::Set(d, k.a1), a2_all = hn::Set(d, k.a2);
+  const V c1_all = hn::Set(d, k.c1), c2_all = hn::Set(d, k.c2);
+  const V k1_all = hn::Set(d, k.l1.k), k2_all = hn::Set(d, k.b2.k);
   const V g_n = hn::Set(d, k.g_n), g_tv = hn::Set(d, k.g_tv), pc = hn::Set(d, k.preload_constant);
   const V preload = hn::Set(d, k.preload), ke = hn::Set(d, k.contact_stiffness);
-  const V mu = hn::Set(d, k.friction_coefficient);
-  const V kt = hn::Set(d, k.tangential_stiffness), slider = hn::Set(d, k.slider_limit_per_normal);
-  const V inv_compliance = hn::Set(d, k.inverse_compliance);
-  const V dt_gt_m2 = hn::Set(d, k.dt_g_t_over_m2), dt_m = hn::Set(d, k.dt_over_m), m_dt = hn::Set(d, k.m_over_dt);
+  const V mu_all = hn::Set(d, k.friction_coefficient);
+  const V kt = hn::Set(d, k.tangential_stiffness), slider_all = hn::Set(d, k.slider_limit_per_normal);
+  const V inv_compliance_all = hn::Set(d, k.inverse_compliance);
+  const V dt_gt_m2_all = hn::Set(d, k.dt_g_t_over_m2), dt_m = hn::Set(d, k.dt_over_m), m_dt = hn::Set(d, k.m_over_dt);
   const V dt_mus_m = hn::Set(d, k.dt_mu_s_over_m);
   const V minv = hn::Set(d, k.mover_mass_inv), cm = hn::Set(d, k.mover_damping);
   const V mus = hn::Set(d, k.guide_coefficient), weight = hn::Set(d, k.guide_weight);
@@ -187,6 +204,16 @@ HWY_NOINLINE void AdvanceLanes(const BatchConstants& k, double* HWY_RESTRICT bas
       V q1 = hn::Load(d, q1p + i), q2 = hn::Load(d, q2p + i), xm = hn::Load(d, xmp + i);
       V v1 = hn::Load(d, v1p + i), v2 = hn::Load(d, v2p + i), vm = hn::Load(d, vmp + i);
       V s = hn::Load(d, sp + i), c = hn::Load(d, cp + i);
+      const V a1 = kPerLane ? hn::Load(d, f(kLaneA1) + i) : a1_all;
+      const V a2 = kPerLane ? hn::Load(d, f(kLaneA2) + i) : a2_all;
+      const V c1 = kPerLane ? hn::Load(d, f(kLaneC1) + i) : c1_all;
+      const V c2 = kPerLane ? hn::Load(d, f(kLaneC2) + i) : c2_all;
+      const V k1 = kPerLane ? hn::Load(d, f(kLaneK1) + i) : k1_all;
+      const V k2 = kPerLane ? hn::Load(d, f(kLaneK2) + i) : k2_all;
+      const V mu = kPerLane ? hn::Load(d, f(kLaneFriction) + i) : mu_all;
+      const V slider = kPerLane ? hn::Load(d, f(kLaneSlider) + i) : slider_all;
+      const V inv_compliance = kPerLane ? hn::Load(d, f(kLaneInverseCompliance) + i) : inv_compliance_all;
+      const V dt_gt_m2 = kPerLane ? hn::Load(d, f(kLaneDtGtOverM2) + i) : dt_gt_m2_all;
       const V amp = hn::Load(d, ampp + i);
       const V load = hn::Load(d, loadp + i);
       // Drive voltages (drive.h).
@@ -195,8 +222,8 @@ HWY_NOINLINE void AdvanceLanes(const BatchConstants& k, double* HWY_RESTRICT bas
       // explicit_acceleration (motor.h): F_N = max(0, F_P - k_e q1), modal forces, damping.
       const V fn = hn::Max(hn::NegMulAdd(ke, q1, preload), zero);
       const V va2 = hn::Mul(va, va), vb2 = hn::Mul(vb, vb);
-      const V f1 = ModalForce(d, k.l1, q1, va, vb, va2, vb2);
-      const V f2 = ModalForce(d, k.b2, q2, va, vb, va2, vb2);
+      const V f1 = ModalForce(d, k.l1, k1, q1, va, vb, va2, vb2);
+      const V f2 = ModalForce(d, k.b2, k2, q2, va, vb, va2, vb2);
       const V acc1 = hn::Mul(a1, hn::NegMulAdd(c1, v1, hn::Add(hn::MulAdd(g_n, fn, f1), pc)));
       const V acc2 = hn::Mul(a2, hn::NegMulAdd(c2, v2, f2));
       const V acc3 = hn::Mul(minv, hn::NegMulAdd(cm, vm, hn::Neg(load)));
@@ -303,14 +330,21 @@ HWY_NOINLINE void AdvanceLanes(const BatchConstants& k, double* HWY_RESTRICT bas
   }
 }
 
+template <bool kPerLane>
+void AdvanceBatchWith(const BatchConstants& k, double* base, std::size_t padded, const unsigned char* group_active,
+                      std::uint64_t steps, std::uint64_t clock) {
+  if (k.jenkins) {
+    if (k.coulomb_guide) return AdvanceLanes<true, true, kPerLane>(k, base, padded, group_active, steps, clock);
+    return AdvanceLanes<true, false, kPerLane>(k, base, padded, group_active, steps, clock);
+  }
+  if (k.coulomb_guide) return AdvanceLanes<false, true, kPerLane>(k, base, padded, group_active, steps, clock);
+  return AdvanceLanes<false, false, kPerLane>(k, base, padded, group_active, steps, clock);
+}
+
 void AdvanceBatch(const BatchConstants& k, double* base, std::size_t padded, const unsigned char* group_active,
                   std::uint64_t steps, std::uint64_t clock) {
-  if (k.jenkins) {
-    if (k.coulomb_guide) return AdvanceLanes<true, true>(k, base, padded, group_active, steps, clock);
-    return AdvanceLanes<true, false>(k, base, padded, group_active, steps, clock);
-  }
-  if (k.coulomb_guide) return AdvanceLanes<false, true>(k, base, padded, group_active, steps, clock);
-  return AdvanceLanes<false, false>(k, base, padded, group_active, steps, clock);
+  if (k.per_lane) return AdvanceBatchWith<true>(k, base, padded, group_active, steps, clock);
+  return AdvanceBatchWith<false>(k, base, padded, group_active, steps, clock);
 }
 
 const char* LaneTargetName() { return hwy::TargetName(HWY_TARGET); }
@@ -367,7 +401,7 @@ bool BatchSimulator::supports(const MotorModel& model) {
   const MotorCoefficients& k = model.coefficients();
   const bool guide_in_lanes = k.guide_model == GuideFrictionModel::implicit_coulomb ||
                               k.guide.inverse_sign_width_s_m > 0.0;
-  return k.tangential != TangentialContact::rigid_erf && guide_in_lanes && !k.effects.any();
+  return k.tangential != TangentialContact::rigid_erf && guide_in_lanes && !k.effects.droop;
 }
 
 BatchSimulator::BatchSimulator(const MotorModel& model, std::size_t lanes)
@@ -378,7 +412,7 @@ BatchSimulator::BatchSimulator(const MotorModel& model, std::size_t lanes)
       a_(std::make_unique<Arrays>()) {
   if (!supports(model)) {
     throw std::invalid_argument(
-        "BatchSimulator: the erf friction root, the exact-sign guide and the time-domain effects are not in lanes");
+        "BatchSimulator: the erf friction root, the exact-sign guide and the amplifier droop are not in lanes");
   }
   a_->data = hwy::AllocateAligned<double>(kFieldCount * padded_);
   std::fill_n(a_->data.get(), kFieldCount * padded_, 0.0);
@@ -420,6 +454,7 @@ BatchSimulator::BatchSimulator(const MotorModel& model, std::size_t lanes)
   k.rest_q1 = model.constants().static_q1_m;
   k.jenkins = c.tangential == TangentialContact::jenkins;
   k.coulomb_guide = c.guide_model == GuideFrictionModel::implicit_coulomb;
+  k.per_lane = c.effects.slow();
   for (std::size_t lane = 0; lane < padded_; ++lane) set_idle(lane);
 }
 
@@ -460,6 +495,32 @@ void BatchSimulator::set_lane(std::size_t lane, const MotorState& state, const D
   x[kGuide * p + lane] = 0.0;
   x[kDivergedFlag * p + lane] = 0.0;
   x[kDivergedCount * p + lane] = 0.0;
+  // The slow states, held fixed (MotorSimulator::set_slow_states(..., frozen = true)): the
+  // constants they change come from the scalar system itself.
+  const MotorCoefficients& base = model_.coefficients();
+  const EffectCoefficients& e = base.effects;
+  const double temperature = e.thermal ? state.stator_temperature_rise_k : 0.0;
+  const double distance = e.wear ? state.sliding_distance_m : 0.0;
+  MotorSplitSystem system(base, dt_);
+  if (e.thermal) {
+    const ThermalFactors factors = thermal_factors(e, temperature);
+    system.set_modal_factors(base, factors.stiffness, factors.damping);
+  }
+  if (e.wear) system.set_friction_coefficient(base.friction_coefficient * wear_friction_factor(e, distance));
+  const MotorCoefficients& lane_k = system.coefficients();
+  const MotorSplitSystem::StepConstants step = system.step_constants();
+  x[kLaneK1 * p + lane] = lane_k.stator.l1.k;
+  x[kLaneK2 * p + lane] = lane_k.stator.b2.k;
+  x[kLaneC1 * p + lane] = lane_k.c1_n_s_m;
+  x[kLaneC2 * p + lane] = lane_k.c2_n_s_m;
+  x[kLaneA1 * p + lane] = step.a1_per_kg;
+  x[kLaneA2 * p + lane] = step.a2_per_kg;
+  x[kLaneInverseCompliance * p + lane] = step.inverse_compliance;
+  x[kLaneDtGtOverM2 * p + lane] = step.dt_g_t_over_m2;
+  x[kLaneFriction * p + lane] = lane_k.friction_coefficient;
+  x[kLaneSlider * p + lane] = lane_k.slider_limit_per_normal_force_m_n;
+  x[kLaneTemperature * p + lane] = temperature;
+  x[kLaneDistance * p + lane] = distance;
   reset_window(lane);
   a_->lane_idle[lane] = 0U;
   a_->group_active[lane / kLanePadding] = 1U;
@@ -497,6 +558,8 @@ MotorState BatchSimulator::lane_state(std::size_t lane) const {
   s.drive_sin = x[kSin * p + lane];
   s.drive_cos = x[kCos * p + lane];
   s.time_s = x[kTime * p + lane];
+  s.stator_temperature_rise_k = x[kLaneTemperature * p + lane];
+  s.sliding_distance_m = x[kLaneDistance * p + lane];
   return s;
 }
 

@@ -9,8 +9,11 @@
 // vector targets contract multiply-adds differently), not to the bit.
 //
 // Supported: rigid Coulomb projection or Jenkins contact, implicit Coulomb or tanh-smoothed
-// guide friction (not the exact sign of a zero smoothing width), no time-domain effects (effects.h). supports() says
-// whether a model is in that set; callers fall back to MotorSimulator otherwise (steady_state_batch.h does).
+// guide friction (not the exact sign of a zero smoothing width); of the time-domain effects
+// (effects.h) thermal and wear with their slow states held fixed per lane (as
+// MotorSimulator::set_slow_states(..., frozen = true)), not the amplifier droop. supports() says
+// whether a model is in that set; callers fall back to MotorSimulator otherwise
+// (steady_state_batch.h does, also for slow states that must evolve).
 //
 // Allocation happens in the constructor only; advance() allocates nothing and throws nothing.
 #pragma once
@@ -66,8 +69,10 @@ class BatchSimulator {
   [[nodiscard]] const MotorModel& model() const { return model_; }
   [[nodiscard]] double time_step_s() const { return dt_; }
 
-  // Loads a lane as MotorSimulator::set_drive then set_state would (phasor renormalised,
-  // deflection 0 with a rigid contact), clears its divergence flag and its window sums.
+  // Loads a lane as MotorSimulator::set_drive, set_state and set_slow_states(state's
+  // temperature rise and sliding distance, frozen = true) would (phasor renormalised, deflection
+  // 0 with a rigid contact, slow states 0 for a disabled effect), clears its divergence flag
+  // and its window sums.
   void set_lane(std::size_t lane, const MotorState& state, const DriveInput& drive);
   // Rest state at zero drive (an idle lane); idle lanes of a whole vector are not stepped.
   void set_idle(std::size_t lane);

@@ -156,6 +156,7 @@ class MotorSplitSystem {
   struct StepConstants {
     double a1_per_kg, a2_per_kg, inverse_compliance, dt_g_t_over_m2, dt_over_m, m_over_dt, dt_mu_s_over_m;
   };
+  [[nodiscard]] const MotorCoefficients& coefficients() const { return k_; }
   [[nodiscard]] StepConstants step_constants() const {
     return {a1_per_kg_, a2_per_kg_, inverse_compliance_, dt_g_t_over_m2_, dt_over_m_, m_over_dt_, dt_mu_s_over_m_};
   }

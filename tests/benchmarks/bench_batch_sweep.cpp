@@ -2,8 +2,8 @@
 // path per core): the same grid as the scalar loop of every sweep today (run_to_steady_state
 // per point, from rest) and as batches in SIMD lanes (run_points_to_steady_state), side by side.
 // Calibrated motor (config/li2019.toml), 4 voltages x 21 frequencies (39-41 kHz), default
-// steady-state options. Counter points_per_s = points / CPU second of this thread.
-// Run: build/release/tests/benchmarks/bench_batch_sweep  (Release build).
+// steady-state options; the same with a thermal effect and frozen temperature rises. Counter points_per_s = points /
+// CPU second of this thread. Run: build/release/tests/benchmarks/bench_batch_sweep  (Release build).
 #include <benchmark/benchmark.h>
 
 #include <fstream>
@@ -60,6 +60,41 @@ void BM_Sweep_Batch(benchmark::State& state) {
   state.SetLabel(swum::BatchSimulator::simd_target());
 }
 
+// Predictions of measured points with a thermal effect: each point's temperature rise held
+// fixed (per-lane model constants in the batch).
+swum::MotorParameters thermal() {
+  swum::MotorParameters p = calibrated();
+  p.effects.thermal.enabled = true;
+  p.effects.thermal.thermal_resistance_k_per_w = 5.0;
+  return p;
+}
+
+std::vector<swum::OperatingPoint> frozen_grid() {
+  std::vector<swum::OperatingPoint> points = grid();
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    points[i].stator_temperature_rise_k = 0.5 * static_cast<double>(i % 20);
+    points[i].freeze_slow_states = true;
+  }
+  return points;
+}
+
+void BM_SweepFrozenThermal_Scalar(benchmark::State& state) {
+  const swum::MotorModel model(thermal());
+  const std::vector<swum::OperatingPoint> points = frozen_grid();
+  for (auto _ : state) {
+    for (const swum::OperatingPoint& p : points) benchmark::DoNotOptimize(swum::run_to_steady_state(model, p));
+  }
+  report(state, points.size());
+}
+
+void BM_SweepFrozenThermal_Batch(benchmark::State& state) {
+  const swum::MotorModel model(thermal());
+  const std::vector<swum::OperatingPoint> points = frozen_grid();
+  for (auto _ : state) benchmark::DoNotOptimize(swum::run_points_to_steady_state(model, points, {}, 16));
+  report(state, points.size());
+  state.SetLabel(swum::BatchSimulator::simd_target());
+}
+
 // The same batch (16 lanes) on each instruction set this CPU has (runtime dispatch restricted).
 void BM_Sweep_Batch_Target(benchmark::State& state, const std::string& target) {
   if (!swum::BatchSimulator::restrict_simd_target(target)) {
@@ -78,6 +113,8 @@ void BM_Sweep_Batch_Target(benchmark::State& state, const std::string& target) {
 
 BENCHMARK(BM_Sweep_Scalar)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Sweep_Batch)->Arg(8)->Arg(16)->Arg(32)->Arg(64)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_SweepFrozenThermal_Scalar)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_SweepFrozenThermal_Batch)->Unit(benchmark::kMillisecond);
 
 int main(int argc, char** argv) {
   for (const std::string& target : swum::BatchSimulator::available_simd_targets()) {

@@ -143,16 +143,52 @@ TEST(SteadyStateBatch, WhatTheCallbackThrowsStopsNewPointsAndThoseUnderWayFinish
 
 TEST(SteadyStateBatch, ConfigurationsOutsideTheLanesFallBackToTheScalarResult) {
   MotorParameters p = calibrated();
-  p.effects.thermal.enabled = true;
-  p.effects.thermal.thermal_resistance_k_per_w = 5.0;
-  const MotorModel thermal{p};
-  EXPECT_FALSE(batch_steady_state_supported(thermal, {}));
+  p.effects.amplifier_droop.enabled = true;
+  const MotorModel droop{p};
+  EXPECT_FALSE(batch_steady_state_supported(droop, {}));
   SteadyStateOptions odd;   // a window that is no whole number of 64-step blocks
   odd.window_s = 0.010004;  // 25610 steps
   EXPECT_FALSE(batch_steady_state_supported(MotorModel{calibrated()}, odd));
   const std::vector<OperatingPoint> points = {at(300.0, 40200.0), at(150.0, 40400.0, 0.5)};
-  const std::vector<SteadyStateResult> batch = run_points_to_steady_state(thermal, points);
-  for (std::size_t i = 0; i < points.size(); ++i) expect_identical(batch[i], run_to_steady_state(thermal, points[i]));
+  const std::vector<SteadyStateResult> batch = run_points_to_steady_state(droop, points);
+  for (std::size_t i = 0; i < points.size(); ++i) expect_identical(batch[i], run_to_steady_state(droop, points[i]));
+  // Thermal whose slow state evolves during the run (not frozen): the scalar path, exactly.
+  MotorParameters q = calibrated();
+  q.effects.thermal.enabled = true;
+  q.effects.thermal.thermal_resistance_k_per_w = 5.0;
+  const MotorModel thermal{q};
+  const std::vector<SteadyStateResult> evolving = run_points_to_steady_state(thermal, points);
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const SteadyStateResult s = run_to_steady_state(thermal, points[i]);
+    expect_identical(evolving[i], s);
+    EXPECT_EQ(evolving[i].final_state.stator_temperature_rise_k, s.final_state.stator_temperature_rise_k);
+    EXPECT_GT(s.final_state.stator_temperature_rise_k, 0.0);
+  }
+}
+
+// Predictions of measured points freeze the slow states: those run in lanes, each lane its own.
+TEST(SteadyStateBatch, FrozenThermalAndWearPointsRunInLanesAndAgreeWithTheScalarRun) {
+  MotorParameters q = calibrated();
+  q.effects.thermal.enabled = true;
+  q.effects.thermal.thermal_resistance_k_per_w = 5.0;
+  q.effects.wear.enabled = true;
+  q.effects.wear.friction_change = 0.3;
+  const MotorModel model{q};
+  ASSERT_TRUE(batch_steady_state_supported(model, {}));
+  std::vector<OperatingPoint> points = regimes();
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    points[i].stator_temperature_rise_k = 8.0 * static_cast<double>(i);
+    points[i].sliding_distance_m = 0.7 * static_cast<double>(i);
+    points[i].freeze_slow_states = true;
+  }
+  const std::vector<SteadyStateResult> batch = run_points_to_steady_state(model, points);
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    SCOPED_TRACE(i);
+    const SteadyStateResult s = run_to_steady_state(model, points[i]);
+    expect_agree(batch[i], s);
+    EXPECT_EQ(batch[i].final_state.stator_temperature_rise_k, s.final_state.stator_temperature_rise_k);
+    EXPECT_EQ(batch[i].final_state.sliding_distance_m, s.final_state.sliding_distance_m);
+  }
 }
 
 }  // namespace

@@ -51,17 +51,56 @@ void expect_same_bits(const MotorState& a, const MotorState& b) {
   EXPECT_EQ(a.time_s, b.time_s);
 }
 
-TEST(BatchSimulator, SupportsTheCalibratedAndReferenceModelsButNotEffectsOrTheErfRoot) {
+TEST(BatchSimulator, SupportsTheCalibratedAndReferenceModelsButNotDroopOrTheErfRoot) {
   EXPECT_TRUE(BatchSimulator::supports(MotorModel{calibrated()}));
   EXPECT_TRUE(BatchSimulator::supports(MotorModel{MotorParameters{}}));
   MotorParameters erf;
   erf.numerics.friction_solver = FrictionSolver::erf_newton;
   EXPECT_FALSE(BatchSimulator::supports(MotorModel{erf}));
-  MotorParameters thermal = calibrated();
-  thermal.effects.thermal.enabled = true;
-  const MotorModel thermal_model{thermal};
-  EXPECT_FALSE(BatchSimulator::supports(thermal_model));
-  EXPECT_THROW(BatchSimulator(thermal_model, 4), std::invalid_argument);
+  MotorParameters slow = calibrated();
+  slow.effects.thermal.enabled = true;
+  slow.effects.wear.enabled = true;
+  EXPECT_TRUE(BatchSimulator::supports(MotorModel{slow}));  // slow states held fixed per lane
+  MotorParameters droop = calibrated();
+  droop.effects.amplifier_droop.enabled = true;
+  const MotorModel droop_model{droop};
+  EXPECT_FALSE(BatchSimulator::supports(droop_model));
+  EXPECT_THROW(BatchSimulator(droop_model, 4), std::invalid_argument);
+}
+
+// Thermal and wear: each lane holds its own slow states fixed, as a frozen MotorSimulator does.
+TEST(BatchSimulator, FrozenSlowStatesPerLaneFollowTheScalarSimulator) {
+  MotorParameters p = calibrated();
+  p.effects.thermal.enabled = true;
+  p.effects.thermal.thermal_resistance_k_per_w = 5.0;
+  p.effects.wear.enabled = true;
+  p.effects.wear.friction_change = 0.3;
+  const MotorModel model{p};
+  const double temperatures[] = {0.0, 12.0, 35.0};
+  const double distances[] = {0.0, 0.5, 3.0};
+  BatchSimulator batch(model, 3);
+  for (std::size_t i = 0; i < 3; ++i) {
+    MotorState start = model.rest_state();
+    start.stator_temperature_rise_k = temperatures[i];
+    start.sliding_distance_m = distances[i];
+    batch.set_lane(i, start, kRegimes[0].drive);
+  }
+  batch.advance(64 * 400);
+  for (std::size_t i = 0; i < 3; ++i) {
+    SCOPED_TRACE(i);
+    MotorSimulator sim(model);
+    sim.set_drive(kRegimes[0].drive);
+    sim.set_slow_states(temperatures[i], distances[i], true);
+    sim.advance(64 * 400);
+    const MotorState a = batch.lane_state(i);
+    EXPECT_NEAR(a.q1_m, sim.state().q1_m, 1e-12);
+    EXPECT_NEAR(a.q2_m, sim.state().q2_m, 1e-12);
+    EXPECT_NEAR(a.mover_position_m, sim.state().mover_position_m, 1e-6 * std::abs(sim.state().mover_position_m));
+    EXPECT_EQ(a.stator_temperature_rise_k, sim.state().stator_temperature_rise_k);
+    EXPECT_EQ(a.sliding_distance_m, sim.state().sliding_distance_m);
+  }
+  // The lanes differ: the slow states act.
+  EXPECT_GT(std::abs(batch.lane_state(2).mover_position_m - batch.lane_state(0).mover_position_m), 1e-7);
 }
 
 TEST(BatchSimulator, LanesFollowTheScalarSimulatorInEveryRegime) {
