@@ -64,6 +64,10 @@ enum BatchField : std::size_t {
   kLaneSlider,
   kLaneTemperature,
   kLaneDistance,
+  // Amplifier droop: the commanded amplitude V0 and the gain at the piezo (kAmplitude = V0 gain).
+  kLaneCommandedAmplitude,
+  kLaneDroopGain,
+  kLaneAngularFrequency,
   kFieldCount
 };
 
@@ -401,7 +405,7 @@ bool BatchSimulator::supports(const MotorModel& model) {
   const MotorCoefficients& k = model.coefficients();
   const bool guide_in_lanes = k.guide_model == GuideFrictionModel::implicit_coulomb ||
                               k.guide.inverse_sign_width_s_m > 0.0;
-  return k.tangential != TangentialContact::rigid_erf && guide_in_lanes && !k.effects.droop;
+  return k.tangential != TangentialContact::rigid_erf && guide_in_lanes;
 }
 
 BatchSimulator::BatchSimulator(const MotorModel& model, std::size_t lanes)
@@ -411,8 +415,7 @@ BatchSimulator::BatchSimulator(const MotorModel& model, std::size_t lanes)
       dt_(model.time_step_s()),
       a_(std::make_unique<Arrays>()) {
   if (!supports(model)) {
-    throw std::invalid_argument(
-        "BatchSimulator: the erf friction root, the exact-sign guide and the amplifier droop are not in lanes");
+    throw std::invalid_argument("BatchSimulator: the erf friction root and the exact-sign guide are not in lanes");
   }
   a_->data = hwy::AllocateAligned<double>(kFieldCount * padded_);
   std::fill_n(a_->data.get(), kFieldCount * padded_, 0.0);
@@ -521,6 +524,9 @@ void BatchSimulator::set_lane(std::size_t lane, const MotorState& state, const D
   x[kLaneSlider * p + lane] = lane_k.slider_limit_per_normal_force_m_n;
   x[kLaneTemperature * p + lane] = temperature;
   x[kLaneDistance * p + lane] = distance;
+  x[kLaneCommandedAmplitude * p + lane] = w.amplitude_v;
+  x[kLaneDroopGain * p + lane] = 1.0;  // a fresh MotorSimulator's
+  x[kLaneAngularFrequency * p + lane] = w.angular_frequency_rad_s;
   reset_window(lane);
   a_->lane_idle[lane] = 0U;
   a_->group_active[lane / kLanePadding] = 1U;
@@ -540,8 +546,40 @@ void BatchSimulator::set_idle(std::size_t lane) {
 bool BatchSimulator::idle(std::size_t lane) const { return a_->lane_idle[lane] != 0U; }
 
 void BatchSimulator::advance(std::uint64_t steps) {
-  HWY_DYNAMIC_DISPATCH(AdvanceBatch)(a_->k, a_->data.get(), padded_, a_->group_active.data(), steps, clock_steps_);
-  clock_steps_ += steps;
+  if (!model_.coefficients().effects.droop) {
+    HWY_DYNAMIC_DISPATCH(AdvanceBatch)(a_->k, a_->data.get(), padded_, a_->group_active.data(), steps, clock_steps_);
+    clock_steps_ += steps;
+    return;
+  }
+  // Amplifier droop: the gain follows the motional current once per 64-step housekeeping block
+  // (MotorSimulator::update_effects), per lane, between the vector blocks.
+  while (steps > 0) {
+    const std::uint64_t block = std::min<std::uint64_t>(steps, 64U - (clock_steps_ & 63U));
+    HWY_DYNAMIC_DISPATCH(AdvanceBatch)(a_->k, a_->data.get(), padded_, a_->group_active.data(), block, clock_steps_);
+    clock_steps_ += block;
+    steps -= block;
+    if ((clock_steps_ & 63U) == 0U) update_droop();
+  }
+}
+
+void BatchSimulator::update_droop() {
+  const std::size_t p = padded_;
+  double* x = a_->data.get();
+  const EffectCoefficients& e = model_.coefficients().effects;
+  const double static_q1 = model_.constants().static_q1_m;
+  for (std::size_t lane = 0; lane < lanes_; ++lane) {
+    if (a_->lane_idle[lane] != 0U) continue;
+    const double w = x[kLaneAngularFrequency * p + lane];
+    const double inv_w = w > 0.0 ? 1.0 / w : 0.0;
+    const Analytic z1{x[kQ1 * p + lane] - static_q1, -x[kV1 * p + lane] * inv_w};
+    const Analytic z2{x[kQ2 * p + lane], -x[kV2 * p + lane] * inv_w};
+    const double commanded = x[kLaneCommandedAmplitude * p + lane];
+    const double target = droop_gain(e, w, x[kSin * p + lane], x[kCos * p + lane], x[kCosPhase * p + lane],
+                                     x[kSinPhase * p + lane], commanded, z1, z2);
+    double& gain = x[kLaneDroopGain * p + lane];
+    gain += 0.5 * (target - gain);
+    x[kAmplitude * p + lane] = commanded * gain;
+  }
 }
 
 MotorState BatchSimulator::lane_state(std::size_t lane) const {

@@ -9,9 +9,10 @@
 // vector targets contract multiply-adds differently), not to the bit.
 //
 // Supported: rigid Coulomb projection or Jenkins contact, implicit Coulomb or tanh-smoothed
-// guide friction (not the exact sign of a zero smoothing width); of the time-domain effects
-// (effects.h) thermal and wear with their slow states held fixed per lane (as
-// MotorSimulator::set_slow_states(..., frozen = true)), not the amplifier droop. supports() says
+// guide friction (not the exact sign of a zero smoothing width); the time-domain effects
+// (effects.h): thermal and wear with their slow states held fixed per lane (as
+// MotorSimulator::set_slow_states(..., frozen = true)), the amplifier droop's gain updated per
+// lane every 64 steps as MotorSimulator does (scalar code between vector blocks). supports() says
 // whether a model is in that set; callers fall back to MotorSimulator otherwise
 // (steady_state_batch.h does, also for slow states that must evolve).
 //
@@ -100,6 +101,8 @@ class BatchSimulator {
   struct Arrays;
 
  private:
+  void update_droop();
+
   const MotorModel& model_;
   std::size_t lanes_;
   std::size_t padded_;

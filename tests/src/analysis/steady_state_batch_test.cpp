@@ -142,16 +142,16 @@ TEST(SteadyStateBatch, WhatTheCallbackThrowsStopsNewPointsAndThoseUnderWayFinish
 }
 
 TEST(SteadyStateBatch, ConfigurationsOutsideTheLanesFallBackToTheScalarResult) {
-  MotorParameters p = calibrated();
-  p.effects.amplifier_droop.enabled = true;
-  const MotorModel droop{p};
-  EXPECT_FALSE(batch_steady_state_supported(droop, {}));
+  MotorParameters p;
+  p.numerics.friction_solver = FrictionSolver::erf_newton;
+  const MotorModel erf{p};
+  EXPECT_FALSE(batch_steady_state_supported(erf, {}));
   SteadyStateOptions odd;   // a window that is no whole number of 64-step blocks
   odd.window_s = 0.010004;  // 25610 steps
   EXPECT_FALSE(batch_steady_state_supported(MotorModel{calibrated()}, odd));
   const std::vector<OperatingPoint> points = {at(300.0, 40200.0), at(150.0, 40400.0, 0.5)};
-  const std::vector<SteadyStateResult> batch = run_points_to_steady_state(droop, points);
-  for (std::size_t i = 0; i < points.size(); ++i) expect_identical(batch[i], run_to_steady_state(droop, points[i]));
+  const std::vector<SteadyStateResult> batch = run_points_to_steady_state(erf, points);
+  for (std::size_t i = 0; i < points.size(); ++i) expect_identical(batch[i], run_to_steady_state(erf, points[i]));
   // Thermal whose slow state evolves during the run (not frozen): the scalar path, exactly.
   MotorParameters q = calibrated();
   q.effects.thermal.enabled = true;
@@ -163,6 +163,20 @@ TEST(SteadyStateBatch, ConfigurationsOutsideTheLanesFallBackToTheScalarResult) {
     expect_identical(evolving[i], s);
     EXPECT_EQ(evolving[i].final_state.stator_temperature_rise_k, s.final_state.stator_temperature_rise_k);
     EXPECT_GT(s.final_state.stator_temperature_rise_k, 0.0);
+  }
+}
+
+TEST(SteadyStateBatch, DroopPointsRunInLanesAndAgreeWithTheScalarRun) {
+  MotorParameters q = calibrated();
+  q.effects.amplifier_droop.enabled = true;
+  q.effects.amplifier_droop.source_resistance_ohm = 120.0;
+  const MotorModel model{q};
+  ASSERT_TRUE(batch_steady_state_supported(model, {}));
+  const std::vector<OperatingPoint> points = regimes();
+  const std::vector<SteadyStateResult> batch = run_points_to_steady_state(model, points);
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    SCOPED_TRACE(i);
+    expect_agree(batch[i], run_to_steady_state(model, points[i]));
   }
 }
 

@@ -51,21 +51,41 @@ void expect_same_bits(const MotorState& a, const MotorState& b) {
   EXPECT_EQ(a.time_s, b.time_s);
 }
 
-TEST(BatchSimulator, SupportsTheCalibratedAndReferenceModelsButNotDroopOrTheErfRoot) {
+TEST(BatchSimulator, SupportsTheCalibratedAndReferenceModelsAndEffectsButNotTheErfRoot) {
   EXPECT_TRUE(BatchSimulator::supports(MotorModel{calibrated()}));
   EXPECT_TRUE(BatchSimulator::supports(MotorModel{MotorParameters{}}));
+  MotorParameters effects = calibrated();
+  effects.effects.thermal.enabled = true;  // slow states held fixed per lane
+  effects.effects.wear.enabled = true;
+  effects.effects.amplifier_droop.enabled = true;
+  EXPECT_TRUE(BatchSimulator::supports(MotorModel{effects}));
   MotorParameters erf;
   erf.numerics.friction_solver = FrictionSolver::erf_newton;
-  EXPECT_FALSE(BatchSimulator::supports(MotorModel{erf}));
-  MotorParameters slow = calibrated();
-  slow.effects.thermal.enabled = true;
-  slow.effects.wear.enabled = true;
-  EXPECT_TRUE(BatchSimulator::supports(MotorModel{slow}));  // slow states held fixed per lane
-  MotorParameters droop = calibrated();
-  droop.effects.amplifier_droop.enabled = true;
-  const MotorModel droop_model{droop};
-  EXPECT_FALSE(BatchSimulator::supports(droop_model));
-  EXPECT_THROW(BatchSimulator(droop_model, 4), std::invalid_argument);
+  const MotorModel erf_model{erf};
+  EXPECT_FALSE(BatchSimulator::supports(erf_model));
+  EXPECT_THROW(BatchSimulator(erf_model, 4), std::invalid_argument);
+}
+
+// Amplifier droop: each lane's gain follows its motional current every 64 steps.
+TEST(BatchSimulator, DroopPerLaneFollowsTheScalarSimulator) {
+  MotorParameters p = calibrated();
+  p.effects.amplifier_droop.enabled = true;
+  p.effects.amplifier_droop.source_resistance_ohm = 120.0;
+  const MotorModel model{p};
+  BatchSimulator batch(model, std::size(kRegimes));
+  for (std::size_t i = 0; i < std::size(kRegimes); ++i) batch.set_lane(i, model.rest_state(), kRegimes[i].drive);
+  batch.advance(100);  // not a whole block: the gain updates on the batch clock's blocks
+  batch.advance(64 * 400 - 100);
+  for (std::size_t i = 0; i < std::size(kRegimes); ++i) {
+    SCOPED_TRACE(kRegimes[i].name);
+    MotorSimulator sim(model);
+    sim.set_drive(kRegimes[i].drive);
+    sim.advance(64 * 400);
+    EXPECT_NEAR(batch.lane_state(i).q1_m, sim.state().q1_m, 1e-12);
+    EXPECT_NEAR(batch.lane_state(i).q2_m, sim.state().q2_m, 1e-12);
+    EXPECT_NEAR(batch.lane_state(i).mover_position_m, sim.state().mover_position_m,
+                1e-6 * std::abs(sim.state().mover_position_m) + 1e-12);
+  }
 }
 
 // Thermal and wear: each lane holds its own slow states fixed, as a frozen MotorSimulator does.
