@@ -1,23 +1,32 @@
 #include "offline/offline_sweep.h"
 
 #include <algorithm>
+#include <atomic>
+#include <span>
 #include <stdexcept>
 #include <string>
 
 #include "analysis/steady_state.h"
+#include "analysis/steady_state_batch.h"
+#include "model/batch_simulator.h"
 #include "offline/parallel_for.h"
 #include "output/progress_bar.h"
 
 namespace swum::host {
 
-SweepRow run_model_point(const MotorModel& model, const SweepRow& at, double phase_deg) {
-  SweepRow row = at;
+namespace {
+
+OperatingPoint operating_point(const SweepRow& at, double phase_deg) {
   OperatingPoint point;
   point.vpp = at.vpp;
   point.frequency_hz = at.frequency_hz;
   point.load_n = at.load_n;
   point.phase_deg = phase_deg;
-  const SteadyStateResult r = run_to_steady_state(model, point);
+  return point;
+}
+
+SweepRow row_of(const SweepRow& at, const SteadyStateResult& r) {
+  SweepRow row = at;
   if (r.diverged) {
     row.ok = false;
     row.status = "diverged";
@@ -29,6 +38,14 @@ SweepRow run_model_point(const MotorModel& model, const SweepRow& at, double pha
   row.tip_normal_um = r.tip_normal_um;
   row.tip_tangential_um = r.tip_tangential_um;
   return row;
+}
+
+}  // namespace
+
+SweepRow run_model_point(const MotorModel& model, const SweepRow& at, double phase_deg) {
+  // The batch path with one point: the same bits as that point in any lane of a sweep.
+  const OperatingPoint point = operating_point(at, phase_deg);
+  return row_of(at, run_points_to_steady_state(model, std::span(&point, 1)).front());
 }
 
 void check_grid(const OfflineGrid& grid) {
@@ -59,12 +76,41 @@ std::vector<SweepRow> model_sweep_points(const OfflineGrid& grid) {
 void sweep_model(const MotorModel& model, const OfflineGrid& grid, std::vector<SweepRow>& rows, std::size_t first,
                  const ModelPointDone& point_done) {
   first = std::min(first, rows.size());
-  ProgressBar progress("sweep", rows.size() - first);
-  make_parallel_for(static_cast<unsigned>(std::max(grid.jobs, 0)))(rows.size() - first, [&](std::size_t k) {
-    const std::size_t i = first + k;
-    rows[i] = run_model_point(model, rows[i], grid.phase_deg);
-    progress.advance();
-    if (point_done) point_done(i);
+  const std::size_t count = rows.size() - first;
+  ProgressBar progress("sweep", count);
+  // Points in SIMD lanes (steady_state_batch.h), one batch per worker: as many tasks as threads
+  // while each still fills a vector of lanes, contiguous runs of rows (the file gets them in order).
+  const unsigned jobs = static_cast<unsigned>(std::max(grid.jobs, 0));
+  const std::size_t batches = (count + BatchSimulator::kLanePadding - 1) / BatchSimulator::kLanePadding;
+  const std::size_t tasks = std::clamp<std::size_t>(batches, 1, parallel_threads(jobs));
+  const std::size_t per_task = (count + tasks - 1) / tasks;
+  // What point_done throws stops the sweep: every batch finishes the points under way in its
+  // lanes (reported) and starts no new one (the others learn it at their next point, through a
+  // private exception swallowed here); the caller's exception is rethrown.
+  struct Stopped {};
+  std::atomic<bool> stopping{false};
+  make_parallel_for(jobs)(tasks, [&](std::size_t task) {
+    const std::size_t begin = first + task * per_task;
+    const std::size_t end = std::min(rows.size(), begin + per_task);
+    std::vector<OperatingChain> chains;
+    for (std::size_t i = begin; i < end; ++i) chains.push_back({operating_point(rows[i], grid.phase_deg)});
+    auto done = [&](std::size_t chain, std::size_t, const SteadyStateResult& r) {
+      const std::size_t i = begin + chain;
+      rows[i] = row_of(rows[i], r);
+      progress.advance();
+      try {
+        if (point_done) point_done(i);
+      } catch (...) {
+        stopping = true;
+        throw;
+      }
+      if (stopping) throw Stopped{};
+    };
+    try {
+      (void)run_chains_to_steady_state(model, chains, {}, kDefaultBatchLanes, done);
+    } catch (const Stopped&) {
+      // another batch failed; its exception is the one reported
+    }
   });
 }
 

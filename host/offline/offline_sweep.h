@@ -1,5 +1,6 @@
 // The offline counterpart of the live sweep: the model's steady speed at every
-// (voltage, load, frequency) point, each from rest (run_to_steady_state), on all cores.
+// (voltage, load, frequency) point, each from rest (run_to_steady_state's procedure), on all
+// cores, the points of each worker in the SIMD lanes of a batch (steady_state_batch.h).
 #pragma once
 
 #include <cstddef>

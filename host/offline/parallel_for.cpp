@@ -9,8 +9,10 @@
 
 namespace swum::host {
 
+unsigned parallel_threads(unsigned jobs) { return jobs > 0 ? jobs : std::max(1u, std::thread::hardware_concurrency()); }
+
 ParallelFor make_parallel_for(unsigned jobs) {
-  const unsigned threads = jobs > 0 ? jobs : std::max(1u, std::thread::hardware_concurrency());
+  const unsigned threads = parallel_threads(jobs);
   return [threads](std::size_t count, const std::function<void(std::size_t)>& body) {
     std::atomic<std::size_t> next{0};
     // An exception escaping a std::thread would terminate the process: the first one stops

@@ -10,4 +10,7 @@ namespace swum::host {
 /// jobs = 0: all cores.
 ParallelFor make_parallel_for(unsigned jobs = 0);
 
+/// The number of threads make_parallel_for(jobs) runs.
+unsigned parallel_threads(unsigned jobs = 0);
+
 }  // namespace swum::host

@@ -7,6 +7,8 @@
 #include <numeric>
 #include <optional>
 
+#include "analysis/steady_state_batch.h"
+#include "model/batch_simulator.h"
 #include "model/motor_model.h"
 
 namespace swum {
@@ -84,6 +86,14 @@ std::vector<Predictions> predict_points(std::span<const MotorParameters> paramet
   std::vector<std::vector<std::size_t>> chains = prediction_chains(points);
   std::stable_sort(chains.begin(), chains.end(), [](const auto& a, const auto& b) { return a.size() > b.size(); });
   const std::size_t chain_count = chains.size();
+  // Chains per task: one vector of SIMD lanes where every model runs in lanes, else one.
+  bool in_lanes = true;
+  for (const auto& model : models) {
+    in_lanes = in_lanes && batch_steady_state_supported(*model, options.steady) &&
+               batch_steady_state_supported(*model, options.history);
+  }
+  const std::size_t per_group = in_lanes ? BatchSimulator::kLanePadding : 1;
+  const std::size_t groups = std::max<std::size_t>(1, (chain_count + per_group - 1) / per_group);
   std::vector<Predictions> out(models.size(), Predictions(n));
   std::vector<std::vector<SlowState>> slow(models.size(), std::vector<SlowState>(n));
   std::vector<int> passes(models.size(), 1);
@@ -101,32 +111,43 @@ std::vector<Predictions> predict_points(std::span<const MotorParameters> paramet
         slow[m] = session_history(models[m]->coefficients().effects, points, order, out[m]);
       }
     }
-    // One task per (model, chain): the points of a sweep run one after the other, each from
-    // the state the previous one left; a diverged point hands on the rest state.
-    parallel(active.size() * chain_count, [&](std::size_t task) {
-      const std::size_t m = active[task / chain_count];
+    // One task per (model, group of chains): a group shares the SIMD lanes of a batch
+    // (steady_state_batch.h; where the lanes do not run the model, a group is one chain, run by
+    // the scalar path as before). The points of a sweep run one after the other, each from the
+    // state the previous one left; a diverged point hands on the rest state.
+    parallel(active.size() * groups, [&](std::size_t task) {
+      const std::size_t m = active[task / groups];
+      const std::size_t g = task % groups;
       const bool final_pass = pass == passes[m] - 1;
-      std::optional<MotorState> carried;
-      for (std::size_t i : chains[task % chain_count]) {
-        OperatingPoint point;
-        point.vpp = points[i].vpp;
-        point.frequency_hz = points[i].frequency_hz;
-        point.load_n = points[i].load_n;
-        point.stator_temperature_rise_k = slow[m][i].temperature_rise_k;
-        point.sliding_distance_m = slow[m][i].sliding_distance_m;
-        point.freeze_slow_states = true;  // the session history above sets them
-        point.initial_state = carried;
-        const SteadyStateResult r = run_to_steady_state(*models[m], point,
-                                                        final_pass ? options.steady : options.history);
-        PredictedPoint& p = out[m][i];
-        p.ok = !r.diverged;
-        p.values = {r.speed_mm_s, r.tip_normal_um, r.tip_tangential_um};
-        p.damping_power_w = r.damping_power_w;
-        p.stator_temperature_rise_k = point.stator_temperature_rise_k;
-        p.sliding_distance_m = point.sliding_distance_m;
-        carried = r.final_state;
-        if (final_pass && point_predicted) point_predicted(m, i, p);
+      // Chains g, g + groups, ...: longest first, spread evenly over the groups.
+      std::vector<const std::vector<std::size_t>*> members;
+      std::vector<OperatingChain> group;
+      for (std::size_t c = g; c < chain_count; c += groups) {
+        members.push_back(&chains[c]);
+        OperatingChain& chain = group.emplace_back();
+        for (std::size_t i : chains[c]) {
+          OperatingPoint point;
+          point.vpp = points[i].vpp;
+          point.frequency_hz = points[i].frequency_hz;
+          point.load_n = points[i].load_n;
+          point.stator_temperature_rise_k = slow[m][i].temperature_rise_k;
+          point.sliding_distance_m = slow[m][i].sliding_distance_m;
+          point.freeze_slow_states = true;  // the session history above sets them
+          chain.push_back(point);
+        }
       }
+      (void)run_chains_to_steady_state(*models[m], group, final_pass ? options.steady : options.history,
+                                       BatchSimulator::kLanePadding,
+                                       [&](std::size_t c, std::size_t k, const SteadyStateResult& r) {
+                                         const std::size_t i = (*members[c])[k];
+                                         PredictedPoint& p = out[m][i];
+                                         p.ok = !r.diverged;
+                                         p.values = {r.speed_mm_s, r.tip_normal_um, r.tip_tangential_um};
+                                         p.damping_power_w = r.damping_power_w;
+                                         p.stator_temperature_rise_k = group[c][k].stator_temperature_rise_k;
+                                         p.sliding_distance_m = group[c][k].sliding_distance_m;
+                                         if (final_pass && point_predicted) point_predicted(m, i, p);
+                                       });
     });
   }
   return out;

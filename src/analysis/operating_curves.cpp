@@ -3,12 +3,15 @@
 #include <algorithm>
 #include <cmath>
 
+#include "analysis/steady_state_batch.h"
+
 namespace swum {
 
 std::vector<CurvePoint> run_points(const MotorModel& model, const std::vector<OperatingPoint>& points) {
+  const std::vector<SteadyStateResult> results = run_points_to_steady_state(model, points);
   std::vector<CurvePoint> curve;
   curve.reserve(points.size());
-  for (const OperatingPoint& p : points) curve.push_back({p, run_to_steady_state(model, p)});
+  for (std::size_t i = 0; i < points.size(); ++i) curve.push_back({points[i], results[i]});
   return curve;
 }
 
@@ -23,16 +26,31 @@ std::vector<double> evenly_spaced(double start, double stop, double step) {
 
 namespace {
 
-SpeedPeak best_of(const MotorModel& model, double vpp, const std::vector<double>& frequencies, double load_n) {
-  SpeedPeak peak;
+// The forward speed at each frequency (0 when the point diverged or did not move forward), all
+// points in one batch.
+std::vector<double> forward_speeds(const MotorModel& model, double vpp, const std::vector<double>& frequencies,
+                                   double load_n) {
+  std::vector<OperatingPoint> points;
   for (double f : frequencies) {
     OperatingPoint p;
     p.vpp = vpp;
     p.frequency_hz = f;
     p.load_n = load_n;
-    const SteadyStateResult r = run_to_steady_state(model, p);
-    if (r.diverged || !(r.speed_mm_s > 0.0)) continue;
-    if (!peak.found || r.speed_mm_s > peak.speed_mm_s) peak = {f, r.speed_mm_s, true};
+    points.push_back(p);
+  }
+  std::vector<double> speeds;
+  for (const SteadyStateResult& r : run_points_to_steady_state(model, points)) {
+    speeds.push_back(r.diverged || !(r.speed_mm_s > 0.0) ? 0.0 : r.speed_mm_s);
+  }
+  return speeds;
+}
+
+SpeedPeak best_of(const MotorModel& model, double vpp, const std::vector<double>& frequencies, double load_n) {
+  SpeedPeak peak;
+  const std::vector<double> speeds = forward_speeds(model, vpp, frequencies, load_n);
+  for (std::size_t i = 0; i < frequencies.size(); ++i) {
+    if (!(speeds[i] > 0.0)) continue;
+    if (!peak.found || speeds[i] > peak.speed_mm_s) peak = {frequencies[i], speeds[i], true};
   }
   return peak;
 }
@@ -43,12 +61,13 @@ SpeedPeak frequency_of_max_speed(const MotorModel& model, double vpp, double sta
                                  double load_n) {
   std::vector<double> descending = evenly_spaced(start_hz, stop_hz, step_hz);
   std::reverse(descending.begin(), descending.end());
+  // Every coarse point at once (independent runs from rest, in SIMD lanes), then the walk down.
+  const std::vector<double> speeds = forward_speeds(model, vpp, descending, load_n);
   SpeedPeak coarse;
-  for (double f : descending) {
-    const SpeedPeak here = best_of(model, vpp, {f}, load_n);
-    const double speed = here.found ? here.speed_mm_s : 0.0;
+  for (std::size_t i = 0; i < descending.size(); ++i) {
+    const double speed = speeds[i];
     if (coarse.found && speed < 0.5 * coarse.speed_mm_s) break;  // collapsed below the peak
-    if (here.found && (!coarse.found || speed > coarse.speed_mm_s)) coarse = here;
+    if (speed > 0.0 && (!coarse.found || speed > coarse.speed_mm_s)) coarse = {descending[i], speed, true};
   }
   if (!coarse.found) return coarse;
   const double lo = std::max(start_hz, coarse.frequency_hz - step_hz);

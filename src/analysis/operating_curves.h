@@ -1,6 +1,7 @@
 // Steady-state curves the paper plots (Figs. 13-16): speed versus voltage, versus
 // frequency and versus load, and the frequency of maximum speed. Each point is an
-// independent run_to_steady_state from rest, so a curve is the branch reached from rest
+// independent run to steady state from rest (run_to_steady_state's procedure, the points in the
+// SIMD lanes of a batch: steady_state_batch.h), so a curve is the branch reached from rest
 // (what an experiment that switches the drive on at each point sees).
 #pragma once
 
@@ -16,7 +17,7 @@ struct CurvePoint {
   SteadyStateResult result;
 };
 
-/// One run per point, in order.
+/// One run per point, results in the order of the points (computed together in lanes).
 [[nodiscard]] std::vector<CurvePoint> run_points(const MotorModel& model, const std::vector<OperatingPoint>& points);
 
 /// Evenly spaced values start, start+step, ..., stop (inclusive within step/1e6).

@@ -16,16 +16,7 @@ struct WindowStats : WindowStatistics {
   double start_position_m = 0.0;
 
   void store(double end_position_m, SteadyStateResult& r) const {
-    const double T = duration_s;
-    r.speed_mm_s = 1e3 * (end_position_m - start_position_m) / T;
-    r.tip_normal_um = 1e6 * 0.5 * (u_max_m - u_min_m);
-    r.tip_tangential_um = 1e6 * 0.5 * (w_max_m - w_min_m);
-    r.contact_fraction = contact_s / T;
-    r.mean_friction_force_n = ft_sum_n_s / T;
-    r.mean_normal_force_n = fn_sum_n_s / T;
-    r.damping_power_w = energy_j / T;
-    r.friction_force_std_n = std::sqrt(
-        std::max(0.0, ft2_sum_n2_s / T - r.mean_friction_force_n * r.mean_friction_force_n));
+    store_window(*this, duration_s, start_position_m, end_position_m, r);
   }
 };
 
@@ -44,26 +35,49 @@ SteadyStateResult window_loop(const SteadyStateOptions& opt, Run&& run, Position
     elapsed += opt.window_s;
     w.store(position(), r);
     ++r.windows;
-    if (!std::isnan(previous_speed)) {
-      r.speed_change_mm_s = r.speed_mm_s - previous_speed;
-      const double tolerance = std::max(opt.speed_tolerance_mm_s,
-                                        opt.speed_relative_tolerance * std::abs(r.speed_mm_s));
-      r.ok = std::abs(r.speed_change_mm_s) <= tolerance;
-      if (r.ok && opt.stop_when_settled) return r;
-    }
-    previous_speed = r.speed_mm_s;
-    if (elapsed + opt.window_s > opt.max_s + 1e-12) {
-      if (r.ok) return r;  // ran on after settling (stop_when_settled false): the last two agree
-      r.failure = r.windows < 2 ? std::string("only one window fits within ") + std::to_string(opt.max_s) +
-                                      " s: nothing to compare it with"
-                                : std::string("did not settle within ") + std::to_string(opt.max_s) +
-                                      " s: last two windows differ by " + std::to_string(r.speed_change_mm_s) + " mm/s";
-      return r;
-    }
+    if (window_verdict(opt, elapsed, previous_speed, r)) return r;
   }
 }
 
 }  // namespace
+
+void store_window(const WindowStatistics& w, double duration_s, double start_position_m, double end_position_m,
+                  SteadyStateResult& r) {
+  const double T = duration_s;
+  r.speed_mm_s = 1e3 * (end_position_m - start_position_m) / T;
+  r.tip_normal_um = 1e6 * 0.5 * (w.u_max_m - w.u_min_m);
+  r.tip_tangential_um = 1e6 * 0.5 * (w.w_max_m - w.w_min_m);
+  r.contact_fraction = w.contact_s / T;
+  r.mean_friction_force_n = w.ft_sum_n_s / T;
+  r.mean_normal_force_n = w.fn_sum_n_s / T;
+  r.damping_power_w = w.energy_j / T;
+  r.friction_force_std_n = std::sqrt(
+      std::max(0.0, w.ft2_sum_n2_s / T - r.mean_friction_force_n * r.mean_friction_force_n));
+}
+
+bool window_verdict(const SteadyStateOptions& opt, double elapsed_s, double& previous_speed_mm_s,
+                    SteadyStateResult& r) {
+  if (!std::isnan(previous_speed_mm_s)) {
+    r.speed_change_mm_s = r.speed_mm_s - previous_speed_mm_s;
+    const double tolerance = std::max(opt.speed_tolerance_mm_s, opt.speed_relative_tolerance * std::abs(r.speed_mm_s));
+    r.ok = std::abs(r.speed_change_mm_s) <= tolerance;
+    if (r.ok && opt.stop_when_settled) return true;
+  }
+  previous_speed_mm_s = r.speed_mm_s;
+  if (elapsed_s + opt.window_s > opt.max_s + 1e-12) {
+    if (r.ok) return true;  // ran on after settling (stop_when_settled false): the last two agree
+    r.failure = r.windows < 2 ? std::string("only one window fits within ") + std::to_string(opt.max_s) +
+                                    " s: nothing to compare it with"
+                              : std::string("did not settle within ") + std::to_string(opt.max_s) +
+                                    " s: last two windows differ by " + std::to_string(r.speed_change_mm_s) + " mm/s";
+    return true;
+  }
+  return false;
+}
+
+std::string diverged_failure(double time_s) {
+  return std::string("diverged (non-finite or runaway state) at t = ") + std::to_string(time_s) + " s";
+}
 
 SteadyStateOptions steady_state_options_within(double duration_s) {
   SteadyStateOptions options;
@@ -122,8 +136,7 @@ SteadyStateResult run_to_steady_state(const MotorModel& model, const OperatingPo
     if (sim.diverged()) {
       r.diverged = true;
       r.ok = false;
-      r.failure = std::string("diverged (non-finite or runaway state) at t = ") + std::to_string(sim.state().time_s) +
-                  " s";
+      r.failure = diverged_failure(sim.state().time_s);
       return false;
     }
     return true;

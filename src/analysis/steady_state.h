@@ -8,6 +8,7 @@
 #include <string>
 
 #include "model/motor_model.h"
+#include "model/window_statistics.h"
 
 namespace swum {
 
@@ -88,5 +89,15 @@ struct SteadyStateResult {
 // (kappa = 3.6 * 10^a). Slow in stick-dominated regimes; meant for accuracy checks.
 [[nodiscard]] SteadyStateResult run_to_steady_state_reference(const MotorModel& model, const OperatingPoint& point,
                                                               const SteadyStateOptions& options = {});
+
+// The window rules, shared by run_to_steady_state and the batch runner (steady_state_batch.h).
+// store_window: a window's sums (duration_s = the sum of its steps) into r's values.
+void store_window(const WindowStatistics& sums, double duration_s, double start_position_m, double end_position_m,
+                  SteadyStateResult& r);
+// After window r.windows ending at elapsed_s (settle included): true when the run stops, with
+// r.ok (the last two windows agree) or r.failure set; otherwise previous_speed_mm_s = this one's.
+[[nodiscard]] bool window_verdict(const SteadyStateOptions& options, double elapsed_s, double& previous_speed_mm_s,
+                                  SteadyStateResult& r);
+[[nodiscard]] std::string diverged_failure(double time_s);
 
 }  // namespace swum

@@ -151,6 +151,16 @@ class MotorSplitSystem {
     return 0.5 * (k_.c1_n_s_m * (v[0] * v[0] + w2 * z1 * z1) + k_.c2_n_s_m * (v[1] * v[1] + w2 * z2 * z2));
   }
 
+  // The step-dependent constants of update_step, for a solver that runs the same step on
+  // other data (BatchSimulator: the same model in SIMD lanes).
+  struct StepConstants {
+    double a1_per_kg, a2_per_kg, inverse_compliance, dt_g_t_over_m2, dt_over_m, m_over_dt, dt_mu_s_over_m;
+  };
+  [[nodiscard]] const MotorCoefficients& coefficients() const { return k_; }
+  [[nodiscard]] StepConstants step_constants() const {
+    return {a1_per_kg_, a2_per_kg_, inverse_compliance_, dt_g_t_over_m2_, dt_over_m_, m_over_dt_, dt_mu_s_over_m_};
+  }
+
   [[nodiscard]] const InterfaceForces& forces() const { return forces_; }
   [[nodiscard]] double contact_deflection_m() const { return deflection_m_; }
   void set_contact_deflection_m(double deflection_m) {

@@ -28,8 +28,9 @@ EMU_ARGS = ["--watchdog-ms", "5000"]  # generous: a shared CI machine can stall 
 MODEL_HEADER = "vpp,frequency_hz,load_n,speed_mm_s,tip_normal_um,tip_tangential_um,status\n"
 DEVICE_HEADER = ("vpp,frequency_hz,load_n,time_s,sweep,speed_mm_s,tip_normal_um,tip_tangential_um,"
                  "speed_spread_mm_s,status\n")
-# Big enough for a few seconds on two cores (a model point takes tens of ms), so the kill lands
-# after the first row and well before the last.
+# Big enough for about a second on two cores (a model point takes ~4 ms of CPU on the scalar
+# path, ~0.5 ms in the SIMD lanes of a batch, issue 16), so the kill lands after the first row
+# and well before the last.
 MODEL_GRID = ["--vpp", "100,150,200,250,300,350,400", "--frequency", "39000:41000:25", "--load", "0,1", "--jobs", "2"]
 
 
