@@ -4,6 +4,8 @@
 // picks it; rows go to motors.csv(.partial) as motors complete, then the distribution per
 // voltage and the oscillator range for a yield (docs/population.md). On all cores, and over the
 // ranks of `mpirun -np K swum population ...` with the same files.
+#include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <exception>
@@ -17,12 +19,14 @@
 #include "commands/command_error.h"
 #include "commands/commands.h"
 #include "config/spread_file.h"
+#include "model/batch_simulator.h"
 #include "offline/motor_config.h"
 #include "offline/offline_sweep.h"
 #include "offline/population_study.h"
 #include "offline/rank_world.h"
 #include "output/partial_file.h"
 #include "output/population_report.h"
+#include "output/progress_bar.h"
 #include "output/text_files.h"
 #include "output/value_lists.h"
 
@@ -62,7 +66,11 @@ PopulationStudy prepare(const PopulationOptions& o) {
   check_grid(OfflineGrid{study.voltages, study.frequencies_hz, {study.load_n}});
   for (std::size_t a = 0; a < study.voltages.size(); ++a) {
     for (std::size_t b = 0; b < a; ++b) {
-      if (study.voltages[a] == study.voltages[b]) throw std::invalid_argument("--vpp: a voltage is given twice");
+      // The pick matches a curve's voltage within 1e-6 relative (model_pick): closer ones are one.
+      if (std::abs(study.voltages[a] - study.voltages[b]) <=
+          1e-6 * std::max(std::abs(study.voltages[a]), std::abs(study.voltages[b]))) {
+        throw std::invalid_argument("--vpp: a voltage is given twice");
+      }
     }
   }
   study.pick.min_margin_hz = o.margin_hz;
@@ -85,14 +93,32 @@ int exit_code_of(const std::exception_ptr& error) {
   }
 }
 
+// A small code of the SIMD target the lanes run on here (BatchSimulator::simd_target): AVX2 and
+// AVX-512 fuse multiply-adds, SSE4 and below do not, so ranks on unlike CPUs would differ in the
+// last digits of their motors.
+int simd_target_code() {
+  int code = 0;
+  for (const char* c = BatchSimulator::simd_target(); *c != '\0'; ++c) code = (code * 131 + *c) & 0x3fffffff;
+  return code;
+}
+
 void run_population(const PopulationOptions& o) {
   RankWorld world;
+  // Every rank takes part (a collective), before anything that can fail on one rank only.
+  const bool same_simd_target = world.from_root(simd_target_code()) == simd_target_code();
   // Setup: every rank reads and checks the same inputs; rank 0 also opens the output. A
   // failure anywhere ends every rank with the same status, reported once.
   std::optional<PopulationStudy> study;
   std::unique_ptr<PartialFile> file;
   std::exception_ptr setup_error;
   try {
+    if (!same_simd_target) {
+      throw CommandError("rank " + std::to_string(world.rank()) + " runs its SIMD lanes on " +
+                             BatchSimulator::simd_target() +
+                             ", rank 0 on another instruction set: results would differ in the last digits; run the "
+                             "ranks on like CPUs (docs/population.md)",
+                         kExitFailure);
+    }
     study = prepare(o);
     if (world.root()) file = std::make_unique<PartialFile>(o.out_path, population_csv_header(*study));
   } catch (...) {
@@ -109,6 +135,7 @@ void run_population(const PopulationOptions& o) {
   try {
     std::optional<InOrderRows> rows;
     if (world.root()) rows.emplace(*file, 0);
+    ProgressBar progress("motors", world.root() ? study->motors : 0);
     world.for_each(
         study->motors, world.threads(o.threads),
         [&](std::size_t i) { return encode_motor_outcome(run_population_motor(*study, i)); },
@@ -116,6 +143,7 @@ void run_population(const PopulationOptions& o) {
           MotorOutcome outcome = decode_motor_outcome(bytes);
           rows->complete(i, population_csv_row(*study, outcome));
           outcomes[i] = std::move(outcome);
+          progress.advance();
         });
   } catch (const std::exception& e) {
     if (world.size() > 1) {
@@ -149,6 +177,7 @@ void add_population_command(CLI::App& app) {
   sub->add_option("--spreads", o->spreads_path, "spreads file: which parameters vary and how (TOML)")->required();
   sub->add_option("--motors", o->motors, "motors to draw (1..1000000)")->required();
   sub->add_option("--seed", o->seed, "study seed: motor i's parameters depend on (seed, i) only")
+      ->check(CLI::NonNegativeNumber)  // CLI11 reads "-1" into an unsigned as 2^64 - 1
       ->capture_default_str();
   sub->add_option("--vpp", o->vpp_list, "voltages, comma list (Vpp)")->required();
   sub->add_option("--frequency", o->frequency_range, "START:STOP:STEP swept per motor and voltage (Hz)")

@@ -77,7 +77,7 @@ void sweep_model(const MotorModel& model, const OfflineGrid& grid, std::vector<S
                  const ModelPointDone& point_done) {
   first = std::min(first, rows.size());
   const std::size_t count = rows.size() - first;
-  ProgressBar progress("sweep", count);
+  ProgressBar progress("sweep", grid.progress ? count : 0);  // total 0: no bar
   // Points in SIMD lanes (steady_state_batch.h), one batch per worker: as many tasks as threads
   // while each still fills a vector of lanes, contiguous runs of rows (the file gets them in order).
   const unsigned jobs = static_cast<unsigned>(std::max(grid.jobs, 0));

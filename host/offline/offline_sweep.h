@@ -17,7 +17,8 @@ struct OfflineGrid {
   std::vector<double> frequencies_hz;
   std::vector<double> loads_n{0.0};
   double phase_deg = 90.0;
-  int jobs = 0;  // 0 = all cores
+  int jobs = 0;          // 0 = all cores
+  bool progress = true;  // a progress bar on a terminal (off when the sweep is one of many)
 };
 
 // Throws std::invalid_argument naming the option (--vpp, --frequency, --load, --phase) of a

@@ -175,8 +175,9 @@ std::string population_summary_json(const PopulationStudy& study, const std::vec
 
 std::string population_summary_text(const PopulationStudy& study, const std::vector<MotorOutcome>& outcomes,
                                     const PopulationSummaryInputs& in) {
-  std::string t = format_numbers("%.0f motors, seed %.0f: %.0f ok, ", static_cast<double>(study.motors),
-                                 static_cast<double>(study.seed), static_cast<double>(count_status(outcomes, "ok"))) +
+  // Whole numbers as text: a 64-bit seed does not survive a double.
+  std::string t = std::to_string(study.motors) + " motors, seed " + std::to_string(study.seed) + ": " +
+                  std::to_string(count_status(outcomes, "ok")) + " ok, " +
                   format_numbers("%.0f undecided at some voltage, %.0f rejected draws\n",
                                  static_cast<double>(count_status(outcomes, "undecided")),
                                  static_cast<double>(count_status(outcomes, "rejected")));

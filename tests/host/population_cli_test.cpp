@@ -145,6 +145,8 @@ TEST(SwumPopulation, BadInputIsAOneLineErrorNamingWhatAndWhere) {
       {{"--yield", "1.5"}, 2, "--yield"},
       {{"--vpp", "100,abc"}, 2, "--vpp"},
       {{"--vpp", "100,100"}, 2, "--vpp: a voltage is given twice"},
+      {{"--vpp", "100,100.00005"}, 2, "--vpp: a voltage is given twice"},  // one curve to the pick
+      {{"--seed", "-1"}, 2, "--seed"},
       {{"--frequency", "41000:39000:50"}, 2, "--frequency"},
       {{"--margin-hz", "-1"}, 2, "--margin-hz"},
       {{"--threads", "5000"}, 2, "--threads"},

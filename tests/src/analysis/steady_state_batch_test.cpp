@@ -147,7 +147,7 @@ TEST(SteadyStateBatch, ConfigurationsOutsideTheLanesFallBackToTheScalarResult) {
   const MotorModel erf{p};
   EXPECT_FALSE(batch_steady_state_supported(erf, {}));
   SteadyStateOptions odd;   // a window that is no whole number of 64-step blocks
-  odd.window_s = 0.010004;  // 25610 steps
+  odd.window_s = 0.010004;  // 19208 steps at 48 steps per period
   EXPECT_FALSE(batch_steady_state_supported(MotorModel{calibrated()}, odd));
   const std::vector<OperatingPoint> points = {at(300.0, 40200.0), at(150.0, 40400.0, 0.5)};
   const std::vector<SteadyStateResult> batch = run_points_to_steady_state(erf, points);
