@@ -61,6 +61,15 @@ RankWorld::RankWorld() {
     MPI_Comm_split_type(MPI_COMM_WORLD, MPI_COMM_TYPE_SHARED, rank_, MPI_INFO_NULL, &local);
     MPI_Comm_size(local, &local_size_);
     MPI_Comm_free(&local);
+    if (launched_size > 1 && size_ == 1) {
+      // Another MPI's launcher (or a broken setup): every process would be a world of one and
+      // run the whole study into the same files.
+      MPI_Finalize();
+      joined_ = false;
+      throw std::invalid_argument("started by a launcher with " + std::to_string(launched_size) +
+                                  " ranks, but MPI formed a world of 1 (another MPI's mpirun?): every rank would "
+                                  "run the whole study; use this MPI's mpirun (OpenMPI)");
+    }
   }
 #else
   if (launched_size > 1) {
