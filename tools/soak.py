@@ -166,7 +166,11 @@ class Link:
         while len(self.buffer) < 7 or len(self.buffer) < 6 + struct.unpack(">H", self.buffer[4:6])[0]:
             left = end - time.monotonic()
             if left <= 0:
-                raise NoReply(self.buffer.hex())
+                # Tell a slow server from a starved client thread (the deadline is checked on the
+                # client's clock, before it reads): was a reply already waiting?
+                waiting, _, _ = select.select([self.sock], [], [], 0)
+                raise NoReply(("a reply was waiting: the client was late; " if waiting else "nothing waiting; ")
+                              + f"had {self.buffer.hex() or 'no bytes'}")
             ready, _, _ = select.select([self.sock], [], [], left)
             if not ready:
                 continue
