@@ -140,8 +140,13 @@ void open_gpio(const EmuOptions& o, SharedState& shared, Transports& t) {
 // The ready line to stdout and, with --ready-fd, to that descriptor (then closed).
 void announce_ready(const EmuOptions& o, const std::string& transports) {
   char tail[160];
-  std::snprintf(tail, sizeof tail, " tick_hz=%g speedup=%g watchdog_ms=%g pid=%d", o.tick_hz, o.speedup, o.watchdog_ms,
-                static_cast<int>(getpid()));
+  if (o.external_clock) {
+    std::snprintf(tail, sizeof tail, " tick_hz=%g clock=external watchdog_ms=%g pid=%d", o.tick_hz, o.watchdog_ms,
+                  static_cast<int>(getpid()));
+  } else {
+    std::snprintf(tail, sizeof tail, " tick_hz=%g speedup=%g watchdog_ms=%g pid=%d", o.tick_hz, o.speedup,
+                  o.watchdog_ms, static_cast<int>(getpid()));
+  }
   const std::string ready = "swum-emu ready" + transports + tail;
   std::printf("%s\n", ready.c_str());
   std::fflush(stdout);
@@ -192,6 +197,11 @@ int run_emulator(const EmuOptions& o) {
   CoreConfig core_config;
   core_config.tick_hz = o.tick_hz;
   core_config.amplifier = amp;
+  core_config.external_clock = o.external_clock;
+  if (o.external_clock && !o.can_interface.empty())
+    throw EmuOptionError("--clock external with --can: CAN SYNC lockstep is not built yet; use Modbus TCP");
+  LockstepClock lockstep;
+  if (o.external_clock) shared->lockstep = &lockstep;
   EmulatorCore core(model, core_config, *shared);
   core.tick();  // publish a first snapshot before any transport answers
 
@@ -207,7 +217,12 @@ int run_emulator(const EmuOptions& o) {
   if (o.cpu >= 0) pin_loop_thread(o.cpu);  // after the transports started: only the loop's thread
 
   RealtimeLoop loop(core, loop_options);
-  loop.run(signals.stop());
+  LockstepLoop lockstep_loop(core, lockstep, lockstep_config(o));
+  if (o.external_clock) {
+    lockstep_loop.run(signals.stop());  // closes the clock: every waiting step is answered
+  } else {
+    loop.run(signals.stop());
+  }
   core.shut_down();  // drive off, published before the transports stop
   transports.stop();
 
@@ -215,7 +230,7 @@ int run_emulator(const EmuOptions& o) {
   ExitStatistics s;
   s.stopped_by_signal = signals.stop().load();
   s.emulated_s = t.sim_time_s;
-  s.wall_s = loop.wall_seconds();
+  s.wall_s = o.external_clock ? lockstep_loop.wall_seconds() : loop.wall_seconds();
   s.state = t.state;
   s.fault = t.fault;
   s.tick_hz = o.tick_hz;

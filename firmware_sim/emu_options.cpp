@@ -84,6 +84,12 @@ EmuOptions parse_emu_options(int argc, const char* const* argv) {
       ->check(CLI::Range(0.0, 1e6))
       ->capture_default_str();
   app.add_option("--ready-fd", o.ready_fd, "also write the ready line to this file descriptor");
+  std::string clock = "internal";
+  app.add_option("--clock", clock,
+                 "internal: run on wall time (--speedup); external: lockstep, time advances only when a "
+                 "controller steps it (Modbus advance register)")
+      ->check(CLI::IsMember({"internal", "external"}))
+      ->capture_default_str();
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -91,6 +97,12 @@ EmuOptions parse_emu_options(int argc, const char* const* argv) {
     std::ostringstream err;
     const int exit_code = app.exit(e, out, err);
     throw EmuCliExit(exit_code, out.str(), err.str());
+  }
+  o.external_clock = clock == "external";
+  for (const char* wall_option : {"--speedup", "--spin-us"}) {
+    if (o.external_clock && app.count(wall_option) > 0)
+      throw EmuOptionError(std::string(wall_option) +
+                           " paces wall time; with --clock external time advances only when the controller steps it");
   }
   for (const auto& [option, text, min_ms, value] :
        {std::tuple{"--modbus-idle-timeout-ms", &modbus_idle_text, 0, &o.modbus_idle_timeout_ms},
@@ -160,14 +172,26 @@ GpioConfig gpio_config(const EmuOptions& o) {
   return gpio;
 }
 
+namespace {
+std::uint64_t duration_ticks(const EmuOptions& o) {
+  return o.duration_s > 0.0 ? static_cast<std::uint64_t>(std::llround(o.duration_s * o.tick_hz)) : 0;
+}
+}  // namespace
+
 LoopConfig loop_config(const EmuOptions& o) {
   LoopConfig loop;
   loop.speedup = o.speedup;
   loop.realtime = o.realtime;
   loop.spin_s = o.spin_us * 1e-6;
   loop.stats_every_ticks = std::max<std::uint64_t>(1, static_cast<std::uint64_t>(o.tick_hz / 10.0));
-  if (o.duration_s > 0.0) loop.max_ticks = static_cast<std::uint64_t>(std::llround(o.duration_s * o.tick_hz));
+  loop.max_ticks = duration_ticks(o);
   return loop;
+}
+
+LockstepConfig lockstep_config(const EmuOptions& o) {
+  LockstepConfig lockstep;
+  lockstep.max_ticks = duration_ticks(o);
+  return lockstep;
 }
 
 }  // namespace swum::emu

@@ -17,6 +17,7 @@
 #include "amplifier.h"
 #include "can_transport.h"
 #include "gpio_transport.h"
+#include "lockstep_clock.h"
 #include "modbus_server.h"
 #include "realtime_loop.h"
 
@@ -50,9 +51,10 @@ struct EmuOptions {
   double amplitude_slew_vpp_per_s = AmplifierConfig{}.amplitude_slew_vpp_per_s;  // --amplitude-slew
   double frequency_hz = AmplifierConfig{}.frequency_hz;                          // --frequency (initial)
   double phase_deg = AmplifierConfig{}.phase_deg;                                // --phase (initial)
-  bool realtime = false;                                                         // --rt
-  int cpu = -1;                                                                  // --cpu; -1: loop not pinned
-  int ready_fd = -1;                                                             // --ready-fd; -1: stdout only
+  bool external_clock = false;  // --clock external: lockstep (time advances only when a controller steps it)
+  bool realtime = false;        // --rt
+  int cpu = -1;                 // --cpu; -1: loop not pinned
+  int ready_fd = -1;            // --ready-fd; -1: stdout only
 };
 
 // A bad or conflicting option value; what() is the one line after "swum-emu: ".
@@ -96,5 +98,7 @@ CanTransportConfig can_transport_config(const EmuOptions& options);
 GpioConfig gpio_config(const EmuOptions& options);
 // --speedup, --rt, --spin-us, --duration at --tick-hz; statistics published ~10 times a second.
 LoopConfig loop_config(const EmuOptions& options);
+// --duration at --tick-hz (--clock external).
+LockstepConfig lockstep_config(const EmuOptions& options);
 
 }  // namespace swum::emu

@@ -37,6 +37,7 @@ EmulatorCore::EmulatorCore(const MotorModel& model, CoreConfig config, SharedSta
   config_.sample_stride = std::max(1U, config_.sample_stride);
   simulator_.set_drive(amplifier_.output());
   telemetry_.position_m = simulator_.state().mover_position_m;
+  telemetry_.external_clock = config_.external_clock;
 }
 
 void EmulatorCore::shut_down() {

@@ -28,7 +28,8 @@ struct CoreConfig {
   double tick_hz = 10000.0;
   AmplifierConfig amplifier;  // tick_s is overwritten from tick_hz
   double speed_window_s = 0.010;
-  unsigned sample_stride = 4;  // sub-steps between tip-amplitude samples
+  unsigned sample_stride = 4;   // sub-steps between tip-amplitude samples
+  bool external_clock = false;  // lockstep: reported in the telemetry
 };
 
 class EmulatorCore {

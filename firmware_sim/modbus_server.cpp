@@ -1,5 +1,7 @@
 #include "modbus_server.h"
 
+#include "lockstep_clock.h"
+
 #include <arpa/inet.h>
 #include <modbus.h>
 #include <netinet/in.h>
@@ -17,6 +19,7 @@
 #include <charconv>
 #include <cstdio>
 #include <cstring>
+#include <functional>
 #include <optional>
 #include <stdexcept>
 #include <system_error>
@@ -42,6 +45,7 @@ constexpr int kIdle = 0;       // waiting for a request's first byte: the idle t
 constexpr int kReceiving = 1;  // inside a request: the frame timeout runs from its first byte
 constexpr int kReplying = 2;   // serving and sending: the frame timeout runs again
 constexpr int kClosing = 3;    // shut down by the server (or ended); no longer holds a slot
+constexpr int kStepping = 4;   // lockstep: waiting for the ticks it asked for; no deadline runs
 
 void wake(int eventfd_fd) {
   const std::uint64_t one = 1;
@@ -99,8 +103,12 @@ bool discard_bytes(int fd, std::size_t count) {
 // `surplus`: the MBAP length counted bytes after what the function code frames; a supported
 // function code with them is malformed (exception 03, wrong length), an unsupported one is
 // refused as such (01).
+// `stepping(true)` before a lockstep step waits for the loop, `stepping(false)` after it (the TCP
+// server suspends the connection's deadlines meanwhile); false: the connection is being closed.
+using SteppingHook = std::function<bool(bool)>;
 bool serve(modbus_t* ctx, const std::uint8_t* adu, int length, int checksum_length, modbus_mapping_t* map,
-           SharedState& shared, const AmplifierLimits& limits, ModbusStats& stats, bool surplus = false) {
+           SharedState& shared, const AmplifierLimits& limits, ModbusStats& stats, bool surplus = false,
+           const SteppingHook& stepping = {}) {
   stats.requests.fetch_add(1, std::memory_order_relaxed);
   const int header = modbus_get_header_length(ctx);
   const int pdu_length = length - header - checksum_length;
@@ -119,14 +127,26 @@ bool serve(modbus_t* ctx, const std::uint8_t* adu, int length, int checksum_leng
     decision = protocol::modbus::decide(request, limits);
     exception = decision.exception;
     reason = decision.reason;
+    if (exception == protocol::modbus::kNoException && decision.advance_ticks != 0 && shared.lockstep == nullptr) {
+      exception = protocol::modbus::kIllegalDataValue;  // nothing of the request is applied
+      reason = Reason::clock_not_external;
+    }
   }
   if (exception == protocol::modbus::kNoException && decision.has_command) {
     decision.command.accepted_ns = monotonic_ns();
     if (shared.submit(decision.command) != Reason::none) exception = protocol::modbus::kServerDeviceBusy;
   }
+  if (exception == protocol::modbus::kNoException && decision.advance_ticks != 0) {
+    // The command above is queued first, so the first of these ticks applies it.
+    if (stepping && !stepping(true)) return false;
+    const bool ran = shared.lockstep->advance(decision.advance_ticks);
+    if (stepping && !stepping(false)) return false;
+    if (!ran) exception = protocol::modbus::kServerDeviceFailure;  // the emulator stopped first
+  }
   if (exception != protocol::modbus::kNoException) {
     stats.exceptions.fetch_add(1, std::memory_order_relaxed);
-    if (exception != protocol::modbus::kServerDeviceBusy) shared.rejects.record(reason, CommandSource::modbus);
+    if (exception != protocol::modbus::kServerDeviceBusy && exception != protocol::modbus::kServerDeviceFailure)
+      shared.rejects.record(reason, CommandSource::modbus);
     if (pdu[0] & 0x80) {
       // libmodbus answers function + 0x80 in one byte: a code that has the top bit already
       // (128-255, those of exception replies) would come back as function - 128, e.g. 0x84 as
@@ -328,7 +348,7 @@ int ModbusTcpServer::enforce_deadlines(std::uint64_t now) {
   // then seen before its deadline, and the next wake-up is set to that deadline.
   std::uint64_t next = connections_.empty() ? ~std::uint64_t{0} : now + frame / 2;
   for (auto& c : connections_) {
-    if (c->phase == kClosing) continue;
+    if (c->phase == kClosing || c->phase == kStepping) continue;
     std::uint64_t deadline = 0;
     Drop reason = Drop::frame_timeout;
     if (c->phase == kIdle) {
@@ -424,7 +444,8 @@ void ModbusTcpServer::client_loop(Connection& c) {
       // same frame deadline (still kReceiving); a short read means the connection is ending.
       if (header.surplus_bytes > 0 && !discard_bytes(c.fd, header.surplus_bytes)) break;
       if (!enter(c, kReplying)) break;  // the deadline passed just as the frame completed
-      if (rc > 0 && !serve(ctx, adu, rc, 0, map, shared_, limits_, stats_, header.surplus_bytes > 0)) break;
+      const SteppingHook stepping = [&](bool begin) { return enter(c, begin ? kStepping : kReplying); };
+      if (rc > 0 && !serve(ctx, adu, rc, 0, map, shared_, limits_, stats_, header.surplus_bytes > 0, stepping)) break;
       if (!enter(c, kIdle)) break;
     }
   } else {

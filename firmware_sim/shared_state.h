@@ -32,8 +32,11 @@ inline constexpr std::size_t kCommandQueueCapacity = 1024;
 using CommandQueue = BoundedQueue<Command, kCommandQueueCapacity>;
 
 // Everything the loop and the transports share. Lives for the whole process.
+class LockstepClock;
+
 struct SharedState {
   CommandQueue commands;
+  LockstepClock* lockstep = nullptr;  // --clock external: who asks for ticks; nullptr: wall time
   Seqlock<Telemetry> telemetry;
   RejectLog rejects;
   std::atomic<bool> enable_line{true};  // GPIO transport -> loop

@@ -39,6 +39,7 @@ const char* to_string(Reason reason) {
     case Reason::queue_full: return "queue full";
     case Reason::reserved_bits: return "reserved bits set";
     case Reason::illegal_function: return "illegal function";
+    case Reason::clock_not_external: return "clock not external";
   }
   return "?";
 }

@@ -33,8 +33,9 @@ enum class Reason : std::uint8_t {
   queue_full = 14,          // command queue full (transport refused it on the spot)
   reserved_bits = 15,       // CAN reserved bits not zero
   illegal_function = 16,    // Modbus function code not supported
+  clock_not_external = 17,  // a lockstep step (Modbus advance, CAN SYNC) while the clock is internal
 };
-inline constexpr std::uint8_t kMaxReason = 16;
+inline constexpr std::uint8_t kMaxReason = 17;
 
 const char* to_string(AmpState state);
 const char* to_string(FaultCode fault);

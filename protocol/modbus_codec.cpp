@@ -157,12 +157,14 @@ Decision decide(const Request& r, const AmplifierLimits& limits) {
         c.fields |= Command::kAmplitudeSlew;
         c.amplitude_slew_vpp_per_s = reg32(a) * kSlewScale.unit_per_count;
         break;
+      case holding::kAdvance: d.advance_ticks = reg(a); break;
       default: break;  // low words of 32-bit values
     }
   }
   const Reason why = validate(c, limits);
   if (why != Reason::none) return fail(kIllegalDataValue, why);
-  d.has_command = true;
+  // A write of the advance register alone is a step, not a command (it does not feed the watchdog).
+  d.has_command = c.fields != 0;
   return d;
 }
 
@@ -174,6 +176,7 @@ void fill_holding(const Telemetry& t, std::span<std::uint16_t, holding::kCount> 
   r[holding::kLoad] = sat_i16(t.setpoints.load_n * kLoadScale.count_per_unit);
   put_u32(r, holding::kFrequencySlew, sat_u32(t.setpoints.frequency_slew_hz_per_s * kSlewScale.count_per_unit));
   put_u32(r, holding::kAmplitudeSlew, sat_u32(t.setpoints.amplitude_slew_vpp_per_s * kSlewScale.count_per_unit));
+  r[holding::kAdvance] = 0;
 }
 
 void fill_input(const Telemetry& t, const RejectSnapshot& rejects, std::span<std::uint16_t, input::kCount> r) {
@@ -205,6 +208,7 @@ void fill_input(const Telemetry& t, const RejectSnapshot& rejects, std::span<std
   put_u32(r, input::kOverruns, static_cast<std::uint32_t>(t.stats.overruns));
   put_u32(r, input::kTickSpeed, sat_i32(t.tick_speed_m_s * kMicroScale.count_per_unit));
   put_u32(r, input::kLastSequence, static_cast<std::uint32_t>(t.last_sequence));
+  r[input::kClock] = t.external_clock ? 1U : 0U;
 }
 
 namespace {
@@ -259,6 +263,13 @@ std::string encode_slew_write(double frequency_hz_per_s, double amplitude_vpp_pe
   return {};
 }
 
+std::string encode_advance(std::uint64_t ticks, std::uint16_t& register_value) {
+  if (ticks < 1 || ticks > 65535)
+    return "advance of " + std::to_string(ticks) + " ticks does not fit the register (1..65535)";
+  register_value = static_cast<std::uint16_t>(ticks);
+  return {};
+}
+
 InputImage decode_input(std::span<const std::uint16_t, input::kCount> r) {
   InputImage image;
   Telemetry& t = image.telemetry;
@@ -298,6 +309,7 @@ InputImage decode_input(std::span<const std::uint16_t, input::kCount> r) {
   t.stats.overruns = get_u32(r, input::kOverruns);
   t.tick_speed_m_s = i32(input::kTickSpeed) * kMicroScale.unit_per_count;
   t.last_sequence = get_u32(r, input::kLastSequence);
+  t.external_clock = r[input::kClock] == 1U;
   return image;
 }
 

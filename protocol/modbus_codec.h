@@ -49,7 +49,10 @@ inline constexpr std::uint16_t kPhase = 4;          // i16: 0.01 deg
 inline constexpr std::uint16_t kLoad = 5;           // i16: mN
 inline constexpr std::uint16_t kFrequencySlew = 6;  // u32 (6-7): Hz/s, 0 = unlimited
 inline constexpr std::uint16_t kAmplitudeSlew = 8;  // u32 (8-9): Vpp/s, 0 = unlimited
-inline constexpr std::uint16_t kCount = 10;
+// u16: lockstep (--clock external) only: run this many ticks after applying the other registers
+// of the same request, and reply when they are done; 0 = none. Reads 0.
+inline constexpr std::uint16_t kAdvance = 10;
+inline constexpr std::uint16_t kCount = 11;
 }  // namespace holding
 
 namespace input {
@@ -78,7 +81,8 @@ inline constexpr std::uint16_t kComputeMax = 28;
 inline constexpr std::uint16_t kOverruns = 29;      // u32 (29-30)
 inline constexpr std::uint16_t kTickSpeed = 31;     // i32 (31-32): um/s, mean over the last tick
 inline constexpr std::uint16_t kLastSequence = 33;  // u32 (33-34): sequence of the last command applied
-inline constexpr std::uint16_t kCount = 35;
+inline constexpr std::uint16_t kClock = 35;         // u16: 0 internal (wall time), 1 external (lockstep)
+inline constexpr std::uint16_t kCount = 36;
 }  // namespace input
 
 // Scales (docs/protocols.md): physical = register * unit_per_count, register = physical *
@@ -139,6 +143,7 @@ struct Decision {
   Reason reason = Reason::none;
   bool has_command = false;
   Command command;
+  std::uint16_t advance_ticks = 0;  // holding kAdvance written: ticks to run after the command
 };
 // Address ranges and, for writes, value ranges -> one Command.
 Decision decide(const Request& request, const AmplifierLimits& limits);
@@ -157,6 +162,9 @@ std::string encode_drive_write(double frequency_hz, double amplitude_vpp, double
 inline constexpr std::uint16_t kSlewWriteCount = holding::kAmplitudeSlew + 2 - holding::kFrequencySlew;
 std::string encode_slew_write(double frequency_hz_per_s, double amplitude_vpp_per_s,
                               std::span<std::uint16_t, kSlewWriteCount> registers);
+// A lockstep step (holding kAdvance), written as the last register of a set-point write so that
+// one request sets and steps: ticks in [1, 65535]; empty when it fits, else why not.
+std::string encode_advance(std::uint64_t ticks, std::uint16_t& register_value);
 // The command register's value for an action.
 inline std::uint16_t command_code(Action action) { return static_cast<std::uint16_t>(action); }
 

@@ -42,6 +42,7 @@ struct Telemetry {
   std::uint64_t amplifier_rejects = 0;
   std::uint64_t last_sequence = 0;  // sequence of the last command applied
   std::uint64_t divergences = 0;
+  bool external_clock = false;  // lockstep: time advances only when a controller steps it
   LoopTiming stats;
 };
 

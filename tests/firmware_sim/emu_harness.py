@@ -22,6 +22,7 @@ class RegisterMap:
         self.input = {r["name"]: r for r in m["input_registers"]}
         self.reasons = {v: int(k) for k, v in m["reason_codes"].items()}
         self.input_count = max(r["address"] + (2 if "32" in r["type"] else 1) for r in m["input_registers"])
+        self.holding_count = max(r["address"] + (2 if "32" in r["type"] else 1) for r in m["holding_registers"])
 
     @staticmethod
     def _decode(entry, regs, base=0):

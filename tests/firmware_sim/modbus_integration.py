@@ -40,7 +40,7 @@ class Controller:
         return MAP.decode_inputs(rr.registers)
 
     def holding(self):
-        rr = self.client.read_holding_registers(0, 10, slave=1)
+        rr = self.client.read_holding_registers(0, MAP.holding_count, slave=1)
         assert not rr.isError(), rr
         return MAP.decode_holding(rr.registers)
 

@@ -329,6 +329,7 @@ json modbus_request(const json& in) {
     exception = d.exception;
     why = d.reason;
     if (d.has_command) out["command"] = command_json(d.command);
+    if (d.advance_ticks != 0) out["advance_ticks"] = d.advance_ticks;  // issue 13: lockstep step
   }
   out["exception"] = exception;
   out["reason"] = static_cast<int>(why);

@@ -238,6 +238,11 @@ void modbus_cases(Vectors& v) {
       {"FC16 address 500", write_n(500, {1})},
       {"FC16 byte count does not match quantity", "10000300010400010002"},
       {"FC16 quantity 124", q124},
+      {"FC06 advance 10 ticks (alone: a step, no command)", write1(10, 10)},
+      {"FC16 set-points + advance 10 ticks (one request sets and steps)",
+       write_n(1, {hi(f1), lo(f1), 2505, 9000, 250, hi(0), lo(0), hi(0), lo(0), 10})},
+      {"FC03 read all holding registers with advance", read_pdu(0x03, 0, 11)},
+      {"FC04 read all input registers with clock", read_pdu(0x04, 0, 36)},
       {"FC16 quantity 0", "1000000000"
                           "00"},
   };
