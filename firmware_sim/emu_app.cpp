@@ -9,6 +9,7 @@
 #include <array>
 #include <atomic>
 #include <cerrno>
+#include <charconv>
 #include <cstdarg>
 #include <cstdio>
 #include <cstring>
@@ -24,6 +25,7 @@
 #include "gpiod_lines.h"
 #include "model/motor_model.h"
 #include "socketcan_bus.h"
+#include "trace.h"
 
 namespace swum::emu {
 namespace {
@@ -185,11 +187,57 @@ void pin_loop_thread(int cpu) {
 
 unsigned long long u(std::uint64_t value) { return static_cast<unsigned long long>(value); }
 
+std::string shortest(double value) {
+  char buffer[32];
+  const auto r = std::to_chars(buffer, buffer + sizeof buffer, value);
+  return std::string(buffer, r.ptr);
+}
+
+// What changes a run's telemetry besides the commands: a replay must run with the same.
+TraceSettings trace_settings(const EmuOptions& o, const std::string& config_text) {
+  TraceSettings s;
+  s.add("config_fnv1a", fnv1a_hex(config_text));
+  for (const auto& [name, value] : {std::pair{"tick_hz", o.tick_hz},
+                                    {"watchdog_ms", o.watchdog_ms},
+                                    {"frequency_min", o.frequency_min_hz},
+                                    {"frequency_max", o.frequency_max_hz},
+                                    {"amplitude_max", o.amplitude_max_vpp},
+                                    {"load_max", o.load_max_n},
+                                    {"frequency_slew", o.frequency_slew_hz_per_s},
+                                    {"amplitude_slew", o.amplitude_slew_vpp_per_s},
+                                    {"frequency", o.frequency_hz},
+                                    {"phase", o.phase_deg}})
+    s.add(name, shortest(value));
+  return s;
+}
+
+// --replay: the trace's inputs into a fresh core, no transports, no clock. 0 identical, 3 not.
+int run_replay(const EmuOptions& o, const MotorModel& model, const CoreConfig& core_config,
+               const std::string& config_text) {
+  std::ifstream in(o.replay_path, std::ios::binary);
+  if (!in) throw std::runtime_error("--replay " + o.replay_path + ": " + std::strerror(errno));
+  const Trace trace = read_trace(in, o.replay_path);
+  if (const std::string e = compare_settings(trace.settings, trace_settings(o, config_text)); !e.empty())
+    throw EmuOptionError("--replay " + o.replay_path + ": " + e);
+  auto shared = std::make_unique<SharedState>();
+  EmulatorCore core(model, core_config, *shared);
+  const ReplayResult r = replay(trace, core, *shared);
+  if (!r.identical) {
+    std::printf("swum-emu replay: DIFFERENT at %s (%llu ticks identical before it, %llu commands fed)\n",
+                r.difference.c_str(), u(r.ticks - 1), u(r.commands));
+    return 3;
+  }
+  std::printf("swum-emu replay: identical: %llu ticks, %llu commands (%s)\n", u(r.ticks), u(r.commands),
+              o.replay_path.c_str());
+  return 0;
+}
+
 }  // namespace
 
 int run_emulator(const EmuOptions& o) {
   const SignalStop signals;  // before any other thread exists
-  const MotorParameters parameters = parse_motor_parameters(read_file(o.config_path), o.config_path);
+  const std::string config_text = read_file(o.config_path);
+  const MotorParameters parameters = parse_motor_parameters(config_text, o.config_path);
   const MotorModel model(parameters);
   const AmplifierConfig amp = amplifier_config(o);
 
@@ -197,12 +245,18 @@ int run_emulator(const EmuOptions& o) {
   CoreConfig core_config;
   core_config.tick_hz = o.tick_hz;
   core_config.amplifier = amp;
-  core_config.external_clock = o.external_clock;
+  core_config.external_clock = o.external_clock || !o.replay_path.empty();
+  if (!o.replay_path.empty()) return run_replay(o, model, core_config, config_text);
   if (o.external_clock && !o.can_interface.empty())
     throw EmuOptionError("--clock external with --can: CAN SYNC lockstep is not built yet; use Modbus TCP");
   LockstepClock lockstep;
   if (o.external_clock) shared->lockstep = &lockstep;
   EmulatorCore core(model, core_config, *shared);
+  std::unique_ptr<TraceRecorder> recorder;
+  if (!o.record_path.empty()) {
+    recorder = std::make_unique<TraceRecorder>(o.record_path, trace_settings(o, config_text));
+    core.set_observer(recorder.get());
+  }
   core.tick();  // publish a first snapshot before any transport answers
 
   Transports transports;
@@ -225,6 +279,11 @@ int run_emulator(const EmuOptions& o) {
   }
   core.shut_down();  // drive off, published before the transports stop
   transports.stop();
+  std::string record_error;
+  if (recorder) {
+    core.set_observer(nullptr);
+    record_error = recorder->close();
+  }
 
   const Telemetry& t = core.telemetry();
   ExitStatistics s;
@@ -248,6 +307,10 @@ int run_emulator(const EmuOptions& o) {
   }
   std::fputs(format_exit_report(s).c_str(), stdout);
   std::fflush(stdout);
+  if (!record_error.empty()) {  // the run itself is reported above; the trace is incomplete
+    std::fprintf(stderr, "swum-emu: %s\n", record_error.c_str());
+    return 1;
+  }
   return 0;
 }
 

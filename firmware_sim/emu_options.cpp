@@ -90,6 +90,12 @@ EmuOptions parse_emu_options(int argc, const char* const* argv) {
                  "controller steps it (Modbus advance register)")
       ->check(CLI::IsMember({"internal", "external"}))
       ->capture_default_str();
+  app.add_option("--record", o.record_path,
+                 "write every applied command with its tick and every tick's telemetry to this CSV trace");
+  app.add_option("--replay", o.replay_path,
+                 "feed a recorded trace's commands at their ticks (no transports) and check the telemetry is "
+                 "identical; exit 3 at the first difference")
+      ->check(CLI::ExistingFile);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -99,6 +105,8 @@ EmuOptions parse_emu_options(int argc, const char* const* argv) {
     throw EmuCliExit(exit_code, out.str(), err.str());
   }
   o.external_clock = clock == "external";
+  if (!o.replay_path.empty() && !o.record_path.empty())
+    throw EmuOptionError("--replay and --record: a replay records nothing (it compares with its trace)");
   for (const char* wall_option : {"--speedup", "--spin-us"}) {
     if (o.external_clock && app.count(wall_option) > 0)
       throw EmuOptionError(std::string(wall_option) +

@@ -52,6 +52,8 @@ struct EmuOptions {
   double frequency_hz = AmplifierConfig{}.frequency_hz;                          // --frequency (initial)
   double phase_deg = AmplifierConfig{}.phase_deg;                                // --phase (initial)
   bool external_clock = false;  // --clock external: lockstep (time advances only when a controller steps it)
+  std::string record_path;      // --record: trace of commands and per-tick telemetry; empty: none
+  std::string replay_path;      // --replay: feed a trace's commands in lockstep and compare; empty: none
   bool realtime = false;        // --rt
   int cpu = -1;                 // --cpu; -1: loop not pinned
   int ready_fd = -1;            // --ready-fd; -1: stdout only

@@ -59,12 +59,18 @@ const Telemetry& EmulatorCore::tick() {
   while (shared_.commands.try_pop(command)) {
     if (accepted_count_ < accepted_ns_.size() && command.accepted_ns != 0)
       accepted_ns_[accepted_count_++] = command.accepted_ns;
+    if (observer_ != nullptr) observer_->on_command(tick_, command);
     const Reason reason = amplifier_.apply(command, tick_);
     if (reason != Reason::none) shared_.rejects.record(reason, command.source);
     telemetry_.last_sequence = command.sequence;
   }
   // 2. Amplifier: enable line, watchdog, slew -> drive for this tick.
-  const DriveInput drive = amplifier_.tick(tick_, shared_.enable_line.load(std::memory_order_relaxed));
+  const bool enable_line = shared_.enable_line.load(std::memory_order_relaxed);
+  if (observer_ != nullptr && last_enable_line_ != static_cast<int>(enable_line)) {
+    observer_->on_enable_line(tick_, enable_line);
+    last_enable_line_ = static_cast<int>(enable_line);
+  }
+  const DriveInput drive = amplifier_.tick(tick_, enable_line);
   simulator_.set_drive(drive);
 
   // 3. Integrate over the tick in fixed sub-steps (sampling the tip every stride steps).
@@ -128,6 +134,7 @@ const Telemetry& EmulatorCore::tick() {
   telemetry_.applied_commands = amplifier_.applied_commands();
   telemetry_.amplifier_rejects = amplifier_.rejected_commands();
   shared_.telemetry.store(telemetry_);
+  if (observer_ != nullptr) observer_->on_telemetry(telemetry_);
   return telemetry_;
 }
 

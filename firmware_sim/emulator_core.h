@@ -24,6 +24,16 @@ inline protocol::LoopTiming loop_timing(const LoopStatsSummary& s) {
           s.lateness_max_ns, s.compute_p99_ns,  s.compute_max_ns};
 }
 
+// Sees what the core applies and publishes, tick by tick (the trace recorder). Called from the
+// loop's thread, inside tick().
+class TickObserver {
+ public:
+  virtual ~TickObserver() = default;
+  virtual void on_command(std::uint64_t tick, const Command& command) = 0;  // before it is applied at `tick`
+  virtual void on_enable_line(std::uint64_t tick, bool enable_line) = 0;    // its value from `tick` on
+  virtual void on_telemetry(const Telemetry& telemetry) = 0;                // after each tick
+};
+
 struct CoreConfig {
   double tick_hz = 10000.0;
   AmplifierConfig amplifier;  // tick_s is overwritten from tick_hz
@@ -40,6 +50,8 @@ class EmulatorCore {
   const Telemetry& tick();
   // Drive off (end of run): disable at the next tick boundary, then publish.
   void shut_down();
+  // nullptr: none. The observer must outlive the ticks it sees.
+  void set_observer(TickObserver* observer) { observer_ = observer; }
 
   void set_stats(const LoopStatsSummary& s) { telemetry_.stats = loop_timing(s); }
   [[nodiscard]] const Amplifier& amplifier() const { return amplifier_; }
@@ -71,6 +83,8 @@ class EmulatorCore {
   std::size_t ring_filled_ = 0;
   std::array<std::uint64_t, 64> accepted_ns_{};  // first 64 commands of a tick
   std::size_t accepted_count_ = 0;
+  TickObserver* observer_ = nullptr;
+  int last_enable_line_ = -1;  // what the observer was last told (-1: nothing yet)
 };
 
 }  // namespace swum::emu
