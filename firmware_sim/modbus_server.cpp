@@ -242,6 +242,20 @@ void ModbusTcpServer::stop() {
   if (stopping_.exchange(true)) return;
   wake(wake_fd_);
   if (acceptor_.joinable()) acceptor_.join();
+  // A request being answered gets its reply out before the sockets close (within one frame
+  // timeout): e.g. a lockstep step that the end of the run has just answered with exception 04.
+  const std::uint64_t until = monotonic_ns() + ms_to_ns(options_.frame_timeout_ms);
+  for (;;) {
+    {
+      std::lock_guard lock(mutex_);
+      if (std::none_of(connections_.begin(), connections_.end(),
+                       [](const auto& c) { return !c->ended && (c->phase == kStepping || c->phase == kReplying); }))
+        break;
+    }
+    if (monotonic_ns() >= until) break;
+    const timespec pause{0, 1'000'000};
+    nanosleep(&pause, nullptr);
+  }
   {
     std::lock_guard lock(mutex_);
     for (auto& c : connections_) {

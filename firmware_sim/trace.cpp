@@ -127,9 +127,7 @@ void TraceRecorder::write(const std::string& row) {
 }
 
 void TraceRecorder::on_command(std::uint64_t tick, const Command& command) { write(command_row(tick, command)); }
-void TraceRecorder::on_enable_line(std::uint64_t tick, bool enable_line) {
-  write(enable_line_row(tick, enable_line));
-}
+void TraceRecorder::on_enable_line(std::uint64_t tick, bool enable_line) { write(enable_line_row(tick, enable_line)); }
 void TraceRecorder::on_telemetry(const Telemetry& telemetry) { write(telemetry_row(telemetry)); }
 
 std::string TraceRecorder::close() {
@@ -188,7 +186,8 @@ Trace read_trace(std::istream& in, const std::string& file) {
     if (f.size() != kColumns)
       fail(file, line, "has " + std::to_string(f.size()) + " columns, the header " + std::to_string(kColumns));
     const auto tick = parse_number<std::uint64_t>(f[1], file, line, "tick");
-    if (tick < last_tick) fail(file, line, "tick " + std::to_string(tick) + " goes back (after " + std::to_string(last_tick) + ")");
+    if (tick < last_tick)
+      fail(file, line, "tick " + std::to_string(tick) + " goes back (after " + std::to_string(last_tick) + ")");
     last_tick = tick;
     if (f[0] == "command") {
       RecordedInput input;
@@ -198,14 +197,15 @@ Trace read_trace(std::istream& in, const std::string& file) {
       const auto source = parse_number<unsigned>(f[3], file, line, names[3]);
       const auto fields = parse_number<std::uint32_t>(f[4], file, line, names[4]);
       const auto action = parse_number<unsigned>(f[5], file, line, names[5]);
-      if (source > static_cast<unsigned>(CommandSource::internal)) fail(file, line, "unknown source " + std::string(f[3]));
+      if (source > static_cast<unsigned>(CommandSource::internal))
+        fail(file, line, "unknown source " + std::string(f[3]));
       if (action > kMaxAction) fail(file, line, "unknown action " + std::string(f[5]));
       if (fields >= (1U << 7)) fail(file, line, "unknown field bits " + std::string(f[4]));
       c.source = static_cast<CommandSource>(source);
       c.fields = fields;
       c.action = static_cast<Action>(action);
-      double* values[] = {&c.frequency_hz, &c.amplitude_vpp, &c.phase_deg, &c.load_n, &c.frequency_slew_hz_per_s,
-                          &c.amplitude_slew_vpp_per_s};
+      double* values[] = {&c.frequency_hz, &c.amplitude_vpp,           &c.phase_deg,
+                          &c.load_n,       &c.frequency_slew_hz_per_s, &c.amplitude_slew_vpp_per_s};
       for (std::size_t i = 0; i < std::size(values); ++i)
         *values[i] = parse_number<double>(f[6 + i], file, line, names[6 + i]);
       trace.inputs.push_back(input);
@@ -219,8 +219,9 @@ Trace read_trace(std::istream& in, const std::string& file) {
       trace.inputs.push_back(input);
     } else if (f[0] == "telemetry") {
       if (!trace.telemetry.empty() && tick != trace.telemetry.back().tick + 1)
-        fail(file, line, "telemetry of tick " + std::to_string(tick) + " follows tick " +
-                             std::to_string(trace.telemetry.back().tick) + " (one row per tick)");
+        fail(file, line,
+             "telemetry of tick " + std::to_string(tick) + " follows tick " +
+                 std::to_string(trace.telemetry.back().tick) + " (one row per tick)");
       trace.telemetry.push_back({tick, line, text});
     } else {
       fail(file, line, "unknown row kind '" + std::string(f[0]) + "' (command, line, telemetry)");

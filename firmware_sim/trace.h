@@ -5,8 +5,8 @@
 // regression test of a controller run without the controller.
 #pragma once
 
-#include <cstdio>
 #include <cstdint>
+#include <cstdio>
 #include <istream>
 #include <string>
 #include <vector>
