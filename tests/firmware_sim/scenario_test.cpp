@@ -454,5 +454,21 @@ TEST(Scenario, CommittedExampleParses) {
   EXPECT_EQ(example.events.front().type, EventType::load_step);
 }
 
+// Every ```toml block of docs/scenarios.md is a valid scenario file.
+TEST(Scenario, DocsExamplesParse) {
+  const std::string docs = read_text(std::string(SWUM_SOURCE_DIR) + "/docs/scenarios.md");
+  std::size_t blocks = 0;
+  for (auto start = docs.find("```toml\n"); start != std::string::npos; start = docs.find("```toml\n", start)) {
+    start += 8;
+    const auto end = docs.find("```", start);
+    ASSERT_NE(end, std::string::npos);
+    const std::string block = docs.substr(start, end - start);
+    EXPECT_NO_THROW((void)parse_scenario(block, "docs/scenarios.md")) << block;
+    ++blocks;
+    start = end + 3;
+  }
+  EXPECT_EQ(blocks, 2U);
+}
+
 }  // namespace
 }  // namespace swum::emu
