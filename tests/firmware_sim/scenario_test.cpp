@@ -13,22 +13,21 @@
 namespace swum::emu {
 namespace {
 
-std::string message_of(const std::string& toml_text) {
+// What the parser says about TEXT: the ScenarioError's message, or "(accepted)".
+template <typename Parse>
+std::string refusal(Parse parse, const std::string& text) {
   try {
-    (void)parse_scenario(toml_text, "s.toml");
+    (void)parse(text);
   } catch (const ScenarioError& e) {
     return e.what();
   }
   return "(accepted)";
 }
-
+std::string message_of(const std::string& toml_text) {
+  return refusal([](const std::string& t) { return parse_scenario(t, "s.toml"); }, toml_text);
+}
 std::string injection_message_of(const std::string& text) {
-  try {
-    (void)parse_injection(text);
-  } catch (const ScenarioError& e) {
-    return e.what();
-  }
-  return "(accepted)";
+  return refusal([](const std::string& t) { return parse_injection(t); }, text);
 }
 
 // One event of a file: [[event]] on line 1, at_s on line 2, type on line 3, KEYS from line 4.
