@@ -6,26 +6,19 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
-#include <fstream>
 #include <limits>
-#include <sstream>
 #include <stdexcept>
 #include <string>
 #include <utility>
 
-#include "config/parameter_file.h"
+#include "calibrated_parameters.h"
 #include "model/model_faults.h"
 #include "model/simulator.h"
 
 namespace swum {
 namespace {
 
-MotorParameters calibrated() {
-  std::ifstream in(SWUM_SOURCE_DIR "/config/li2019.toml");
-  std::stringstream text;
-  text << in.rdbuf();
-  return parse_motor_parameters(text.str(), "li2019.toml");
-}
+MotorParameters calibrated() { return test::calibrated_parameters(); }
 
 constexpr DriveInput kDrive{400.0, 40000.0, 90.0, 0.0};
 
@@ -282,7 +275,7 @@ TEST(MotorSimulatorFaults, JamHoldsTheMoverWhileTheStatorVibrates) {
   ASSERT_GT(sim.state().mover_velocity_m_s, 0.0);
   const double where = sim.state().mover_position_m;
   sim.set_faults({.jammed = true, .jam_position_m = std::numeric_limits<double>::quiet_NaN()});
-  EXPECT_EQ(sim.faults().jam_position_m, where);  // NaN: the current position
+  EXPECT_EQ(sim.faults().jam_position_m, where);   // NaN: the current position
   EXPECT_EQ(sim.state().mover_velocity_m_s, 0.0);  // at once
   const Window jammed = measure(sim, kWindowS);
   EXPECT_EQ(sim.state().mover_position_m, where);
@@ -335,7 +328,10 @@ TEST(MotorSimulatorFaults, ClearingRecoversTheNominalSpeed) {
   const Window nominal = steady(model, {});
   MotorSimulator sim(model);
   sim.set_drive(kDrive);
-  sim.set_faults({.phase_b_gain = 0.0, .preload_factor = 0.5, .guide_friction_factor = 3.0, .jammed = true,
+  sim.set_faults({.phase_b_gain = 0.0,
+                  .preload_factor = 0.5,
+                  .guide_friction_factor = 3.0,
+                  .jammed = true,
                   .jam_position_m = std::numeric_limits<double>::quiet_NaN()});
   sim.advance(steps_for(sim, 10e-3));
   EXPECT_EQ(sim.state().mover_position_m, 0.0);
@@ -372,8 +368,12 @@ TEST(MotorSimulatorFaults, OutOfRangeValuesThrowNamingTheField) {
   expect_rejected({.guide_friction_factor = -0.5}, "guide_friction_factor");
   expect_rejected({.jammed = true, .jam_position_m = std::numeric_limits<double>::infinity()}, "jam_position_m");
   EXPECT_EQ(check(ModelFaults{}), "");
-  EXPECT_EQ(check({.phase_a_gain = 0.0, .phase_b_gain = 2.0, .preload_factor = 0.0, .guide_friction_factor = 10.0,
-                   .jammed = true, .jam_position_m = kNan}),
+  EXPECT_EQ(check({.phase_a_gain = 0.0,
+                   .phase_b_gain = 2.0,
+                   .preload_factor = 0.0,
+                   .guide_friction_factor = 10.0,
+                   .jammed = true,
+                   .jam_position_m = kNan}),
             "");
   EXPECT_FALSE(ModelFaults{.guide_friction_factor = 2.0}.nominal());
   EXPECT_FALSE(ModelFaults{.jammed = true}.nominal());
