@@ -6,8 +6,7 @@
 namespace swum {
 
 bool ModelFaults::nominal() const {
-  return phase_a_gain == 1.0 && phase_b_gain == 1.0 && preload_factor == 1.0 && guide_friction_factor == 1.0 &&
-         !jammed;
+  return phase_a_gain == 1.0 && phase_b_gain == 1.0 && preload_factor == 1.0 && guide_friction_factor == 1.0 && !jammed;
 }
 
 std::string check(const ModelFaults& f) {
