@@ -16,9 +16,11 @@ struct DriveVoltages {
 };
 
 struct DriveWaveform {
-  double amplitude_v = 0.0;  // V0
-  double cos_phase = 0.0;    // cos(phase)
-  double sin_phase = 1.0;    // sin(phase)
+  double amplitude_v = 0.0;    // V0 (commanded, both phases)
+  double amplitude_a_v = 0.0;  // V_A amplitude applied: V0, times the phase-fault gain and
+  double amplitude_b_v = 0.0;  // the droop in MotorSimulator (model_faults.h); V_B likewise
+  double cos_phase = 0.0;      // cos(phase)
+  double sin_phase = 1.0;      // sin(phase)
   double angular_frequency_rad_s = 0.0;
   double rotation_cos = 1.0;  // cos(w dt)
   double rotation_sin = 0.0;  // sin(w dt)
@@ -28,6 +30,8 @@ struct DriveWaveform {
                                                        double time_step_s) {
   DriveWaveform w;
   w.amplitude_v = amplitude_per_volt * input.vpp;
+  w.amplitude_a_v = w.amplitude_v;
+  w.amplitude_b_v = w.amplitude_v;
   const double phase = input.phase_deg * std::numbers::pi / 180.0;
   w.cos_phase = std::cos(phase);
   w.sin_phase = std::sin(phase);
@@ -38,7 +42,7 @@ struct DriveWaveform {
 }
 
 [[nodiscard]] inline DriveVoltages drive_voltages(const DriveWaveform& w, double sin_theta, double cos_theta) {
-  return {w.amplitude_v * sin_theta, w.amplitude_v * (sin_theta * w.cos_phase + cos_theta * w.sin_phase)};
+  return {w.amplitude_a_v * sin_theta, w.amplitude_b_v * (sin_theta * w.cos_phase + cos_theta * w.sin_phase)};
 }
 
 // theta += w dt. The modulus drifts by ~1e-16 per step; call renormalise_phasor() every few

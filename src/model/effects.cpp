@@ -31,12 +31,19 @@ EffectCoefficients make_effect_coefficients(const MotorParameters& p, const Moda
 
 double droop_gain(const EffectCoefficients& e, double w, double s, double c, double cos_phase, double sin_phase,
                   double amplitude_v, Analytic q1, Analytic q2) {
+  return droop_gain(e, w, s, c, cos_phase, sin_phase, amplitude_v, amplitude_v, q1, q2);
+}
+
+double droop_gain(const EffectCoefficients& e, double w, double s, double c, double cos_phase, double sin_phase,
+                  double amplitude_a_v, double amplitude_b_v, Analytic q1, Analytic q2) {
   // Divider 1/(1 + j x), x = w R_s C0.
   const double x = w * e.source_resistance_ohm * e.clamped_capacitance_f;
   const double divider = 1.0 / std::sqrt(1.0 + x * x);
-  if (amplitude_v <= 0.0) return divider;
+  const bool driven_a = amplitude_a_v > 0.0;
+  const bool driven_b = amplitude_b_v > 0.0;
+  if (!driven_a && !driven_b) return divider;
   // One phase: commanded analytic signal V0 (sin - j cos) of its own phase angle.
-  auto phase_gain = [&](double sin_p, double cos_p, double charge_q1, double charge_q2) {
+  auto phase_gain = [&](double amplitude_v, double sin_p, double cos_p, double charge_q1, double charge_q2) {
     const double charge_re = charge_q1 * q1.re + charge_q2 * q2.re;
     const double charge_im = charge_q1 * q1.im + charge_q2 * q2.im;
     // I = j w Q -> (-w Q_im, w Q_re)
@@ -44,10 +51,14 @@ double droop_gain(const EffectCoefficients& e, double w, double s, double c, dou
     const double im = -amplitude_v * cos_p - e.source_resistance_ohm * w * charge_re;
     return std::sqrt(re * re + im * im) / amplitude_v;
   };
-  const double gain_a = phase_gain(s, c, e.charge_a_q1, e.charge_a_q2);
-  const double gain_b = phase_gain(s * cos_phase + c * sin_phase, c * cos_phase - s * sin_phase, e.charge_b_q1,
-                                   e.charge_b_q2);
-  return 0.5 * (gain_a + gain_b) * divider;
+  auto gain_a = [&] { return phase_gain(amplitude_a_v, s, c, e.charge_a_q1, e.charge_a_q2); };
+  auto gain_b = [&] {
+    return phase_gain(amplitude_b_v, s * cos_phase + c * sin_phase, c * cos_phase - s * sin_phase, e.charge_b_q1,
+                      e.charge_b_q2);
+  };
+  if (!driven_b) return gain_a() * divider;
+  if (!driven_a) return gain_b() * divider;
+  return 0.5 * (gain_a() + gain_b()) * divider;
 }
 
 }  // namespace swum

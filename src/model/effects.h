@@ -75,5 +75,11 @@ struct Analytic {
 [[nodiscard]] double droop_gain(const EffectCoefficients& e, double angular_frequency_rad_s, double sin_theta,
                                 double cos_theta, double cos_phase, double sin_phase, double amplitude_v, Analytic q1,
                                 Analytic q2);
+// The same with the two phases commanded at their own amplitudes (run-time phase faults,
+// model_faults.h): the mean over the driven phases (amplitude > 0); equal amplitudes give
+// exactly the value above.
+[[nodiscard]] double droop_gain(const EffectCoefficients& e, double angular_frequency_rad_s, double sin_theta,
+                                double cos_theta, double cos_phase, double sin_phase, double amplitude_a_v,
+                                double amplitude_b_v, Analytic q1, Analytic q2);
 
 }  // namespace swum

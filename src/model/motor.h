@@ -63,11 +63,14 @@ class MotorSplitSystem {
 
   // Tangential contact (implicit friction, §10 steps 3-4, or the explicit Jenkins spring),
   // guide friction, and for the Jenkins element the return mapping of delta with the
-  // positions of the end of the step.
-  template <TangentialContact C, GuideFrictionModel G>
+  // positions of the end of the step. kMoverHeld (a jammed mover, model_faults.h): the mover
+  // is fixed (v_m = 0 in and out, infinite mass in the contact compliance), the stator tip
+  // rubs on it and there is no guide force.
+  template <TangentialContact C, GuideFrictionModel G, bool kMoverHeld = false>
   void implicit_velocity_correction(double /*t*/, double dt, const Vector& q, const Vector& v, Vector& v_star) {
     if (dt != cached_dt_) [[unlikely]]
       update_step(dt);
+    if constexpr (kMoverHeld) v_star[2] = 0.0;
     const double fn = forces_.normal_n;
     const double limit = k_.friction_coefficient * fn;
     double ft = 0.0;
@@ -75,16 +78,20 @@ class MotorSplitSystem {
       ft = jenkins_force_n(k_.tangential_stiffness_n_m, deflection_m_, limit);
     } else if constexpr (C == TangentialContact::rigid_projection) {
       // Coulomb projection, written with the precomputed inverse compliance.
-      const double f = (k_.g_tv * v_star[1] - v_star[2]) * inverse_compliance_;
+      const double f = (k_.g_tv * v_star[1] - v_star[2]) *
+                       (kMoverHeld ? inverse_held_compliance_ : inverse_compliance_);
       ft = f > limit ? limit : (f < -limit ? -limit : f);
     } else {
       if (limit > 0.0) {
-        ft = erf_implicit_friction_n(k_.g_tv * v_star[1] - v_star[2], compliance_, limit, k_.kappa_s_per_m);
+        ft = erf_implicit_friction_n(k_.g_tv * v_star[1] - v_star[2], kMoverHeld ? held_compliance_ : compliance_,
+                                     limit, k_.kappa_s_per_m);
       }
     }
     v_star[1] -= dt_g_t_over_m2_ * ft;
     double ff = 0.0;
-    if constexpr (G == GuideFrictionModel::implicit_coulomb) {
+    if constexpr (kMoverHeld) {
+      // The hard stop takes the friction and the load; the mover stays where it is.
+    } else if constexpr (G == GuideFrictionModel::implicit_coulomb) {
       const double v_pred = v_star[2] + dt_over_m_ * ft;
       const double cap = dt_mu_s_over_m_ * (fn + k_.guide.weight_n);
       v_star[2] = coulomb_guide_velocity_m_s(v_pred, cap);
@@ -132,6 +139,16 @@ class MotorSplitSystem {
     k_.c1_n_s_m = base.c1_n_s_m * damping_factor;
     k_.c2_n_s_m = base.c2_n_s_m * damping_factor;
     update_step(cached_dt_);
+  }
+  // Run-time faults (model_faults.h), set between steps: F_P (both the contact's and the constant
+  // back-end term) and mu_s of the guide scaled from `base`. A factor of 1 restores base exactly.
+  void set_preload_factor(const MotorCoefficients& base, double factor) {
+    k_.preload_n = base.preload_n * factor;
+    k_.preload_constant_force_n = base.preload_constant_force_n * factor;
+  }
+  void set_guide_friction_factor(const MotorCoefficients& base, double factor) {
+    k_.guide.coefficient = base.guide.coefficient * factor;
+    dt_mu_s_over_m_ = dt_over_m_ * k_.guide.coefficient;
   }
   void set_friction_coefficient(double friction_coefficient) {
     k_.friction_coefficient = friction_coefficient;
@@ -189,6 +206,8 @@ class MotorSplitSystem {
     a2_per_kg_ = corrected(k_.m2_inv_per_kg, k_.stator.b2.k, k_.c2_n_s_m);
     compliance_ = dt * (k_.g_t * k_.g_tv * a2_per_kg_ + k_.mover_mass_inv_per_kg);
     inverse_compliance_ = 1.0 / compliance_;
+    held_compliance_ = dt * k_.g_t * k_.g_tv * a2_per_kg_;  // mover held: the stator's share only
+    inverse_held_compliance_ = 1.0 / held_compliance_;
     dt_g_t_over_m2_ = dt * k_.g_t * a2_per_kg_;
     dt_over_m_ = dt * k_.mover_mass_inv_per_kg;
     m_over_dt_ = 1.0 / dt_over_m_;
@@ -202,6 +221,8 @@ class MotorSplitSystem {
   double a2_per_kg_ = 0.0;
   double compliance_ = 0.0;
   double inverse_compliance_ = 0.0;
+  double held_compliance_ = 0.0;
+  double inverse_held_compliance_ = 0.0;
   double dt_g_t_over_m2_ = 0.0;
   double dt_over_m_ = 0.0;
   double m_over_dt_ = 0.0;
@@ -212,9 +233,9 @@ class MotorSplitSystem {
   InterfaceForces forces_{};
 };
 
-// The system with the contact law and guide model fixed at compile time (no per-step
-// dispatch); satisfies SplitSecondOrderSystem.
-template <TangentialContact C, GuideFrictionModel G>
+// The system with the contact law and guide model (and a held mover, kMoverHeld) fixed at
+// compile time (no per-step dispatch); satisfies SplitSecondOrderSystem.
+template <TangentialContact C, GuideFrictionModel G, bool kMoverHeld = false>
 struct SpecialisedMotorSystem {
   using Vector = MotorSplitSystem::Vector;
   MotorSplitSystem& system;
@@ -222,7 +243,7 @@ struct SpecialisedMotorSystem {
     system.explicit_acceleration(t, q, v, a);
   }
   void implicit_velocity_correction(double t, double dt, const Vector& q, const Vector& v, Vector& v_star) {
-    system.template implicit_velocity_correction<C, G>(t, dt, q, v, v_star);
+    system.template implicit_velocity_correction<C, G, kMoverHeld>(t, dt, q, v, v_star);
   }
 };
 

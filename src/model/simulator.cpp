@@ -1,6 +1,8 @@
 #include "model/simulator.h"
 
 #include <cmath>
+#include <stdexcept>
+#include <string>
 
 #include "integrators/semi_implicit_euler.h"
 
@@ -27,7 +29,34 @@ void MotorSimulator::set_drive(const DriveInput& input) {
     waveform_ = make_drive_waveform(input, model_.coefficients().drive_amplitude_per_volt, dt_);
     waveform_valid_ = true;
   }
+  apply_phase_gains();
   drive_ = input;
+}
+
+void MotorSimulator::apply_phase_gains() {
+  // V_A = g_A V0 sin(theta), V_B = g_B V0 sin(theta + phase) (model_spec §4 with the phase
+  // faults); a gain of 1 leaves V0 exactly.
+  waveform_.amplitude_a_v = waveform_.amplitude_v * faults_.phase_a_gain;
+  waveform_.amplitude_b_v = waveform_.amplitude_v * faults_.phase_b_gain;
+}
+
+void MotorSimulator::hold_jammed_mover() {
+  if (!faults_.jammed) return;
+  state_.mover_position_m = faults_.jam_position_m;
+  state_.mover_velocity_m_s = 0.0;
+}
+
+void MotorSimulator::set_faults(const ModelFaults& faults) {
+  const std::string problem = check(faults);
+  if (!problem.empty()) throw std::invalid_argument("MotorSimulator::set_faults: " + problem);
+  faults_ = faults;
+  if (faults_.jammed && std::isnan(faults_.jam_position_m)) faults_.jam_position_m = state_.mover_position_m;
+  hold_jammed_mover();
+  apply_phase_gains();
+  // F_P in F_N = max(0, F_P - k_e q1) and the constant back-end term gNP F_P (model_spec §4),
+  // mu_s of the guide friction (eqs. 24-25).
+  system_.set_preload_factor(model_.coefficients(), faults_.preload_factor);
+  system_.set_guide_friction_factor(model_.coefficients(), faults_.guide_friction_factor);
 }
 
 void MotorSimulator::step() { advance(1); }
@@ -39,27 +68,38 @@ inline double flush_tiny(double x) { return std::abs(x) < 1e-200 ? 0.0 : x; }
 }  // namespace
 
 void MotorSimulator::advance(std::uint64_t steps) {
-  system_.dispatch(
-      [&]<TangentialContact C, GuideFrictionModel G>() { advance_specialised<C, G, false>(steps, nullptr); });
+  system_.dispatch([&]<TangentialContact C, GuideFrictionModel G>() {
+    faults_.jammed ? advance_specialised<C, G, false, true>(steps, nullptr)
+                   : advance_specialised<C, G, false, false>(steps, nullptr);
+  });
 }
 
 void MotorSimulator::advance(std::uint64_t steps, WindowStatistics& window) {
-  system_.dispatch(
-      [&]<TangentialContact C, GuideFrictionModel G>() { advance_specialised<C, G, true>(steps, &window); });
+  system_.dispatch([&]<TangentialContact C, GuideFrictionModel G>() {
+    faults_.jammed ? advance_specialised<C, G, true, true>(steps, &window)
+                   : advance_specialised<C, G, true, false>(steps, &window);
+  });
 }
 
-template <TangentialContact C, GuideFrictionModel G, bool kWindow>
+template <TangentialContact C, GuideFrictionModel G, bool kWindow, bool kJammed>
 void MotorSimulator::advance_specialised(std::uint64_t steps, WindowStatistics* window) {
-  SpecialisedMotorSystem<C, G> system{system_};
+  SpecialisedMotorSystem<C, G, kJammed> system{system_};
   MotorSplitSystem::Vector q{state_.q1_m, state_.q2_m, state_.mover_position_m};
   MotorSplitSystem::Vector v{state_.q1_dot_m_s, state_.q2_dot_m_s, state_.mover_velocity_m_s};
+  [[maybe_unused]] const double jam_position_m = faults_.jam_position_m;
+  if constexpr (kJammed) {
+    // The held system keeps v_m = 0, so x_m stays at the jam position step after step.
+    q[2] = jam_position_m;
+    v[2] = 0.0;
+  }
   double s = state_.drive_sin;
   double c = state_.drive_cos;
   double t = state_.time_s;
   const double load = drive_.load_n;
   const EffectCoefficients& effects = model_.coefficients().effects;
   DriveWaveform waveform = waveform_;
-  waveform.amplitude_v *= droop_gain_;
+  waveform.amplitude_a_v *= droop_gain_;
+  waveform.amplitude_b_v *= droop_gain_;
   const double dt = dt_;
   const double position_limit_sq = position_limit_m_ * position_limit_m_;
   const double speed_limit_sq = speed_limit_m_s_ * speed_limit_m_s_;
@@ -84,6 +124,10 @@ void MotorSimulator::advance_specialised(std::uint64_t steps, WindowStatistics* 
       const MotorState rest = model_.rest_state(t);
       q = {rest.q1_m, rest.q2_m, rest.mover_position_m};
       v = {rest.q1_dot_m_s, rest.q2_dot_m_s, rest.mover_velocity_m_s};
+      if constexpr (kJammed) {
+        q[2] = jam_position_m;
+        v[2] = 0.0;
+      }
       system_.set_contact_deflection_m(0.0);
       diverged_ = true;
       ++divergence_count_;
@@ -130,11 +174,12 @@ void MotorSimulator::update_effects(const MotorSplitSystem::Vector& q, const Mot
     const Analytic z1{q[0] - model_.constants().static_q1_m, -v[0] * inv_w};
     const Analytic z2{q[1], -v[1] * inv_w};
     const double target = swum::droop_gain(e, w, sin_theta, cos_theta, waveform.cos_phase, waveform.sin_phase,
-                                           waveform_.amplitude_v, z1, z2);
+                                           waveform_.amplitude_a_v, waveform_.amplitude_b_v, z1, z2);
     // Half-way per block (~1 drive period): the modes respond over ~20 periods, so the
     // discrete feedback through the motional current stays smooth and stable.
     droop_gain_ += 0.5 * (target - droop_gain_);
-    waveform.amplitude_v = waveform_.amplitude_v * droop_gain_;
+    waveform.amplitude_a_v = waveform_.amplitude_a_v * droop_gain_;
+    waveform.amplitude_b_v = waveform_.amplitude_b_v * droop_gain_;
   }
 }
 
@@ -171,6 +216,7 @@ void MotorSimulator::set_state(const MotorState& state) {
     state_.drive_sin = 0.0;
     state_.drive_cos = 1.0;
   }
+  hold_jammed_mover();
 }
 
 void MotorSimulator::reset() {
@@ -185,6 +231,7 @@ void MotorSimulator::reset() {
   system_.set_contact_deflection_m(0.0);
   state_.drive_sin = s;
   state_.drive_cos = c;
+  hold_jammed_mover();
 }
 
 MotorOutputs MotorSimulator::outputs() const {

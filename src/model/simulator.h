@@ -6,6 +6,7 @@
 #include <cstdint>
 
 #include "model/drive.h"
+#include "model/model_faults.h"
 #include "model/motor.h"
 #include "model/motor_model.h"
 #include "model/window_statistics.h"
@@ -67,6 +68,18 @@ class MotorSimulator {
   // Drive amplitude at the piezo / commanded (amplifier droop; 1 when disabled).
   [[nodiscard]] double droop_gain() const { return droop_gain_; }
 
+  // Run-time motor/amplifier faults (model_faults.h; docs/model.md "Run-time faults"), for the
+  // emulator's scenario timeline: call between steps (at tick boundaries), never from inside a
+  // step. Throws std::invalid_argument naming the field when check(faults) fails (the faults
+  // in force are then unchanged). Takes effect from the current state: the phase amplitudes,
+  // F_P and mu_s of the guide change for the following steps; a jam holds the mover at
+  // jam_position_m (NaN: where it is now) with v_m = 0 at once, and faults() then reports the
+  // position used. set_faults(ModelFaults{}) restores the nominal dynamics, bit-identical to a
+  // simulator that never had faults. reset() and set_state() keep the faults (a jammed mover
+  // stays at the jam position).
+  void set_faults(const ModelFaults& faults);
+  [[nodiscard]] const ModelFaults& faults() const { return faults_; }
+
   // NaN guard (MuJoCo style): a non-finite or runaway state after a step resets to the rest
   // state, sets diverged() and counts a warning.
   [[nodiscard]] bool diverged() const { return diverged_; }
@@ -74,8 +87,13 @@ class MotorSimulator {
   void clear_diverged() { diverged_ = false; }
 
  private:
-  template <TangentialContact C, GuideFrictionModel G, bool kWindow>
+  // kJammed: the mover held at faults_.jam_position_m (selected once per advance()).
+  template <TangentialContact C, GuideFrictionModel G, bool kWindow, bool kJammed>
   void advance_specialised(std::uint64_t steps, WindowStatistics* window);
+  // V_A and V_B amplitudes of waveform_ from its V0 and the phase gains of faults_.
+  void apply_phase_gains();
+  // Mover at the jam position at rest when jammed.
+  void hold_jammed_mover();
 
   // Housekeeping of the enabled effects (effects.h), every 64 steps.
   void update_effects(const MotorSplitSystem::Vector& q, const MotorSplitSystem::Vector& v, double sin_theta,
@@ -94,6 +112,7 @@ class MotorSimulator {
   std::uint64_t housekeeping_steps_ = 0;  // phasor renormalisation / subnormal flush cadence
   bool slow_states_frozen_ = false;
   double droop_gain_ = 1.0;
+  ModelFaults faults_{};
   bool diverged_ = false;
   std::uint64_t divergence_count_ = 0;
 };

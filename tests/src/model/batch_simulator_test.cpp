@@ -6,24 +6,17 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <fstream>
-#include <sstream>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
-#include "config/parameter_file.h"
+#include "calibrated_parameters.h"
 #include "model/simulator.h"
 
 namespace swum {
 namespace {
 
-MotorParameters calibrated() {
-  std::ifstream in(SWUM_SOURCE_DIR "/config/li2019.toml");
-  std::stringstream text;
-  text << in.rdbuf();
-  return parse_motor_parameters(text.str(), "li2019.toml");
-}
+MotorParameters calibrated() { return test::calibrated_parameters(); }
 
 struct Regime {
   const char* name;

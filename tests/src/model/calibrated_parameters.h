@@ -1,0 +1,18 @@
+// Shared by the model tests: the calibrated motor's parameters (config/li2019.toml).
+#pragma once
+
+#include <fstream>
+#include <sstream>
+
+#include "config/parameter_file.h"
+
+namespace swum::test {
+
+inline MotorParameters calibrated_parameters() {
+  std::ifstream in(SWUM_SOURCE_DIR "/config/li2019.toml");
+  std::stringstream text;
+  text << in.rdbuf();
+  return parse_motor_parameters(text.str(), "li2019.toml");
+}
+
+}  // namespace swum::test
