@@ -16,11 +16,15 @@ struct DriveVoltages {
 };
 
 struct DriveWaveform {
-  double amplitude_v = 0.0;    // V0 (commanded, both phases)
-  double amplitude_a_v = 0.0;  // V_A amplitude applied: V0, times the phase-fault gain and
-  double amplitude_b_v = 0.0;  // the droop in MotorSimulator (model_faults.h); V_B likewise
-  double cos_phase = 0.0;      // cos(phase)
-  double sin_phase = 1.0;      // sin(phase)
+  // V_A and V_B amplitudes applied: V0, times the phase-fault gain and the droop in
+  // MotorSimulator (model_faults.h). First in the struct: the simulator scales the pair in its
+  // local copy, and a 16-byte load of it then matches the copy's 16-byte stores (store
+  // forwarding; at offset 8 it straddles two and stalls each advance() call by ~20 ns).
+  double amplitude_a_v = 0.0;
+  double amplitude_b_v = 0.0;
+  double amplitude_v = 0.0;  // V0 (commanded, both phases)
+  double cos_phase = 0.0;    // cos(phase)
+  double sin_phase = 1.0;    // sin(phase)
   double angular_frequency_rad_s = 0.0;
   double rotation_cos = 1.0;  // cos(w dt)
   double rotation_sin = 0.0;  // sin(w dt)
