@@ -1,5 +1,7 @@
 #include "can_transport.h"
 
+#include "lockstep_clock.h"
+
 #include <time.h>
 
 #include <array>
@@ -56,8 +58,9 @@ CanTransport::CanTransport(std::unique_ptr<io::CanBus> rx_bus, std::unique_ptr<i
   if (config.node < protocol::can::kMinNode || config.node > protocol::can::kMaxNode)
     throw std::invalid_argument("CAN node id must be " + std::to_string(protocol::can::kMinNode) + ".." +
                                 std::to_string(protocol::can::kMaxNode));
-  const std::array<io::CanFilter, 2> filters{io::CanFilter{ids_.command, io::kCanStandardIdMax, false},
-                                             io::CanFilter{ids_.aux, io::kCanStandardIdMax, false}};
+  const std::array<io::CanFilter, 3> filters{io::CanFilter{ids_.command, io::kCanStandardIdMax, false},
+                                             io::CanFilter{ids_.aux, io::kCanStandardIdMax, false},
+                                             io::CanFilter{protocol::can::kSyncId, io::kCanStandardIdMax, false}};
   const io::CanResult r = rx_bus_->set_filters(filters);
   if (!r.ok()) throw std::runtime_error("CAN: cannot set receive filters on " + rx_bus_->name() + ": " + r.message);
 }
@@ -101,6 +104,10 @@ void CanTransport::rx_loop() {
       continue;
     }
     stats_.rx_frames.fetch_add(1, std::memory_order_relaxed);
+    if (shared_.can_bus_off.load(std::memory_order_relaxed)) {  // a scenario's bus-off: the node hears nothing
+      stats_.bus_off_discarded.fetch_add(1, std::memory_order_relaxed);
+      continue;
+    }
     const RxStamp stamp = receive_time(frame.timestamp, realtime_ns(), monotonic_ns());
     switch (stamp.source) {
       case RxStampSource::bus:
@@ -138,6 +145,9 @@ void CanTransport::rx_loop() {
         reason = shared_.submit(command);
         if (reason == Reason::none) aux_alive.accept(a.alive, stamp.monotonic_ns);
       }
+    } else if (frame.id == protocol::can::kSyncId && !frame.extended) {
+      reason = on_sync(frame);
+      if (reason == Reason::none) continue;  // a step, not a command: not counted as accepted
     } else {
       continue;  // not for us (filters normally keep these out)
     }
@@ -163,25 +173,43 @@ void CanTransport::send(const io::CanFrame& frame) {
   }
 }
 
+Reason CanTransport::on_sync(const io::CanFrame& frame) {
+  protocol::can::SyncFrame sync;
+  if (const Reason r = protocol::can::decode_sync(frame, sync); r != Reason::none) return r;
+  if (shared_.lockstep == nullptr) return Reason::clock_not_external;
+  // CANopen synchronous semantics: the actual values sampled at this SYNC go out now; the
+  // set-points received since the last SYNC (queued already, in order) act from the cycle's first
+  // tick; frames arriving meanwhile wait in the socket for the next cycle. False: the run ended.
+  send_telemetry();
+  stats_.syncs.fetch_add(1, std::memory_order_relaxed);
+  shared_.lockstep->advance(config_.sync_ticks);
+  return Reason::none;
+}
+
+void CanTransport::send_telemetry() {
+  if (shared_.can_bus_off.load(std::memory_order_relaxed) || shared_.telemetry_silent.load(std::memory_order_relaxed))
+    return;  // a scenario's bus-off or telemetry silence
+  const Telemetry t = shared_.telemetry.load();
+  const RejectSnapshot rejects{static_cast<Reason>(shared_.rejects.last_reason.load()), shared_.rejects.count.load()};
+  send(protocol::can::encode_status(t, rejects, status_counter_.fetch_add(1, std::memory_order_relaxed), ids_.status));
+  send(protocol::can::encode_motion(t, ids_.motion));
+  send(protocol::can::encode_drive(t, ids_.drive));
+  send(protocol::can::encode_loop_stats(t, ids_.loop_stats));
+  send(protocol::can::encode_clock(t, ids_.clock));
+  send(protocol::can::encode_output(t, ids_.output));
+}
+
 void CanTransport::tx_loop() {
   const auto period = static_cast<std::int64_t>(1e9 / (config_.telemetry_hz > 0 ? config_.telemetry_hz : 100.0));
   const auto heartbeat = static_cast<std::int64_t>(config_.heartbeat_s * 1e9);
   std::int64_t next = monotonic_ns();
   std::int64_t next_heartbeat = next;
-  std::uint8_t counter = 0;
+  // Lockstep: telemetry goes out at each SYNC (on_sync), never on the wall clock.
+  const bool periodic_telemetry = config_.telemetry_hz > 0 && shared_.lockstep == nullptr;
   while (!stopping_.load(std::memory_order_relaxed)) {
-    const Telemetry t = shared_.telemetry.load();
-    const RejectSnapshot rejects{static_cast<Reason>(shared_.rejects.last_reason.load()), shared_.rejects.count.load()};
-    if (config_.telemetry_hz > 0) {
-      send(protocol::can::encode_status(t, rejects, counter++, ids_.status));
-      send(protocol::can::encode_motion(t, ids_.motion));
-      send(protocol::can::encode_drive(t, ids_.drive));
-      send(protocol::can::encode_loop_stats(t, ids_.loop_stats));
-      send(protocol::can::encode_clock(t, ids_.clock));
-      send(protocol::can::encode_output(t, ids_.output));
-    }
+    if (periodic_telemetry) send_telemetry();
     const std::int64_t now = monotonic_ns();
-    if (heartbeat > 0 && now >= next_heartbeat) {
+    if (heartbeat > 0 && now >= next_heartbeat && !shared_.can_bus_off.load(std::memory_order_relaxed)) {
       send(protocol::can::encode_heartbeat(ids_.heartbeat));
       next_heartbeat += heartbeat;
       if (next_heartbeat < now) next_heartbeat = now + heartbeat;

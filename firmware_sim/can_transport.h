@@ -23,8 +23,9 @@ namespace swum::emu {
 
 struct CanTransportConfig {
   std::uint8_t node = 1;
-  double telemetry_hz = 100.0;  // Status/Motion/Drive/LoopStats/Output frames
-  double heartbeat_s = 1.0;     // 0 = no heartbeat
+  double telemetry_hz = 100.0;    // Status/Motion/Drive/LoopStats/Output frames
+  double heartbeat_s = 1.0;       // 0 = no heartbeat
+  std::uint32_t sync_ticks = 10;  // lockstep: ticks per SYNC (control cycle)
 };
 
 // Where a received frame's time came from.
@@ -51,6 +52,8 @@ struct CanStats {
   std::atomic<std::uint64_t> rx_errors{0};
   std::atomic<std::uint64_t> error_frames{0};
   std::atomic<std::uint64_t> bus_off{0};
+  std::atomic<std::uint64_t> syncs{0};              // SYNC frames that stepped a cycle (lockstep)
+  std::atomic<std::uint64_t> bus_off_discarded{0};  // frames received during an emulated bus-off (scenario)
   // Receive timestamps of the frames counted in rx_frames, by source (see receive_time()).
   std::atomic<std::uint64_t> rx_stamped{0};
   std::atomic<std::uint64_t> rx_stamp_missing{0};
@@ -77,6 +80,9 @@ class CanTransport {
   void rx_loop();
   void tx_loop();
   void send(const io::CanFrame& frame);
+  void send_telemetry();                      // the telemetry frames of the latest snapshot
+  Reason on_sync(const io::CanFrame& frame);  // lockstep: telemetry sampled now, then one cycle
+  std::atomic<std::uint8_t> status_counter_{0};
   std::unique_ptr<io::CanBus> rx_bus_;
   std::unique_ptr<io::CanBus> tx_bus_;
   CanTransportConfig config_;

@@ -6,6 +6,7 @@
 #include <time.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <array>
 #include <atomic>
 #include <cerrno>
@@ -24,6 +25,7 @@
 #include "emulator_core.h"
 #include "gpiod_lines.h"
 #include "model/motor_model.h"
+#include "scenario.h"
 #include "socketcan_bus.h"
 #include "trace.h"
 
@@ -193,10 +195,29 @@ std::string shortest(double value) {
   return std::string(buffer, r.ptr);
 }
 
+// --scenario and every --inject, as one timeline (stable by time: the file's order, then the
+// injections'). Throws ScenarioError naming file:line or the --inject text.
+Scenario load_scenario(const EmuOptions& o) {
+  Scenario scenario;
+  if (!o.scenario_path.empty()) scenario = parse_scenario(read_file(o.scenario_path), o.scenario_path);
+  for (const std::string& text : o.injections) scenario.events.push_back(parse_injection(text));
+  std::stable_sort(scenario.events.begin(), scenario.events.end(),
+                   [](const ScenarioEvent& a, const ScenarioEvent& b) { return a.at_s < b.at_s; });
+  return scenario;
+}
+
+// The timeline as canonical text (what a replay must play again).
+std::string scenario_text(const Scenario& scenario) {
+  std::string text = "seed=" + std::to_string(scenario.seed) + "\n";
+  for (const ScenarioEvent& e : scenario.events) text += format_event(e) + "\n";
+  return text;
+}
+
 // What changes a run's telemetry besides the commands: a replay must run with the same.
-TraceSettings trace_settings(const EmuOptions& o, const std::string& config_text) {
+TraceSettings trace_settings(const EmuOptions& o, const std::string& config_text, const Scenario& scenario) {
   TraceSettings s;
   s.add("config_fnv1a", fnv1a_hex(config_text));
+  s.add("scenario_fnv1a", fnv1a_hex(scenario_text(scenario)));
   for (const auto& [name, value] : {std::pair{"tick_hz", o.tick_hz},
                                     {"watchdog_ms", o.watchdog_ms},
                                     {"frequency_min", o.frequency_min_hz},
@@ -213,14 +234,15 @@ TraceSettings trace_settings(const EmuOptions& o, const std::string& config_text
 
 // --replay: the trace's inputs into a fresh core, no transports, no clock. 0 identical, 3 not.
 int run_replay(const EmuOptions& o, const MotorModel& model, const CoreConfig& core_config,
-               const std::string& config_text) {
+               const std::string& config_text, const Scenario& scenario) {
   std::ifstream in(o.replay_path, std::ios::binary);
   if (!in) throw std::runtime_error("--replay " + o.replay_path + ": " + std::strerror(errno));
   const Trace trace = read_trace(in, o.replay_path);
-  if (const std::string e = compare_settings(trace.settings, trace_settings(o, config_text)); !e.empty())
+  if (const std::string e = compare_settings(trace.settings, trace_settings(o, config_text, scenario)); !e.empty())
     throw EmuOptionError("--replay " + o.replay_path + ": " + e);
   auto shared = std::make_unique<SharedState>();
   EmulatorCore core(model, core_config, *shared);
+  if (!scenario.events.empty()) core.set_scenario(scenario, nullptr);
   const ReplayResult r = replay(trace, core, *shared);
   if (!r.identical) {
     std::printf("swum-emu replay: DIFFERENT at %s (%llu ticks identical before it, %llu commands fed)\n",
@@ -246,15 +268,17 @@ int run_emulator(const EmuOptions& o) {
   core_config.tick_hz = o.tick_hz;
   core_config.amplifier = amp;
   core_config.external_clock = o.external_clock || !o.replay_path.empty();
-  if (!o.replay_path.empty()) return run_replay(o, model, core_config, config_text);
-  if (o.external_clock && !o.can_interface.empty())
-    throw EmuOptionError("--clock external with --can: CAN SYNC lockstep is not built yet; use Modbus TCP");
+  const Scenario scenario = load_scenario(o);
+  if (!o.replay_path.empty()) return run_replay(o, model, core_config, config_text, scenario);
   LockstepClock lockstep;
   if (o.external_clock) shared->lockstep = &lockstep;
+  shared->speedup = o.speedup;
+  shared->tick_hz = o.tick_hz;
   EmulatorCore core(model, core_config, *shared);
+  if (!scenario.events.empty()) core.set_scenario(scenario);
   std::unique_ptr<TraceRecorder> recorder;
   if (!o.record_path.empty()) {
-    recorder = std::make_unique<TraceRecorder>(o.record_path, trace_settings(o, config_text));
+    recorder = std::make_unique<TraceRecorder>(o.record_path, trace_settings(o, config_text, scenario));
     core.set_observer(recorder.get());
   }
   core.tick();  // publish a first snapshot before any transport answers

@@ -90,6 +90,14 @@ EmuOptions parse_emu_options(int argc, const char* const* argv) {
                  "controller steps it (Modbus advance register)")
       ->check(CLI::IsMember({"internal", "external"}))
       ->capture_default_str();
+  app.add_option("--sync-ticks", o.sync_ticks, "lockstep over CAN: ticks per SYNC frame (one control cycle)")
+      ->check(CLI::Range(1, 65535))
+      ->capture_default_str();
+  app.add_option("--scenario", o.scenario_path,
+                 "timeline of loads and faults in emulated seconds (TOML, docs/scenarios.md)")
+      ->check(CLI::ExistingFile);
+  app.add_option("--inject", o.injections, "one event NAME@SECONDS[:key=value,...] (repeatable; docs/scenarios.md)")
+      ->allow_extra_args(false);
   app.add_option("--record", o.record_path,
                  "write every applied command with its tick and every tick's telemetry to this CSV trace");
   app.add_option("--replay", o.replay_path,
@@ -169,6 +177,7 @@ CanTransportConfig can_transport_config(const EmuOptions& o) {
   can.node = static_cast<std::uint8_t>(o.can_node);
   can.telemetry_hz = o.telemetry_hz;
   can.heartbeat_s = o.heartbeat_ms * 1e-3;
+  can.sync_ticks = static_cast<std::uint32_t>(o.sync_ticks);
   return can;
 }
 

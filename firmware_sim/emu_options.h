@@ -13,6 +13,7 @@
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include "amplifier.h"
 #include "can_transport.h"
@@ -51,12 +52,15 @@ struct EmuOptions {
   double amplitude_slew_vpp_per_s = AmplifierConfig{}.amplitude_slew_vpp_per_s;  // --amplitude-slew
   double frequency_hz = AmplifierConfig{}.frequency_hz;                          // --frequency (initial)
   double phase_deg = AmplifierConfig{}.phase_deg;                                // --phase (initial)
-  bool external_clock = false;  // --clock external: lockstep (time advances only when a controller steps it)
-  std::string record_path;      // --record: trace of commands and per-tick telemetry; empty: none
-  std::string replay_path;      // --replay: feed a trace's commands in lockstep and compare; empty: none
-  bool realtime = false;        // --rt
-  int cpu = -1;                 // --cpu; -1: loop not pinned
-  int ready_fd = -1;            // --ready-fd; -1: stdout only
+  bool external_clock = false;          // --clock external: lockstep (time advances only when a controller steps it)
+  int sync_ticks = 10;                  // --sync-ticks: ticks per CAN SYNC in lockstep
+  std::string scenario_path;            // --scenario; empty: none
+  std::vector<std::string> injections;  // --inject NAME@T[:k=v,...], repeatable
+  std::string record_path;              // --record: trace of commands and per-tick telemetry; empty: none
+  std::string replay_path;              // --replay: feed a trace's commands in lockstep and compare; empty: none
+  bool realtime = false;                // --rt
+  int cpu = -1;                         // --cpu; -1: loop not pinned
+  int ready_fd = -1;                    // --ready-fd; -1: stdout only
 };
 
 // A bad or conflicting option value; what() is the one line after "swum-emu: ".

@@ -64,17 +64,22 @@ const Telemetry& EmulatorCore::tick() {
     if (reason != Reason::none) shared_.rejects.record(reason, command.source);
     telemetry_.last_sequence = command.sequence;
   }
+  // Scenario: the conditions of this tick (faults that trip the amplifier trip it before its tick).
+  conditions_ = scenario_ ? &scenario_->at_tick(tick_) : nullptr;
+  if (conditions_ != nullptr) apply_scenario(*conditions_);
+
   // 2. Amplifier: enable line, watchdog, slew -> drive for this tick.
   const bool enable_line = shared_.enable_line.load(std::memory_order_relaxed);
   if (observer_ != nullptr && last_enable_line_ != static_cast<int>(enable_line)) {
     observer_->on_enable_line(tick_, enable_line);
     last_enable_line_ = static_cast<int>(enable_line);
   }
-  const DriveInput drive = amplifier_.tick(tick_, enable_line);
+  DriveInput drive = amplifier_.tick(tick_, enable_line);
+  if (conditions_ != nullptr && conditions_->load_n) drive.load_n = *conditions_->load_n;  // the scenario's load
   simulator_.set_drive(drive);
 
   // 3. Integrate over the tick in fixed sub-steps (sampling the tip every stride steps).
-  const double start_position = simulator_.state().mover_position_m;
+  const double start_position = telemetry_.position_m;  // as reported at the end of the last tick
   const std::uint64_t target_steps = static_cast<std::uint64_t>(
       std::llround(static_cast<double>(tick_ + 1) * tick_s_ / model_.time_step_s()));
   std::uint64_t steps = target_steps - steps_done_;
@@ -108,8 +113,9 @@ const Telemetry& EmulatorCore::tick() {
     un_min = un_max = ut_min = ut_max = 0.0;
   }
 
-  // 5. Telemetry.
-  const double position = simulator_.state().mover_position_m;
+  // 5. Telemetry (what the sensors report: a scenario's sensor faults act here, not on the motor).
+  double position = simulator_.state().mover_position_m;
+  if (conditions_ != nullptr) report_sensors(*conditions_, position);
   position_ring_[ring_index_] = position;
   const std::size_t n = position_ring_.size();
   ring_index_ = (ring_index_ + 1) % n;
@@ -124,6 +130,7 @@ const Telemetry& EmulatorCore::tick() {
   telemetry_.at_setpoint = amplifier_.at_setpoint();
   telemetry_.setpoints = amplifier_.setpoints();
   telemetry_.output = drive_values(amplifier_.output());
+  if (conditions_ != nullptr && conditions_->load_n) telemetry_.output.load_n = drive.load_n;
   telemetry_.position_m = position;
   telemetry_.tick_speed_m_s = (position - start_position) / tick_s_;
   telemetry_.speed_m_s = ring_filled_
@@ -133,9 +140,94 @@ const Telemetry& EmulatorCore::tick() {
   telemetry_.tip_tangential_um = 0.5e6 * (ut_max - ut_min);
   telemetry_.applied_commands = amplifier_.applied_commands();
   telemetry_.amplifier_rejects = amplifier_.rejected_commands();
+  if (conditions_ != nullptr) report_speed(*conditions_);
   shared_.telemetry.store(telemetry_);
   if (observer_ != nullptr) observer_->on_telemetry(telemetry_);
   return telemetry_;
+}
+
+}  // namespace swum::emu
+
+namespace swum::emu {
+
+void EmulatorCore::set_scenario(Scenario scenario, std::FILE* log) {
+  for (const ScenarioEvent& e : scenario.events) {
+    if (e.type == EventType::ambient && !model_.coefficients().effects.thermal)
+      throw std::invalid_argument(e.origin + ": ambient: the parameter file does not enable the thermal effect "
+                                             "([effects.thermal])");
+  }
+  scenario_.emplace(std::move(scenario), config_.tick_hz);
+  scenario_log_ = log;
+}
+
+void EmulatorCore::apply_scenario(const ScenarioConditions& c) {
+  if (scenario_log_ != nullptr) {
+    for (const ScenarioEvent* e : c.started)  // rare: an event's start, not every tick
+      std::fprintf(scenario_log_, "swum-emu: tick %llu (%.4f s): %s (%s)\n", static_cast<unsigned long long>(tick_),
+                   static_cast<double>(tick_) * tick_s_, format_event(*e).c_str(), e->origin.c_str());
+  }
+  // Amplifier faults that hold trip an enabled amplifier (again after every reset and enable).
+  if (amplifier_.state() == AmpState::enabled) {
+    if (c.over_current) amplifier_.raise_fault(FaultCode::over_current);
+    else if (c.over_temperature) amplifier_.raise_fault(FaultCode::over_temperature);
+  }
+  // Motor faults: changed only when they change (set_faults is not a per-step call).
+  ModelFaults f;
+  f.phase_a_gain = c.phase_a_gain;
+  f.phase_b_gain = c.phase_b_gain;
+  f.preload_factor = c.preload_factor;
+  f.guide_friction_factor = c.guide_friction_factor;
+  f.jammed = c.jammed;
+  f.jam_position_m = faults_.jam_position_m;
+  if (c.jammed && c.jam_generation != jam_generation_) {  // a new jam: where it says, or where the mover is
+    jam_generation_ = c.jam_generation;
+    f.jam_position_m = c.jam_position_um ? *c.jam_position_um * 1e-6 : simulator_.state().mover_position_m;
+  }
+  if (f.phase_a_gain != faults_.phase_a_gain || f.phase_b_gain != faults_.phase_b_gain ||
+      f.preload_factor != faults_.preload_factor || f.guide_friction_factor != faults_.guide_friction_factor ||
+      f.jammed != faults_.jammed || f.jam_position_m != faults_.jam_position_m) {
+    simulator_.set_faults(f);  // values were range-checked when the scenario was parsed
+    faults_ = f;
+  }
+  // Communication faults, for the transports.
+  shared_.telemetry_silent.store(c.telemetry_silent, std::memory_order_relaxed);
+  if (c.modbus_drops_started != 0) shared_.modbus_drops.fetch_add(c.modbus_drops_started, std::memory_order_relaxed);
+  shared_.modbus_delay_ms.store(c.modbus_delay_ms, std::memory_order_relaxed);
+  shared_.can_bus_off.store(c.can_bus_off, std::memory_order_relaxed);
+}
+
+void EmulatorCore::report_sensors(const ScenarioConditions& c, double& position_m) {
+  // The encoder: the reported position (and so the speed computed from it) stays or is noisy.
+  if (c.encoder_stuck) {
+    if (!encoder_held_) held_position_m_ = telemetry_.position_m;
+    encoder_held_ = true;
+    position_m = held_position_m_;
+  } else {
+    encoder_held_ = false;
+  }
+  if (c.encoder_sigma_um > 0.0) position_m += c.encoder_sigma_um * 1e-6 * scenario_->normal();
+}
+
+void EmulatorCore::report_speed(const ScenarioConditions& c) {
+  if (c.speed_frozen) {
+    if (!speed_held_) {
+      held_speed_m_s_ = telemetry_.speed_m_s;
+      held_tick_speed_m_s_ = telemetry_.tick_speed_m_s;
+    }
+    speed_held_ = true;
+    telemetry_.speed_m_s = held_speed_m_s_;
+    telemetry_.tick_speed_m_s = held_tick_speed_m_s_;
+  } else {
+    speed_held_ = false;
+  }
+  const double offset_m_s = c.speed_bias_mm_s * 1e-3;
+  telemetry_.speed_m_s += offset_m_s;
+  telemetry_.tick_speed_m_s += offset_m_s;
+  if (c.speed_sigma_mm_s > 0.0) {
+    const double noise_m_s = c.speed_sigma_mm_s * 1e-3 * scenario_->normal();
+    telemetry_.speed_m_s += noise_m_s;
+    telemetry_.tick_speed_m_s += noise_m_s;
+  }
 }
 
 }  // namespace swum::emu

@@ -5,12 +5,16 @@
 
 #include <array>
 #include <cstdint>
+#include <cstdio>
+#include <optional>
 #include <span>
 #include <vector>
 
 #include "amplifier.h"
 #include "loop_statistics.h"
+#include "model/model_faults.h"
 #include "model/simulator.h"
+#include "scenario_player.h"
 #include "shared_state.h"
 
 namespace swum::emu {
@@ -52,6 +56,10 @@ class EmulatorCore {
   void shut_down();
   // nullptr: none. The observer must outlive the ticks it sees.
   void set_observer(TickObserver* observer) { observer_ = observer; }
+  // A scenario's timeline (docs/scenarios.md), applied at every tick boundary from the next tick
+  // on. Throws std::invalid_argument when the model cannot play it (an ambient event without the
+  // thermal effect). `log`: where each event is reported when it takes effect (nullptr: nowhere).
+  void set_scenario(Scenario scenario, std::FILE* log = stderr);
 
   void set_stats(const LoopStatsSummary& s) { telemetry_.stats = loop_timing(s); }
   [[nodiscard]] const Amplifier& amplifier() const { return amplifier_; }
@@ -84,6 +92,17 @@ class EmulatorCore {
   std::array<std::uint64_t, 64> accepted_ns_{};  // first 64 commands of a tick
   std::size_t accepted_count_ = 0;
   TickObserver* observer_ = nullptr;
+  // Scenario: the timeline, the model faults in force, what the reported telemetry holds.
+  void apply_scenario(const ScenarioConditions& c);
+  void report_sensors(const ScenarioConditions& c, double& position_m);
+  void report_speed(const ScenarioConditions& c);
+  std::optional<ScenarioPlayer> scenario_;
+  std::FILE* scenario_log_ = nullptr;
+  const ScenarioConditions* conditions_ = nullptr;
+  ModelFaults faults_;
+  std::uint64_t jam_generation_ = 0;
+  bool encoder_held_ = false, speed_held_ = false;
+  double held_position_m_ = 0.0, held_speed_m_s_ = 0.0, held_tick_speed_m_s_ = 0.0;
   int last_enable_line_ = -1;  // what the observer was last told (-1: nothing yet)
 };
 

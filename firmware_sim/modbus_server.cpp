@@ -17,6 +17,7 @@
 #include <array>
 #include <cerrno>
 #include <charconv>
+#include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <functional>
@@ -103,6 +104,40 @@ bool discard_bytes(int fd, std::size_t count) {
 // `surplus`: the MBAP length counted bytes after what the function code frames; a supported
 // function code with them is malformed (exception 03, wrong length), an unsupported one is
 // refused as such (01).
+// A scenario's communication faults, after the request was processed: false when its reply is
+// withheld (modbus_drop: the next N requests; telemetry_silence: FC04 reads); a modbus_delay
+// holds the reply back by delay_ms of emulated time (lockstep: the motor runs on that many ticks
+// while the controller waits; wall time: delay_ms / speedup).
+bool reply_allowed(SharedState& shared, std::uint8_t function, ModbusStats& stats,
+                   const std::function<bool(bool)>& stepping) {
+  for (std::uint64_t drops = shared.modbus_drops.load(std::memory_order_relaxed); drops > 0;) {
+    if (shared.modbus_drops.compare_exchange_weak(drops, drops - 1, std::memory_order_relaxed)) {
+      stats.withheld_replies.fetch_add(1, std::memory_order_relaxed);
+      return false;
+    }
+  }
+  if (function == protocol::modbus::kReadInputRegisters && shared.telemetry_silent.load(std::memory_order_relaxed)) {
+    stats.withheld_replies.fetch_add(1, std::memory_order_relaxed);
+    return false;
+  }
+  const double delay_ms = shared.modbus_delay_ms.load(std::memory_order_relaxed);
+  if (delay_ms > 0.0) {
+    stats.delayed_replies.fetch_add(1, std::memory_order_relaxed);
+    if (stepping && !stepping(true)) return false;  // the delay is the device's: no deadline on it
+    if (shared.lockstep != nullptr) {
+      const auto ticks = static_cast<std::uint64_t>(std::llround(delay_ms * 1e-3 * shared.tick_hz));
+      if (ticks > 0) shared.lockstep->advance(ticks);
+    } else if (shared.speedup > 0.0) {
+      const auto ns = static_cast<long long>(delay_ms * 1e6 / shared.speedup);
+      timespec pause{static_cast<time_t>(ns / 1'000'000'000), static_cast<long>(ns % 1'000'000'000)};
+      while (nanosleep(&pause, &pause) != 0 && errno == EINTR) {
+      }
+    }
+    if (stepping && !stepping(false)) return false;
+  }
+  return true;
+}
+
 // `stepping(true)` before a lockstep step waits for the loop, `stepping(false)` after it (the TCP
 // server suspends the connection's deadlines meanwhile); false: the connection is being closed.
 using SteppingHook = std::function<bool(bool)>;
@@ -143,6 +178,7 @@ bool serve(modbus_t* ctx, const std::uint8_t* adu, int length, int checksum_leng
     if (stepping && !stepping(false)) return false;
     if (!ran) exception = protocol::modbus::kServerDeviceFailure;  // the emulator stopped first
   }
+  if (!reply_allowed(shared, pdu[0], stats, stepping)) return true;  // a scenario's communication fault
   if (exception != protocol::modbus::kNoException) {
     stats.exceptions.fetch_add(1, std::memory_order_relaxed);
     if (exception != protocol::modbus::kServerDeviceBusy && exception != protocol::modbus::kServerDeviceFailure)

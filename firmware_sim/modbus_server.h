@@ -33,6 +33,10 @@ struct ModbusStats {
   std::atomic<std::uint64_t> connections{0};     // TCP: taken into a slot
   std::atomic<std::uint64_t> receive_errors{0};  // TCP: libmodbus framing errors; RTU: read errors
   DropCounters drops;                            // connections closed / frames discarded by the server
+  // Scenario communication faults (docs/scenarios.md): replies withheld (modbus_drop, FC04 in a
+  // telemetry_silence) and replies sent late (modbus_delay).
+  std::atomic<std::uint64_t> withheld_replies{0};
+  std::atomic<std::uint64_t> delayed_replies{0};
 };
 
 // Limits of the Modbus TCP server (swum-emu options --modbus-*-ms; defaults documented in

@@ -43,6 +43,15 @@ struct SharedState {
   std::atomic<std::uint64_t> next_sequence{1};
   std::atomic<std::uint64_t> queue_full{0};
 
+  // Communication faults of a scenario (docs/scenarios.md): set by the loop at tick boundaries,
+  // read by the transports for each request / frame.
+  std::atomic<bool> telemetry_silent{false};   // no telemetry out (Modbus FC04 unanswered, no CAN frames)
+  std::atomic<std::uint64_t> modbus_drops{0};  // Modbus requests still to leave unanswered
+  std::atomic<double> modbus_delay_ms{0.0};    // every Modbus reply this late (emulated ms)
+  std::atomic<bool> can_bus_off{false};        // the CAN node neither sends nor receives
+  double speedup = 1.0;    // emulated per wall second (wall-time delays); set before the transports start
+  double tick_hz = 1.0e4;  // ticks per emulated second (lockstep delays); set before the transports start
+
   // Validates and queues a command. Returns Reason::none when accepted (it will be applied, in
   // order, at the next tick boundary); otherwise records the reason and returns it.
   Reason submit(Command command);

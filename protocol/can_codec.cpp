@@ -220,4 +220,21 @@ CanFrame encode_heartbeat(std::uint32_t id) {
   return f;
 }
 
+Reason decode_sync(const CanFrame& f, SyncFrame& out) {
+  if (f.dlc > 1) return Reason::wrong_length;
+  out = {};
+  if (f.dlc == 1) {
+    if (f.data[0] < 1 || f.data[0] > kMaxSyncCounter) return Reason::unknown_command;
+    out.has_counter = true;
+    out.counter = f.data[0];
+  }
+  return Reason::none;
+}
+
+CanFrame encode_sync(std::uint8_t counter) {
+  CanFrame f = blank(kSyncId, counter == 0 ? 0 : 1);
+  if (counter != 0) f.data[0] = counter;
+  return f;
+}
+
 }  // namespace swum::protocol::can

@@ -164,4 +164,17 @@ CanFrame encode_output(const Telemetry& t, std::uint32_t id);
 CanFrame encode_clock(const Telemetry& t, std::uint32_t id);
 CanFrame encode_heartbeat(std::uint32_t id);
 
+// CANopen SYNC (identifier 0x080 for every node; CiA 301): with --clock external each SYNC is one
+// control cycle (docs/protocols.md, "Lockstep over CAN"). DLC 0, or 1 with the SYNC counter
+// 1..240; anything else is refused (wrong_length, unknown_command).
+inline constexpr std::uint32_t kSyncId = 0x080;
+inline constexpr std::uint8_t kMaxSyncCounter = 240;
+struct SyncFrame {
+  bool has_counter = false;
+  std::uint8_t counter = 0;
+};
+Reason decode_sync(const CanFrame& frame, SyncFrame& out);
+// counter 0: no counter (DLC 0).
+CanFrame encode_sync(std::uint8_t counter);
+
 }  // namespace swum::protocol::can

@@ -16,6 +16,8 @@ const char* to_string(FaultCode fault) {
     case FaultCode::none: return "none";
     case FaultCode::command_timeout: return "command timeout";
     case FaultCode::numerical: return "numerical blow-up";
+    case FaultCode::over_current: return "over-current";
+    case FaultCode::over_temperature: return "over-temperature";
   }
   return "?";
 }

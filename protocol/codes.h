@@ -10,8 +10,10 @@ enum class AmpState : std::uint8_t { disabled = 0, enabled = 1, fault = 2 };
 
 enum class FaultCode : std::uint8_t {
   none = 0,
-  command_timeout = 1,  // watchdog: no valid command for longer than the timeout while enabled
-  numerical = 2,        // the model blew up (NaN/Inf, runaway amplitude or speed)
+  command_timeout = 1,   // watchdog: no valid command for longer than the timeout while enabled
+  numerical = 2,         // the model blew up (NaN/Inf, runaway amplitude or speed)
+  over_current = 3,      // a shorted phase (scenario phase_short): trips while the short holds
+  over_temperature = 4,  // the stator over its limit (scenario over_temperature)
 };
 
 // Why a command was rejected (0 = accepted).

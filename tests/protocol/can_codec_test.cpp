@@ -90,12 +90,33 @@ TEST_F(CanDbc, EveryMessageOfTheDbcIsProducedByTheCode) {
                                                   {"Status", ids.status},   {"Motion", ids.motion},
                                                   {"Drive", ids.drive},     {"LoopStats", ids.loop_stats},
                                                   {"Output", ids.output},   {"Heartbeat", ids.heartbeat},
-                                                  {"Clock", ids.clock}};
+                                                  {"Clock", ids.clock},     {"Sync", kSyncId}};
   EXPECT_EQ(dbc.size(), code.size());
   for (const auto& [name, id] : code) {
     ASSERT_TRUE(dbc.contains(name)) << name;
     EXPECT_EQ(dbc.at(name).id, id) << name;
   }
+}
+
+TEST_F(CanDbc, SyncEncodingAgrees) {
+  expect_frame("Sync", encode_sync(17), {{"SyncCounter", 17}});
+  EXPECT_EQ(encode_sync(0).dlc, 0);  // CANopen: a SYNC without a counter is empty
+}
+
+TEST(CanSync, DecodesTheTwoFormsAndRefusesTheRest) {
+  SyncFrame s;
+  EXPECT_EQ(decode_sync(encode_sync(0), s), Reason::none);
+  EXPECT_FALSE(s.has_counter);
+  EXPECT_EQ(decode_sync(encode_sync(240), s), Reason::none);
+  EXPECT_TRUE(s.has_counter);
+  EXPECT_EQ(s.counter, 240);
+  CanFrame f = encode_sync(1);
+  f.data[0] = 0;
+  EXPECT_EQ(decode_sync(f, s), Reason::unknown_command);
+  f.data[0] = 241;
+  EXPECT_EQ(decode_sync(f, s), Reason::unknown_command);
+  f.dlc = 2;
+  EXPECT_EQ(decode_sync(f, s), Reason::wrong_length);
 }
 
 TEST_F(CanDbc, CommandEncodingAgrees) {

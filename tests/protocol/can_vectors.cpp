@@ -86,5 +86,6 @@ int main() {
   t.tick = 36002500;
   print("Clock", can::encode_clock(t, ids.clock), {{"SimTime", 3600.25}, {"Tick", 36002500}});
   print("Heartbeat", can::encode_heartbeat(ids.heartbeat), {{"NmtState", 5}});
+  print("Sync", can::encode_sync(17), {{"SyncCounter", 17}});  // issue 13: lockstep over CAN
   return 0;
 }
