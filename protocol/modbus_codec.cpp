@@ -270,6 +270,19 @@ std::string encode_advance(std::uint64_t ticks, std::uint16_t& register_value) {
   return {};
 }
 
+std::string encode_step_write(Action action, const AmplifierSetpoints& s, std::uint64_t ticks,
+                              std::span<std::uint16_t, holding::kCount> r) {
+  r[holding::kCommand] = command_code(action);
+  std::string problem = encode_drive_write(s.frequency_hz, s.amplitude_vpp, s.phase_deg, s.load_n,
+                                           r.subspan<holding::kFrequency, kDriveWriteCount>());
+  if (problem.empty()) {
+    problem = encode_slew_write(s.frequency_slew_hz_per_s, s.amplitude_slew_vpp_per_s,
+                                r.subspan<holding::kFrequencySlew, kSlewWriteCount>());
+  }
+  if (problem.empty()) problem = encode_advance(ticks, r[holding::kAdvance]);
+  return problem;
+}
+
 InputImage decode_input(std::span<const std::uint16_t, input::kCount> r) {
   InputImage image;
   Telemetry& t = image.telemetry;

@@ -167,6 +167,11 @@ std::string encode_slew_write(double frequency_hz_per_s, double amplitude_vpp_pe
 std::string encode_advance(std::uint64_t ticks, std::uint16_t& register_value);
 // The command register's value for an action.
 inline std::uint16_t command_code(Action action) { return static_cast<std::uint16_t>(action); }
+// One lockstep control cycle as ONE write of every holding register (kCommand .. kAdvance):
+// the action, the drive set-points, the slew limits (0 = unlimited) and the ticks to run after
+// them. Empty when every value fits its register, else what does not.
+std::string encode_step_write(Action action, const AmplifierSetpoints& setpoints, std::uint64_t ticks,
+                              std::span<std::uint16_t, holding::kCount> registers);
 
 // The input registers read back into physical units (the inverse of fill_input, to the
 // registers' resolution).

@@ -16,5 +16,6 @@ void add_log_command(CLI::App& app);          // log_command.cpp
 void add_synth_command(CLI::App& app);        // synth_command.cpp
 void add_discrepancy_command(CLI::App& app);  // discrepancy_command.cpp
 void add_population_command(CLI::App& app);   // population_command.cpp
+void add_control_command(CLI::App& app);      // control_command.cpp
 
 }  // namespace swum::host

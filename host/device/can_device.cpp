@@ -144,6 +144,10 @@ void CanDevice::command(DeviceAction action) {
   }
 }
 
+DeviceTelemetry CanDevice::step(const DriveSetpoint&, const DriveSlew&, DeviceAction, std::uint32_t) {
+  throw DeviceError(name() + ": lockstep over CAN is not supported yet (use --modbus)");
+}
+
 DeviceTelemetry CanDevice::read() {
   const can::Ids ids = can::ids_for_node(node_);
   DeviceTelemetry t;

@@ -24,6 +24,8 @@ class CanDevice final : public Device {
   void set_slew(double frequency_hz_per_s, double vpp_per_s) override;
   void command(DeviceAction action) override;
   DeviceTelemetry read() override;
+  DeviceTelemetry step(const DriveSetpoint& setpoint, const DriveSlew& slew, DeviceAction action,
+                       std::uint32_t ticks) override;
 
  private:
   void start(const DeviceTimeouts& timeouts);

@@ -20,6 +20,10 @@ std::unique_ptr<Device> open_device(const DeviceAddress& address, const DeviceTi
   throw std::invalid_argument("no device: give --modbus tcp://HOST:PORT | rtu:DEVICE:BAUD or --can IFACE[:NODE]");
 }
 
+DeviceTelemetry Device::step(const DriveSetpoint&, const DriveSlew&, DeviceAction, std::uint32_t) {
+  throw DeviceError(name() + ": lockstep stepping is not supported by this device");
+}
+
 std::string reject_reason_name(int code) {
   if (code < 0 || code > 255) return "reason " + std::to_string(code);
   const char* text = protocol::to_string(static_cast<protocol::Reason>(code));

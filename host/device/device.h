@@ -29,6 +29,12 @@ struct DriveSetpoint {
   double load_n = 0.0;      // emulated load force (an emulator input; a real board ignores it)
 };
 
+// Slew limits of the drive set-points (0 = unlimited): the device never ramps faster.
+struct DriveSlew {
+  double frequency_hz_per_s = 0.0;
+  double vpp_per_s = 0.0;
+};
+
 enum class DeviceAction { keep_alive, enable, disable, reset_fault };
 
 // One telemetry sample, in physical units.
@@ -37,6 +43,10 @@ struct DeviceTelemetry {
   // times settle/dwell on it so a sped-up emulator and a real board behave the same.
   std::optional<double> device_time_s;
   std::chrono::steady_clock::time_point received;  // host clock at reception
+  // Ticks the device has completed, when the protocol carries the counter (Modbus; in lockstep
+  // it counts exactly the ticks the host asked for).
+  std::optional<std::uint64_t> tick;
+  bool lockstep = false;  // the device's clock is external (Modbus input 35); false when not carried
   // Running sample counter of the device's telemetry (CAN status counter, mod 256), for gap
   // counting; absent when the protocol is polled (Modbus: every read is a fresh snapshot).
   std::optional<std::uint32_t> sample_counter;
@@ -74,6 +84,15 @@ class Device {
   virtual void command(DeviceAction action) = 0;
   // The next telemetry sample (Modbus: a fresh read; CAN: the next complete set of frames).
   virtual DeviceTelemetry read() = 0;
+
+  // Lockstep (docs/protocols.md, "Lockstep"): true when the device's clock advances only when
+  // the host steps it (swum-emu --clock external), as the device said when it was opened.
+  virtual bool lockstep() const { return false; }
+  // One lockstep control cycle in one exchange: apply the action, the set-points and the slew
+  // limits together, run `ticks` device ticks (1..65535), and return the telemetry after them.
+  // Throws DeviceError when the protocol cannot step or the device refuses (not in lockstep).
+  virtual DeviceTelemetry step(const DriveSetpoint& setpoint, const DriveSlew& slew, DeviceAction action,
+                               std::uint32_t ticks);
 };
 
 struct DeviceTimeouts {

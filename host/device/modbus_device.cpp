@@ -20,6 +20,16 @@ namespace modbus = protocol::modbus;
 namespace holding = modbus::holding;
 namespace input = modbus::input;
 
+protocol::Action protocol_action(DeviceAction action) {
+  switch (action) {
+    case DeviceAction::keep_alive: return protocol::Action::none;
+    case DeviceAction::enable: return protocol::Action::enable;
+    case DeviceAction::disable: return protocol::Action::disable;
+    case DeviceAction::reset_fault: return protocol::Action::reset_fault;
+  }
+  return protocol::Action::none;
+}
+
 }  // namespace
 
 ModbusDevice::ModbusDevice(const std::string& endpoint_text, const DeviceTimeouts& timeouts)
@@ -48,7 +58,7 @@ ModbusDevice::ModbusDevice(const std::string& endpoint_text, const DeviceTimeout
   // timeout (a device that has just been started may still be busy), later ones the response one.
   // When it does not, the destructor will not run: close the connection here.
   try {
-    (void)read();
+    lockstep_ = read().lockstep;
   } catch (...) {
     modbus_close(context_);
     modbus_free(context_);
@@ -111,15 +121,26 @@ void ModbusDevice::set_slew(double frequency_hz_per_s, double vpp_per_s) {
 }
 
 void ModbusDevice::command(DeviceAction action) {
-  protocol::Action code = protocol::Action::none;
-  switch (action) {
-    case DeviceAction::keep_alive: code = protocol::Action::none; break;
-    case DeviceAction::enable: code = protocol::Action::enable; break;
-    case DeviceAction::disable: code = protocol::Action::disable; break;
-    case DeviceAction::reset_fault: code = protocol::Action::reset_fault; break;
-  }
-  const std::uint16_t value = modbus::command_code(code);
+  const std::uint16_t value = modbus::command_code(protocol_action(action));
   write_holding(holding::kCommand, &value, 1, "command write");
+}
+
+// One request sets and steps (holding 0..10, the reply comes when the ticks are done), one
+// reads the state after them.
+DeviceTelemetry ModbusDevice::step(const DriveSetpoint& s, const DriveSlew& slew, DeviceAction action,
+                                   std::uint32_t ticks) {
+  protocol::AmplifierSetpoints setpoints;
+  setpoints.frequency_hz = s.frequency_hz;
+  setpoints.amplitude_vpp = s.vpp;
+  setpoints.phase_deg = s.phase_deg;
+  setpoints.load_n = s.load_n;
+  setpoints.frequency_slew_hz_per_s = slew.frequency_hz_per_s;
+  setpoints.amplitude_slew_vpp_per_s = slew.vpp_per_s;
+  std::array<std::uint16_t, holding::kCount> r{};
+  const std::string problem = modbus::encode_step_write(protocol_action(action), setpoints, ticks, r);
+  if (!problem.empty()) throw DeviceError(name() + ": lockstep step: " + problem);
+  write_holding(holding::kCommand, r.data(), static_cast<int>(r.size()), "lockstep step");
+  return read();
 }
 
 DeviceTelemetry ModbusDevice::read() {
@@ -132,6 +153,8 @@ DeviceTelemetry ModbusDevice::read() {
   DeviceTelemetry t;
   t.received = std::chrono::steady_clock::now();
   t.device_time_s = d.sim_time_s;
+  t.tick = d.tick;
+  t.lockstep = d.external_clock;
   t.state = image.state_code;
   t.fault_code = image.fault_code;
   t.enable_line = d.enable_line;

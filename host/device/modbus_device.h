@@ -24,6 +24,9 @@ class ModbusDevice final : public Device {
   void set_slew(double frequency_hz_per_s, double vpp_per_s) override;
   void command(DeviceAction action) override;
   DeviceTelemetry read() override;
+  bool lockstep() const override { return lockstep_; }
+  DeviceTelemetry step(const DriveSetpoint& setpoint, const DriveSlew& slew, DeviceAction action,
+                       std::uint32_t ticks) override;
 
  private:
   void set_timeout(std::chrono::milliseconds timeout);
@@ -32,6 +35,7 @@ class ModbusDevice final : public Device {
 
   std::string endpoint_text_;
   modbus_t* context_ = nullptr;
+  bool lockstep_ = false;  // input register 35 (clock) read when the device was opened
 };
 
 }  // namespace swum::host

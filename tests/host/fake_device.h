@@ -2,7 +2,8 @@
 // clock that advances per read, enable/disable/fault states, a command watchdog on the device
 // clock, an amplitude slew limit, first-order speed response to a resonance curve whose peak
 // drifts down with voltage, and silent rejection (counted, reason readable) like CAN.
-// Fault injection: numerical fault at a frequency, rejections, a broken link after N reads.
+// Fault injection: numerical fault at a frequency, rejections, a broken link after N reads,
+// any fault code at a device time. Lockstep (step()) when lockstep_mode is set.
 #pragma once
 
 #include <algorithm>
@@ -24,6 +25,10 @@ class FakeDevice : public Device {
   std::optional<double> fault_at_frequency_hz;  // numerical fault when driven there (once)
   std::optional<int> fail_after_reads;          // the link breaks (DeviceError) after N reads
   std::function<void(int reads)> on_read;       // e.g. raise(SIGINT)
+  // (device time, fault code): trips once, at the first read at or after that time while enabled.
+  std::vector<std::pair<double, int>> fault_schedule;
+  bool lockstep_mode = false;  // step() runs ticks / tick_hz of device time per call
+  double tick_hz = 10000.0;
 
   // Resonance drift: peak at 40.4 kHz at 100 Vpp, 1 Hz lower per Vpp above.
   static double peak_hz(double vpp) { return 40400.0 - (vpp - 100.0); }
@@ -61,6 +66,25 @@ class FakeDevice : public Device {
         break;
     }
   }
+  bool lockstep() const override { return lockstep_mode; }
+  DeviceTelemetry step(const DriveSetpoint& s, const DriveSlew& slew, DeviceAction a, std::uint32_t ticks) override {
+    if (!lockstep_mode) return Device::step(s, slew, a, ticks);
+    ++steps;
+    if (a == DeviceAction::enable && state == 2) {
+      reject(12);  // like swum-emu: the whole command is refused, the ticks still run
+    } else {
+      set_slew(slew.frequency_hz_per_s, slew.vpp_per_s);
+      set_drive(s);
+      command(a);
+    }
+    const double per_read_s = read_step_s;
+    read_step_s = ticks / tick_hz;
+    DeviceTelemetry t = read();
+    read_step_s = per_read_s;
+    total_ticks += ticks;
+    t.tick = total_ticks;
+    return t;
+  }
   DeviceTelemetry read() override {
     ++reads;
     if (fail_after_reads && reads > *fail_after_reads) throw DeviceError("fake: link down");
@@ -71,14 +95,22 @@ class FakeDevice : public Device {
       fault_at_frequency_hz.reset();
       trip(2);
     }
+    for (auto& [at_s, code] : fault_schedule) {
+      if (state == 1 && code != 0 && time_s >= at_s - 1e-12) {
+        trip(code);
+        code = 0;
+      }
+    }
     const double target_vpp = state == 1 ? setpoint_.vpp : 0.0;
     const double max_step = slew_vpp_per_s > 0.0 ? slew_vpp_per_s * read_step_s : 1e9;
     vpp_out += std::clamp(target_vpp - vpp_out, -max_step, max_step);
-    const double target_speed = state == 1 ? steady_speed_mm_s(setpoint_.frequency_hz, vpp_out) : 0.0;
+    const double direction = setpoint_.phase_deg < 0.0 ? -1.0 : 1.0;
+    const double target_speed = state == 1 ? direction * steady_speed_mm_s(setpoint_.frequency_hz, vpp_out) : 0.0;
     speed += (target_speed - speed) * (1.0 - std::exp(-read_step_s / speed_time_constant_s));
     max_vpp_seen = std::max(max_vpp_seen, vpp_out);
     DeviceTelemetry t;
     t.device_time_s = time_s;
+    t.lockstep = lockstep_mode;
     t.received = std::chrono::steady_clock::now();
     t.state = state;
     t.fault_code = fault;
@@ -100,6 +132,8 @@ class FakeDevice : public Device {
   int last_reject = 0;
   std::uint32_t reject_count = 0;
   int faults_tripped = 0;
+  int steps = 0;
+  std::uint64_t total_ticks = 0;
   double time_s = 0.0;
   double vpp_out = 0.0;
   double speed = 0.0;

@@ -197,6 +197,7 @@ TEST(RegisterMapJson, InputRegistersAgreeWithTheCode) {
   t.stats.overruns = 77;
   t.tick_speed_m_s = 0.2;
   t.last_sequence = 4242;
+  t.external_clock = true;
   std::array<std::uint16_t, input::kCount> regs{};
   fill_input(t, RejectSnapshot{Reason::bad_checksum, 70000}, regs);
   const std::map<std::string, double> expected{{"status", 1 + 4 + 8},
@@ -223,7 +224,8 @@ TEST(RegisterMapJson, InputRegistersAgreeWithTheCode) {
                                                {"compute_max", 52},
                                                {"overruns", 77},
                                                {"tick_speed", 0.2},
-                                               {"last_sequence", 4242}};
+                                               {"last_sequence", 4242},
+                                               {"clock", 1}};
   EXPECT_EQ(map["input_registers"].size(), expected.size());
   unsigned words = 0;
   for (const auto& entry : map["input_registers"]) {
@@ -250,7 +252,7 @@ TEST(RegisterMapJson, HoldingRegistersAgreeWithTheCode) {
   fill_holding(t, regs);
   const std::map<std::string, double> expected{
       {"command", 0},       {"frequency_setpoint", 40400.5}, {"amplitude_setpoint", 321.4}, {"phase_setpoint", -45.5},
-      {"load_force", -2.5}, {"frequency_slew", 1e6},         {"amplitude_slew", 1e5}};
+      {"load_force", -2.5}, {"frequency_slew", 1e6},         {"amplitude_slew", 1e5},       {"advance", 0}};
   unsigned words = 0;
   for (const auto& entry : map["holding_registers"]) {
     const std::string name = entry["name"];
@@ -264,6 +266,11 @@ TEST(RegisterMapJson, HoldingRegistersAgreeWithTheCode) {
                                       regs.begin() + static_cast<long>(entry["address"]) + (wide ? 2 : 1));
     const Decision d = run(write_multiple(entry["address"], values));
     ASSERT_EQ(d.exception, kNoException) << name;
+    if (name == "advance") {  // a step, not a command (docs/protocols.md, "Lockstep")
+      EXPECT_FALSE(d.has_command);
+      EXPECT_EQ(d.advance_ticks, expected.at(name));
+      continue;
+    }
     ASSERT_TRUE(d.has_command) << name;
     const Command& c = d.command;
     const std::map<std::string, double> written{{"command", static_cast<double>(c.action)},

@@ -92,6 +92,31 @@ TEST(ModbusRoundTrip, CommandCodesAreTheDevicesActions) {
   }
 }
 
+TEST(ModbusRoundTrip, StepWriteIsOneCommandAndTheTicksToRun) {
+  AmplifierSetpoints s;
+  s.frequency_hz = 40123.456;
+  s.amplitude_vpp = 137.5;
+  s.phase_deg = -90.0;
+  s.frequency_slew_hz_per_s = 1000.0;
+  s.amplitude_slew_vpp_per_s = 0.0;
+  std::array<std::uint16_t, modbus::holding::kCount> r{};
+  ASSERT_EQ(modbus::encode_step_write(Action::enable, s, 10, r), "");
+  const modbus::Decision d = device_decides(modbus::holding::kCommand, r);
+  ASSERT_EQ(d.exception, modbus::kNoException) << to_string(d.reason);
+  ASSERT_TRUE(d.has_command);
+  EXPECT_EQ(d.advance_ticks, 10);
+  EXPECT_EQ(d.command.action, Action::enable);
+  EXPECT_NEAR(d.command.frequency_hz, s.frequency_hz, 0.5e-3);
+  EXPECT_NEAR(d.command.amplitude_vpp, s.amplitude_vpp, 0.05);
+  EXPECT_NEAR(d.command.phase_deg, s.phase_deg, 0.005);
+  EXPECT_EQ(d.command.frequency_slew_hz_per_s, 1000.0);
+  EXPECT_EQ(d.command.amplitude_slew_vpp_per_s, 0.0);
+  EXPECT_NE(modbus::encode_step_write(Action::none, s, 0, r).find("advance of 0 ticks"), std::string::npos);
+  EXPECT_NE(modbus::encode_step_write(Action::none, s, 65536, r).find("65536"), std::string::npos);
+  s.amplitude_vpp = 6553.6;
+  EXPECT_NE(modbus::encode_step_write(Action::none, s, 10, r).find("amplitude"), std::string::npos);
+}
+
 Telemetry sample() {
   Telemetry t;
   t.tick = 123456;

@@ -1,0 +1,111 @@
+// `swum control`: the reference closed-loop speed controller (docs/host.md, "swum control"):
+// amplitude PI at a fixed drive frequency on a live device, one CSV row per cycle, the
+// documented fault reaction. Against swum-emu --clock external it steps the emulator cycle by
+// cycle (lockstep), so a run is reproducible byte for byte.
+#include <cstdio>
+#include <memory>
+#include <set>
+#include <string>
+
+#include "commands/command_error.h"
+#include "commands/commands.h"
+#include "control/speed_control.h"
+#include "device/device_options.h"
+#include "device/stop_signal.h"
+#include "output/partial_file.h"
+#include "output/value_lists.h"
+
+namespace swum::host {
+namespace {
+
+struct ControlOptions {
+  DeviceOptions device;
+  SpeedControlSettings settings;
+  double cycle_ms = 1.0;
+  std::string recover = "1";
+  std::string out_path;
+};
+
+// --recover: comma-separated fault codes, or "none".
+std::set<int> parse_fault_codes(const std::string& text) {
+  std::set<int> codes;
+  if (text == "none") return codes;
+  for (const double v : parse_number_list(text, "--recover")) {
+    if (v != static_cast<int>(v) || v < 1 || v > 255)
+      throw std::invalid_argument("--recover: " + text + ": fault codes are whole numbers in 1..255 (or none)");
+    codes.insert(static_cast<int>(v));
+  }
+  return codes;
+}
+
+std::string describe_codes(const std::set<int>& codes) {
+  std::string text;
+  for (const int c : codes) text += (text.empty() ? "" : ",") + std::to_string(c);
+  return text.empty() ? "none" : text;
+}
+
+void run_control(ControlOptions& o) {
+  SpeedControlSettings& s = o.settings;
+  s.cycle_s = o.cycle_ms * 1e-3;
+  s.recoverable_faults = parse_fault_codes(o.recover);
+  StopSignal stop;
+  const auto device = open_device(o.device.address, o.device.timeouts());
+  PartialFile out(o.out_path, kSpeedControlCsvHeader);
+  SpeedControlHooks hooks;
+  hooks.on_row = [&out](const SpeedControlRow& row) { out.append(format_speed_control_row(row)); };
+  hooks.on_event = [](const std::string& line) { std::fprintf(stderr, "swum control: %s\n", line.c_str()); };
+  hooks.stop_requested = [] { return StopSignal::requested(); };
+  if (!device->lockstep()) {
+    std::fprintf(stderr, "swum control: %s runs on wall time: cycles follow the host clock, not reproducible\n",
+                 device->name().c_str());
+  }
+  SpeedControlResult result;
+  try {
+    result = run_speed_control(*device, s, hooks);
+  } catch (const DeviceError&) {
+    std::fprintf(stderr, "swum: the rows before the error are in %s\n", out.partial().c_str());
+    throw;
+  }
+  out.commit();
+  std::printf("%llu cycles at %.6f mm/s (%s, recover %s) -> %s; mean |error| over the last half %.3f mm/s; "
+              "%d faults, %d retries\n",
+              static_cast<unsigned long long>(result.cycles), s.target_mm_s,
+              device->lockstep() ? "lockstep" : "wall time", describe_codes(s.recoverable_faults).c_str(),
+              o.out_path.c_str(), result.mean_abs_error_last_half_mm_s, result.faults_seen, result.retries);
+  if (result.stop_reason == "interrupted")
+    throw CommandError("interrupted: drive off; " + o.out_path + " holds every cycle run", kExitInterrupted);
+  if (!result.stop_reason.empty())
+    throw CommandError("stopped on " + result.stop_reason + "; drive off; rows in " + o.out_path);
+}
+
+}  // namespace
+
+void add_control_command(CLI::App& app) {
+  auto o = std::make_shared<ControlOptions>();
+  SpeedControlSettings& s = o->settings;
+  s.gains.kp_vpp_per_mm_s = kDefaultKpVppPerMmS;
+  s.gains.ki_vpp_per_mm = kDefaultKiVppPerMm;
+  CLI::App* sub = app.add_subcommand(
+      "control", "Closed-loop speed control of a live device (amplitude PI; lockstep with swum-emu --clock external)");
+  add_device_options(*sub, o->device);
+  sub->add_option("--speed-mm-s", s.target_mm_s, "target speed (mm/s); the sign is the direction")->required();
+  sub->add_option("--frequency-hz", s.frequency_hz, "fixed drive frequency (e.g. the one `swum pick` chose)")
+      ->capture_default_str();
+  sub->add_option("--duration-s", s.duration_s, "run length (device time in lockstep)")->capture_default_str();
+  sub->add_option("--cycle-ms", o->cycle_ms, "control cycle (ms)")->capture_default_str();
+  sub->add_option("--tick-hz", s.tick_hz, "lockstep: the device's tick rate (checked against its clock)")
+      ->capture_default_str();
+  sub->add_option("--kp", s.gains.kp_vpp_per_mm_s, "proportional gain (Vpp per mm/s)")->capture_default_str();
+  sub->add_option("--ki", s.gains.ki_vpp_per_mm, "integral gain (Vpp per mm/s per s)")->capture_default_str();
+  sub->add_option("--max-vpp", s.gains.max_vpp, "amplitude limit (Vpp)")->capture_default_str();
+  sub->add_option("--vpp-slew", s.slew.vpp_per_s, "amplitude slew limit the device applies (Vpp/s, 0 = none)")
+      ->capture_default_str();
+  sub->add_option("--recover", o->recover, "fault codes recovered by reset + re-enable (comma list or none)")
+      ->capture_default_str();
+  sub->add_option("--holdoff-cycles", s.holdoff_cycles, "drive-off cycles before a recovery")->capture_default_str();
+  sub->add_option("--max-retries", s.max_retries, "recoveries allowed per run")->capture_default_str();
+  sub->add_option("--out", o->out_path, "output CSV, one row per cycle")->required();
+  sub->callback([o] { run_control(*o); });
+}
+
+}  // namespace swum::host

@@ -1,0 +1,241 @@
+#include "control/speed_control.h"
+
+#include <chrono>
+#include <cinttypes>
+#include <cmath>
+#include <cstdio>
+#include <stdexcept>
+#include <thread>
+
+#include "codes.h"
+
+namespace swum::host {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+// The device time has the register's resolution (1 ms over Modbus): a tick rate that does not
+// match the device shows as a drift beyond it within a few cycles.
+constexpr double kDeviceTimeResolutionS = 1.5e-3;
+
+std::string fault_name(int code) {
+  if (code < 0 || code > 255) return "fault " + std::to_string(code);
+  const std::string text = protocol::to_string(static_cast<protocol::FaultCode>(code));
+  return text == "?" ? "fault " + std::to_string(code) : text;
+}
+
+std::string format_seconds(double s) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.6f", s);
+  return text;
+}
+
+// One exchange per cycle: a lockstep step (set + run the cycle's ticks + read), or on a
+// wall-time device set-point + action + read at the cycle's deadline on the host clock.
+class CycleExchange {
+ public:
+  CycleExchange(Device& device, const SpeedControlSettings& s) : device_(device), settings_(s) {
+    lockstep_ = device.lockstep();
+    if (lockstep_) {
+      const double ticks = s.cycle_s * s.tick_hz;
+      ticks_per_cycle_ = static_cast<std::uint32_t>(std::llround(ticks));
+      if (std::abs(ticks - ticks_per_cycle_) > 1e-9 * ticks || ticks_per_cycle_ < 1 || ticks_per_cycle_ > 65535) {
+        throw std::invalid_argument("--cycle-ms: " + format_seconds(s.cycle_s * 1e3) +
+                                    " ms is not a whole number of ticks in 1..65535 at --tick-hz " +
+                                    format_seconds(s.tick_hz));
+      }
+    } else {
+      device.set_slew(s.slew.frequency_hz_per_s, s.slew.vpp_per_s);
+    }
+    start_ = Clock::now();
+  }
+
+  bool lockstep() const { return lockstep_; }
+  double host_seconds(const DeviceTelemetry& t) const {
+    return std::chrono::duration<double>(t.received - start_).count();
+  }
+
+  DeviceTelemetry exchange(const DriveSetpoint& setpoint, DeviceAction action) {
+    if (lockstep_) {
+      DeviceTelemetry t = device_.step(setpoint, settings_.slew, action, ticks_per_cycle_);
+      check_tick_rate(t);
+      return t;
+    }
+    const auto deadline = start_ + std::chrono::duration_cast<Clock::duration>(
+                                       std::chrono::duration<double>(settings_.cycle_s * cycles_++));
+    std::this_thread::sleep_until(deadline);
+    device_.set_drive(setpoint);
+    if (action != DeviceAction::keep_alive) device_.command(action);
+    return device_.read();
+  }
+
+ private:
+  void check_tick_rate(const DeviceTelemetry& t) const {
+    if (!t.tick || !t.device_time_s) return;
+    const double expected_s = static_cast<double>(*t.tick) / settings_.tick_hz;
+    if (std::abs(expected_s - *t.device_time_s) > kDeviceTimeResolutionS) {
+      throw DeviceError(device_.name() + ": --tick-hz " + format_seconds(settings_.tick_hz) +
+                        " does not match the device: tick " + std::to_string(*t.tick) + " at device time " +
+                        format_seconds(*t.device_time_s) + " s");
+    }
+  }
+
+  Device& device_;
+  const SpeedControlSettings& settings_;
+  bool lockstep_ = false;
+  std::uint32_t ticks_per_cycle_ = 0;
+  std::uint64_t cycles_ = 0;
+  Clock::time_point start_;
+};
+
+// What the next cycle sends: the fault reaction's state machine (docs/host.md, "Fault reaction").
+class FaultReaction {
+ public:
+  struct Decision {
+    DeviceAction action = DeviceAction::keep_alive;
+    bool drive = false;  // false: 0 Vpp
+  };
+
+  FaultReaction(const SpeedControlSettings& s, const SpeedControlHooks& hooks, SpeedControlResult& result)
+      : settings_(s), hooks_(hooks), result_(result) {}
+
+  // `last` is the telemetry after the previous cycle (or at the start).
+  Decision next(const DeviceTelemetry& last, std::uint64_t cycle) {
+    if (phase_ == Phase::holdoff) {
+      if (holdoff_left_-- > 0) return {DeviceAction::keep_alive, false};
+      phase_ = Phase::run;
+      ++result_.retries;
+      return {DeviceAction::reset_fault, false};
+    }
+    if (last.is(protocol::AmpState::fault)) return on_fault(last, cycle);
+    if (!last.is(protocol::AmpState::enabled)) return {DeviceAction::enable, true};
+    return {DeviceAction::keep_alive, true};
+  }
+  bool stopping() const { return phase_ == Phase::stop; }
+
+ private:
+  enum class Phase { run, holdoff, stop };
+
+  Decision on_fault(const DeviceTelemetry& t, std::uint64_t cycle) {
+    ++result_.faults_seen;
+    const std::string what = "cycle " + std::to_string(cycle) + " (device time " +
+                             format_seconds(t.device_time_s.value_or(0.0)) + " s): fault " + fault_name(t.fault_code) +
+                             " (code " + std::to_string(t.fault_code) + "): drive off";
+    const bool recoverable = settings_.recoverable_faults.contains(t.fault_code);
+    if (recoverable && result_.retries < settings_.max_retries) {
+      phase_ = Phase::holdoff;
+      holdoff_left_ = settings_.holdoff_cycles;
+      event(what + "; reset and re-enable after " + std::to_string(settings_.holdoff_cycles) + " cycles (retry " +
+            std::to_string(result_.retries + 1) + " of " + std::to_string(settings_.max_retries) + ")");
+    } else {
+      phase_ = Phase::stop;
+      result_.stop_reason = "fault " + fault_name(t.fault_code) + " (code " + std::to_string(t.fault_code) +
+                            ") at cycle " + std::to_string(cycle) +
+                            (recoverable ? ": --max-retries " + std::to_string(settings_.max_retries) + " used up"
+                                         : ": not recoverable (--recover)");
+      event(what + "; stopping: " + result_.stop_reason);
+    }
+    return {DeviceAction::disable, false};
+  }
+  void event(const std::string& line) const {
+    if (hooks_.on_event) hooks_.on_event(line);
+  }
+
+  const SpeedControlSettings& settings_;
+  const SpeedControlHooks& hooks_;
+  SpeedControlResult& result_;
+  Phase phase_ = Phase::run;
+  int holdoff_left_ = 0;
+};
+
+void check_settings(const SpeedControlSettings& s) {
+  if (!std::isfinite(s.target_mm_s)) throw std::invalid_argument("--speed-mm-s: must be a number");
+  if (!(s.frequency_hz > 0.0)) throw std::invalid_argument("--frequency-hz: must be > 0");
+  if (!(s.cycle_s > 0.0 && s.cycle_s <= 10.0)) throw std::invalid_argument("--cycle-ms: must be within (0, 10000]");
+  if (!(s.duration_s >= s.cycle_s && s.duration_s <= 1e6))
+    throw std::invalid_argument("--duration-s: must be at least one cycle and <= 1e6 s");
+  if (!(s.tick_hz > 0.0)) throw std::invalid_argument("--tick-hz: must be > 0");
+  if (s.holdoff_cycles < 0) throw std::invalid_argument("--holdoff-cycles: must be >= 0");
+  if (s.max_retries < 0) throw std::invalid_argument("--max-retries: must be >= 0");
+}
+
+// The drive off at the end of a run (completed, interrupted, stopped on a fault).
+void drive_off(CycleExchange& exchange, DriveSetpoint setpoint) {
+  setpoint.vpp = 0.0;
+  (void)exchange.exchange(setpoint, DeviceAction::disable);
+}
+
+// The cycles of one run: decide (fault reaction, PI), exchange, report the row.
+void run_cycles(CycleExchange& exchange, FaultReaction& reaction, DriveSetpoint& setpoint, DeviceTelemetry last,
+                const SpeedControlSettings& s, const SpeedControlHooks& hooks, SpeedControlResult& result) {
+  SpeedPi pi(s.gains);
+  const auto cycles = static_cast<std::uint64_t>(std::llround(s.duration_s / s.cycle_s));
+  double error_sum_mm_s = 0.0;
+  std::uint64_t error_count = 0;
+  for (std::uint64_t cycle = 0; cycle < cycles && !reaction.stopping(); ++cycle) {
+    if (hooks.stop_requested && hooks.stop_requested()) {
+      result.stop_reason = "interrupted";
+      break;
+    }
+    const FaultReaction::Decision d = reaction.next(last, cycle);
+    if (!d.drive) pi.reset();
+    setpoint.vpp = d.drive ? pi.update(s.target_mm_s, last.speed_mm_s, s.cycle_s) : 0.0;
+    last = exchange.exchange(setpoint, d.action);
+    result.cycles = cycle + 1;
+    if (hooks.on_row) {
+      hooks.on_row({cycle, last.tick, last.device_time_s.value_or(exchange.host_seconds(last)), s.target_mm_s,
+                    last.speed_mm_s, setpoint.vpp, s.frequency_hz, last.state, last.fault_code, d.action});
+    }
+    if (2 * cycle >= cycles) {
+      error_sum_mm_s += std::abs(s.target_mm_s - last.speed_mm_s);
+      ++error_count;
+    }
+  }
+  if (error_count > 0) result.mean_abs_error_last_half_mm_s = error_sum_mm_s / static_cast<double>(error_count);
+}
+
+}  // namespace
+
+const char* action_name(DeviceAction action) {
+  switch (action) {
+    case DeviceAction::keep_alive: return "keep_alive";
+    case DeviceAction::enable: return "enable";
+    case DeviceAction::disable: return "disable";
+    case DeviceAction::reset_fault: return "reset_fault";
+  }
+  return "?";
+}
+
+std::string format_speed_control_row(const SpeedControlRow& r) {
+  char tick[24] = "";
+  if (r.tick) std::snprintf(tick, sizeof tick, "%" PRIu64, *r.tick);
+  char line[320];
+  std::snprintf(line, sizeof line, "%" PRIu64 ",%s,%.6f,%.6f,%.6f,%.6f,%.6f,%d,%d,%s\n", r.cycle, tick, r.time_s,
+                r.target_mm_s, r.speed_mm_s, r.vpp_command, r.frequency_hz, r.state, r.fault_code,
+                action_name(r.action));
+  return line;
+}
+
+SpeedControlResult run_speed_control(Device& device, const SpeedControlSettings& s, const SpeedControlHooks& hooks) {
+  check_settings(s);
+  CycleExchange exchange(device, s);
+  SpeedControlResult result;
+  FaultReaction reaction(s, hooks, result);
+  DriveSetpoint setpoint;
+  setpoint.frequency_hz = s.frequency_hz;
+  setpoint.phase_deg = s.target_mm_s < 0.0 ? -90.0 : 90.0;
+  try {
+    run_cycles(exchange, reaction, setpoint, device.read(), s, hooks, result);
+  } catch (const DeviceError&) {
+    try {
+      drive_off(exchange, setpoint);
+    } catch (const DeviceError&) {
+      // The device does not answer: its watchdog switches the drive off.
+    }
+    throw;
+  }
+  if (!reaction.stopping()) drive_off(exchange, setpoint);  // a stop on a fault has sent it already
+  return result;
+}
+
+}  // namespace swum::host
