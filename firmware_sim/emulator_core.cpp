@@ -183,6 +183,8 @@ void EmulatorCore::apply_scenario(const ScenarioConditions& c) {
     jam_generation_ = c.jam_generation;
     f.jam_position_m = c.jam_position_um ? *c.jam_position_um * 1e-6 : simulator_.state().mover_position_m;
   }
+  if (c.ambient_c && *c.ambient_c - kReferenceAmbientC != simulator_.ambient_offset_k())
+    simulator_.set_ambient_offset_k(*c.ambient_c - kReferenceAmbientC);  // checked to have the thermal effect
   if (f.phase_a_gain != faults_.phase_a_gain || f.phase_b_gain != faults_.phase_b_gain ||
       f.preload_factor != faults_.preload_factor || f.guide_friction_factor != faults_.guide_friction_factor ||
       f.jammed != faults_.jammed || f.jam_position_m != faults_.jam_position_m) {

@@ -12,10 +12,14 @@
 
 namespace swum::emu {
 
+// The ambient temperature a parameter file describes (the paper's bench: room temperature);
+// a scenario's `ambient` event shifts the thermal effect by temperature_c - this.
+inline constexpr double kReferenceAmbientC = 20.0;
+
 // What holds during one tick.
 struct ScenarioConditions {
   std::optional<double> load_n;     // the scenario's load (from its first load event on)
-  std::optional<double> ambient_c;  // from the first ambient event on
+  std::optional<double> ambient_c;  // from the first ambient event on (the parameter file's: kReferenceAmbientC)
   // Motor and amplifier output.
   double phase_a_gain = 1.0, phase_b_gain = 1.0;  // phase_open (0) x voltage_sag (factor)
   double preload_factor = 1.0;

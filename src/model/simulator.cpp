@@ -187,12 +187,18 @@ void MotorSimulator::apply_slow_states() {
   const MotorCoefficients& k = model_.coefficients();
   const EffectCoefficients& e = k.effects;
   if (e.thermal) {
-    const ThermalFactors f = thermal_factors(e, state_.stator_temperature_rise_k);
+    const ThermalFactors f = thermal_factors(e, ambient_offset_k_ + state_.stator_temperature_rise_k);
     system_.set_modal_factors(k, f.stiffness, f.damping);
   }
   if (e.wear) {
     system_.set_friction_coefficient(k.friction_coefficient * wear_friction_factor(e, state_.sliding_distance_m));
   }
+}
+
+void MotorSimulator::set_ambient_offset_k(double offset_k) {
+  if (!std::isfinite(offset_k)) throw std::invalid_argument("MotorSimulator::set_ambient_offset_k: not finite");
+  ambient_offset_k_ = offset_k;
+  apply_slow_states();
 }
 
 void MotorSimulator::set_slow_states(double temperature_rise_k, double sliding_distance_m, bool frozen) {

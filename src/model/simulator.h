@@ -65,6 +65,11 @@ class MotorSimulator {
   // otherwise they evolve every housekeeping block (64 steps).
   void set_slow_states(double temperature_rise_k, double sliding_distance_m, bool frozen);
   [[nodiscard]] bool slow_states_frozen() const { return slow_states_frozen_; }
+  // Ambient temperature of the thermal effect relative to the one the parameter file describes
+  // (K; the emulator's scenario `ambient` event): the stiffness and damping factors see
+  // offset + rise, the rise itself (driven by the losses) is unchanged. No-op without the effect.
+  void set_ambient_offset_k(double offset_k);
+  [[nodiscard]] double ambient_offset_k() const { return ambient_offset_k_; }
   // Drive amplitude at the piezo / commanded (amplifier droop; 1 when disabled).
   [[nodiscard]] double droop_gain() const { return droop_gain_; }
 
@@ -111,6 +116,7 @@ class MotorSimulator {
   double speed_limit_m_s_;
   std::uint64_t housekeeping_steps_ = 0;  // phasor renormalisation / subnormal flush cadence
   bool slow_states_frozen_ = false;
+  double ambient_offset_k_ = 0.0;
   double droop_gain_ = 1.0;
   ModelFaults faults_{};
   bool diverged_ = false;
