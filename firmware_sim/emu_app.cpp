@@ -348,6 +348,9 @@ std::string format_exit_report(const ExitStatistics& s) {
   if (const ModbusStats* m = s.modbus_tcp) {
     append(out, "  modbus    %llu requests, %llu exceptions, %llu connections\n", u(m->requests.load()),
            u(m->exceptions.load()), u(m->connections.load()));
+    if (m->withheld_replies.load() + m->delayed_replies.load() > 0)
+      append(out, "  modbus    scenario: replies withheld %llu, delayed %llu\n", u(m->withheld_replies.load()),
+             u(m->delayed_replies.load()));
     out += format_drops("modbus tcp closed:", m->drops,
                         {Drop::no_slot, Drop::evicted, Drop::idle, Drop::frame_timeout, Drop::reply_timeout,
                          Drop::bad_header, Drop::too_long});
@@ -365,6 +368,9 @@ std::string format_exit_report(const ExitStatistics& s) {
            u(c->rx_frames.load()), u(c->accepted.load()), u(c->rejected.load()), u(c->rx_errors.load()),
            u(c->tx_frames.load()), u(c->tx_dropped.load()), u(c->tx_errors.load()), u(c->error_frames.load()),
            u(c->bus_off.load()));
+    if (c->syncs.load() + c->bus_off_discarded.load() > 0)
+      append(out, "  can       lockstep SYNCs %llu; scenario bus-off: frames discarded %llu\n", u(c->syncs.load()),
+             u(c->bus_off_discarded.load()));
     const Histogram empty;
     const Histogram& age = s.can_receive_age ? *s.can_receive_age : empty;
     append(out,

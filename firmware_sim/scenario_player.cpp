@@ -60,9 +60,7 @@ void ScenarioPlayer::start(const ScenarioEvent& e, std::uint64_t tick) {
       return;
     case EventType::ambient: now_.ambient_c = p.temperature_c; return;
     case EventType::modbus_drop: now_.modbus_drops_started += p.count; return;
-    case EventType::clear:
-      std::erase_if(active_, [&](const Active& a) { return a.type == p.fault; });
-      return;
+    case EventType::clear: std::erase_if(active_, [&](const Active& a) { return a.type == p.fault; }); return;
     default: break;
   }
   // A fault that lasts (until its duration ends or a clear); phase_short and over_temperature

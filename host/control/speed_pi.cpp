@@ -25,7 +25,12 @@ double SpeedPi::update(double target_mm_s, double speed_mm_s, double cycle_s) {
   const double unclamped_vpp = proportional_vpp + integrated_vpp;
   const bool saturated_high = unclamped_vpp > gains_.max_vpp && error_mm_s > 0.0;
   const bool saturated_low = unclamped_vpp < 0.0 && error_mm_s < 0.0;
-  if (!saturated_high && !saturated_low) integral_vpp_ = std::clamp(integrated_vpp, 0.0, gains_.max_vpp);
+  // Saturated: integrate only as far as the output needs to reach the limit, never beyond it
+  // (a frozen integral left the output short of the limit, e.g. 445 of 450 Vpp with one phase open).
+  double next_vpp = integrated_vpp;
+  if (saturated_high) next_vpp = std::max(integral_vpp_, gains_.max_vpp - proportional_vpp);
+  if (saturated_low) next_vpp = std::min(integral_vpp_, -proportional_vpp);
+  integral_vpp_ = std::clamp(next_vpp, 0.0, gains_.max_vpp);
   return std::clamp(proportional_vpp + integral_vpp_, 0.0, gains_.max_vpp);
 }
 

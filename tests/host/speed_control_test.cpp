@@ -41,6 +41,13 @@ TEST(SpeedPi, AntiWindupKeepsTheIntegralFromGrowingWhileSaturated) {
   EXPECT_DOUBLE_EQ(conditional.integral_vpp(), 0.0);
   // Leaving saturation is immediate once the error turns: no wound-up integral to unwind.
   EXPECT_LT(pi.update(1000.0, 1100.0, 0.001), 100.0);
+  // The output does reach the limit when P alone does not (a phase open: 150 mm/s short of
+  // 300): the integral stops exactly where P + I = max, not one step before it.
+  SpeedPi short_of_limit({0.5, 50.0, 450.0});
+  double out_vpp = 0.0;
+  for (int i = 0; i < 1000; ++i) out_vpp = short_of_limit.update(300.0, 150.0, 0.001);
+  EXPECT_DOUBLE_EQ(out_vpp, 450.0);
+  EXPECT_DOUBLE_EQ(short_of_limit.integral_vpp(), 450.0 - 0.5 * 150.0);
   // Never below 0 Vpp.
   SpeedPi low({0.5, 50.0, 100.0});
   EXPECT_DOUBLE_EQ(low.update(10.0, 500.0, 0.001), 0.0);
