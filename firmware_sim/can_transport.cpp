@@ -104,7 +104,10 @@ void CanTransport::rx_loop() {
       continue;
     }
     stats_.rx_frames.fetch_add(1, std::memory_order_relaxed);
-    if (shared_.can_bus_off.load(std::memory_order_relaxed)) {  // a scenario's bus-off: the node hears nothing
+    // A scenario's bus-off: the node hears nothing, except that a SYNC still steps a lockstep run
+    // (it is the co-simulation's clock, not traffic of this node; no telemetry goes out meanwhile).
+    if (shared_.can_bus_off.load(std::memory_order_relaxed) &&
+        !(frame.id == protocol::can::kSyncId && !frame.extended && shared_.lockstep != nullptr)) {
       stats_.bus_off_discarded.fetch_add(1, std::memory_order_relaxed);
       continue;
     }

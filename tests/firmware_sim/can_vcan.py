@@ -4,7 +4,7 @@ decoded through config/swum.dbc with python3-canmatrix, CRC computed here) and c
 cansend/candump. Runs natively when the host has vcan0, else inside the test guest
 (tools/vm/with-vcan). Never asserts timing (TCG guest).
 
-usage: can_vcan.py SCENARIO   (enable_speed rejects watchdog bus_errors)
+usage: can_vcan.py SCENARIO   (enable_speed rejects watchdog bus_errors lockstep bus_off)
 
 Every scenario also checks, from the exit report, that each frame the emulator received carried
 the kernel's receive timestamp (SO_TIMESTAMPNS): none missing, none implausible.
@@ -269,6 +269,113 @@ def scenario_bus_errors():
         assert report["bus_off"] == 1 and report["error_frames"] == 1, report
         assert report["tx_errors"] > 0 and report["rx_errors"] > 0, report  # ENETDOWN, counted, not fatal
         assert "bus-off" in emu.stderr and "Network is down" in emu.stderr, emu.stderr
+
+
+TELEMETRY = ("Status", "Motion", "Drive", "LoopStats", "Clock", "Output")
+
+
+def sync_frame(counter):
+    return can.Message(arbitration_id=DB.frame_by_name("Sync").arbitration_id.id, data=bytes([counter]),
+                       is_extended_id=False)
+
+
+def telemetry_after_sync(peer, timeout=60):
+    """The telemetry frames one SYNC answers with: {name: (raw bytes, decoded)}."""
+    got, expired = {}, deadline(timeout)
+    while len(got) < len(TELEMETRY):
+        msg = peer.bus.recv(timeout=1.0)
+        assert not expired(), f"no complete telemetry after a SYNC: {sorted(got)}"
+        if msg is None:
+            continue
+        frame = DB.frame_by_id(canmatrix.ArbitrationId(msg.arbitration_id))
+        if frame is not None and frame.name in TELEMETRY:
+            assert frame.name not in got, f"{frame.name} twice for one SYNC (wall-time telemetry in lockstep?)"
+            got[frame.name] = (bytes(msg.data), {k: float(v.phys_value) for k, v in frame.decode(bytes(msg.data)).items()})
+    return got
+
+
+def lockstep_run(cycles, enable_at, extra=(), hog=False):
+    """Lockstep over CAN: the controller sends its command, then a SYNC, then reads the telemetry
+    the SYNC answers with. Returns the raw telemetry bytes of every cycle."""
+    h = subprocess.Popen([sys.executable, "-c", "while True: pass"]) if hog else None
+    try:
+        with Emulator("--can", "vcan0", "--node", str(NODE), "--clock", "external", "--sync-ticks", "10",
+                      "--heartbeat-ms", "0", *extra, modbus="none") as emu:
+            assert "clock=external" in emu.ready, emu.ready
+            peer = Peer()
+            log = []
+            for k in range(cycles):
+                if k >= enable_at:
+                    peer.send_command(1, 40000.0, 300.0)  # every cycle: feeds the watchdog
+                peer.bus.send(sync_frame(k % 240 + 1))
+                log.append(telemetry_after_sync(peer))
+            peer.close()
+            assert emu.stop() == 0, emu.stderr
+            output = emu.output
+    finally:
+        if h:
+            h.kill()
+            h.wait()
+    m = re.search(r"lockstep SYNCs (\d+)", output)
+    assert m and int(m.group(1)) == cycles, f"SYNCs counted: {m and m.group(1)} of {cycles}\n{output}"
+    return log, output
+
+
+def scenario_lockstep():
+    """CANopen synchronous semantics in lockstep: SYNC k answers with the state sampled at it (tick
+    1 + 10 k: nothing runs between SYNCs), the command received before SYNC k acts from then on and
+    shows in the telemetry of SYNC k+1, not k (one cycle of delay); the same frames give the same
+    bytes with a CPU hog running; a SYNC to a wall-time emulator is refused (reason 17)."""
+    cycles, enable_at = 40, 5
+    quiet, _ = lockstep_run(cycles, enable_at)
+    for k, frames in enumerate(quiet):
+        tick = frames["Clock"][1]["Tick"]
+        assert tick == 1 + 10 * k, f"SYNC {k}: tick {tick}, expected {1 + 10 * k}"
+        assert frames["LoopStats"][1]["LatenessMax"] == 0, "timing fields must be 0 in lockstep"
+    states = [frames["Status"][1]["State"] for frames in quiet]
+    assert states[enable_at] == 0 and states[enable_at + 1] == 1, \
+        f"one cycle of delay expected: state at SYNC {enable_at} = {states[enable_at]}, next = {states[enable_at + 1]}"
+    assert quiet[-1]["Motion"][1]["Speed"] > 0.1, "the motor did not move"
+    loaded, _ = lockstep_run(cycles, enable_at, hog=True)
+    raw = lambda log: [[frames[n][0] for n in TELEMETRY] for frames in log]  # noqa: E731
+    assert raw(quiet) == raw(loaded), "telemetry bytes differ with a CPU hog running"
+    with Emulator("--can", "vcan0", "--node", str(NODE), modbus="none") as emu:
+        peer = Peer()
+        peer.bus.send(sync_frame(1))
+        peer.wait_for(lambda t: t["Status"]["LastReject"] == REASONS["clock_not_external"], "SYNC refused on wall time")
+        peer.close()
+        emu.stop()
+    print(f"lockstep over CAN: {cycles} SYNCs, ticks 1 + 10 k, one cycle of delay, identical bytes under load")
+
+
+def scenario_bus_off():
+    """A scenario's bus-off in lockstep: from 5 ms for 5 ms the node sends no telemetry and
+    discards the commands it receives (SYNCs still step the run); then it answers again."""
+    cycles = 16
+    h = None
+    with Emulator("--can", "vcan0", "--node", str(NODE), "--clock", "external", "--sync-ticks", "10",
+                  "--heartbeat-ms", "0", "--inject", "can_bus_off@0.005:duration_s=0.005", modbus="none") as emu:
+        peer = Peer()
+        answered = []
+        for k in range(cycles):
+            peer.send_command(1, 40000.0, 300.0)
+            peer.bus.send(sync_frame(k + 1))
+            frames = []
+            end = time.monotonic() + (5.0 if not 5 <= k < 10 else 1.0)
+            while time.monotonic() < end and len(frames) < len(TELEMETRY):
+                msg = peer.bus.recv(timeout=0.2)
+                if msg is not None:
+                    frames.append(msg)
+            answered.append(len(frames) == len(TELEMETRY))
+        peer.close()
+        assert emu.stop() == 0
+        output = emu.output
+    del h
+    silent = [k for k, ok in enumerate(answered) if not ok]
+    assert silent == list(range(5, 10)), f"cycles without telemetry: {silent} (expected 5..9)"
+    m = re.search(r"frames discarded (\d+)", output)
+    assert m and int(m.group(1)) == 5, f"commands discarded during bus-off: {m and m.group(1)}\n{output}"
+    print("bus-off: telemetry silent for cycles 5..9, 5 commands discarded, then back")
 
 
 if __name__ == "__main__":
