@@ -165,6 +165,7 @@ CanFrame encode_status(const Telemetry& t, const RejectSnapshot& r, std::uint8_t
   put_raw(f, signals::kStatusEnableLine, t.enable_line ? 1 : 0);
   put_raw(f, signals::kStatusDriveOn, drive_on(t) ? 1 : 0);
   put_raw(f, signals::kStatusAtSetpoint, t.at_setpoint ? 1 : 0);
+  put_raw(f, signals::kStatusExternalClock, t.external_clock ? 1 : 0);
   put_raw(f, signals::kStatusFault, static_cast<std::uint8_t>(t.fault));
   put_raw(f, signals::kStatusLastReject, static_cast<std::uint8_t>(r.last));
   put_raw(f, signals::kStatusRejectCount, r.count & 0xFFU);

@@ -77,6 +77,7 @@ inline constexpr Signal kStatusState{0, 2};
 inline constexpr Signal kStatusEnableLine{2, 1};
 inline constexpr Signal kStatusDriveOn{3, 1};
 inline constexpr Signal kStatusAtSetpoint{4, 1};
+inline constexpr Signal kStatusExternalClock{5, 1};  // lockstep: telemetry only at SYNC
 inline constexpr Signal kStatusFault{8, 8};
 inline constexpr Signal kStatusLastReject{16, 8};
 inline constexpr Signal kStatusRejectCount{24, 8};   // mod 256

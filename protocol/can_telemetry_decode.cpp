@@ -17,6 +17,7 @@ Reason decode_status(const CanFrame& f, StatusFields& out) {
   out.enable_line = raw_value(f, signals::kStatusEnableLine) != 0;
   out.drive_on = raw_value(f, signals::kStatusDriveOn) != 0;
   out.at_setpoint = raw_value(f, signals::kStatusAtSetpoint) != 0;
+  out.external_clock = raw_value(f, signals::kStatusExternalClock) != 0;
   out.fault = raw_as<std::uint8_t>(f, signals::kStatusFault);
   out.last_reject = raw_as<std::uint8_t>(f, signals::kStatusLastReject);
   out.reject_count = raw_as<std::uint8_t>(f, signals::kStatusRejectCount);

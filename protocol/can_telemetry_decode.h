@@ -15,6 +15,7 @@ struct StatusFields {
   bool enable_line = false;
   bool drive_on = false;
   bool at_setpoint = false;
+  bool external_clock = false;      // lockstep: telemetry only at SYNC
   std::uint8_t fault = 0;           // FaultCode
   std::uint8_t last_reject = 0;     // Reason
   std::uint8_t reject_count = 0;    // mod 256

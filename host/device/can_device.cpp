@@ -62,10 +62,20 @@ void CanDevice::start(const DeviceTimeouts& timeouts) {
                                    exact(ids.loop_stats), exact(ids.output), exact(ids.clock)};
   const io::CanResult r = bus_->set_filters(filters);
   if (!r.ok()) throw DeviceError(name() + ": cannot set receive filters: " + r.message);
-  // The node must be talking before anyone relies on it.
-  response_timeout_ = timeouts.connect;
+  // The node must be talking before anyone relies on it. A lockstep node (--clock external)
+  // only talks when stepped: after a short silence one SYNC asks it (that cycle is run).
+  response_timeout_ = std::min(timeouts.connect, std::chrono::milliseconds(200));
   try {
-    (void)read();
+    try {
+      lockstep_ = read().lockstep;
+    } catch (const DeviceError&) {
+      send_sync();
+      response_timeout_ = timeouts.connect;
+      const DeviceTelemetry t = receive_set();
+      lockstep_ = t.lockstep;
+      if (lockstep_) last_sync_answer_ = t;
+      last_tick_ = t.tick ? std::optional<std::uint32_t>(static_cast<std::uint32_t>(*t.tick)) : std::nullopt;
+    }
   } catch (const DeviceError&) {
     throw DeviceError(name() + ": no answer from node " + std::to_string(node_) + " within " +
                       std::to_string(timeouts.connect.count()) + " ms (is swum-emu running with --can " + bus_->name() +
@@ -144,11 +154,44 @@ void CanDevice::command(DeviceAction action) {
   }
 }
 
-DeviceTelemetry CanDevice::step(const DriveSetpoint&, const DriveSlew&, DeviceAction, std::uint32_t) {
-  throw DeviceError(name() + ": lockstep over CAN is not supported yet (use --modbus)");
+void CanDevice::send_sync() {
+  sync_counter_ = static_cast<std::uint8_t>(sync_counter_ % can::kMaxSyncCounter + 1);
+  send(can::encode_sync(sync_counter_), "SYNC");
+}
+
+DeviceTelemetry CanDevice::step(const DriveSetpoint& s, const DriveSlew& slew, DeviceAction action,
+                                std::uint32_t ticks) {
+  if (!lockstep_) throw DeviceError(name() + ": not in lockstep (start swum-emu with --clock external)");
+  const bool aux_changed = s.load_n != setpoint_.load_n || slew.frequency_hz_per_s != frequency_slew_hz_per_s_ ||
+                           slew.vpp_per_s != vpp_slew_per_s_;
+  setpoint_ = s;
+  if (aux_changed) {
+    frequency_slew_hz_per_s_ = slew.frequency_hz_per_s;
+    vpp_slew_per_s_ = slew.vpp_per_s;
+    send_aux();
+  }
+  command(action);  // the Command frame with the set-points, latched at the SYNC below
+  send_sync();
+  DeviceTelemetry t = receive_set();
+  last_sync_answer_ = t;
+  if (t.tick) {
+    const auto tick = static_cast<std::uint32_t>(*t.tick);
+    if (last_tick_ && tick - *last_tick_ != ticks)
+      throw DeviceError(name() + ": the device ran " + std::to_string(tick - *last_tick_) +
+                        " ticks per SYNC, the controller steps " + std::to_string(ticks) +
+                        " (swum-emu --sync-ticks must equal --cycle-ms x --tick-hz / 1000)");
+    last_tick_ = tick;
+  }
+  return t;
 }
 
 DeviceTelemetry CanDevice::read() {
+  // In lockstep the node talks only when a SYNC steps it: the telemetry of the last SYNC.
+  if (lockstep_ && last_sync_answer_) return *last_sync_answer_;
+  return receive_set();
+}
+
+DeviceTelemetry CanDevice::receive_set() {
   const can::Ids ids = can::ids_for_node(node_);
   DeviceTelemetry t;
   bool have_status = false;
@@ -182,6 +225,7 @@ DeviceTelemetry CanDevice::read() {
       t.fault_code = s.fault;
       t.drive_on = s.drive_on;
       t.enable_line = s.enable_line;
+      t.lockstep = s.external_clock;
       t.last_reject = s.last_reject;
       t.reject_count = s.reject_count;
       t.reject_count_modulus = 1U << can::signals::kStatusRejectCount.length;
@@ -215,6 +259,7 @@ DeviceTelemetry CanDevice::read() {
       can::ClockFields c;
       if (can::decode_clock(f, c) == protocol::Reason::none) {
         t.device_time_s = c.sim_time_s;
+        t.tick = c.tick;
         seen |= kClock;
       }
     } else if (f.id == ids.output) {

@@ -3,6 +3,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 
 #include "can_bus.h"
@@ -24,8 +25,14 @@ class CanDevice final : public Device {
   void set_slew(double frequency_hz_per_s, double vpp_per_s) override;
   void command(DeviceAction action) override;
   DeviceTelemetry read() override;
+  // Lockstep (swum-emu --clock external, Status bit ExternalClock): sets, sends one SYNC and
+  // returns the telemetry that answers it, sampled at the SYNC: the command acts during the
+  // cycle the SYNC starts and shows in the next step's telemetry (CANopen synchronous
+  // semantics, one cycle of delay). `ticks` must be the device's --sync-ticks (checked from the
+  // tick counter of consecutive answers).
   DeviceTelemetry step(const DriveSetpoint& setpoint, const DriveSlew& slew, DeviceAction action,
                        std::uint32_t ticks) override;
+  bool lockstep() const override { return lockstep_; }
 
  private:
   void start(const DeviceTimeouts& timeouts);
@@ -42,6 +49,12 @@ class CanDevice final : public Device {
   std::uint8_t mode_ = protocol::can::mode::kDisable;  // what keep-alives repeat: 0 disable, 1 enable
   std::uint8_t command_alive_ = 0;
   std::uint8_t aux_alive_ = 0;
+  bool lockstep_ = false;
+  std::uint8_t sync_counter_ = 0;                    // CANopen SYNC counter 1..240
+  std::optional<std::uint32_t> last_tick_;           // of the last SYNC's answer
+  std::optional<DeviceTelemetry> last_sync_answer_;  // lockstep: what read() returns (the node is silent between SYNCs)
+  DeviceTelemetry receive_set();
+  void send_sync();
 };
 
 }  // namespace swum::host
