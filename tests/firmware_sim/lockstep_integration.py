@@ -173,6 +173,33 @@ def end_of_run():
     print("end of run: a step beyond --duration is answered with exception 04")
 
 
+def scenario_refused():
+    """A scenario with a bad line, an unknown event, an out-of-range time, or an effect the motor
+    lacks is refused at start-up with file:line (or the --inject text); nothing starts (no ready
+    line, exit 1)."""
+    with tempfile.TemporaryDirectory() as d:
+        cases = [
+            ("bad.toml", "[[event]]\nat_s = 0.1\ntype = \"load_step\"\nload_n = = 2\n", [], "bad.toml:4"),
+            ("unknown.toml", "[[event]]\nat_s = 0.1\ntype = \"melt_down\"\n", [], "unknown.toml:3"),
+            ("late.toml", "[[event]]\nat_s = 2e6\ntype = \"over_temperature\"\n", [], "late.toml:2"),
+            ("early.toml", "[[event]]\nat_s = -0.5\ntype = \"jam\"\n", [], "early.toml:2"),
+            ("ambient.toml", "\n[[event]]\nat_s = 1\ntype = \"ambient\"\ntemperature_c = 60\n", [], "ambient.toml:2"),
+            (None, None, ["--inject", "melt_down@1"], "--inject 'melt_down@1'"),
+        ]
+        for name, text, extra, where in cases:
+            args = [EMU, "--config", CONFIG, "--modbus", "tcp://127.0.0.1:0", "--clock", "external", *extra]
+            if name:
+                path = os.path.join(d, name)
+                open(path, "w").write(text)
+                args += ["--scenario", path]
+            r = subprocess.run(args, capture_output=True, text=True, timeout=60)
+            assert r.returncode == 1, f"{name or extra}: exit {r.returncode}"
+            assert "swum-emu ready" not in r.stdout, f"{name or extra}: started anyway"
+            lines = r.stderr.strip().splitlines()
+            assert len(lines) == 1 and where in lines[0], f"{name or extra}: {r.stderr!r}"
+            print(f"refused: {lines[0]}")
+
+
 def throughput():
     with Emulator("--clock", "external") as emu:
         s = Stepper(emu)
@@ -189,4 +216,4 @@ def throughput():
 
 if __name__ == "__main__":
     {"determinism": determinism, "replay": replay, "refused": refused_on_wall_time, "long_step": long_step,
-     "end_of_run": end_of_run, "throughput": throughput}[sys.argv[1]]()
+     "end_of_run": end_of_run, "throughput": throughput, "scenario_refused": scenario_refused}[sys.argv[1]]()

@@ -151,6 +151,31 @@ def modbus_drop():
     print(f"modbus drop: the controller stops with: {err.strip()}")
 
 
+def encoder_stuck():
+    # The speed a board reports comes from its encoder: a stuck encoder reads 0 mm/s while the
+    # motor runs, and a speed loop winds the amplitude up to its limit (no fault code).
+    status, out, err, rows, _ = run("encoder", ["encoder_stuck@0.3:duration_s=0.1"], duration_s=0.7)
+    check(status == 0, err)
+    stuck = speeds(rows, 0.32, 0.4)
+    check(all(v == 0.0 for v in stuck), f"a stuck encoder must read 0: {stuck[:3]}")
+    check(float(at(rows, 0.399)["vpp_command"]) == 500.0, "the loop did not wind up to --max-vpp")
+    after = speeds(rows, 0.6, 0.7)
+    check(all(abs(v - TARGET) < 0.02 * TARGET for v in after), "not back on target after the encoder recovered")
+    print("encoder stuck 0.1 s: speed reads 0, amplitude to the limit, back on target after")
+
+
+def telemetry_silence():
+    # No telemetry (FC04 unanswered): the controller cannot see the motor and stops with an error
+    # after its response timeout; its last command stays in force until the watchdog.
+    status, out, err, rows, log = run("silence", ["telemetry_silence@0.2:duration_s=0.05"], "--timeout-ms", "200")
+    check(status == 1, f"exit {status}")
+    error = [line for line in err.splitlines() if line.startswith("swum: error:")]
+    check(len(error) == 1 and "response timeout" in error[0], err)
+    check(abs(float(rows[-1]["time_s"]) - 0.2) < 0.0015, f"last row at {rows[-1]['time_s']} s, expected ~0.2")
+    check("replies withheld" in log, log[-300:])
+    print(f"telemetry silence: the controller stops at 0.2 s: {error[0]}")
+
+
 def deterministic_scenario():
     scenario = ["load_step@0.2:load_n=1", "speed_noise@0.1:sigma_mm_s=5", "phase_open@0.35:phase=A,duration_s=0.05"]
 
@@ -222,5 +247,6 @@ if __name__ == "__main__":
     {"load_step": load_step, "phase_short": phase_short, "over_temperature": over_temperature_recovered,
      "watchdog_from_delay": watchdog_from_delay, "phase_open": phase_open, "jam": jam_and_clear,
      "speed_bias": speed_bias, "modbus_drop": modbus_drop, "deterministic": deterministic_scenario,
-     "can_deterministic": can_deterministic}[sys.argv[1]]()
+     "can_deterministic": can_deterministic, "encoder_stuck": encoder_stuck,
+     "telemetry_silence": telemetry_silence}[sys.argv[1]]()
     print("ok")
