@@ -54,15 +54,15 @@ void ScenarioPlayer::start(const ScenarioEvent& e, std::uint64_t tick) {
     case EventType::load_step:
     case EventType::load_ramp:
     case EventType::load_sine:
-      load_from_n_ = now_.load_n.value_or(0.0);
+      // The load in force at this tick (the previous profile's value here, after any load event
+      // earlier at this same tick), not at the last tick asked.
+      load_from_n_ = load_event_ != nullptr ? load_at(tick) : 0.0;
       load_event_ = &e;
       load_start_tick_ = tick;
       return;
     case EventType::ambient: now_.ambient_c = p.temperature_c; return;
     case EventType::modbus_drop: now_.modbus_drops_started += p.count; return;
-    case EventType::clear:
-      std::erase_if(active_, [&](const Active& a) { return a.type == p.fault; });
-      return;
+    case EventType::clear: std::erase_if(active_, [&](const Active& a) { return a.type == p.fault; }); return;
     default: break;
   }
   // A fault that lasts (until its duration ends or a clear); phase_short and over_temperature
