@@ -448,53 +448,101 @@ bool receive_set(io::CanBus& peer, const protocol::can::Ids& ids, TelemetrySet& 
   });
 }
 
-TEST(ScenarioCan, SyncSendsTheSampledTelemetryThenRunsOneCycleWithTheLatchedCommands) {
+// --clock external stepped by CAN SYNC (10 ticks a cycle): the core in a LockstepLoop, the CAN
+// transport on the fake bus, a peer as the controller.
+struct SyncRig {
   SharedState shared;
   LockstepClock clock;
-  CoreConfig core_config = Bench::config();
-  core_config.external_clock = true;
-  EmulatorCore core(test::li2019_model(), core_config, shared);
-  shared.lockstep = &clock;
-  LockstepLoop loop(core, clock, {});
+  EmulatorCore core;
+  LockstepLoop loop;
   std::atomic<bool> stop{false};
-  std::thread loop_thread([&] { loop.run(stop); });
+  std::thread loop_thread;
+  std::shared_ptr<io::FakeCanNetwork> network = io::FakeCanNetwork::create();
+  std::unique_ptr<io::FakeCanBus> peer = network->attach("peer");
+  protocol::can::Ids ids = protocol::can::ids_for_node(3);
+  std::unique_ptr<CanTransport> transport;
 
-  auto network = io::FakeCanNetwork::create();
-  auto peer = network->attach("peer");
-  CanTransportConfig config;
-  config.node = 3;
-  config.heartbeat_s = 0.0;
-  config.sync_ticks = 10;
-  const protocol::can::Ids ids = protocol::can::ids_for_node(config.node);
-  CanTransport transport(network->attach("emu"), nullptr, config, shared, AmplifierLimits{});
-  transport.start();
+  explicit SyncRig(std::initializer_list<std::string_view> events = {})
+      : core(test::li2019_model(), lockstep_config(), shared), loop(core, clock, {}) {
+    shared.lockstep = &clock;
+    if (events.size() != 0) core.set_scenario(scenario_of(events), nullptr);
+    loop_thread = std::thread([this] { loop.run(stop); });
+    CanTransportConfig config;
+    config.node = 3;
+    config.heartbeat_s = 0.0;
+    config.sync_ticks = 10;
+    transport = std::make_unique<CanTransport>(network->attach("emu"), nullptr, config, shared, AmplifierLimits{});
+    transport->start();
+  }
+  ~SyncRig() {
+    transport->stop();
+    stop = true;
+    loop_thread.join();
+  }
+  SyncRig(const SyncRig&) = delete;
+  SyncRig& operator=(const SyncRig&) = delete;
+  static CoreConfig lockstep_config() {
+    CoreConfig c = Bench::config();
+    c.external_clock = true;
+    return c;
+  }
+  void sync(std::uint8_t counter) { ASSERT_TRUE(peer->send(protocol::can::encode_sync(counter)).ok()); }
+  bool ticks_become(std::uint64_t n) {
+    return eventually([&] { return core.ticks() == n; }, 2000ms);
+  }
+};
 
+TEST(ScenarioCan, SyncSendsTheSampledTelemetryThenRunsOneCycleWithTheLatchedCommands) {
+  SyncRig rig;
   std::this_thread::sleep_for(50ms);
   io::CanFrame f;
-  EXPECT_FALSE(peer->receive(f, 1ms).ok());  // lockstep: no telemetry on the wall clock
-  ASSERT_TRUE(peer->send(command_frame(ids, 1)).ok());
-  ASSERT_TRUE(peer->send(protocol::can::encode_sync(1)).ok());
+  EXPECT_FALSE(rig.peer->receive(f, 1ms).ok());  // lockstep: no telemetry on the wall clock
+  ASSERT_TRUE(rig.peer->send(command_frame(rig.ids, 1)).ok());
+  rig.sync(1);
   TelemetrySet first;
-  ASSERT_TRUE(receive_set(*peer, ids, first));
+  ASSERT_TRUE(receive_set(*rig.peer, rig.ids, first));
   EXPECT_EQ(first.tick, 0U);  // sampled before the cycle
   EXPECT_EQ(first.state, static_cast<std::uint64_t>(AmpState::disabled));
-  ASSERT_TRUE(eventually([&] { return transport.stats().syncs.load() == 1 && core.ticks() == 10; }));
+  ASSERT_TRUE(rig.ticks_become(10));
   std::this_thread::sleep_for(20ms);
-  EXPECT_EQ(core.ticks(), 10U);                          // exactly the cycle
-  EXPECT_EQ(core.telemetry().state, AmpState::enabled);  // the command acted in this cycle ...
+  EXPECT_EQ(rig.core.ticks(), 10U);  // exactly the cycle
+  EXPECT_EQ(rig.transport->stats().syncs.load(), 1U);
+  EXPECT_EQ(rig.core.telemetry().state, AmpState::enabled);  // the command acted in this cycle ...
 
-  ASSERT_TRUE(peer->send(protocol::can::encode_sync(2)).ok());
+  rig.sync(2);
   TelemetrySet second;
-  ASSERT_TRUE(receive_set(*peer, ids, second));
+  ASSERT_TRUE(receive_set(*rig.peer, rig.ids, second));
   EXPECT_EQ(second.tick, 10U);  // ... and the next SYNC reports it (one cycle of delay)
   EXPECT_EQ(second.state, static_cast<std::uint64_t>(AmpState::enabled));
   EXPECT_GT(second.drive_vpp, 0.0);
-  ASSERT_TRUE(eventually([&] { return core.ticks() == 20; }));
-  EXPECT_EQ(transport.stats().accepted.load(), 1U);  // the command; SYNCs are steps, not commands
+  ASSERT_TRUE(rig.ticks_become(20));
+  EXPECT_EQ(rig.transport->stats().accepted.load(), 1U);  // the command; SYNCs are steps, not commands
+}
 
-  transport.stop();
-  stop = true;
-  loop_thread.join();
+// docs/scenarios.md: can_bus_off lasts duration_s of emulated time, then the node recovers. When
+// SYNC is the clock, SYNCs must still step it during the bus-off (unanswered: no telemetry), or
+// emulated time never reaches the end of the bus-off.
+TEST(ScenarioCan, SyncStepsTheClockThroughAnEmulatedBusOff) {
+  SyncRig rig({"can_bus_off@0:duration_s=0.002"});  // ticks 0..19
+  rig.sync(1);                                      // before tick 0: not bus-off yet
+  TelemetrySet first;
+  ASSERT_TRUE(receive_set(*rig.peer, rig.ids, first));
+  EXPECT_EQ(first.tick, 0U);
+  ASSERT_TRUE(rig.ticks_become(10));
+  EXPECT_TRUE(rig.shared.can_bus_off.load());
+  ASSERT_TRUE(rig.peer->send(command_frame(rig.ids, 1)).ok());  // not heard
+  rig.sync(2);
+  ASSERT_TRUE(rig.ticks_become(20));
+  io::CanFrame f;
+  EXPECT_FALSE(rig.peer->receive(f, 20ms).ok());  // no telemetry during the bus-off
+  EXPECT_FALSE(rig.shared.can_bus_off.load());
+  EXPECT_EQ(rig.transport->stats().bus_off_discarded.load(), 1U);  // the command
+  EXPECT_EQ(rig.core.telemetry().applied_commands, 0U);
+  rig.sync(3);
+  TelemetrySet third;
+  ASSERT_TRUE(receive_set(*rig.peer, rig.ids, third));
+  EXPECT_EQ(third.tick, 20U);
+  ASSERT_TRUE(rig.ticks_become(30));
 }
 
 TEST(ScenarioCan, SyncWithTheInternalClockIsRejected) {
