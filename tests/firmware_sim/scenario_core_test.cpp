@@ -533,16 +533,22 @@ TEST(ScenarioCan, SyncStepsTheClockThroughAnEmulatedBusOff) {
   ASSERT_TRUE(rig.peer->send(command_frame(rig.ids, 1)).ok());  // not heard
   rig.sync(2);
   ASSERT_TRUE(rig.ticks_become(20));
+  // The flags are those of the last tick run (19, still in the bus-off): SYNC 3 is unanswered
+  // too, and its cycle's first tick (20) ends the bus-off.
+  EXPECT_TRUE(rig.shared.can_bus_off.load());
+  rig.sync(3);
+  ASSERT_TRUE(rig.ticks_become(30));
   io::CanFrame f;
   EXPECT_FALSE(rig.peer->receive(f, 20ms).ok());  // no telemetry during the bus-off
   EXPECT_FALSE(rig.shared.can_bus_off.load());
+  EXPECT_EQ(rig.transport->stats().syncs.load(), 3U);
   EXPECT_EQ(rig.transport->stats().bus_off_discarded.load(), 1U);  // the command
   EXPECT_EQ(rig.core.telemetry().applied_commands, 0U);
-  rig.sync(3);
-  TelemetrySet third;
-  ASSERT_TRUE(receive_set(*rig.peer, rig.ids, third));
-  EXPECT_EQ(third.tick, 20U);
-  ASSERT_TRUE(rig.ticks_become(30));
+  rig.sync(4);
+  TelemetrySet fourth;
+  ASSERT_TRUE(receive_set(*rig.peer, rig.ids, fourth));
+  EXPECT_EQ(fourth.tick, 30U);
+  ASSERT_TRUE(rig.ticks_become(40));
 }
 
 TEST(ScenarioCan, SyncWithTheInternalClockIsRejected) {
