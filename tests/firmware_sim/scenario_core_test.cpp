@@ -428,6 +428,32 @@ TEST(ScenarioCan, EmulatedBusOffNeitherReceivesNorSends) {
   EXPECT_EQ(transport.stats().bus_off_discarded.load(), 1U);
 }
 
+TEST(ScenarioCan, TelemetrySilenceSendsOnlyTheHeartbeat) {
+  auto network = io::FakeCanNetwork::create();
+  auto peer = network->attach("peer");
+  SharedState shared;
+  shared.telemetry_silent = true;
+  CanTransportConfig config;
+  config.node = 3;
+  config.telemetry_hz = 500;
+  config.heartbeat_s = 0.01;
+  const protocol::can::Ids ids = protocol::can::ids_for_node(config.node);
+  CanTransport transport(network->attach("emu"), nullptr, config, shared, AmplifierLimits{});
+  transport.start();
+  std::this_thread::sleep_for(100ms);  // 50 telemetry sets would have gone out
+  int heartbeats = 0, others = 0;
+  io::CanFrame f;
+  while (peer->receive(f, 1ms).ok()) (f.id == ids.heartbeat ? heartbeats : others) += 1;
+  EXPECT_GE(heartbeats, 3);  // 10 expected; the node is alive, only its telemetry is silent
+  EXPECT_EQ(others, 0);
+  ASSERT_TRUE(peer->send(command_frame(ids, 1)).ok());  // commands are still heard
+  Command c;
+  EXPECT_TRUE(eventually([&] { return shared.commands.try_pop(c); }));
+  shared.telemetry_silent = false;
+  EXPECT_TRUE(eventually([&] { return peer->receive(f, 1ms).ok() && f.id == ids.motion; }));
+  transport.stop();
+}
+
 // The telemetry set a SYNC sends (Status ... Output): the state and the clock's tick.
 struct TelemetrySet {
   std::uint64_t state = 99, tick = 0;
