@@ -7,6 +7,7 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <functional>
 #include <initializer_list>
 #include <memory>
 #include <optional>
@@ -397,61 +398,62 @@ io::CanFrame command_frame(const protocol::can::Ids& ids, std::uint8_t alive) {
   return protocol::can::encode_command(c, ids.command);
 }
 
-TEST(ScenarioCan, EmulatedBusOffNeitherReceivesNorSends) {
-  auto network = io::FakeCanNetwork::create();
-  auto peer = network->attach("peer");
+// The CAN transport on the fake bus with the wall-time clock (telemetry at 500 Hz, heartbeat every
+// 10 ms), a peer on the same bus; `prepare` sets the shared flags before the threads start.
+struct WallClockCan {
+  std::shared_ptr<io::FakeCanNetwork> network = io::FakeCanNetwork::create();
+  std::unique_ptr<io::FakeCanBus> peer = network->attach("peer");
   SharedState shared;
-  shared.can_bus_off = true;
-  CanTransportConfig config;
-  config.node = 3;
-  config.telemetry_hz = 500;
-  config.heartbeat_s = 0.01;
-  const protocol::can::Ids ids = protocol::can::ids_for_node(config.node);
-  CanTransport transport(network->attach("emu"), nullptr, config, shared, AmplifierLimits{});
-  transport.start();
-  ASSERT_TRUE(peer->send(command_frame(ids, 1)).ok());
-  ASSERT_TRUE(eventually([&] { return transport.stats().bus_off_discarded.load() == 1; }));
+  protocol::can::Ids ids = protocol::can::ids_for_node(3);
+  std::unique_ptr<CanTransport> transport;
+  explicit WallClockCan(const std::function<void(SharedState&)>& prepare = {}) {
+    if (prepare) prepare(shared);
+    CanTransportConfig config;
+    config.node = 3;
+    config.telemetry_hz = 500;
+    config.heartbeat_s = 0.01;
+    transport = std::make_unique<CanTransport>(network->attach("emu"), nullptr, config, shared, AmplifierLimits{});
+    transport->start();
+  }
+  ~WallClockCan() { transport->stop(); }
+  WallClockCan(const WallClockCan&) = delete;
+  WallClockCan& operator=(const WallClockCan&) = delete;
+  [[nodiscard]] const CanStats& stats() const { return transport->stats(); }
+};
+
+TEST(ScenarioCan, EmulatedBusOffNeitherReceivesNorSends) {
+  WallClockCan can([](SharedState& shared) { shared.can_bus_off = true; });
+  ASSERT_TRUE(can.peer->send(command_frame(can.ids, 1)).ok());
+  ASSERT_TRUE(eventually([&] { return can.stats().bus_off_discarded.load() == 1; }));
   std::this_thread::sleep_for(100ms);  // 50 telemetry sets and 10 heartbeats would have gone out
   Command c;
-  EXPECT_FALSE(shared.commands.try_pop(c));
-  EXPECT_EQ(transport.stats().accepted.load(), 0U);
-  EXPECT_EQ(transport.stats().tx_frames.load(), 0U);
+  EXPECT_FALSE(can.shared.commands.try_pop(c));
+  EXPECT_EQ(can.stats().accepted.load(), 0U);
+  EXPECT_EQ(can.stats().tx_frames.load(), 0U);
   io::CanFrame f;
-  EXPECT_FALSE(peer->receive(f, 1ms).ok());
+  EXPECT_FALSE(can.peer->receive(f, 1ms).ok());
   // Recovery: frames flow again both ways.
-  shared.can_bus_off = false;
-  ASSERT_TRUE(peer->send(command_frame(ids, 2)).ok());
-  ASSERT_TRUE(eventually([&] { return shared.commands.try_pop(c); }));
+  can.shared.can_bus_off = false;
+  ASSERT_TRUE(can.peer->send(command_frame(can.ids, 2)).ok());
+  ASSERT_TRUE(eventually([&] { return can.shared.commands.try_pop(c); }));
   EXPECT_EQ(c.action, Action::enable);
-  EXPECT_TRUE(eventually([&] { return peer->receive(f, 1ms).ok() && f.id == ids.motion; }));
-  transport.stop();
-  EXPECT_EQ(transport.stats().bus_off_discarded.load(), 1U);
+  EXPECT_TRUE(eventually([&] { return can.peer->receive(f, 1ms).ok() && f.id == can.ids.motion; }));
+  EXPECT_EQ(can.stats().bus_off_discarded.load(), 1U);
 }
 
 TEST(ScenarioCan, TelemetrySilenceSendsOnlyTheHeartbeat) {
-  auto network = io::FakeCanNetwork::create();
-  auto peer = network->attach("peer");
-  SharedState shared;
-  shared.telemetry_silent = true;
-  CanTransportConfig config;
-  config.node = 3;
-  config.telemetry_hz = 500;
-  config.heartbeat_s = 0.01;
-  const protocol::can::Ids ids = protocol::can::ids_for_node(config.node);
-  CanTransport transport(network->attach("emu"), nullptr, config, shared, AmplifierLimits{});
-  transport.start();
+  WallClockCan can([](SharedState& shared) { shared.telemetry_silent = true; });
   std::this_thread::sleep_for(100ms);  // 50 telemetry sets would have gone out
   int heartbeats = 0, others = 0;
   io::CanFrame f;
-  while (peer->receive(f, 1ms).ok()) (f.id == ids.heartbeat ? heartbeats : others) += 1;
+  while (can.peer->receive(f, 1ms).ok()) (f.id == can.ids.heartbeat ? heartbeats : others) += 1;
   EXPECT_GE(heartbeats, 3);  // 10 expected; the node is alive, only its telemetry is silent
   EXPECT_EQ(others, 0);
-  ASSERT_TRUE(peer->send(command_frame(ids, 1)).ok());  // commands are still heard
+  ASSERT_TRUE(can.peer->send(command_frame(can.ids, 1)).ok());  // commands are still heard
   Command c;
-  EXPECT_TRUE(eventually([&] { return shared.commands.try_pop(c); }));
-  shared.telemetry_silent = false;
-  EXPECT_TRUE(eventually([&] { return peer->receive(f, 1ms).ok() && f.id == ids.motion; }));
-  transport.stop();
+  EXPECT_TRUE(eventually([&] { return can.shared.commands.try_pop(c); }));
+  can.shared.telemetry_silent = false;
+  EXPECT_TRUE(eventually([&] { return can.peer->receive(f, 1ms).ok() && f.id == can.ids.motion; }));
 }
 
 // The telemetry set a SYNC sends (Status ... Output): the state and the clock's tick.
@@ -578,19 +580,12 @@ TEST(ScenarioCan, SyncStepsTheClockThroughAnEmulatedBusOff) {
 }
 
 TEST(ScenarioCan, SyncWithTheInternalClockIsRejected) {
-  auto network = io::FakeCanNetwork::create();
-  auto peer = network->attach("peer");
-  SharedState shared;  // lockstep == nullptr: wall-time clock
-  CanTransportConfig config;
-  config.node = 3;
-  CanTransport transport(network->attach("emu"), nullptr, config, shared, AmplifierLimits{});
-  transport.start();
-  ASSERT_TRUE(peer->send(protocol::can::encode_sync(0)).ok());
-  ASSERT_TRUE(eventually([&] { return shared.rejects.count.load() == 1; }));
-  EXPECT_EQ(static_cast<Reason>(shared.rejects.last_reason.load()), Reason::clock_not_external);
-  EXPECT_EQ(transport.stats().syncs.load(), 0U);
-  EXPECT_EQ(transport.stats().rejected.load(), 1U);
-  transport.stop();
+  WallClockCan can;  // lockstep == nullptr: wall-time clock
+  ASSERT_TRUE(can.peer->send(protocol::can::encode_sync(0)).ok());
+  ASSERT_TRUE(eventually([&] { return can.shared.rejects.count.load() == 1; }));
+  EXPECT_EQ(static_cast<Reason>(can.shared.rejects.last_reason.load()), Reason::clock_not_external);
+  EXPECT_EQ(can.stats().syncs.load(), 0U);
+  EXPECT_EQ(can.stats().rejected.load(), 1U);
 }
 
 }  // namespace
