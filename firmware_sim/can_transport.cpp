@@ -104,10 +104,11 @@ void CanTransport::rx_loop() {
       continue;
     }
     stats_.rx_frames.fetch_add(1, std::memory_order_relaxed);
-    // A scenario's bus-off: the node hears nothing, except that a SYNC still steps a lockstep run
-    // (it is the co-simulation's clock, not traffic of this node; no telemetry goes out meanwhile).
-    if (shared_.can_bus_off.load(std::memory_order_relaxed) &&
-        !(frame.id == protocol::can::kSyncId && !frame.extended && shared_.lockstep != nullptr)) {
+    // A scenario's bus-off: the node hears nothing, except that a SYNC still steps the emulated
+    // clock (unanswered: send_telemetry() sends nothing then); otherwise, with SYNC as the clock,
+    // emulated time would never reach the end of the bus-off.
+    const bool sync = frame.id == protocol::can::kSyncId && !frame.extended;
+    if (shared_.can_bus_off.load(std::memory_order_relaxed) && !(sync && shared_.lockstep != nullptr)) {
       stats_.bus_off_discarded.fetch_add(1, std::memory_order_relaxed);
       continue;
     }
@@ -148,7 +149,7 @@ void CanTransport::rx_loop() {
         reason = shared_.submit(command);
         if (reason == Reason::none) aux_alive.accept(a.alive, stamp.monotonic_ns);
       }
-    } else if (frame.id == protocol::can::kSyncId && !frame.extended) {
+    } else if (sync) {
       reason = on_sync(frame);
       if (reason == Reason::none) continue;  // a step, not a command: not counted as accepted
     } else {

@@ -54,7 +54,9 @@ void ScenarioPlayer::start(const ScenarioEvent& e, std::uint64_t tick) {
     case EventType::load_step:
     case EventType::load_ramp:
     case EventType::load_sine:
-      load_from_n_ = now_.load_n.value_or(0.0);
+      // The load in force at this tick (the previous profile's value here, after any load event
+      // earlier at this same tick), not at the last tick asked.
+      load_from_n_ = load_event_ != nullptr ? load_at(tick) : 0.0;
       load_event_ = &e;
       load_start_tick_ = tick;
       return;

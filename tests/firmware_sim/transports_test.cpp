@@ -7,6 +7,7 @@
 
 #include "can_codec.h"
 #include "can_transport.h"
+#include "emu_test_support.h"
 #include "fake_can_bus.h"
 #include "fake_gpio_lines.h"
 #include "gpio_transport.h"
@@ -16,14 +17,7 @@ namespace {
 
 using namespace std::chrono_literals;
 
-bool eventually(const std::function<bool()>& condition, std::chrono::milliseconds timeout = 10000ms) {
-  const auto deadline = std::chrono::steady_clock::now() + timeout;
-  while (!condition()) {
-    if (std::chrono::steady_clock::now() > deadline) return false;
-    std::this_thread::sleep_for(1ms);
-  }
-  return true;
-}
+using test::eventually;
 
 class CanTransportTest : public ::testing::Test {
  protected:
