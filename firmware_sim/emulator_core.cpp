@@ -65,6 +65,7 @@ const Telemetry& EmulatorCore::tick() {
     telemetry_.last_sequence = command.sequence;
   }
   // Scenario: the conditions of this tick (faults that trip the amplifier trip it before its tick).
+  if (scenario_) scenario_->set_commanded_load_n(amplifier_.setpoints().load_n);
   conditions_ = scenario_ ? &scenario_->at_tick(tick_) : nullptr;
   if (conditions_ != nullptr) apply_scenario(*conditions_);
 
@@ -177,12 +178,26 @@ void EmulatorCore::apply_scenario(const ScenarioConditions& c) {
   f.phase_b_gain = c.phase_b_gain;
   f.preload_factor = c.preload_factor;
   f.guide_friction_factor = c.guide_friction_factor;
-  f.jammed = c.jammed;
-  f.jam_position_m = faults_.jam_position_m;
-  if (c.jammed && c.jam_generation != jam_generation_) {  // a new jam: where it says, or where the mover is
+  // A jam is a hard stop: without a position the mover stops where it is; with one it runs on
+  // until it reaches that position (checked at tick boundaries: it may overshoot by one tick's
+  // travel, e.g. 60 um at 0.6 m/s, and is set back onto the stop) and is held there.
+  const double position_m = simulator_.state().mover_position_m;
+  if (!c.jammed) {
+    jam_engaged_ = false;
+    jam_target_m_.reset();
+  } else if (c.jam_generation != jam_generation_) {  // a new jam
     jam_generation_ = c.jam_generation;
-    f.jam_position_m = c.jam_position_um ? *c.jam_position_um * 1e-6 : simulator_.state().mover_position_m;
+    jam_engaged_ = !c.jam_position_um;
+    jam_target_m_ = c.jam_position_um ? *c.jam_position_um * 1e-6 : position_m;
+    jam_last_position_m_ = position_m;
   }
+  if (c.jammed && !jam_engaged_ && jam_target_m_) {
+    const double x = *jam_target_m_;
+    jam_engaged_ = (jam_last_position_m_ - x) * (position_m - x) <= 0.0;  // reached or crossed it
+    jam_last_position_m_ = position_m;
+  }
+  f.jammed = c.jammed && jam_engaged_;
+  f.jam_position_m = f.jammed ? *jam_target_m_ : faults_.jam_position_m;
   if (c.ambient_c && *c.ambient_c - kReferenceAmbientC != simulator_.ambient_offset_k())
     simulator_.set_ambient_offset_k(*c.ambient_c - kReferenceAmbientC);  // checked to have the thermal effect
   if (f.phase_a_gain != faults_.phase_a_gain || f.phase_b_gain != faults_.phase_b_gain ||

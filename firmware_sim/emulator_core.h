@@ -101,6 +101,9 @@ class EmulatorCore {
   const ScenarioConditions* conditions_ = nullptr;
   ModelFaults faults_;
   std::uint64_t jam_generation_ = 0;
+  bool jam_engaged_ = false;            // the mover is against the stop
+  std::optional<double> jam_target_m_;  // where the stop is
+  double jam_last_position_m_ = 0.0;    // at the last tick boundary, to see the stop reached
   bool encoder_held_ = false, speed_held_ = false;
   double held_position_m_ = 0.0, held_speed_m_s_ = 0.0, held_tick_speed_m_s_ = 0.0;
   int last_enable_line_ = -1;  // what the observer was last told (-1: nothing yet)

@@ -56,7 +56,8 @@ void ScenarioPlayer::start(const ScenarioEvent& e, std::uint64_t tick) {
     case EventType::load_sine:
       // The load in force at this tick (the previous profile's value here, after any load event
       // earlier at this same tick), not at the last tick asked.
-      load_from_n_ = load_event_ != nullptr ? load_at(tick) : 0.0;
+      // Before any profile: the load the host commanded (what the motor carries at this tick).
+      load_from_n_ = load_event_ != nullptr ? load_at(tick) : commanded_load_n_;
       load_event_ = &e;
       load_start_tick_ = tick;
       return;

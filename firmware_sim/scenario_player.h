@@ -50,6 +50,8 @@ class ScenarioPlayer {
   // Ticks must be asked for in increasing order (each at most once). Allocation-free after the
   // first call except `started`, which reuses its capacity.
   const ScenarioConditions& at_tick(std::uint64_t tick);
+  // The load the host commands (where the first load profile starts from); default 0.
+  void set_commanded_load_n(double load_n) { commanded_load_n_ = load_n; }
   [[nodiscard]] const Scenario& scenario() const { return scenario_; }
   [[nodiscard]] bool empty() const { return scenario_.events.empty(); }
   // A deterministic standard normal draw (splitmix64 + Box-Muller, seeded by the scenario's
@@ -75,6 +77,7 @@ class ScenarioPlayer {
   const ScenarioEvent* load_event_ = nullptr;
   std::uint64_t load_start_tick_ = 0;
   double load_from_n_ = 0.0;
+  double commanded_load_n_ = 0.0;
   std::uint64_t rng_state_;
   std::optional<double> spare_normal_;
 };

@@ -143,8 +143,23 @@ std::string TraceRecorder::close() {
 
 namespace {
 
+// Control characters (from the file's bytes) written as \xNN: the message is always one line.
+std::string printable(const std::string& text) {
+  std::string out;
+  for (const unsigned char c : text) {
+    if (c < 0x20 || c == 0x7F) {
+      char buffer[5];
+      std::snprintf(buffer, sizeof buffer, "\\x%02X", c);
+      out += buffer;
+    } else {
+      out += static_cast<char>(c);
+    }
+  }
+  return out;
+}
+
 [[noreturn]] void fail(const std::string& file, std::size_t line, const std::string& what) {
-  throw TraceError(file + ":" + std::to_string(line) + ": " + what);
+  throw TraceError(printable(file + ":" + std::to_string(line) + ": " + what));
 }
 
 template <typename T>
@@ -232,7 +247,9 @@ Trace read_trace(std::istream& in, const std::string& file) {
 }
 
 std::string compare_settings(const TraceSettings& recorded, const TraceSettings& now) {
-  for (const auto& [name, value] : now.values) {
+  for (const auto& setting : now.values) {
+    const std::string& name = setting.first;
+    const std::string& value = setting.second;
     const auto it = std::find_if(recorded.values.begin(), recorded.values.end(),
                                  [&](const auto& p) { return p.first == name; });
     if (it == recorded.values.end()) return "the trace does not record " + name + " (this run: " + value + ")";

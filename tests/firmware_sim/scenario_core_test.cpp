@@ -230,7 +230,22 @@ void expect_jam(std::string_view jam, std::optional<double> position_m) {
 }
 
 TEST(ScenarioCore, JamWhereTheMoverIsHoldsIt) { expect_jam("jam@0.03", std::nullopt); }
-TEST(ScenarioCore, JamAtAPositionHoldsItThere) { expect_jam("jam@0.03:position_um=2000", 2000e-6); }
+// A stop ahead of the mover: it runs on until it reaches the stop (seen at a tick boundary, set
+// back onto it) and is held there; a stop behind it is never reached.
+TEST(ScenarioCore, JamAtAPositionIsAHardStopTheMoverRunsInto) {
+  Bench free_run;
+  const double at_20ms_m = free_run.run_through(200).position_m;
+  const double at_30ms_m = free_run.run_through(300).position_m;
+  const double stop_m = 0.5 * (at_20ms_m + at_30ms_m);  // reached between 20 and 30 ms
+  const std::string jam = "jam@0.01:position_um=" + std::to_string(stop_m * 1e6);
+  Bench b({jam, "clear@0.06:fault=jam"});
+  EXPECT_LT(b.run_through(200).position_m, stop_m);  // still running towards it
+  const Telemetry& held = b.run_through(300);
+  EXPECT_NEAR(held.position_m, std::stod(jam.substr(jam.find('=') + 1)) * 1e-6, 1e-12);
+  for (std::uint64_t k = 301; k < 600; ++k) ASSERT_EQ(b.run_through(k).position_m, held.position_m) << k;
+  Bench behind({"jam@0.03:position_um=-5000"});
+  EXPECT_GT(behind.run_through(kSteadyTick).speed_m_s, 0.3);
+}
 
 TEST(ScenarioCore, GuideFrictionSlowsALoadedMover) {
   Bench plain({"load_step@0:load_n=1"});
