@@ -61,6 +61,7 @@ CanTransport::CanTransport(std::unique_ptr<io::CanBus> rx_bus, std::unique_ptr<i
   const std::array<io::CanFilter, 3> filters{io::CanFilter{ids_.command, io::kCanStandardIdMax, false},
                                              io::CanFilter{ids_.aux, io::kCanStandardIdMax, false},
                                              io::CanFilter{protocol::can::kSyncId, io::kCanStandardIdMax, false}};
+
   const io::CanResult r = rx_bus_->set_filters(filters);
   if (!r.ok()) throw std::runtime_error("CAN: cannot set receive filters on " + rx_bus_->name() + ": " + r.message);
 }
@@ -121,12 +122,17 @@ void CanTransport::rx_loop() {
       case RxStampSource::missing: stats_.rx_stamp_missing.fetch_add(1, std::memory_order_relaxed); break;
       case RxStampSource::implausible: stats_.rx_stamp_implausible.fetch_add(1, std::memory_order_relaxed); break;
     }
+    // The alive counter's resynchronisation window (1 s without an accepted frame): on the
+    // emulated clock in lockstep, so that whether a command counts never depends on wall time.
+    const std::int64_t alive_ns =
+        shared_.lockstep != nullptr ? static_cast<std::int64_t>(std::llround(shared_.telemetry.load().sim_time_s * 1e9))
+                                    : stamp.monotonic_ns;
     Reason reason = Reason::none;
     Command command;
     if (frame.id == ids_.command && !frame.extended) {
       protocol::can::CommandFrame c;
       reason = protocol::can::decode_command(frame, c);
-      if (reason == Reason::none) reason = command_alive.check(c.alive, stamp.monotonic_ns);
+      if (reason == Reason::none) reason = command_alive.check(c.alive, alive_ns);
       if (reason == Reason::none) {
         command = protocol::can::to_command(c);
         reason = validate(command, limits_);
@@ -134,12 +140,12 @@ void CanTransport::rx_loop() {
       if (reason == Reason::none) {
         command.accepted_ns = static_cast<std::uint64_t>(stamp.monotonic_ns);
         reason = shared_.submit(command);
-        if (reason == Reason::none) command_alive.accept(c.alive, stamp.monotonic_ns);
+        if (reason == Reason::none) command_alive.accept(c.alive, alive_ns);
       }
     } else if (frame.id == ids_.aux && !frame.extended) {
       protocol::can::AuxFrame a;
       reason = protocol::can::decode_aux(frame, a);
-      if (reason == Reason::none) reason = aux_alive.check(a.alive, stamp.monotonic_ns);
+      if (reason == Reason::none) reason = aux_alive.check(a.alive, alive_ns);
       if (reason == Reason::none) {
         command = protocol::can::to_command(a);
         reason = validate(command, limits_);
@@ -147,7 +153,7 @@ void CanTransport::rx_loop() {
       if (reason == Reason::none) {
         command.accepted_ns = static_cast<std::uint64_t>(stamp.monotonic_ns);
         reason = shared_.submit(command);
-        if (reason == Reason::none) aux_alive.accept(a.alive, stamp.monotonic_ns);
+        if (reason == Reason::none) aux_alive.accept(a.alive, alive_ns);
       }
     } else if (sync) {
       reason = on_sync(frame);

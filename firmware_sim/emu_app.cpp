@@ -234,7 +234,7 @@ TraceSettings trace_settings(const EmuOptions& o, const std::string& config_text
 
 // --replay: the trace's inputs into a fresh core, no transports, no clock. 0 identical, 3 not.
 int run_replay(const EmuOptions& o, const MotorModel& model, const CoreConfig& core_config,
-               const std::string& config_text, const Scenario& scenario) {
+               const std::string& config_text, const Scenario& scenario, const std::atomic<bool>& stop) {
   std::ifstream in(o.replay_path, std::ios::binary);
   if (!in) throw std::runtime_error("--replay " + o.replay_path + ": " + std::strerror(errno));
   const Trace trace = read_trace(in, o.replay_path);
@@ -243,7 +243,11 @@ int run_replay(const EmuOptions& o, const MotorModel& model, const CoreConfig& c
   auto shared = std::make_unique<SharedState>();
   EmulatorCore core(model, core_config, *shared);
   if (!scenario.events.empty()) core.set_scenario(scenario, nullptr);
-  const ReplayResult r = replay(trace, core, *shared);
+  const ReplayResult r = replay(trace, core, *shared, &stop);
+  if (r.stopped) {
+    std::printf("swum-emu replay: stopped by a signal after %llu identical ticks\n", u(r.ticks));
+    return 130;
+  }
   if (!r.identical) {
     std::printf("swum-emu replay: DIFFERENT at %s (%llu ticks identical before it, %llu commands fed)\n",
                 r.difference.c_str(), u(r.ticks - 1), u(r.commands));
@@ -269,7 +273,7 @@ int run_emulator(const EmuOptions& o) {
   core_config.amplifier = amp;
   core_config.external_clock = o.external_clock || !o.replay_path.empty();
   const Scenario scenario = load_scenario(o);
-  if (!o.replay_path.empty()) return run_replay(o, model, core_config, config_text, scenario);
+  if (!o.replay_path.empty()) return run_replay(o, model, core_config, config_text, scenario, signals.stop());
   LockstepClock lockstep;
   if (o.external_clock) shared->lockstep = &lockstep;
   shared->speedup = o.speedup;
@@ -296,8 +300,9 @@ int run_emulator(const EmuOptions& o) {
 
   RealtimeLoop loop(core, loop_options);
   LockstepLoop lockstep_loop(core, lockstep, lockstep_config(o));
+  std::optional<std::uint64_t> lockstep_ticks;
   if (o.external_clock) {
-    lockstep_loop.run(signals.stop());  // closes the clock: every waiting step is answered
+    lockstep_ticks = lockstep_loop.run(signals.stop());  // closes the clock: every waiting step is answered
   } else {
     loop.run(signals.stop());
   }
@@ -318,6 +323,7 @@ int run_emulator(const EmuOptions& o) {
   s.fault = t.fault;
   s.tick_hz = o.tick_hz;
   s.loop = loop.statistics().summary();
+  s.lockstep_ticks = lockstep_ticks;
   s.resyncs = loop.resyncs();
   s.commands_applied = t.applied_commands;
   s.commands_rejected = shared->rejects.count.load();
@@ -342,7 +348,12 @@ std::string format_exit_report(const ExitStatistics& s) {
   std::string out;
   append(out, "swum-emu stopped: %s after %.3f s emulated in %.3f s wall; state %s, fault %s\n",
          s.stopped_by_signal ? "signal" : "duration", s.emulated_s, s.wall_s, to_string(s.state), to_string(s.fault));
-  out += format_summary(s.loop, s.tick_hz);
+  if (s.lockstep_ticks) {
+    append(out, "lockstep: %llu ticks stepped by the controller at %g Hz (clock external: no loop timing)\n",
+           u(*s.lockstep_ticks), s.tick_hz);
+  } else {
+    out += format_summary(s.loop, s.tick_hz);
+  }
   append(out, "  resyncs   %llu; commands applied %llu, rejected %llu (queue full %llu)\n", u(s.resyncs),
          u(s.commands_applied), u(s.commands_rejected), u(s.queue_full));
   if (const ModbusStats* m = s.modbus_tcp) {

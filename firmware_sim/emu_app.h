@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <string>
 
 #include "emu_options.h"
@@ -26,6 +27,7 @@ struct ExitStatistics {
   FaultCode fault = FaultCode::none;
   double tick_hz = 0.0;
   LoopStatsSummary loop;
+  std::optional<std::uint64_t> lockstep_ticks;  // --clock external: ticks stepped (no loop timing then)
   std::uint64_t resyncs = 0;
   std::uint64_t commands_applied = 0;
   std::uint64_t commands_rejected = 0;  // by the transports and the amplifier (the reject log)

@@ -115,6 +115,34 @@ EmuOptions parse_emu_options(int argc, const char* const* argv) {
   o.external_clock = clock == "external";
   if (!o.replay_path.empty() && !o.record_path.empty())
     throw EmuOptionError("--replay and --record: a replay records nothing (it compares with its trace)");
+  if (!o.replay_path.empty()) {  // a replay opens no interface and runs on no clock
+    for (const char* option : {"--modbus",
+                               "--modbus-unit",
+                               "--modbus-idle-timeout-ms",
+                               "--modbus-frame-timeout-ms",
+                               "--modbus-evict-idle-ms",
+                               "--can",
+                               "--node",
+                               "--gpio",
+                               "--encoder-resolution-um",
+                               "--encoder-max-rate",
+                               "--telemetry-hz",
+                               "--heartbeat-ms",
+                               "--sync-ticks",
+                               "--clock",
+                               "--duration",
+                               "--speedup",
+                               "--spin-us",
+                               "--rt",
+                               "--cpu",
+                               "--ready-fd"}) {
+      if (app.count(option) > 0)
+        throw EmuOptionError(std::string(option) +
+                             " has no effect with --replay (a replay opens no interface and runs on no clock)");
+    }
+  }
+  if (app.count("--sync-ticks") > 0 && (!o.external_clock || o.can_interface.empty()))
+    throw EmuOptionError("--sync-ticks: only with --clock external and --can (ticks per CAN SYNC)");
   for (const char* wall_option : {"--speedup", "--spin-us"}) {
     if (o.external_clock && app.count(wall_option) > 0)
       throw EmuOptionError(std::string(wall_option) +

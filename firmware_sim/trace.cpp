@@ -233,6 +233,9 @@ Trace read_trace(std::istream& in, const std::string& file) {
       input.enable_line = value == 1;
       trace.inputs.push_back(input);
     } else if (f[0] == "telemetry") {
+      if (trace.telemetry.empty() && tick != 1)  // a recording starts with the start-up tick
+        fail(file, line,
+             "the first telemetry row is of tick " + std::to_string(tick) + ", a recording starts at tick 1");
       if (!trace.telemetry.empty() && tick != trace.telemetry.back().tick + 1)
         fail(file, line,
              "telemetry of tick " + std::to_string(tick) + " follows tick " +
@@ -258,11 +261,15 @@ std::string compare_settings(const TraceSettings& recorded, const TraceSettings&
   return {};
 }
 
-ReplayResult replay(const Trace& trace, EmulatorCore& core, SharedState& shared) {
+ReplayResult replay(const Trace& trace, EmulatorCore& core, SharedState& shared, const std::atomic<bool>* stop) {
   ReplayResult result;
   const auto names = column_names();
   std::size_t next = 0;
   for (const RecordedTelemetry& expected : trace.telemetry) {
+    if (stop != nullptr && stop->load(std::memory_order_relaxed)) {
+      result.stopped = true;
+      return result;
+    }
     while (core.ticks() < expected.tick) {
       const std::uint64_t tick = core.ticks();
       for (; next < trace.inputs.size() && trace.inputs[next].tick <= tick; ++next) {

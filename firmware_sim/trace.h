@@ -5,6 +5,7 @@
 // regression test of a controller run without the controller.
 #pragma once
 
+#include <atomic>
 #include <cstdint>
 #include <cstdio>
 #include <istream>
@@ -89,12 +90,15 @@ std::string compare_settings(const TraceSettings& recorded, const TraceSettings&
 
 struct ReplayResult {
   bool identical = true;
+  bool stopped = false;        // `stop` was set before the end
   std::uint64_t ticks = 0;     // ticks compared
   std::uint64_t commands = 0;  // commands fed
   std::string difference;      // the first: "tick N (line L), column C: recorded X, replayed Y"
 };
 // Feeds the trace's inputs into `shared` at their ticks and runs `core` (which must be fresh:
 // no tick run yet) until the last recorded telemetry row, comparing each tick's row.
-ReplayResult replay(const Trace& trace, EmulatorCore& core, SharedState& shared);
+// `stop` (SIGINT/SIGTERM) is polled once per recorded tick.
+ReplayResult replay(const Trace& trace, EmulatorCore& core, SharedState& shared,
+                    const std::atomic<bool>* stop = nullptr);
 
 }  // namespace swum::emu
