@@ -437,3 +437,39 @@ TEST(EmuOptions, LoopConfig) {
 
 }  // namespace
 }  // namespace swum::emu
+
+namespace swum::emu {
+namespace {
+
+// Issue 13: the lockstep, scenario and record/replay options and what they refuse.
+TEST(EmuOptions, LockstepScenarioAndTraceOptions) {
+  const EmuOptions o = parse_with_config({"--clock", "external", "--can", "vcan0", "--sync-ticks", "20", "--scenario",
+                                          kConfig, "--inject", "jam@1", "--inject", "clear@2:fault=jam", "--record",
+                                          "/tmp/t.csv"});
+  EXPECT_TRUE(o.external_clock);
+  EXPECT_EQ(o.sync_ticks, 20);
+  EXPECT_EQ(o.scenario_path, kConfig);
+  EXPECT_EQ(o.injections, (std::vector<std::string>{"jam@1", "clear@2:fault=jam"}));
+  EXPECT_EQ(o.record_path, "/tmp/t.csv");
+  EXPECT_EQ(lockstep_config(parse_with_config({"--clock", "external", "--duration", "0.5"})).max_ticks, 5000U);
+  EXPECT_FALSE(parse_with_config({}).external_clock);
+}
+
+TEST(EmuOptions, LockstepRefusalsNameTheOption) {
+  EXPECT_EQ(parse_error({"--clock", "external", "--speedup", "2"}),
+            "--speedup paces wall time; with --clock external time advances only when the controller steps it");
+  EXPECT_EQ(parse_error({"--clock", "external", "--spin-us", "5"}),
+            "--spin-us paces wall time; with --clock external time advances only when the controller steps it");
+  EXPECT_EQ(parse_error({"--sync-ticks", "5"}), "--sync-ticks: only with --clock external and --can (ticks per CAN SYNC)");
+  EXPECT_EQ(parse_error({"--replay", kConfig, "--record", "/tmp/x.csv"}),
+            "--replay and --record: a replay records nothing (it compares with its trace)");
+  for (const char* option : {"--modbus", "--can", "--clock", "--duration"}) {
+    const std::string value = std::string(option) == "--clock" ? "external" : "1";
+    EXPECT_EQ(parse_error({"--replay", kConfig, option, value}),
+              std::string(option) + " has no effect with --replay (a replay opens no interface and runs on no clock)");
+  }
+  EXPECT_EQ(cli_exit({"--config", kConfig, "--clock", "sometimes"}).exit_code(), 105);  // CLI11 ValidationError
+}
+
+}  // namespace
+}  // namespace swum::emu
