@@ -105,6 +105,7 @@ void CanTransport::rx_loop() {
       continue;
     }
     stats_.rx_frames.fetch_add(1, std::memory_order_relaxed);
+    log_frame(frame);
     // A scenario's bus-off: the node hears nothing, except that a SYNC still steps the emulated
     // clock (unanswered: send_telemetry() sends nothing then); otherwise, with SYNC as the clock,
     // emulated time would never reach the end of the bus-off.
@@ -170,10 +171,26 @@ void CanTransport::rx_loop() {
   }
 }
 
+// candump -l: "(SECONDS.MICROSECONDS) IFACE ID#DATA". In lockstep the time is the emulated time
+// (the same run gives the same file); heartbeats, on the wall clock, are not logged then.
+void CanTransport::log_frame(const io::CanFrame& frame) {
+  if (config_.can_log == nullptr) return;
+  const bool lockstep = shared_.lockstep != nullptr;
+  if (lockstep && frame.id == ids_.heartbeat) return;
+  const std::int64_t ns = lockstep ? static_cast<std::int64_t>(std::llround(shared_.telemetry.load().sim_time_s * 1e9))
+                                   : realtime_ns();
+  char data[17] = "";
+  for (unsigned i = 0; i < frame.dlc && i < 8; ++i) std::snprintf(data + 2 * i, 3, "%02X", frame.data[i]);
+  const std::lock_guard lock(log_mutex_);
+  std::fprintf(config_.can_log, "(%lld.%06lld) %s %03X#%s\n", static_cast<long long>(ns / 1'000'000'000),
+               static_cast<long long>((ns % 1'000'000'000) / 1000), rx_bus_->name().c_str(), frame.id, data);
+}
+
 void CanTransport::send(const io::CanFrame& frame) {
   io::CanBus& bus = tx_bus_ ? *tx_bus_ : *rx_bus_;
   const io::CanResult r = bus.send(frame);
   if (r.ok()) {
+    log_frame(frame);
     stats_.tx_frames.fetch_add(1, std::memory_order_relaxed);
   } else if (r.status == io::CanStatus::retry) {
     stats_.tx_dropped.fetch_add(1, std::memory_order_relaxed);  // queue full: telemetry is periodic, drop it

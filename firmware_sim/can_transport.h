@@ -10,7 +10,9 @@
 #include <atomic>
 #include <chrono>
 #include <cstdint>
+#include <cstdio>
 #include <memory>
+#include <mutex>
 #include <thread>
 
 #include "amplifier.h"
@@ -26,6 +28,9 @@ struct CanTransportConfig {
   double telemetry_hz = 100.0;    // Status/Motion/Drive/LoopStats/Output frames
   double heartbeat_s = 1.0;       // 0 = no heartbeat
   std::uint32_t sync_ticks = 10;  // lockstep: ticks per SYNC (control cycle)
+  // --record-can: every frame received and sent, in candump's log format (canplayer replays
+  // it); null: none. Owned by the caller, open for the transport's life.
+  std::FILE* can_log = nullptr;
 };
 
 // Where a received frame's time came from.
@@ -83,6 +88,8 @@ class CanTransport {
   void send_telemetry();                      // the telemetry frames of the latest snapshot
   Reason on_sync(const io::CanFrame& frame);  // lockstep: telemetry sampled now, then one cycle
   std::atomic<std::uint8_t> status_counter_{0};
+  void log_frame(const io::CanFrame& frame);  // --record-can
+  std::mutex log_mutex_;
   std::unique_ptr<io::CanBus> rx_bus_;
   std::unique_ptr<io::CanBus> tx_bus_;
   CanTransportConfig config_;

@@ -86,7 +86,8 @@ struct Transports {
   const io::SocketCanBus* can_rx = nullptr;  // owned by `can`; kernel drop counter
   std::unique_ptr<io::GpiodLines> gpio_lines;
   std::unique_ptr<GpioTransport> gpio;
-  std::string ready;  // what the ready line says about them: " modbus=... can=... gpio=..."
+  std::FILE* can_log = nullptr;  // --record-can; closed by close_can_log() after stop()
+  std::string ready;             // what the ready line says about them: " modbus=... can=... gpio=..."
 
   void start() {
     if (modbus_tcp) modbus_tcp->start();
@@ -99,6 +100,19 @@ struct Transports {
     if (can) can->stop();
     if (modbus_tcp) modbus_tcp->stop();
     if (modbus_rtu) modbus_rtu->stop();
+  }
+  // Empty when the CAN log (if any) was written whole, else why not.
+  std::string close_can_log(const std::string& path) {
+    if (can_log == nullptr) return {};
+    const bool ok = std::ferror(can_log) == 0 && std::fflush(can_log) == 0;
+    const int e = errno;
+    const bool closed = std::fclose(can_log) == 0;
+    can_log = nullptr;
+    return ok && closed ? std::string() : "--record-can " + path + ": write failed: " + std::strerror(e);
+  }
+  ~Transports() {
+    stop();  // no transport thread may still write to the CAN log
+    if (can_log != nullptr) std::fclose(can_log);
   }
 };
 
@@ -129,7 +143,14 @@ void open_can(const EmuOptions& o, SharedState& shared, const AmplifierLimits& l
   const std::array<io::CanFilter, 1> none{
       io::CanFilter{io::kCanStandardIdMax, io::kCanStandardIdMax, true}};  // nothing
   if (const auto r = tx->set_filters(none); !r.ok()) throw std::runtime_error("CAN: " + r.message);
-  t.can = std::make_unique<CanTransport>(std::move(rx), std::move(tx), can_transport_config(o), shared, limits);
+  CanTransportConfig config = can_transport_config(o);
+  if (!o.record_can_path.empty()) {
+    t.can_log = std::fopen(o.record_can_path.c_str(), "w");
+    if (t.can_log == nullptr)
+      throw std::runtime_error("--record-can " + o.record_can_path + ": " + std::strerror(errno));
+    config.can_log = t.can_log;
+  }
+  t.can = std::make_unique<CanTransport>(std::move(rx), std::move(tx), config, shared, limits);
   t.ready += " can=" + o.can_interface + " node=" + std::to_string(o.can_node);
 }
 
@@ -308,10 +329,10 @@ int run_emulator(const EmuOptions& o) {
   }
   core.shut_down();  // drive off, published before the transports stop
   transports.stop();
-  std::string record_error;
+  std::string record_error = transports.close_can_log(o.record_can_path);
   if (recorder) {
     core.set_observer(nullptr);
-    record_error = recorder->close();
+    if (const std::string e = recorder->close(); !e.empty()) record_error = e;
   }
 
   const Telemetry& t = core.telemetry();

@@ -98,6 +98,8 @@ EmuOptions parse_emu_options(int argc, const char* const* argv) {
       ->check(CLI::ExistingFile);
   app.add_option("--inject", o.injections, "one event NAME@SECONDS[:key=value,...] (repeatable; docs/scenarios.md)")
       ->allow_extra_args(false);
+  app.add_option("--record-can", o.record_can_path,
+                 "with --can: every CAN frame received and sent, in candump's log format (canplayer replays it)");
   app.add_option("--record", o.record_path,
                  "write every applied command with its tick and every tick's telemetry to this CSV trace");
   app.add_option("--replay", o.replay_path,
@@ -135,12 +137,14 @@ EmuOptions parse_emu_options(int argc, const char* const* argv) {
                                "--spin-us",
                                "--rt",
                                "--cpu",
-                               "--ready-fd"}) {
+                               "--ready-fd",
+                               "--record-can"}) {
       if (app.count(option) > 0)
         throw EmuOptionError(std::string(option) +
                              " has no effect with --replay (a replay opens no interface and runs on no clock)");
     }
   }
+  if (!o.record_can_path.empty() && o.can_interface.empty()) throw EmuOptionError("--record-can: only with --can");
   if (app.count("--sync-ticks") > 0 && (!o.external_clock || o.can_interface.empty()))
     throw EmuOptionError("--sync-ticks: only with --clock external and --can (ticks per CAN SYNC)");
   for (const char* wall_option : {"--speedup", "--spin-us"}) {

@@ -56,6 +56,7 @@ struct EmuOptions {
   int sync_ticks = 10;                  // --sync-ticks: ticks per CAN SYNC in lockstep
   std::string scenario_path;            // --scenario; empty: none
   std::vector<std::string> injections;  // --inject NAME@T[:k=v,...], repeatable
+  std::string record_can_path;          // --record-can: CAN frames in candump's log format; empty: none
   std::string record_path;              // --record: trace of commands and per-tick telemetry; empty: none
   std::string replay_path;              // --replay: feed a trace's commands in lockstep and compare; empty: none
   bool realtime = false;                // --rt

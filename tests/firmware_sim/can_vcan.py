@@ -294,13 +294,15 @@ def telemetry_after_sync(peer, timeout=60):
     return got
 
 
-def lockstep_run(cycles, enable_at, extra=(), hog=False):
+def lockstep_run(cycles, enable_at, extra=(), hog=False, can_log=None):
     """Lockstep over CAN: the controller sends its command, then a SYNC, then reads the telemetry
     the SYNC answers with. Returns the raw telemetry bytes of every cycle."""
     h = subprocess.Popen([sys.executable, "-c", "while True: pass"]) if hog else None
+    if can_log:
+        extra = (*extra, "--record-can", can_log)
     try:
         with Emulator("--can", "vcan0", "--node", str(NODE), "--clock", "external", "--sync-ticks", "10",
-                      "--heartbeat-ms", "0", *extra, modbus="none") as emu:
+                      *extra, modbus="none") as emu:
             assert "clock=external" in emu.ready, emu.ready
             peer = Peer()
             log = []
@@ -327,7 +329,8 @@ def scenario_lockstep():
     shows in the telemetry of SYNC k+1, not k (one cycle of delay); the same frames give the same
     bytes with a CPU hog running; a SYNC to a wall-time emulator is refused (reason 17)."""
     cycles, enable_at = 40, 5
-    quiet, _ = lockstep_run(cycles, enable_at)
+    logs = [f"/tmp/swum-can-{os.getpid()}-{n}.log" for n in ("quiet", "loaded")]
+    quiet, _ = lockstep_run(cycles, enable_at, can_log=logs[0])
     for k, frames in enumerate(quiet):
         tick = frames["Clock"][1]["Tick"]
         assert tick == 1 + 10 * k, f"SYNC {k}: tick {tick}, expected {1 + 10 * k}"
@@ -336,9 +339,21 @@ def scenario_lockstep():
     assert states[enable_at] == 0 and states[enable_at + 1] == 1, \
         f"one cycle of delay expected: state at SYNC {enable_at} = {states[enable_at]}, next = {states[enable_at + 1]}"
     assert quiet[-1]["Motion"][1]["Speed"] > 0.1, "the motor did not move"
-    loaded, _ = lockstep_run(cycles, enable_at, hog=True)
+    loaded, _ = lockstep_run(cycles, enable_at, hog=True, can_log=logs[1])
     raw = lambda log: [[frames[n][0] for n in TELEMETRY] for frames in log]  # noqa: E731
     assert raw(quiet) == raw(loaded), "telemetry bytes differ with a CPU hog running"
+    # --record-can: candump's log format on emulated time, the same file under load, and
+    # can-utils' canplayer reads it.
+    text = [open(p).read() for p in logs]
+    assert text[0] == text[1], "the CAN logs differ with a CPU hog running"
+    lines = text[0].splitlines()
+    assert all(re.fullmatch(r"\(\d+\.\d{6}\) vcan0 [0-9A-F]{3}#([0-9A-F]{2})*", line) for line in lines), lines[:3]
+    assert sum(1 for line in lines if " 080#" in line) == cycles, "every SYNC logged"
+    assert sum(1 for line in lines if " 181#" in line) == cycles, "every Status frame logged"
+    player = subprocess.run(["canplayer", "-t", "-I", logs[0], "vcan0=vcan0"], capture_output=True, text=True)
+    assert player.returncode == 0, player.stderr
+    for p in logs:
+        os.remove(p)
     with Emulator("--can", "vcan0", "--node", str(NODE), modbus="none") as emu:
         peer = Peer()
         peer.bus.send(sync_frame(1))

@@ -460,7 +460,8 @@ TEST(EmuOptions, LockstepRefusalsNameTheOption) {
             "--speedup paces wall time; with --clock external time advances only when the controller steps it");
   EXPECT_EQ(parse_error({"--clock", "external", "--spin-us", "5"}),
             "--spin-us paces wall time; with --clock external time advances only when the controller steps it");
-  EXPECT_EQ(parse_error({"--sync-ticks", "5"}), "--sync-ticks: only with --clock external and --can (ticks per CAN SYNC)");
+  EXPECT_EQ(parse_error({"--sync-ticks", "5"}),
+            "--sync-ticks: only with --clock external and --can (ticks per CAN SYNC)");
   EXPECT_EQ(parse_error({"--replay", kConfig, "--record", "/tmp/x.csv"}),
             "--replay and --record: a replay records nothing (it compares with its trace)");
   for (const char* option : {"--modbus", "--can", "--clock", "--duration"}) {
