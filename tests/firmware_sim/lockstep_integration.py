@@ -148,7 +148,7 @@ def refused_on_wall_time():
 def long_step():
     # A step far longer than the frame timeout: no deadline runs while the ticks are run.
     with Emulator("--clock", "external", "--modbus-frame-timeout-ms", "20") as emu:
-        s = Stepper(emu)
+        s = Stepper(emu, timeout=300)  # 65535 ticks take ~0.5 s in Release, far longer under ASan
         start = time.monotonic()
         w = s.step(1, 300.0, 65535)
         wall = time.monotonic() - start
