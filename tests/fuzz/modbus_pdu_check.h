@@ -54,7 +54,8 @@ inline void check_controller_encodes_same_registers(const modbus::Request& r, co
   std::array<std::uint16_t, modbus::kSlewWriteCount> slew{};
   const std::string slew_error = modbus::encode_slew_write(c.frequency_slew_hz_per_s, c.amplitude_slew_vpp_per_s, slew);
   FUZZ_CHECK(slew_error.empty(), "accepted slew limits do not encode: %s", slew_error.c_str());
-  for (unsigned a = modbus::holding::kFrequencySlew; a < modbus::holding::kCount; ++a) {
+  for (unsigned a = modbus::holding::kFrequencySlew; a < modbus::holding::kFrequencySlew + modbus::kSlewWriteCount;
+       ++a) {
     if (!covers(a)) continue;
     FUZZ_CHECK(slew[a - modbus::holding::kFrequencySlew] == written(a), "holding %u: written 0x%04X, re-encoded 0x%04X",
                a, written(a), slew[a - modbus::holding::kFrequencySlew]);
@@ -94,7 +95,12 @@ inline void check_pdu(std::span<const std::uint8_t> pdu) {
                "decide answered exception %u", d.exception);
     return;
   }
-  FUZZ_CHECK(d.has_command == is_write, "function %u: has_command %d", request.function, d.has_command);
+  // A write carries a command unless it covers only the lockstep advance register (a step alone).
+  const bool advance_only = is_write && request.address == modbus::holding::kAdvance;
+  FUZZ_CHECK(d.has_command == (is_write && !advance_only), "function %u: has_command %d", request.function,
+             d.has_command);
+  FUZZ_CHECK(d.advance_ticks == 0 || (is_write && request.address + request.quantity > modbus::holding::kAdvance),
+             "advance %u without a write of register %u", d.advance_ticks, modbus::holding::kAdvance);
   if (!d.has_command) return;
   FUZZ_CHECK(protocol::validate(d.command, limits) == protocol::Reason::none,
              "an accepted command fails validate(): %s", protocol::to_string(protocol::validate(d.command, limits)));
