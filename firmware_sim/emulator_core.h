@@ -42,8 +42,9 @@ struct CoreConfig {
   double tick_hz = 10000.0;
   AmplifierConfig amplifier;  // tick_s is overwritten from tick_hz
   double speed_window_s = 0.010;
-  unsigned sample_stride = 4;   // sub-steps between tip-amplitude samples
-  bool external_clock = false;  // lockstep: reported in the telemetry
+  double electrical_window_s = 0.001;  // the phase currents are fitted over the last N ticks of this length
+  unsigned sample_stride = 4;          // sub-steps between tip-amplitude samples
+  bool external_clock = false;         // lockstep: reported in the telemetry
 };
 
 class EmulatorCore {
@@ -89,6 +90,8 @@ class EmulatorCore {
   std::vector<double> position_ring_;  // mover position at the end of each of the last N ticks
   std::size_t ring_index_ = 0;
   std::size_t ring_filled_ = 0;
+  std::vector<ElectricalSums> electrical_ring_;  // each of the last N ticks' sums (electrical.h)
+  std::size_t electrical_index_ = 0;
   std::array<std::uint64_t, 64> accepted_ns_{};  // first 64 commands of a tick
   std::size_t accepted_count_ = 0;
   TickObserver* observer_ = nullptr;

@@ -24,6 +24,18 @@ struct LoopTiming {
   std::uint64_t compute_p99_ns = 0, compute_max_ns = 0;
 };
 
+// What the amplifier measures at its two outputs over the last electrical window (1 ms by
+// default; docs/protocols.md "Electrical port"): per phase the drive-frequency component of the
+// current, its phase relative to that phase's voltage (+ = current leads), the phase of the
+// motional current (the clamped capacitance C0 compensated: what a resonance tracker locks on)
+// and the real power.
+struct ElectricalValues {
+  double current_a_a = 0.0, current_b_a = 0.0;  // peak amplitude (A)
+  double phase_a_deg = 0.0, phase_b_deg = 0.0;
+  double motional_phase_a_deg = 0.0, motional_phase_b_deg = 0.0;
+  double power_a_w = 0.0, power_b_w = 0.0;
+};
+
 struct Telemetry {
   std::uint64_t tick = 0;
   double sim_time_s = 0.0;
@@ -43,6 +55,8 @@ struct Telemetry {
   std::uint64_t last_sequence = 0;  // sequence of the last command applied
   std::uint64_t divergences = 0;
   bool external_clock = false;  // lockstep: time advances only when a controller steps it
+  ElectricalValues electrical;
+  double stator_temperature_c = 20.0;  // ambient plus the thermal effect's rise (ambient alone without it)
   LoopTiming stats;
 };
 

@@ -179,6 +179,9 @@ class MotorSplitSystem {
   }
 
   [[nodiscard]] const InterfaceForces& forces() const { return forces_; }
+  // The stator's modal force coefficients as the hot loop uses them (electrical.h derives the
+  // phase currents from the same numbers).
+  [[nodiscard]] const PairedForceCoefficients& paired_coefficients() const { return paired_; }
   [[nodiscard]] double contact_deflection_m() const { return deflection_m_; }
   void set_contact_deflection_m(double deflection_m) {
     deflection_m_ = k_.tangential == TangentialContact::jenkins ? deflection_m : 0.0;

@@ -37,6 +37,7 @@ MotorModel::MotorModel(const MotorParameters& parameters) : parameters_(paramete
                                 effective.mover.gravity_m_s2 * effective.mover.mass_kg,
                                 effective.mover.guide_sign_smoothing_m_s);
   k.drive_amplitude_per_volt = c.drive_amplitude_per_volt;
+  k.clamped_capacitance_f = effective.stator.clamped_capacitance_nf * 1e-9;
   k.effects = make_effect_coefficients(effective, c);
 }
 

@@ -61,7 +61,8 @@ struct MotorCoefficients {
   double mover_mass_inv_per_kg = 0.0, mover_damping_n_s_m = 0.0;
   GuideFrictionCoefficients guide;
   double drive_amplitude_per_volt = 0.0;
-  EffectCoefficients effects;  // thermal, wear, amplifier droop (simulator housekeeping)
+  double clamped_capacitance_f = 0.0;  // C0 of one phase (electrical.h)
+  EffectCoefficients effects;          // thermal, wear, amplifier droop (simulator housekeeping)
 };
 
 class MotorModel {

@@ -124,6 +124,9 @@ const std::array kSpecs{
               "Beam half height hs (only with geometry = \"explicit\")"),
     SWUM_REAL(stator, StatorParameters, tip_lever_over_length, "-", -1.0, 1.0,
               "Tip lever L1/L of eq. 8: gT = phiB(L) + L1 phiB'(L) (literal: 0.1321)"),
+    SWUM_REAL(stator, StatorParameters, clamped_capacitance_nf, "nF", 0.0, 1e6,
+              "Clamped capacitance C0 of one phase: the current C0 dV/dt of the electrical port "
+              "besides the motional current (docs/model.md, Electrical port; not in the paper)"),
     // [contact] Table 3
     SWUM_REAL(contact, ContactParameters, preload_n, "N", 0.0, 1e5, "Preload F_P (Table 3)"),
     SWUM_REAL(contact, ContactParameters, stiffness_n_m, "N/m", 0.0, 1e13,

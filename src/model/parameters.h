@@ -87,6 +87,9 @@ struct StatorParameters {
   double length_mm = 61.632;           // used only with geometry = explicit
   double half_height_mm = 5.4314;      // used only with geometry = explicit
   double tip_lever_over_length = 0.0;  // L1/L of §2.4: gT = phiB(L) + L1 phiB'(L)
+  // Electrical port (electrical.h): the clamped (blocked) capacitance of one phase, the current
+  // C0 dV/dt every amplifier sees besides the motional current. Not in the paper's model.
+  double clamped_capacitance_nf = 10.0;
 };
 
 // Table 3, interface part (§2).

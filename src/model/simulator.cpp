@@ -81,8 +81,15 @@ void MotorSimulator::advance(std::uint64_t steps, WindowStatistics& window) {
   });
 }
 
-template <TangentialContact C, GuideFrictionModel G, bool kWindow, bool kJammed>
-void MotorSimulator::advance_specialised(std::uint64_t steps, WindowStatistics* window) {
+void MotorSimulator::advance(std::uint64_t steps, ElectricalSums& sums) {
+  system_.dispatch([&]<TangentialContact C, GuideFrictionModel G>() {
+    faults_.jammed ? advance_specialised<C, G, false, true, true>(steps, nullptr, &sums)
+                   : advance_specialised<C, G, false, false, true>(steps, nullptr, &sums);
+  });
+}
+
+template <TangentialContact C, GuideFrictionModel G, bool kWindow, bool kJammed, bool kElectrical>
+void MotorSimulator::advance_specialised(std::uint64_t steps, WindowStatistics* window, ElectricalSums* sums) {
   SpecialisedMotorSystem<C, G, kJammed> system{system_};
   MotorSplitSystem::Vector q{state_.q1_m, state_.q2_m, state_.mover_position_m};
   MotorSplitSystem::Vector v{state_.q1_dot_m_s, state_.q2_dot_m_s, state_.mover_velocity_m_s};
@@ -104,11 +111,33 @@ void MotorSimulator::advance_specialised(std::uint64_t steps, WindowStatistics* 
   const double position_limit_sq = position_limit_m_ * position_limit_m_;
   const double speed_limit_sq = speed_limit_m_s_ * speed_limit_m_s_;
   [[maybe_unused]] const double g_tv = model_.coefficients().g_tv;  // window statistics only
+  [[maybe_unused]] const double clamped_capacitance_f = model_.coefficients().clamped_capacitance_f;
+  // (sin, cos) at t_n+1/2 = the mean of the phasors at t_n and t_n+1 / cos(w dt/2).
+  [[maybe_unused]] const double half_step_secant =
+      kElectrical ? 1.0 / (2.0 * std::cos(0.5 * waveform_.angular_frequency_rad_s * dt_)) : 0.0;
   std::uint64_t housekeeping = housekeeping_steps_;
   for (std::uint64_t k = 0; k < steps; ++k) {
-    system_.set_inputs(drive_voltages(waveform, s, c), load);
+    const DriveVoltages u = drive_voltages(waveform, s, c);
+    system_.set_inputs(u, load);
+    [[maybe_unused]] const DoublePair q_start{q[0], q[1]};
     semi_implicit_euler_step(system, t, dt, q, v);
+    [[maybe_unused]] const double s_start = s, c_start = c;
     rotate_phasor(waveform, s, c);
+    if constexpr (kElectrical) {
+      // v_n+1 is the velocity over the step (centred at t_n+1/2): q, V, V' and the fit's basis
+      // are taken there too, so the powers are second-order accurate (with q_n and V_n, or
+      // q_n+1 and V_n+1, the electrical power is off by ~O(w dt), 13 % at 48 steps per period).
+      const double s_mid = (s_start + s) * half_step_secant;
+      const double c_mid = (c_start + c) * half_step_secant;
+      const DriveVoltages u_mid = drive_voltages(waveform, s_mid, c_mid);
+      const double w = waveform.angular_frequency_rad_s;
+      const double dva = waveform.amplitude_a_v * w * c_mid;
+      const double dvb = waveform.amplitude_b_v * w * (c_mid * waveform.cos_phase - s_mid * waveform.sin_phase);
+      const DoublePair q_mid = 0.5 * (q_start + DoublePair{q[0], q[1]});
+      const PhaseCurrents i = phase_currents(system_.paired_coefficients(), clamped_capacitance_f, q_mid,
+                                             DoublePair{v[0], v[1]}, u_mid.va_v, u_mid.vb_v, dva, dvb);
+      sums->add(i, s_mid, c_mid, u_mid.va_v, u_mid.vb_v, dt);
+    }
     t += dt;
     if ((++housekeeping & 63U) == 0U) {
       renormalise_phasor(s, c);

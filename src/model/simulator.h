@@ -6,6 +6,7 @@
 #include <cstdint>
 
 #include "model/drive.h"
+#include "model/electrical.h"
 #include "model/model_faults.h"
 #include "model/motor.h"
 #include "model/motor_model.h"
@@ -47,6 +48,10 @@ class MotorSimulator {
   // steady-state windows): the same trajectory and the same sums as step() in a loop followed
   // by window.add(...) from state() and forces(), at the cost of the hot loop.
   void advance(std::uint64_t steps, WindowStatistics& window);
+  // The same steps, adding each step's phase currents and voltages (at the end of the step) to
+  // `sums` (electrical.h: the amplifier's measurement of its outputs). Same trajectory as
+  // advance(steps); ~30 flops more per step.
+  void advance(std::uint64_t steps, ElectricalSums& sums);
 
   [[nodiscard]] const MotorState& state() const { return state_; }
   // Replaces the state (e.g. a snapshot); the phasor is renormalised.
@@ -93,8 +98,9 @@ class MotorSimulator {
 
  private:
   // kJammed: the mover held at faults_.jam_position_m (selected once per advance()).
-  template <TangentialContact C, GuideFrictionModel G, bool kWindow, bool kJammed>
-  void advance_specialised(std::uint64_t steps, WindowStatistics* window);
+  // kElectrical: add each step's currents to *sums.
+  template <TangentialContact C, GuideFrictionModel G, bool kWindow, bool kJammed, bool kElectrical = false>
+  void advance_specialised(std::uint64_t steps, WindowStatistics* window, ElectricalSums* sums = nullptr);
   // V_A and V_B amplitudes of waveform_ from its V0 and the phase gains of faults_.
   void apply_phase_gains();
   // Mover at the jam position at rest when jammed.
