@@ -69,6 +69,19 @@ TEST(ParameterFile, LiteralConfigHasLiteralLever) {
   EXPECT_DOUBLE_EQ(model.constants().g_n, 2.0);
 }
 
+// The long-run configuration is the calibrated motor with the stator temperature on: nothing
+// else may drift away from li2019.toml.
+TEST(ParameterFile, ThermalConfigIsTheCalibratedMotorWithTemperature) {
+  const auto calibrated = parse_motor_parameters(read_text(SWUM_SOURCE_DIR "/config/li2019.toml"), "li2019.toml");
+  auto thermal = parse_motor_parameters(read_text(SWUM_SOURCE_DIR "/config/li2019_thermal.toml"),
+                                        "li2019_thermal.toml");
+  EXPECT_TRUE(thermal.effects.thermal.enabled);
+  EXPECT_EQ(thermal.effects.thermal.time_constant_s, 30.0);
+  EXPECT_LT(thermal.effects.thermal.stiffness_coefficient_per_k, 0.0);  // the resonance falls when hot
+  thermal.effects.thermal = calibrated.effects.thermal;
+  EXPECT_EQ(format_motor_parameters(thermal), format_motor_parameters(calibrated));
+}
+
 TEST(ParameterFile, RoundTrip) {
   MotorParameters p{};
   p.contact.preload_n = 12.5;

@@ -1,0 +1,237 @@
+#include "track/resonance_tracker.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+#include "config/number_format.h"
+
+namespace swum::host {
+namespace {
+
+// Wraps to (-180, 180].
+double wrapped_deg(double deg) {
+  double d = std::remainder(deg, 360.0);
+  if (d <= -180.0) d += 360.0;
+  return d;
+}
+
+std::string hz(double f) { return format_number(f) + " Hz"; }
+
+}  // namespace
+
+std::string check(const TrackSettings& s) {
+  auto bad = [](const char* option, double value, const char* range) {
+    return std::string(option) + ": " + format_number(value) + " outside " + range;
+  };
+  if (!(s.margin_hz >= 0.0 && s.margin_hz <= 5000.0)) return bad("--margin-hz", s.margin_hz, "0..5000");
+  if (!(s.min_hz >= 1000.0 && s.max_hz <= 200000.0 && s.min_hz < s.max_hz))
+    return "--min-hz/--max-hz: need 1000 <= min < max <= 200000";
+  if (!(s.start_hz >= s.min_hz && s.start_hz <= s.max_hz)) return bad("--start-hz", s.start_hz, "--min-hz..--max-hz");
+  if (!(s.search_step_hz > 0.0 && s.search_step_hz <= 1000.0))
+    return bad("--search-step-hz", s.search_step_hz, "(0, 1000]");
+  if (s.search_dwell_cycles < 1 || s.search_dwell_cycles > 1000) return "--search-dwell-cycles: outside 1..1000";
+  if (s.search_patience < 1 || s.search_patience > 100) return "--search-patience: outside 1..100";
+  if (!(s.search_drop > 0.0 && s.search_drop < 1.0)) return bad("--search-drop", s.search_drop, "(0, 1)");
+  if (!(s.probe_interval_s > 0.0 && s.probe_interval_s <= 1e5))
+    return bad("--probe-interval-s", s.probe_interval_s, "(0, 1e5]");
+  if (s.settle_cycles < 1 || s.settle_cycles > 10000) return "--settle-cycles: outside 1..10000";
+  if (s.phase_setpoint_deg && !(std::abs(*s.phase_setpoint_deg) <= 180.0))
+    return bad("--phase-deg", *s.phase_setpoint_deg, "-180..180");
+  if (!(s.phase_gain_hz_per_deg > 0.0 && s.phase_gain_hz_per_deg <= 1000.0))
+    return bad("--phase-gain", s.phase_gain_hz_per_deg, "(0, 1000]");
+  if (!(s.max_step_hz > 0.0 && s.max_step_hz <= 5000.0)) return bad("--max-step-hz", s.max_step_hz, "(0, 5000]");
+  if (!(s.approach_step_hz > 0.0 && s.approach_step_hz <= 5000.0))
+    return bad("--approach-step-hz", s.approach_step_hz, "(0, 5000]");
+  if (!(s.collapse_share > 0.0 && s.collapse_share < 1.0))
+    return bad("--collapse-share", s.collapse_share, "(0, 1)");
+  if (!(s.phase_collapse_deg > 0.0 && s.phase_collapse_deg <= 180.0))
+    return bad("--phase-collapse-deg", s.phase_collapse_deg, "(0, 180]");
+  if (!(s.recovery_hz > 0.0 && s.recovery_hz <= 20000.0)) return bad("--recovery-hz", s.recovery_hz, "(0, 20000]");
+  return {};
+}
+
+const char* mode_name(TrackMode mode) {
+  switch (mode) {
+    case TrackMode::search: return "search";
+    case TrackMode::settle: return "settle";
+    case TrackMode::hold: return "hold";
+    case TrackMode::lock: return "lock";
+    case TrackMode::approach: return "approach";
+    case TrackMode::recover: return "recover";
+  }
+  return "?";
+}
+
+ResonanceTracker::ResonanceTracker(const TrackSettings& settings) : settings_(settings) {
+  const std::string problem = check(settings_);
+  if (!problem.empty()) throw std::invalid_argument(problem);
+  if (settings_.phase_setpoint_deg) setpoint_deg_ = *settings_.phase_setpoint_deg;
+}
+
+double ResonanceTracker::clamp_hz(double f) const { return std::clamp(f, settings_.min_hz, settings_.max_hz); }
+
+double ResonanceTracker::speed_of(const TrackSample& s) const { return direction_ * s.speed_mm_s; }
+
+TrackDecision ResonanceTracker::decide(TrackMode mode, std::string event) {
+  mode_ = mode;
+  return {frequency_hz_, mode, std::move(event)};
+}
+
+TrackDecision ResonanceTracker::start() {
+  frequency_hz_ = settings_.start_hz;
+  operating_hz_ = settings_.start_hz;
+  if (settings_.method == TrackMethod::phase && setpoint_deg_) {
+    return decide(TrackMode::approach, "approach from " + hz(frequency_hz_) + " to the phase set-point " +
+                                           format_number(*setpoint_deg_) + " deg");
+  }
+  best_speed_mm_s_ = -1e300;
+  best_hz_ = frequency_hz_;
+  since_best_ = 0;
+  dwell_ = 0;
+  return decide(TrackMode::search, "search for the speed peak down from " + hz(frequency_hz_));
+}
+
+TrackDecision ResonanceTracker::begin_search(double from_hz, const std::string& event) {
+  // The sample at from_hz is the one just taken (the hold cycle): the search starts below it.
+  since_best_ = 0;
+  dwell_ = 0;
+  best_hz_ = from_hz;
+  frequency_hz_ = clamp_hz(from_hz - settings_.search_step_hz);
+  return decide(TrackMode::search, event);
+}
+
+TrackDecision ResonanceTracker::found_peak(const std::string& why) {
+  peak_hz_ = best_hz_;
+  operating_hz_ = clamp_hz(best_hz_ + settings_.margin_hz);
+  frequency_hz_ = operating_hz_;  // up from the search: never into the collapse
+  settle_left_ = settings_.settle_cycles;
+  phase_sum_deg_ = 0.0;
+  phase_count_ = 0;
+  searched_once_ = true;
+  return decide(TrackMode::settle, "peak " + hz(best_hz_) + " (" + why + "), operating point " + hz(operating_hz_));
+}
+
+TrackDecision ResonanceTracker::collapse(const TrackSample& s, const std::string& why) {
+  ++collapses_;
+  const double from = frequency_hz_;
+  frequency_hz_ = clamp_hz(std::max(frequency_hz_, operating_hz_) + settings_.recovery_hz);
+  return decide(TrackMode::recover, "collapse at " + hz(from) + " (" + why + ", t = " + format_number(s.time_s) +
+                                        " s): up to " + hz(frequency_hz_) + ", approaching again from above");
+}
+
+bool ResonanceTracker::collapsed(const TrackSample& s) const {
+  if (settings_.method == TrackMethod::phase && setpoint_deg_) {
+    return s.motional_phase_deg &&
+           std::abs(wrapped_deg(*s.motional_phase_deg - *setpoint_deg_)) > settings_.phase_collapse_deg;
+  }
+  return good_speed_mm_s_ > 0.0 && speed_of(s) < settings_.collapse_share * good_speed_mm_s_;
+}
+
+TrackDecision ResonanceTracker::search_step(const TrackSample& s) {
+  if (++dwell_ < settings_.search_dwell_cycles) return decide(TrackMode::search);
+  dwell_ = 0;
+  if (!searched_once_ && direction_ == 1.0 && s.speed_mm_s <= -1.0 && best_speed_mm_s_ == -1e300) {
+    direction_ = -1.0;  // the drive's phase runs this motor backwards: maximise the other sign
+  }
+  const double v = speed_of(s);
+  if (best_speed_mm_s_ > 0.0 && v < settings_.collapse_share * best_speed_mm_s_) {
+    // Past the fold within one step: the peak is known, the branch is lost.
+    peak_hz_ = best_hz_;
+    operating_hz_ = clamp_hz(best_hz_ + settings_.margin_hz);
+    searched_once_ = true;
+    return collapse(s, "speed " + format_number(v) + " mm/s below " + format_number(settings_.collapse_share) +
+                           " x the best " + format_number(best_speed_mm_s_) + " mm/s during the search");
+  }
+  if (v > best_speed_mm_s_) {
+    best_speed_mm_s_ = v;
+    best_hz_ = frequency_hz_;
+    since_best_ = 0;
+  } else {
+    ++since_best_;
+  }
+  if (best_speed_mm_s_ > 0.0 && v < (1.0 - settings_.search_drop) * best_speed_mm_s_)
+    return found_peak("the speed fell below the best");
+  if (since_best_ >= settings_.search_patience) return found_peak("no higher speed in the last steps");
+  if (frequency_hz_ - settings_.search_step_hz < settings_.min_hz) return found_peak("--min-hz reached");
+  frequency_hz_ -= settings_.search_step_hz;
+  return decide(TrackMode::search);
+}
+
+TrackDecision ResonanceTracker::next(const TrackSample& s) {
+  const bool uses_phase = settings_.method == TrackMethod::phase;
+  if (uses_phase && (mode_ == TrackMode::lock || mode_ == TrackMode::approach || mode_ == TrackMode::settle) &&
+      !s.motional_phase_deg) {
+    throw std::runtime_error("--method phase: the device does not report the motional phase (electrical port)");
+  }
+  switch (mode_) {
+    case TrackMode::search: return search_step(s);
+    case TrackMode::settle: {
+      if (uses_phase && settle_left_ <= (settings_.settle_cycles + 1) / 2) {
+        phase_sum_deg_ += *s.motional_phase_deg;  // the second half of the settle cycles
+        ++phase_count_;
+      }
+      if (--settle_left_ > 0) return decide(TrackMode::settle);
+      good_speed_mm_s_ = speed_of(s);
+      next_probe_s_ = s.time_s + settings_.probe_interval_s;
+      if (uses_phase) {
+        std::string event;
+        if (!setpoint_deg_) {
+          setpoint_deg_ = phase_sum_deg_ / phase_count_;
+          event = "phase set-point " + format_number(*setpoint_deg_) + " deg (measured at " + hz(operating_hz_) + ")";
+        }
+        return decide(TrackMode::lock, event);
+      }
+      return decide(TrackMode::hold);
+    }
+    case TrackMode::hold: {
+      if (collapsed(s)) {
+        return collapse(s, "speed " + format_number(speed_of(s)) + " mm/s below " +
+                               format_number(settings_.collapse_share) + " x " + format_number(good_speed_mm_s_) +
+                               " mm/s");
+      }
+      good_speed_mm_s_ += 0.2 * (speed_of(s) - good_speed_mm_s_);  // follows the slow drift
+      if (settings_.method == TrackMethod::speed && s.time_s >= next_probe_s_) {
+        best_speed_mm_s_ = speed_of(s);
+        return begin_search(frequency_hz_, {});
+      }
+      return decide(TrackMode::hold);
+    }
+    case TrackMode::lock: {
+      const double error_deg = wrapped_deg(*s.motional_phase_deg - *setpoint_deg_);
+      if (std::abs(error_deg) > settings_.phase_collapse_deg) {
+        return collapse(s, "phase " + format_number(*s.motional_phase_deg) + " deg, " + format_number(error_deg) +
+                               " deg off the set-point");
+      }
+      // Above the resonance the phase falls with frequency: a phase above the set-point means
+      // the drive is too low, so the frequency goes up.
+      const double step = std::clamp(settings_.phase_gain_hz_per_deg * error_deg, -settings_.max_step_hz,
+                                     settings_.max_step_hz);
+      frequency_hz_ = clamp_hz(frequency_hz_ + step);
+      operating_hz_ = frequency_hz_;
+      return decide(TrackMode::lock);
+    }
+    case TrackMode::approach:
+    case TrackMode::recover: {
+      if (uses_phase && setpoint_deg_) {
+        // Down from above until the phase reaches the set-point, then the loop takes over.
+        if (wrapped_deg(*s.motional_phase_deg - *setpoint_deg_) >= 0.0 && frequency_hz_ < settings_.max_hz)
+          return decide(TrackMode::lock, "phase set-point reached at " + hz(frequency_hz_));
+        frequency_hz_ = clamp_hz(frequency_hz_ - settings_.approach_step_hz);
+        return decide(mode_);
+      }
+      // Speed and fixed: down to the operating point, settle, then (speed) search again.
+      if (frequency_hz_ - settings_.approach_step_hz > operating_hz_) {
+        frequency_hz_ -= settings_.approach_step_hz;
+        return decide(mode_);
+      }
+      frequency_hz_ = operating_hz_;
+      settle_left_ = settings_.settle_cycles;
+      good_speed_mm_s_ = 0.0;
+      return decide(TrackMode::settle);
+    }
+  }
+  return decide(mode_);
+}
+
+}  // namespace swum::host

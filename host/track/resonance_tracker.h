@@ -1,0 +1,115 @@
+// `swum track`'s decision per control cycle (docs/host.md, "swum track"): keep the drive a
+// margin above the softening speed peak while the resonance moves with temperature and load,
+// never dwelling below the peak, where the speed collapses. Pure: one telemetry sample in, the
+// next frequency out; the command (track_command.cpp) does the device exchange and the log.
+//
+// Methods:
+//  * speed  - extremum seeking with a margin: a search steps down from the operating point
+//             while the speed still rises, takes the best point as the peak and returns to
+//             peak + margin; repeated every probe interval, so the operating point follows
+//             the peak both ways.
+//  * phase  - a phase-locked loop on the motional current's phase of phase A (C0 compensated,
+//             what a board with a parallel inductor or a bridge measures): holds the phase the
+//             motor shows at peak + margin. The set-point comes from --phase-deg, or from one
+//             cold speed search at the start; after that the speed is never read.
+//  * fixed  - the baseline: one cold speed search, then the frequency held.
+// Collapse (the speed below a share of the last good speed, or for phase the phase off its
+// set-point by more than a limit) is left upwards: jump up by the recovery span, then approach
+// again from above.
+#pragma once
+
+#include <optional>
+#include <string>
+
+namespace swum::host {
+
+enum class TrackMethod { phase, speed, fixed };
+
+struct TrackSettings {
+  TrackMethod method = TrackMethod::phase;
+  double margin_hz = 100.0;      // operating point above the peak
+  double start_hz = 41500.0;     // the approach starts here (above the resonance)
+  double min_hz = 30000.0;       // never below (a search that finds no peak stops here)
+  double max_hz = 50000.0;       // never above
+  double search_step_hz = 20.0;  // one search step per dwell
+  int search_dwell_cycles = 1;   // cycles per search step (the speed is read at the last one)
+  int search_patience = 3;       // steps without a new best that end a search
+  double search_drop = 0.003;    // a speed this share below the best ends a search at once
+  double probe_interval_s = 2.0;  // speed method: time between searches
+  int settle_cycles = 5;          // cycles at the operating point before a set-point is taken
+  std::optional<double> phase_setpoint_deg;  // phase method: none = calibrate by one cold speed search
+  double phase_gain_hz_per_deg = 4.0;        // PLL: frequency change per degree of phase error per cycle
+  double max_step_hz = 20.0;                 // largest frequency change of the PLL per cycle
+  double approach_step_hz = 25.0;            // phase method: descent per cycle until the set-point
+  double collapse_share = 0.5;               // speed below this share of the last good one: collapsed
+  double phase_collapse_deg = 60.0;          // |phase - set-point| above this: collapsed
+  double recovery_hz = 600.0;                // jump above the operating point after a collapse
+};
+
+// One line naming the first bad setting (the command's option name), empty when all are usable.
+[[nodiscard]] std::string check(const TrackSettings& settings);
+
+// What the tracker sees after a cycle.
+struct TrackSample {
+  double time_s = 0.0;
+  double speed_mm_s = 0.0;                   // signed; the direction of motion is the drive's
+  std::optional<double> motional_phase_deg;  // phase A's motional current vs V_A; none: not reported
+};
+
+enum class TrackMode { search, settle, hold, lock, approach, recover };
+[[nodiscard]] const char* mode_name(TrackMode mode);
+
+struct TrackDecision {
+  double frequency_hz = 0.0;
+  TrackMode mode = TrackMode::search;
+  std::string event;  // one line when something happened (peak found, set-point, collapse), else empty
+};
+
+class ResonanceTracker {
+ public:
+  explicit ResonanceTracker(const TrackSettings& settings);  // throws std::invalid_argument (check())
+
+  // The frequency of the first cycle.
+  [[nodiscard]] TrackDecision start();
+  // The telemetry after the last cycle -> the frequency of the next one. A phase method without
+  // a phase reading throws std::runtime_error (the device does not report the electrical port).
+  [[nodiscard]] TrackDecision next(const TrackSample& sample);
+
+  [[nodiscard]] std::optional<double> peak_hz() const { return peak_hz_; }
+  [[nodiscard]] std::optional<double> phase_setpoint_deg() const { return setpoint_deg_; }
+  [[nodiscard]] int collapses() const { return collapses_; }
+  [[nodiscard]] double frequency_hz() const { return frequency_hz_; }
+
+ private:
+  TrackDecision search_step(const TrackSample& s);
+  TrackDecision begin_search(double from_hz, const std::string& event);
+  TrackDecision found_peak(const std::string& why);
+  TrackDecision collapse(const TrackSample& s, const std::string& why);
+  TrackDecision decide(TrackMode mode, std::string event = {});
+  [[nodiscard]] bool collapsed(const TrackSample& s) const;
+  [[nodiscard]] double speed_of(const TrackSample& s) const;  // along the drive direction
+  [[nodiscard]] double clamp_hz(double f) const;
+
+  TrackSettings settings_;
+  TrackMode mode_ = TrackMode::search;
+  double frequency_hz_ = 0.0;
+  double operating_hz_ = 0.0;
+  std::optional<double> peak_hz_;
+  std::optional<double> setpoint_deg_;
+  double direction_ = 1.0;  // sign of the first substantial speed (the drive's direction)
+  // Search state.
+  double best_speed_mm_s_ = 0.0;
+  double best_hz_ = 0.0;
+  int since_best_ = 0;
+  int dwell_ = 0;
+  // Settle / hold.
+  int settle_left_ = 0;
+  double phase_sum_deg_ = 0.0;
+  int phase_count_ = 0;
+  double next_probe_s_ = 0.0;
+  double good_speed_mm_s_ = 0.0;  // the speed the collapse test compares with
+  bool searched_once_ = false;
+  int collapses_ = 0;
+};
+
+}  // namespace swum::host

@@ -1,0 +1,217 @@
+// The tracker's decisions (host/track/resonance_tracker.h) against a small softening plant with
+// a fold: the speed peak at fp, a jump down below fp - 150 Hz that holds until the drive goes
+// above fp + 300 Hz (hysteresis), and the motional phase crossing 0 at fp + 110 Hz with the
+// calibrated motor's slope (-0.07 deg/Hz; docs/model.md "Electrical port"). The physics of a
+// real run (the emulator, the thermal motor, ten minutes) is in tests/host/track_thermal.py.
+#include "track/resonance_tracker.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <functional>
+#include <limits>
+#include <numbers>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace swum::host {
+namespace {
+
+struct Plant {
+  std::function<double(double)> peak_hz;  // fp(t)
+  bool collapsed = false;
+  TrackSample sample(double f, double t) {
+    const double fp = peak_hz(t);
+    if (f < fp - 150.0) collapsed = true;
+    if (collapsed && f > fp + 300.0) collapsed = false;
+    const double x = (f - fp) / 400.0;
+    TrackSample s;
+    s.time_s = t;
+    s.speed_mm_s = collapsed ? -300.0 : 800.0 / (1.0 + x * x);
+    s.motional_phase_deg =
+        collapsed ? -160.0 : -180.0 / std::numbers::pi * std::atan((f - fp - 110.0) / 800.0);
+    return s;
+  }
+};
+
+struct Trace {
+  std::vector<double> time_s, frequency_hz, peak_hz;
+  std::vector<TrackMode> mode;
+};
+
+constexpr double kCycleS = 0.02;
+
+Trace run(ResonanceTracker& tracker, Plant& plant, double duration_s, bool hide_speed = false) {
+  Trace r;
+  double f = tracker.start().frequency_hz;
+  for (double t = kCycleS; t <= duration_s + 1e-9; t += kCycleS) {
+    TrackSample s = plant.sample(f, t);
+    if (hide_speed) s.speed_mm_s = std::numeric_limits<double>::quiet_NaN();
+    const TrackDecision d = tracker.next(s);
+    f = d.frequency_hz;
+    r.time_s.push_back(t);
+    r.frequency_hz.push_back(f);
+    r.peak_hz.push_back(plant.peak_hz(t));
+    r.mode.push_back(d.mode);
+  }
+  return r;
+}
+
+TrackSettings settings(TrackMethod method) {
+  TrackSettings s;
+  s.method = method;
+  return s;
+}
+
+// After the first peak is known, the drive stays within `tolerance` of peak + margin and never
+// at or below the peak.
+void expect_follows(const Trace& r, double margin_hz, double tolerance_hz, double from_s) {
+  int checked = 0;
+  for (std::size_t i = 0; i < r.time_s.size(); ++i) {
+    if (r.time_s[i] < from_s || r.mode[i] == TrackMode::search) continue;
+    EXPECT_NEAR(r.frequency_hz[i], r.peak_hz[i] + margin_hz, tolerance_hz) << "t = " << r.time_s[i];
+    ++checked;
+  }
+  EXPECT_GT(checked, 100);
+}
+
+TEST(ResonanceTracker, SpeedSearchFindsThePeakAndHoldsTheMargin) {
+  Plant plant{[](double) { return 39450.0; }};
+  ResonanceTracker tracker(settings(TrackMethod::speed));
+  const Trace r = run(tracker, plant, 20.0);
+  ASSERT_TRUE(tracker.peak_hz());
+  EXPECT_NEAR(*tracker.peak_hz(), 39450.0, 20.0);
+  expect_follows(r, 100.0, 25.0, 5.0);
+  EXPECT_EQ(tracker.collapses(), 0);
+  EXPECT_FALSE(plant.collapsed);
+}
+
+// The resonance falls by 450 Hz with a 30 s time constant (the thermal motor at 400 Vpp): the
+// periodic searches keep the drive at peak + margin, within the drift of one probe interval.
+TEST(ResonanceTracker, SpeedFollowsAResonanceFallingWithTemperature) {
+  Plant plant{[](double t) { return 39450.0 - 450.0 * (1.0 - std::exp(-t / 30.0)); }};
+  ResonanceTracker tracker(settings(TrackMethod::speed));
+  const Trace r = run(tracker, plant, 120.0);
+  expect_follows(r, 100.0, 60.0, 5.0);
+  EXPECT_EQ(tracker.collapses(), 0);
+}
+
+// A resonance moving up, towards and past the operating point, must not pull the drive into the
+// fold: each search sees the speed fall at once and moves the operating point up.
+TEST(ResonanceTracker, SpeedFollowsAResonanceMovingUp) {
+  Plant plant{[](double t) { return 39450.0 + 300.0 * (1.0 - std::exp(-t / 10.0)); }};
+  ResonanceTracker tracker(settings(TrackMethod::speed));
+  const Trace r = run(tracker, plant, 60.0);
+  EXPECT_EQ(tracker.collapses(), 0);
+  EXPECT_FALSE(plant.collapsed);
+  expect_follows(r, 100.0, 60.0, 40.0);
+}
+
+TEST(ResonanceTracker, PhaseLockCalibratesOnceAndFollowsTheDrift) {
+  Plant plant{[](double t) { return 39450.0 - 450.0 * (1.0 - std::exp(-t / 30.0)); }};
+  ResonanceTracker tracker(settings(TrackMethod::phase));
+  const Trace r = run(tracker, plant, 120.0);
+  ASSERT_TRUE(tracker.phase_setpoint_deg());
+  // Set-point measured at the cold peak + 100 Hz: the plant's phase there is about +0.7 deg.
+  EXPECT_NEAR(*tracker.phase_setpoint_deg(), 180.0 / std::numbers::pi * std::atan(10.0 / 800.0), 1.5);
+  expect_follows(r, 100.0, 30.0, 5.0);
+  EXPECT_EQ(tracker.collapses(), 0);
+}
+
+// With --phase-deg the speed is never read (a board without a speed sensor): NaN speeds change
+// nothing.
+TEST(ResonanceTracker, PhaseWithASetpointNeverReadsTheSpeed) {
+  Plant plant{[](double t) { return 39450.0 - 450.0 * (1.0 - std::exp(-t / 30.0)); }};
+  TrackSettings s = settings(TrackMethod::phase);
+  s.phase_setpoint_deg = 180.0 / std::numbers::pi * std::atan(10.0 / 800.0);  // phase at peak + 100 Hz
+  ResonanceTracker tracker(s);
+  const Trace r = run(tracker, plant, 60.0, /*hide_speed=*/true);
+  expect_follows(r, 100.0, 30.0, 10.0);
+  EXPECT_FALSE(tracker.peak_hz());  // no search ran
+}
+
+// A disturbance throws the motor onto the lower branch: the phase jumps, the tracker goes up past
+// the jump-back point and locks again from above.
+TEST(ResonanceTracker, PhaseRecoversFromACollapse) {
+  Plant plant{[](double) { return 39450.0; }};
+  ResonanceTracker tracker(settings(TrackMethod::phase));
+  (void)run(tracker, plant, 10.0);
+  plant.collapsed = true;  // e.g. a load step knocked it down
+  Trace r;
+  double f = tracker.frequency_hz();
+  bool recovered = false;
+  for (double t = 10.0 + kCycleS; t <= 30.0; t += kCycleS) {
+    const TrackDecision d = tracker.next(plant.sample(f, t));
+    f = d.frequency_hz;
+    if (t > 25.0) {
+      EXPECT_EQ(d.mode, TrackMode::lock);
+      EXPECT_NEAR(f, 39550.0, 15.0);
+      recovered = true;
+    }
+  }
+  EXPECT_TRUE(recovered);
+  EXPECT_EQ(tracker.collapses(), 1);
+  EXPECT_FALSE(plant.collapsed);
+}
+
+TEST(ResonanceTracker, SpeedRecoversFromACollapse) {
+  Plant plant{[](double) { return 39450.0; }};
+  ResonanceTracker tracker(settings(TrackMethod::speed));
+  (void)run(tracker, plant, 10.0);
+  plant.collapsed = true;
+  double f = tracker.frequency_hz();
+  for (double t = 10.0 + kCycleS; t <= 30.0; t += kCycleS) f = tracker.next(plant.sample(f, t)).frequency_hz;
+  EXPECT_EQ(tracker.collapses(), 1);
+  EXPECT_FALSE(plant.collapsed);
+  EXPECT_NEAR(f, 39550.0, 25.0);
+}
+
+// The baseline: one cold search, then the frequency never moves, whatever the drift.
+TEST(ResonanceTracker, FixedHoldsTheColdPick) {
+  Plant plant{[](double t) { return 39450.0 - 450.0 * (1.0 - std::exp(-t / 30.0)); }};
+  ResonanceTracker tracker(settings(TrackMethod::fixed));
+  const Trace r = run(tracker, plant, 60.0);
+  ASSERT_TRUE(tracker.peak_hz());
+  const double held = r.frequency_hz.back();
+  EXPECT_NEAR(held, *tracker.peak_hz() + 100.0, 1e-9);
+  for (std::size_t i = 0; i < r.time_s.size(); ++i) {
+    if (r.time_s[i] > 5.0) {
+      EXPECT_EQ(r.frequency_hz[i], held);
+    }
+  }
+}
+
+TEST(ResonanceTracker, PhaseMethodNeedsThePhase) {
+  ResonanceTracker tracker([] {
+    TrackSettings s;
+    s.phase_setpoint_deg = 0.0;
+    return s;
+  }());
+  (void)tracker.start();
+  TrackSample s;
+  s.speed_mm_s = 100.0;
+  try {
+    (void)tracker.next(s);
+    FAIL() << "no exception";
+  } catch (const std::runtime_error& e) {
+    EXPECT_STREQ(e.what(), "--method phase: the device does not report the motional phase (electrical port)");
+  }
+}
+
+TEST(ResonanceTracker, SettingsAreChecked) {
+  TrackSettings s;
+  EXPECT_EQ(check(s), "");
+  s.margin_hz = -1.0;
+  EXPECT_EQ(check(s), "--margin-hz: -1 outside 0..5000");
+  s = TrackSettings{};
+  s.start_hz = 60000.0;
+  EXPECT_EQ(check(s), "--start-hz: 60000 outside --min-hz..--max-hz");
+  s = TrackSettings{};
+  s.phase_setpoint_deg = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_EQ(check(s), "--phase-deg: nan outside -180..180");
+  EXPECT_THROW(ResonanceTracker{s}, std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace swum::host
