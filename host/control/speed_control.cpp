@@ -1,92 +1,21 @@
 #include "control/speed_control.h"
 
-#include <chrono>
 #include <cinttypes>
 #include <cmath>
 #include <cstdio>
 #include <stdexcept>
-#include <thread>
 
 #include "codes.h"
+#include "control/cycle_exchange.h"
 
 namespace swum::host {
 namespace {
-
-using Clock = std::chrono::steady_clock;
-
-// The device time has the register's resolution (1 ms over Modbus): a tick rate that does not
-// match the device shows as a drift beyond it within a few cycles.
-constexpr double kDeviceTimeResolutionS = 1.5e-3;
 
 std::string fault_name(int code) {
   if (code < 0 || code > 255) return "fault " + std::to_string(code);
   const std::string text = protocol::to_string(static_cast<protocol::FaultCode>(code));
   return text == "?" ? "fault " + std::to_string(code) : text;
 }
-
-std::string format_seconds(double s) {
-  char text[32];
-  std::snprintf(text, sizeof text, "%.6f", s);
-  return text;
-}
-
-// One exchange per cycle: a lockstep step (set + run the cycle's ticks + read), or on a
-// wall-time device set-point + action + read at the cycle's deadline on the host clock.
-class CycleExchange {
- public:
-  CycleExchange(Device& device, const SpeedControlSettings& s) : device_(device), settings_(s) {
-    lockstep_ = device.lockstep();
-    if (lockstep_) {
-      const double ticks = s.cycle_s * s.tick_hz;
-      ticks_per_cycle_ = static_cast<std::uint32_t>(std::llround(ticks));
-      if (std::abs(ticks - ticks_per_cycle_) > 1e-9 * ticks || ticks_per_cycle_ < 1 || ticks_per_cycle_ > 65535) {
-        throw std::invalid_argument("--cycle-ms: " + format_seconds(s.cycle_s * 1e3) +
-                                    " ms is not a whole number of ticks in 1..65535 at --tick-hz " +
-                                    format_seconds(s.tick_hz));
-      }
-    } else {
-      device.set_slew(s.slew.frequency_hz_per_s, s.slew.vpp_per_s);
-    }
-    start_ = Clock::now();
-  }
-
-  bool lockstep() const { return lockstep_; }
-  double host_seconds(const DeviceTelemetry& t) const {
-    return std::chrono::duration<double>(t.received - start_).count();
-  }
-
-  DeviceTelemetry exchange(const DriveSetpoint& setpoint, DeviceAction action) {
-    if (lockstep_) {
-      DeviceTelemetry t = device_.step(setpoint, settings_.slew, action, ticks_per_cycle_);
-      check_tick_rate(t);
-      return t;
-    }
-    const auto deadline = start_ + std::chrono::duration_cast<Clock::duration>(
-                                       std::chrono::duration<double>(settings_.cycle_s * cycles_++));
-    std::this_thread::sleep_until(deadline);
-    device_.set_drive(setpoint);
-    if (action != DeviceAction::keep_alive) device_.command(action);
-    return device_.read();
-  }
-
- private:
-  void check_tick_rate(const DeviceTelemetry& t) const {
-    if (!t.tick || !t.device_time_s) return;
-    const double expected_s = static_cast<double>(*t.tick) / settings_.tick_hz;
-    if (std::abs(expected_s - *t.device_time_s) > kDeviceTimeResolutionS) {
-      throw DeviceError(device_.name() + ": --tick-hz " + format_seconds(settings_.tick_hz) +
-                        " does not match the device: tick " + std::to_string(*t.tick) + " at device time " +
-                        format_seconds(*t.device_time_s) + " s");
-    }
-  }
-
-  Device& device_;
-  const SpeedControlSettings& settings_;
-  bool lockstep_ = false;
-  std::uint32_t ticks_per_cycle_ = 0;
-  std::uint64_t cycles_ = 0;
-  Clock::time_point start_;
-};
 
 // What the next cycle sends: the fault reaction's state machine (docs/host.md, "Fault reaction").
 class FaultReaction {
@@ -159,12 +88,6 @@ void check_settings(const SpeedControlSettings& s) {
   if (s.max_retries < 0) throw std::invalid_argument("--max-retries: must be >= 0");
 }
 
-// The drive off at the end of a run (completed, interrupted, stopped on a fault).
-void drive_off(CycleExchange& exchange, DriveSetpoint setpoint) {
-  setpoint.vpp = 0.0;
-  (void)exchange.exchange(setpoint, DeviceAction::disable);
-}
-
 // The cycles of one run: decide (fault reaction, PI), exchange, report the row.
 void run_cycles(CycleExchange& exchange, FaultReaction& reaction, DriveSetpoint& setpoint, DeviceTelemetry last,
                 const SpeedControlSettings& s, const SpeedControlHooks& hooks, SpeedControlResult& result) {
@@ -218,7 +141,7 @@ std::string format_speed_control_row(const SpeedControlRow& r) {
 
 SpeedControlResult run_speed_control(Device& device, const SpeedControlSettings& s, const SpeedControlHooks& hooks) {
   check_settings(s);
-  CycleExchange exchange(device, s);
+  CycleExchange exchange(device, s.cycle_s, s.tick_hz, s.slew);
   SpeedControlResult result;
   FaultReaction reaction(s, hooks, result);
   DriveSetpoint setpoint;
@@ -228,13 +151,13 @@ SpeedControlResult run_speed_control(Device& device, const SpeedControlSettings&
     run_cycles(exchange, reaction, setpoint, device.read(), s, hooks, result);
   } catch (const DeviceError&) {
     try {
-      drive_off(exchange, setpoint);
+      exchange.drive_off(setpoint);
     } catch (const DeviceError&) {
       // The device does not answer: its watchdog switches the drive off.
     }
     throw;
   }
-  if (!reaction.stopping()) drive_off(exchange, setpoint);  // a stop on a fault has sent it already
+  if (!reaction.stopping()) exchange.drive_off(setpoint);  // a stop on a fault has sent it already
   return result;
 }
 

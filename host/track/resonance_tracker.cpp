@@ -43,8 +43,7 @@ std::string check(const TrackSettings& s) {
   if (!(s.max_step_hz > 0.0 && s.max_step_hz <= 5000.0)) return bad("--max-step-hz", s.max_step_hz, "(0, 5000]");
   if (!(s.approach_step_hz > 0.0 && s.approach_step_hz <= 5000.0))
     return bad("--approach-step-hz", s.approach_step_hz, "(0, 5000]");
-  if (!(s.collapse_share > 0.0 && s.collapse_share < 1.0))
-    return bad("--collapse-share", s.collapse_share, "(0, 1)");
+  if (!(s.collapse_share > 0.0 && s.collapse_share < 1.0)) return bad("--collapse-share", s.collapse_share, "(0, 1)");
   if (!(s.phase_collapse_deg > 0.0 && s.phase_collapse_deg <= 180.0))
     return bad("--phase-collapse-deg", s.phase_collapse_deg, "(0, 180]");
   if (!(s.recovery_hz > 0.0 && s.recovery_hz <= 20000.0)) return bad("--recovery-hz", s.recovery_hz, "(0, 20000]");

@@ -27,16 +27,16 @@ enum class TrackMethod { phase, speed, fixed };
 
 struct TrackSettings {
   TrackMethod method = TrackMethod::phase;
-  double margin_hz = 100.0;      // operating point above the peak
-  double start_hz = 41500.0;     // the approach starts here (above the resonance)
-  double min_hz = 30000.0;       // never below (a search that finds no peak stops here)
-  double max_hz = 50000.0;       // never above
-  double search_step_hz = 20.0;  // one search step per dwell
-  int search_dwell_cycles = 1;   // cycles per search step (the speed is read at the last one)
-  int search_patience = 3;       // steps without a new best that end a search
-  double search_drop = 0.003;    // a speed this share below the best ends a search at once
-  double probe_interval_s = 2.0;  // speed method: time between searches
-  int settle_cycles = 5;          // cycles at the operating point before a set-point is taken
+  double margin_hz = 100.0;                  // operating point above the peak
+  double start_hz = 41500.0;                 // the approach starts here (above the resonance)
+  double min_hz = 30000.0;                   // never below (a search that finds no peak stops here)
+  double max_hz = 50000.0;                   // never above
+  double search_step_hz = 20.0;              // one search step per dwell
+  int search_dwell_cycles = 1;               // cycles per search step (the speed is read at the last one)
+  int search_patience = 3;                   // steps without a new best that end a search
+  double search_drop = 0.003;                // a speed this share below the best ends a search at once
+  double probe_interval_s = 2.0;             // speed method: time between searches
+  int settle_cycles = 5;                     // cycles at the operating point before a set-point is taken
   std::optional<double> phase_setpoint_deg;  // phase method: none = calibrate by one cold speed search
   double phase_gain_hz_per_deg = 4.0;        // PLL: frequency change per degree of phase error per cycle
   double max_step_hz = 20.0;                 // largest frequency change of the PLL per cycle

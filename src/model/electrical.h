@@ -53,8 +53,8 @@ struct PhaseCurrents {
 struct ElectricalSums {
   double samples = 0.0;
   double duration_s = 0.0;
-  double ss = 0.0, cc = 0.0, sc = 0.0;  // sum sin^2, cos^2, sin cos
-  double a_s = 0.0, a_c = 0.0, b_s = 0.0, b_c = 0.0;  // sum I sin, I cos (terminal currents)
+  double ss = 0.0, cc = 0.0, sc = 0.0;                    // sum sin^2, cos^2, sin cos
+  double a_s = 0.0, a_c = 0.0, b_s = 0.0, b_c = 0.0;      // sum I sin, I cos (terminal currents)
   double ma_s = 0.0, ma_c = 0.0, mb_s = 0.0, mb_c = 0.0;  // the same for the motional currents
   // sum V I_motional: the C0 current is reactive (zero mean over whole periods) and is left out,
   // so that a window that is not a whole number of periods shows no ripple from it.

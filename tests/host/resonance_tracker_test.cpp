@@ -29,8 +29,7 @@ struct Plant {
     TrackSample s;
     s.time_s = t;
     s.speed_mm_s = collapsed ? -300.0 : 800.0 / (1.0 + x * x);
-    s.motional_phase_deg =
-        collapsed ? -160.0 : -180.0 / std::numbers::pi * std::atan((f - fp - 110.0) / 800.0);
+    s.motional_phase_deg = collapsed ? -160.0 : -180.0 / std::numbers::pi * std::atan((f - fp - 110.0) / 800.0);
     return s;
   }
 };
