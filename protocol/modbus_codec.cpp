@@ -209,6 +209,16 @@ void fill_input(const Telemetry& t, const RejectSnapshot& rejects, std::span<std
   put_u32(r, input::kTickSpeed, sat_i32(t.tick_speed_m_s * kMicroScale.count_per_unit));
   put_u32(r, input::kLastSequence, static_cast<std::uint32_t>(t.last_sequence));
   r[input::kClock] = t.external_clock ? 1U : 0U;
+  const ElectricalValues& e = t.electrical;
+  r[input::kCurrentA] = sat_u16(e.current_a_a * kCurrentScale.count_per_unit);
+  r[input::kCurrentB] = sat_u16(e.current_b_a * kCurrentScale.count_per_unit);
+  r[input::kPhaseA] = sat_i16(e.phase_a_deg * kPhaseScale.count_per_unit);
+  r[input::kPhaseB] = sat_i16(e.phase_b_deg * kPhaseScale.count_per_unit);
+  r[input::kMotionalPhaseA] = sat_i16(e.motional_phase_a_deg * kPhaseScale.count_per_unit);
+  r[input::kMotionalPhaseB] = sat_i16(e.motional_phase_b_deg * kPhaseScale.count_per_unit);
+  r[input::kPowerA] = sat_i16(e.power_a_w * kPowerScale.count_per_unit);
+  r[input::kPowerB] = sat_i16(e.power_b_w * kPowerScale.count_per_unit);
+  r[input::kStatorTemperature] = sat_i16(t.stator_temperature_c * kTemperatureScale.count_per_unit);
 }
 
 namespace {
@@ -323,6 +333,16 @@ InputImage decode_input(std::span<const std::uint16_t, input::kCount> r) {
   t.tick_speed_m_s = i32(input::kTickSpeed) * kMicroScale.unit_per_count;
   t.last_sequence = get_u32(r, input::kLastSequence);
   t.external_clock = r[input::kClock] == 1U;
+  ElectricalValues& e = t.electrical;
+  e.current_a_a = r[input::kCurrentA] * kCurrentScale.unit_per_count;
+  e.current_b_a = r[input::kCurrentB] * kCurrentScale.unit_per_count;
+  e.phase_a_deg = i16(input::kPhaseA) * kPhaseScale.unit_per_count;
+  e.phase_b_deg = i16(input::kPhaseB) * kPhaseScale.unit_per_count;
+  e.motional_phase_a_deg = i16(input::kMotionalPhaseA) * kPhaseScale.unit_per_count;
+  e.motional_phase_b_deg = i16(input::kMotionalPhaseB) * kPhaseScale.unit_per_count;
+  e.power_a_w = i16(input::kPowerA) * kPowerScale.unit_per_count;
+  e.power_b_w = i16(input::kPowerB) * kPowerScale.unit_per_count;
+  t.stator_temperature_c = i16(input::kStatorTemperature) * kTemperatureScale.unit_per_count;
   return image;
 }
 

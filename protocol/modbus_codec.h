@@ -82,7 +82,17 @@ inline constexpr std::uint16_t kOverruns = 29;      // u32 (29-30)
 inline constexpr std::uint16_t kTickSpeed = 31;     // i32 (31-32): um/s, mean over the last tick
 inline constexpr std::uint16_t kLastSequence = 33;  // u32 (33-34): sequence of the last command applied
 inline constexpr std::uint16_t kClock = 35;         // u16: 0 internal (wall time), 1 external (lockstep)
-inline constexpr std::uint16_t kCount = 36;
+// The electrical port over the last window (docs/protocols.md "Electrical port"; 0 before a full one):
+inline constexpr std::uint16_t kCurrentA = 36;           // u16: 0.1 mA, peak of the drive-frequency component
+inline constexpr std::uint16_t kCurrentB = 37;           // u16: 0.1 mA
+inline constexpr std::uint16_t kPhaseA = 38;             // i16: 0.01 deg, current vs voltage, + = current leads
+inline constexpr std::uint16_t kPhaseB = 39;             // i16: 0.01 deg
+inline constexpr std::uint16_t kMotionalPhaseA = 40;     // i16: 0.01 deg, the motional current (C0 compensated)
+inline constexpr std::uint16_t kMotionalPhaseB = 41;     // i16: 0.01 deg
+inline constexpr std::uint16_t kPowerA = 42;             // i16: 0.01 W, real power
+inline constexpr std::uint16_t kPowerB = 43;             // i16: 0.01 W
+inline constexpr std::uint16_t kStatorTemperature = 44;  // i16: 0.01 degC
+inline constexpr std::uint16_t kCount = 45;
 }  // namespace input
 
 // Scales (docs/protocols.md): physical = register * unit_per_count, register = physical *
@@ -91,15 +101,18 @@ struct Scale {
   double unit_per_count;
   double count_per_unit;
 };
-inline constexpr Scale kFrequencyScale{1e-3, 1e3};   // mHz
-inline constexpr Scale kAmplitudeScale{0.1, 10.0};   // 0.1 Vpp
-inline constexpr Scale kPhaseScale{0.01, 100.0};     // 0.01 deg
-inline constexpr Scale kLoadScale{1e-3, 1e3};        // mN
-inline constexpr Scale kSlewScale{1.0, 1.0};         // Hz/s, Vpp/s
-inline constexpr Scale kMicroScale{1e-6, 1e6};       // speed um/s, position um (from m)
-inline constexpr Scale kTipScale{1e-3, 1e3};         // nm (from um)
-inline constexpr Scale kSimTimeScale{1e-3, 1e3};     // ms
-inline constexpr double kTimingNsPerCount = 1000.0;  // lateness / compute registers: us
+inline constexpr Scale kFrequencyScale{1e-3, 1e3};      // mHz
+inline constexpr Scale kAmplitudeScale{0.1, 10.0};      // 0.1 Vpp
+inline constexpr Scale kPhaseScale{0.01, 100.0};        // 0.01 deg
+inline constexpr Scale kLoadScale{1e-3, 1e3};           // mN
+inline constexpr Scale kSlewScale{1.0, 1.0};            // Hz/s, Vpp/s
+inline constexpr Scale kMicroScale{1e-6, 1e6};          // speed um/s, position um (from m)
+inline constexpr Scale kTipScale{1e-3, 1e3};            // nm (from um)
+inline constexpr Scale kSimTimeScale{1e-3, 1e3};        // ms
+inline constexpr Scale kCurrentScale{1e-4, 1e4};        // 0.1 mA (from A)
+inline constexpr Scale kPowerScale{0.01, 100.0};        // 0.01 W
+inline constexpr Scale kTemperatureScale{0.01, 100.0};  // 0.01 degC
+inline constexpr double kTimingNsPerCount = 1000.0;     // lateness / compute registers: us
 
 // 32-bit values: high word at `index`, low word at index + 1 ("ABCD").
 std::uint32_t get_u32(std::span<const std::uint16_t> registers, std::size_t index);

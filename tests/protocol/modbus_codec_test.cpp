@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <fstream>
 #include <map>
 #include <nlohmann/json.hpp>
@@ -198,6 +199,8 @@ TEST(RegisterMapJson, InputRegistersAgreeWithTheCode) {
   t.tick_speed_m_s = 0.2;
   t.last_sequence = 4242;
   t.external_clock = true;
+  t.electrical = {0.1234, 0.0987, 12.34, -56.78, -3.21, 4.56, 9.87, 6.54};
+  t.stator_temperature_c = 23.45;
   std::array<std::uint16_t, input::kCount> regs{};
   fill_input(t, RejectSnapshot{Reason::bad_checksum, 70000}, regs);
   const std::map<std::string, double> expected{{"status", 1 + 4 + 8},
@@ -225,7 +228,16 @@ TEST(RegisterMapJson, InputRegistersAgreeWithTheCode) {
                                                {"overruns", 77},
                                                {"tick_speed", 0.2},
                                                {"last_sequence", 4242},
-                                               {"clock", 1}};
+                                               {"clock", 1},
+                                               {"current_a", 0.1234},
+                                               {"current_b", 0.0987},
+                                               {"phase_a", 12.34},
+                                               {"phase_b", -56.78},
+                                               {"motional_phase_a", -3.21},
+                                               {"motional_phase_b", 4.56},
+                                               {"power_a", 9.87},
+                                               {"power_b", 6.54},
+                                               {"stator_temperature", 23.45}};
   EXPECT_EQ(map["input_registers"].size(), expected.size());
   unsigned words = 0;
   for (const auto& entry : map["input_registers"]) {
@@ -237,6 +249,30 @@ TEST(RegisterMapJson, InputRegistersAgreeWithTheCode) {
     words += wide ? 2 : 1;
   }
   EXPECT_EQ(words, input::kCount);
+}
+
+// The electrical registers saturate at their type's range like the others (a current beyond
+// 6.5535 A, a power beyond 327.67 W, a non-finite value: 0), and decode_input reads them back.
+TEST(RegisterMap, ElectricalRegistersSaturateAndDecode) {
+  Telemetry t;
+  t.electrical = {7.0, -0.5, 180.0, -180.0, std::nan(""), 0.004, 400.0, -400.0};
+  t.stator_temperature_c = -300.0;
+  std::array<std::uint16_t, input::kCount> regs{};
+  fill_input(t, RejectSnapshot{}, regs);
+  EXPECT_EQ(regs[input::kCurrentA], 65535);
+  EXPECT_EQ(regs[input::kCurrentB], 0);
+  EXPECT_EQ(regs[input::kPhaseA], 18000);
+  EXPECT_EQ(static_cast<std::int16_t>(regs[input::kPhaseB]), -18000);
+  EXPECT_EQ(regs[input::kMotionalPhaseA], 0);
+  EXPECT_EQ(regs[input::kMotionalPhaseB], 0);
+  EXPECT_EQ(regs[input::kPowerA], 32767);
+  EXPECT_EQ(static_cast<std::int16_t>(regs[input::kPowerB]), -32768);
+  EXPECT_EQ(static_cast<std::int16_t>(regs[input::kStatorTemperature]), -30000);
+  const Telemetry back = decode_input(regs).telemetry;
+  EXPECT_DOUBLE_EQ(back.electrical.current_a_a, 6.5535);
+  EXPECT_DOUBLE_EQ(back.electrical.phase_b_deg, -180.0);
+  EXPECT_DOUBLE_EQ(back.electrical.power_b_w, -327.68);
+  EXPECT_DOUBLE_EQ(back.stator_temperature_c, -300.0);
 }
 
 TEST(RegisterMapJson, HoldingRegistersAgreeWithTheCode) {
