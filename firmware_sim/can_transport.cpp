@@ -223,7 +223,9 @@ void CanTransport::send_telemetry() {
   send(protocol::can::encode_drive(t, ids_.drive));
   send(protocol::can::encode_loop_stats(t, ids_.loop_stats));
   send(protocol::can::encode_clock(t, ids_.clock));
-  send(protocol::can::encode_output(t, ids_.output));
+  send(protocol::can::encode_electrical_a(t, ids_.electrical_a));
+  send(protocol::can::encode_electrical_b(t, ids_.electrical_b));
+  send(protocol::can::encode_output(t, ids_.output));  // last: it ends the set
 }
 
 void CanTransport::tx_loop() {

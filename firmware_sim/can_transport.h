@@ -25,7 +25,7 @@ namespace swum::emu {
 
 struct CanTransportConfig {
   std::uint8_t node = 1;
-  double telemetry_hz = 100.0;    // Status/Motion/Drive/LoopStats/Output frames
+  double telemetry_hz = 100.0;    // Status/Motion/Drive/LoopStats/Clock/ElectricalA/ElectricalB/Output frames
   double heartbeat_s = 1.0;       // 0 = no heartbeat
   std::uint32_t sync_ticks = 10;  // lockstep: ticks per SYNC (control cycle)
   // --record-can: every frame received and sent, in candump's log format (canplayer replays

@@ -26,8 +26,8 @@ std::uint16_t us(std::uint64_t ns) { return static_cast<std::uint16_t>(std::min<
 }  // namespace
 
 Ids ids_for_node(std::uint8_t node) {
-  return {0x200U + node, 0x300U + node, 0x180U + node, 0x280U + node, 0x380U + node,
-          0x480U + node, 0x500U + node, 0x700U + node, 0x580U + node};
+  return {0x200U + node, 0x300U + node, 0x180U + node, 0x280U + node, 0x380U + node, 0x480U + node,
+          0x500U + node, 0x700U + node, 0x580U + node, 0x680U + node, 0x780U + node};
 }
 
 std::uint8_t crc8(std::uint32_t id, const std::uint8_t* data, std::size_t length) {
@@ -171,6 +171,7 @@ CanFrame encode_status(const Telemetry& t, const RejectSnapshot& r, std::uint8_t
   put_raw(f, signals::kStatusRejectCount, r.count & 0xFFU);
   put_raw(f, signals::kStatusAppliedCount, t.applied_commands & 0xFFU);
   put_raw(f, signals::kStatusCounter, counter);
+  put_physical(f, signals::kStatusStatorTemperature, t.stator_temperature_c);
   return f;
 }
 
@@ -213,6 +214,28 @@ CanFrame encode_clock(const Telemetry& t, std::uint32_t id) {
   put_raw(f, signals::kClockTime, static_cast<std::uint64_t>(std::fmod(ms, 4294967296.0)));
   put_raw(f, signals::kClockTick, t.tick & 0xFFFFFFFFULL);
   return f;
+}
+
+namespace {
+CanFrame encode_electrical(double current_a, double phase_deg, double motional_phase_deg, double power_w,
+                           std::uint32_t id) {
+  CanFrame f = blank(id, 8);
+  put_physical(f, signals::kElectricalCurrent, current_a);
+  put_physical(f, signals::kElectricalPhase, phase_deg);
+  put_physical(f, signals::kElectricalMotionalPhase, motional_phase_deg);
+  put_physical(f, signals::kElectricalPower, power_w);
+  return f;
+}
+}  // namespace
+
+CanFrame encode_electrical_a(const Telemetry& t, std::uint32_t id) {
+  const ElectricalValues& e = t.electrical;
+  return encode_electrical(e.current_a_a, e.phase_a_deg, e.motional_phase_a_deg, e.power_a_w, id);
+}
+
+CanFrame encode_electrical_b(const Telemetry& t, std::uint32_t id) {
+  const ElectricalValues& e = t.electrical;
+  return encode_electrical(e.current_b_a, e.phase_b_deg, e.motional_phase_b_deg, e.power_b_w, id);
 }
 
 CanFrame encode_heartbeat(std::uint32_t id) {

@@ -10,6 +10,9 @@
 //   0x480+N  LoopStats  lateness p99 / p99.9 / max, overruns
 //   0x500+N  Output     frequency driven, load force, lateness p50
 //   0x580+N  Clock      emulated time and tick (sent before Output, which ends a telemetry set)
+//   0x680+N  ElectricalA phase A current, phase, motional phase, real power (sent before Output)
+//   0x780+N  ElectricalB the same for phase B (sent before Output; nodes 100 and 101 share
+//                        0x7E4 / 0x7E5 with CANopen LSS: docs/protocols.md)
 //   0x700+N  Heartbeat  1 byte, 0x05 (CANopen "operational")
 //
 // CRC: CRC-8/SAE-J1850 (poly 0x1D, init 0xFF, final xor 0xFF) over the identifier as two bytes
@@ -32,6 +35,7 @@ namespace swum::protocol::can {
 
 struct Ids {
   std::uint32_t command, aux, status, motion, drive, loop_stats, output, heartbeat, clock;
+  std::uint32_t electrical_a, electrical_b;
 };
 inline constexpr std::uint8_t kMinNode = 1;
 inline constexpr std::uint8_t kMaxNode = 127;
@@ -80,9 +84,10 @@ inline constexpr Signal kStatusAtSetpoint{4, 1};
 inline constexpr Signal kStatusExternalClock{5, 1};  // lockstep: telemetry only at SYNC
 inline constexpr Signal kStatusFault{8, 8};
 inline constexpr Signal kStatusLastReject{16, 8};
-inline constexpr Signal kStatusRejectCount{24, 8};   // mod 256
-inline constexpr Signal kStatusAppliedCount{32, 8};  // mod 256
-inline constexpr Signal kStatusCounter{40, 8};       // mod 256
+inline constexpr Signal kStatusRejectCount{24, 8};                     // mod 256
+inline constexpr Signal kStatusAppliedCount{32, 8};                    // mod 256
+inline constexpr Signal kStatusCounter{40, 8};                         // mod 256
+inline constexpr Signal kStatusStatorTemperature{48, 16, true, 0.01};  // degC
 // Motion 0x280+N
 inline constexpr Signal kMotionSpeed{0, 32, true, 1.0};      // um/s
 inline constexpr Signal kMotionPosition{32, 32, true, 1.0};  // um
@@ -103,6 +108,11 @@ inline constexpr Signal kOutputLatenessP50{48, 16};             // us
 // Clock 0x580+N
 inline constexpr Signal kClockTime{0, 32, false, 0.001};  // s (ms counts, mod 2^32)
 inline constexpr Signal kClockTick{32, 32};               // mod 2^32
+// ElectricalA 0x680+N (phase A) and ElectricalB 0x780+N (phase B): the same layout
+inline constexpr Signal kElectricalCurrent{0, 16, false, 0.0001};      // A, peak of the drive-frequency component
+inline constexpr Signal kElectricalPhase{16, 16, true, 0.01};          // deg, current vs voltage, + = leads
+inline constexpr Signal kElectricalMotionalPhase{32, 16, true, 0.01};  // deg, C0 compensated
+inline constexpr Signal kElectricalPower{48, 16, true, 0.01};          // W, real power
 // Heartbeat 0x700+N: one byte
 inline constexpr std::uint8_t kHeartbeatOperational = 0x05;  // CANopen "operational"
 }  // namespace signals
@@ -163,6 +173,9 @@ CanFrame encode_loop_stats(const Telemetry& t, std::uint32_t id);
 CanFrame encode_output(const Telemetry& t, std::uint32_t id);
 // Emulated time (ms, mod 2^32) and tick (mod 2^32): the device clock a controller times against.
 CanFrame encode_clock(const Telemetry& t, std::uint32_t id);
+// The electrical port of phase A / phase B over the last window (docs/protocols.md "Electrical port").
+CanFrame encode_electrical_a(const Telemetry& t, std::uint32_t id);
+CanFrame encode_electrical_b(const Telemetry& t, std::uint32_t id);
 CanFrame encode_heartbeat(std::uint32_t id);
 
 // CANopen SYNC (identifier 0x080 for every node; CiA 301): with --clock external each SYNC is one

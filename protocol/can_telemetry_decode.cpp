@@ -23,6 +23,7 @@ Reason decode_status(const CanFrame& f, StatusFields& out) {
   out.reject_count = raw_as<std::uint8_t>(f, signals::kStatusRejectCount);
   out.applied_count = raw_as<std::uint8_t>(f, signals::kStatusAppliedCount);
   out.status_counter = raw_as<std::uint8_t>(f, signals::kStatusCounter);
+  out.stator_temperature_c = physical_value(f, signals::kStatusStatorTemperature);
   return Reason::none;
 }
 
@@ -63,6 +64,15 @@ Reason decode_clock(const CanFrame& f, ClockFields& out) {
   if (!full(f)) return Reason::wrong_length;
   out.sim_time_s = physical_value(f, signals::kClockTime);
   out.tick = raw_as<std::uint32_t>(f, signals::kClockTick);
+  return Reason::none;
+}
+
+Reason decode_electrical(const CanFrame& f, ElectricalFields& out) {
+  if (!full(f)) return Reason::wrong_length;
+  out.current_a = physical_value(f, signals::kElectricalCurrent);
+  out.phase_deg = physical_value(f, signals::kElectricalPhase);
+  out.motional_phase_deg = physical_value(f, signals::kElectricalMotionalPhase);
+  out.power_w = physical_value(f, signals::kElectricalPower);
   return Reason::none;
 }
 

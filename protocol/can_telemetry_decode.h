@@ -15,12 +15,13 @@ struct StatusFields {
   bool enable_line = false;
   bool drive_on = false;
   bool at_setpoint = false;
-  bool external_clock = false;      // lockstep: telemetry only at SYNC
-  std::uint8_t fault = 0;           // FaultCode
-  std::uint8_t last_reject = 0;     // Reason
-  std::uint8_t reject_count = 0;    // mod 256
-  std::uint8_t applied_count = 0;   // mod 256
-  std::uint8_t status_counter = 0;  // mod 256, +1 per telemetry set
+  bool external_clock = false;        // lockstep: telemetry only at SYNC
+  std::uint8_t fault = 0;             // FaultCode
+  std::uint8_t last_reject = 0;       // Reason
+  std::uint8_t reject_count = 0;      // mod 256
+  std::uint8_t applied_count = 0;     // mod 256
+  std::uint8_t status_counter = 0;    // mod 256, +1 per telemetry set
+  double stator_temperature_c = 0.0;  // bytes 6-7 (0 from a sender that leaves them free)
 };
 struct MotionFields {
   double speed_mm_s = 0.0;
@@ -49,6 +50,14 @@ struct ClockFields {
   std::uint32_t tick = 0;
 };
 
+// ElectricalA / ElectricalB (one phase each; the identifier says which).
+struct ElectricalFields {
+  double current_a = 0.0;  // peak of the drive-frequency component
+  double phase_deg = 0.0;  // current vs voltage, + = current leads
+  double motional_phase_deg = 0.0;
+  double power_w = 0.0;
+};
+
 // Reason::wrong_length unless the frame is a standard 8-byte frame (the only failure a
 // telemetry frame has); Reason::none and `out` filled otherwise.
 Reason decode_status(const CanFrame& frame, StatusFields& out);
@@ -57,5 +66,6 @@ Reason decode_drive(const CanFrame& frame, DriveFields& out);
 Reason decode_loop_stats(const CanFrame& frame, LoopStatsFields& out);
 Reason decode_output(const CanFrame& frame, OutputFields& out);
 Reason decode_clock(const CanFrame& frame, ClockFields& out);
+Reason decode_electrical(const CanFrame& frame, ElectricalFields& out);
 
 }  // namespace swum::protocol::can

@@ -86,11 +86,18 @@ class CanDbc : public ::testing::Test {
 };
 
 TEST_F(CanDbc, EveryMessageOfTheDbcIsProducedByTheCode) {
-  const std::map<std::string, std::uint32_t> code{{"Command", ids.command}, {"AuxCommand", ids.aux},
-                                                  {"Status", ids.status},   {"Motion", ids.motion},
-                                                  {"Drive", ids.drive},     {"LoopStats", ids.loop_stats},
-                                                  {"Output", ids.output},   {"Heartbeat", ids.heartbeat},
-                                                  {"Clock", ids.clock},     {"Sync", kSyncId}};
+  const std::map<std::string, std::uint32_t> code{{"Command", ids.command},
+                                                  {"AuxCommand", ids.aux},
+                                                  {"Status", ids.status},
+                                                  {"Motion", ids.motion},
+                                                  {"Drive", ids.drive},
+                                                  {"LoopStats", ids.loop_stats},
+                                                  {"Output", ids.output},
+                                                  {"Heartbeat", ids.heartbeat},
+                                                  {"Clock", ids.clock},
+                                                  {"Sync", kSyncId},
+                                                  {"ElectricalA", ids.electrical_a},
+                                                  {"ElectricalB", ids.electrical_b}};
   EXPECT_EQ(dbc.size(), code.size());
   for (const auto& [name, id] : code) {
     ASSERT_TRUE(dbc.contains(name)) << name;
@@ -197,6 +204,8 @@ TEST_F(CanDbc, TelemetryEncodingAgrees) {
   t.stats.lateness_p999_ns = 45000;
   t.stats.lateness_max_ns = 90000;
   t.stats.overruns = 7;
+  t.electrical = {0.4321, 1.2345, -45.67, 89.01, 0.12, -0.34, 56.78, -1.5};
+  t.stator_temperature_c = -5.25;
   const RejectSnapshot r{Reason::stale_alive_counter, 258};
   expect_frame("Status", encode_status(t, r, 200, ids.status),
                {{"State", 2},
@@ -207,7 +216,9 @@ TEST_F(CanDbc, TelemetryEncodingAgrees) {
                 {"LastReject", 8},
                 {"RejectCount", 2},
                 {"AppliedCount", 300 % 256},
-                {"StatusCounter", 200}});
+                {"StatusCounter", 200},
+                {"StatorTemperature", -5.25}},
+               1e-6);
   expect_frame("Motion", encode_motion(t, ids.motion), {{"Speed", -198.4}, {"Position", 12.3}}, 1e-6);
   expect_frame("Drive", encode_drive(t, ids.drive),
                {{"TipNormal", 2.945}, {"TipTangential", 1.062}, {"AmplitudeOut", 399.9}, {"PhaseOut", -90.25}}, 1e-6);
@@ -218,7 +229,37 @@ TEST_F(CanDbc, TelemetryEncodingAgrees) {
   t.sim_time_s = 1234.5678;
   t.tick = 12345678;
   expect_frame("Clock", encode_clock(t, ids.clock), {{"SimTime", 1234.567}, {"Tick", 12345678}}, 1e-6);
+  expect_frame("ElectricalA", encode_electrical_a(t, ids.electrical_a),
+               {{"CurrentA", 0.4321}, {"PhaseA", -45.67}, {"MotionalPhaseA", 0.12}, {"PowerA", 56.78}}, 1e-6);
+  expect_frame("ElectricalB", encode_electrical_b(t, ids.electrical_b),
+               {{"CurrentB", 1.2345}, {"PhaseB", 89.01}, {"MotionalPhaseB", -0.34}, {"PowerB", -1.5}}, 1e-6);
   expect_frame("Heartbeat", encode_heartbeat(ids.heartbeat), {{"NmtState", 5}});
+}
+
+// The electrical signals saturate at their field's range like the others (a current beyond
+// 6.5535 A, a power beyond 327.67 W; a negative current or a non-finite value: 0).
+TEST(CanProtocol, ElectricalSignalsSaturate) {
+  Telemetry t;
+  t.electrical = {9.0, -1.0, 400.0, -400.0, std::nan(""), 0.0, 1000.0, -1000.0};
+  t.stator_temperature_c = 500.0;
+  const Ids ids = ids_for_node(1);
+  const CanFrame a = encode_electrical_a(t, ids.electrical_a);
+  const CanFrame b = encode_electrical_b(t, ids.electrical_b);
+  EXPECT_EQ(raw_value(a, signals::kElectricalCurrent), 65535U);
+  EXPECT_EQ(raw_value(b, signals::kElectricalCurrent), 0U);
+  EXPECT_DOUBLE_EQ(physical_value(a, signals::kElectricalPhase), 327.67);
+  EXPECT_DOUBLE_EQ(physical_value(b, signals::kElectricalPhase), -327.68);
+  EXPECT_EQ(raw_value(a, signals::kElectricalMotionalPhase), 0U);
+  EXPECT_DOUBLE_EQ(physical_value(a, signals::kElectricalPower), 327.67);
+  EXPECT_DOUBLE_EQ(physical_value(b, signals::kElectricalPower), -327.68);
+  EXPECT_DOUBLE_EQ(physical_value(encode_status(t, {}, 0, ids.status), signals::kStatusStatorTemperature), 327.67);
+}
+
+// Nodes 100 and 101 put ElectricalB on CANopen LSS's identifiers (docs/protocols.md says so).
+TEST(CanProtocol, ElectricalIdentifiers) {
+  EXPECT_EQ(ids_for_node(1).electrical_a, 0x681U);
+  EXPECT_EQ(ids_for_node(127).electrical_b, 0x7FFU);
+  EXPECT_EQ(ids_for_node(100).electrical_b, 0x7E4U);
 }
 
 TEST(CanProtocol, CrcIsSaeJ1850) {

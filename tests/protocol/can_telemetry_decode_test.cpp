@@ -29,6 +29,8 @@ Telemetry sample_telemetry() {
   t.stats.lateness_p999_ns = 40'000;
   t.stats.lateness_max_ns = 1'300'000;
   t.stats.overruns = 70'000;  // saturates at 65535 on CAN
+  t.electrical = {0.12345, 0.06789, 45.678, -12.345, -2.345, 3.456, 23.456, 7.891};
+  t.stator_temperature_c = 27.345;
   return t;
 }
 
@@ -45,6 +47,7 @@ TEST(CanTelemetryDecode, InvertsEveryEncoder) {
   EXPECT_EQ(s.reject_count, 513 % 256);
   EXPECT_EQ(s.applied_count, 300 % 256);
   EXPECT_EQ(s.status_counter, 77);
+  EXPECT_NEAR(s.stator_temperature_c, 27.345, 0.01);  // within one count
 
   MotionFields m;
   ASSERT_EQ(decode_motion(encode_motion(t, ids.motion), m), Reason::none);
@@ -77,6 +80,18 @@ TEST(CanTelemetryDecode, InvertsEveryEncoder) {
   ASSERT_EQ(decode_clock(encode_clock(timed, ids.clock), c), Reason::none);
   EXPECT_NEAR(c.sim_time_s, 98.765, 1e-9);
   EXPECT_EQ(c.tick, 987654u);
+
+  ElectricalFields a, b;
+  ASSERT_EQ(decode_electrical(encode_electrical_a(t, ids.electrical_a), a), Reason::none);
+  ASSERT_EQ(decode_electrical(encode_electrical_b(t, ids.electrical_b), b), Reason::none);
+  EXPECT_NEAR(a.current_a, 0.12345, 1e-4);  // within one count
+  EXPECT_NEAR(a.phase_deg, 45.678, 0.01);
+  EXPECT_NEAR(a.motional_phase_deg, -2.345, 0.01);
+  EXPECT_NEAR(a.power_w, 23.456, 0.01);
+  EXPECT_NEAR(b.current_a, 0.06789, 1e-4);
+  EXPECT_NEAR(b.phase_deg, -12.345, 0.01);
+  EXPECT_NEAR(b.motional_phase_deg, 3.456, 0.01);
+  EXPECT_NEAR(b.power_w, 7.891, 0.01);
 }
 
 TEST(CanTelemetryDecode, RefusesShortFrames) {
@@ -87,6 +102,10 @@ TEST(CanTelemetryDecode, RefusesShortFrames) {
   f.dlc = 8;
   f.extended = true;
   EXPECT_EQ(decode_motion(f, m), Reason::wrong_length);
+  CanFrame e = encode_electrical_a(sample_telemetry(), 0x681);
+  e.dlc = 7;
+  ElectricalFields ef;
+  EXPECT_EQ(decode_electrical(e, ef), Reason::wrong_length);
 }
 
 }  // namespace

@@ -64,6 +64,8 @@ int main() {
   t.stats.lateness_p999_ns = 70000;
   t.stats.lateness_max_ns = 180000;
   t.stats.overruns = 3;
+  t.electrical = {0.2345, 0.1876, 34.56, -12.34, -1.23, 2.34, 12.34, -0.56};
+  t.stator_temperature_c = 31.25;
   const RejectSnapshot r{Reason::bad_checksum, 1234};
   print("Status", can::encode_status(t, r, 17, ids.status),
         {{"State", 1},
@@ -74,7 +76,8 @@ int main() {
          {"LastReject", 7},
          {"RejectCount", 1234 % 256},
          {"AppliedCount", 1000 % 256},
-         {"StatusCounter", 17}});
+         {"StatusCounter", 17},
+         {"StatorTemperature", 31.25}});
   print("Motion", can::encode_motion(t, ids.motion), {{"Speed", 198.449}, {"Position", -42.1}});
   print("Drive", can::encode_drive(t, ids.drive),
         {{"TipNormal", 2.946}, {"TipTangential", 1.063}, {"AmplitudeOut", 400}, {"PhaseOut", 90}});
@@ -85,6 +88,10 @@ int main() {
   t.sim_time_s = 3600.25;
   t.tick = 36002500;
   print("Clock", can::encode_clock(t, ids.clock), {{"SimTime", 3600.25}, {"Tick", 36002500}});
+  print("ElectricalA", can::encode_electrical_a(t, ids.electrical_a),
+        {{"CurrentA", 0.2345}, {"PhaseA", 34.56}, {"MotionalPhaseA", -1.23}, {"PowerA", 12.34}});
+  print("ElectricalB", can::encode_electrical_b(t, ids.electrical_b),
+        {{"CurrentB", 0.1876}, {"PhaseB", -12.34}, {"MotionalPhaseB", 2.34}, {"PowerB", -0.56}});
   print("Heartbeat", can::encode_heartbeat(ids.heartbeat), {{"NmtState", 5}});
   print("Sync", can::encode_sync(17), {{"SyncCounter", 17}});  // issue 13: lockstep over CAN
   return 0;
