@@ -1,7 +1,10 @@
 // The CAN adapter of host/device/device.h. Commands: the Command frame (mode + frequency + phase +
 // amplitude, alive counter, CRC) and the AuxCommand frame (load, slew limits); a keep-alive
 // repeats the Command frame with the current mode. Telemetry: one sample per Status frame,
-// completed by the Motion, Drive, LoopStats, Clock and Output frames the emulator sends after it.
+// completed by the Motion, Drive, LoopStats, Clock and Output frames the emulator sends after it;
+// the ElectricalA/B frames (before Output) are optional: without them the sample has no
+// electrical values and no stator temperature (a board of the older protocol leaves Status
+// bytes 6-7 free, so they are read only from a node that sends the electrical frames).
 #include "device/can_device.h"
 
 #include <algorithm>
@@ -58,8 +61,9 @@ CanDevice::CanDevice(std::unique_ptr<io::CanBus> bus, std::uint8_t node, const D
 void CanDevice::start(const DeviceTimeouts& timeouts) {
   const can::Ids ids = can::ids_for_node(node_);
   auto exact = [](std::uint32_t id) { return io::CanFilter{id, io::kCanStandardIdMax, false}; };
-  const io::CanFilter filters[] = {exact(ids.status),     exact(ids.motion), exact(ids.drive),
-                                   exact(ids.loop_stats), exact(ids.output), exact(ids.clock)};
+  const io::CanFilter filters[] = {exact(ids.status),       exact(ids.motion),      exact(ids.drive),
+                                   exact(ids.loop_stats),   exact(ids.output),      exact(ids.clock),
+                                   exact(ids.electrical_a), exact(ids.electrical_b)};
   const io::CanResult r = bus_->set_filters(filters);
   if (!r.ok()) throw DeviceError(name() + ": cannot set receive filters: " + r.message);
   // The node must be talking before anyone relies on it. A lockstep node (--clock external)
@@ -199,6 +203,11 @@ DeviceTelemetry CanDevice::receive_set() {
   // discarded (the status counter then shows the gap), never returned with zeros in it.
   enum : unsigned { kMotion = 1, kDrive = 2, kLoopStats = 4, kClock = 8, kAll = 15 };
   unsigned seen = 0;
+  // Optional frames of the set: both electrical frames, or the sample has no electrical values.
+  enum : unsigned { kElectricalA = 1, kElectricalB = 2, kBothPhases = 3 };
+  unsigned electrical_seen = 0;
+  ElectricalReading electrical;
+  double stator_temperature_c = 0.0;
   const auto deadline = std::chrono::steady_clock::now() + response_timeout_;
   for (;;) {
     const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline -
@@ -219,6 +228,8 @@ DeviceTelemetry CanDevice::receive_set() {
       t = DeviceTelemetry{};
       have_status = true;
       seen = 0;
+      electrical_seen = 0;
+      stator_temperature_c = s.stator_temperature_c;
       t.sample_counter = s.status_counter;
       t.sample_counter_modulus = 1U << can::signals::kStatusCounter.length;
       t.state = s.state;
@@ -262,6 +273,16 @@ DeviceTelemetry CanDevice::receive_set() {
         t.tick = c.tick;
         seen |= kClock;
       }
+    } else if (f.id == ids.electrical_a || f.id == ids.electrical_b) {
+      can::ElectricalFields e;
+      if (can::decode_electrical(f, e) == protocol::Reason::none) {
+        const bool a = f.id == ids.electrical_a;
+        (a ? electrical.current_a_a : electrical.current_b_a) = e.current_a;
+        (a ? electrical.phase_a_deg : electrical.phase_b_deg) = e.phase_deg;
+        (a ? electrical.motional_phase_a_deg : electrical.motional_phase_b_deg) = e.motional_phase_deg;
+        (a ? electrical.power_a_w : electrical.power_b_w) = e.power_w;
+        electrical_seen |= a ? kElectricalA : kElectricalB;
+      }
     } else if (f.id == ids.output) {
       can::OutputFields o;
       if (seen != kAll) {
@@ -271,6 +292,10 @@ DeviceTelemetry CanDevice::receive_set() {
       if (can::decode_output(f, o) == protocol::Reason::none) {
         t.frequency_hz = o.frequency_hz;
         t.load_n = o.load_n;
+        if (electrical_seen == kBothPhases) {
+          t.electrical = electrical;
+          t.stator_temperature_c = stator_temperature_c;
+        }
         t.received = std::chrono::steady_clock::now();
         return t;  // the set is complete
       }

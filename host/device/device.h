@@ -37,6 +37,17 @@ struct DriveSlew {
 
 enum class DeviceAction { keep_alive, enable, disable, reset_fault };
 
+// The amplifier's electrical port over its last window (docs/protocols.md "Electrical port"):
+// per phase the peak current of the drive-frequency component, its phase and the motional
+// current's phase relative to the phase's voltage (+ = current leads), and the real power.
+struct ElectricalReading {
+  double current_a_a = 0.0, current_b_a = 0.0;
+  double phase_a_deg = 0.0, phase_b_deg = 0.0;
+  double motional_phase_a_deg = 0.0, motional_phase_b_deg = 0.0;
+  double power_a_w = 0.0, power_b_w = 0.0;
+  double power_w() const { return power_a_w + power_b_w; }  // both phases
+};
+
 // One telemetry sample, in physical units.
 struct DeviceTelemetry {
   // Device clock (the emulator's emulated time) when the protocol carries one; the host
@@ -69,6 +80,9 @@ struct DeviceTelemetry {
   double lateness_p99_us = 0.0;
   double lateness_max_us = 0.0;
   std::uint32_t overruns = 0;
+  // Absent when the device did not report them (a CAN set without the ElectricalA/B frames).
+  std::optional<ElectricalReading> electrical;
+  std::optional<double> stator_temperature_c;
 
   bool is(protocol::AmpState s) const { return state == static_cast<int>(s); }
   bool rejected_for(protocol::Reason r) const { return last_reject == static_cast<int>(r); }

@@ -196,6 +196,10 @@ class Sweeper {
     row.time_s = time_now();
     double sum = 0.0, sum2 = 0.0, normal = 0.0, tangential = 0.0;
     int n = 0;
+    // The electrical port and the stator temperature: means over the samples that carry them.
+    SweepElectrical electrical;
+    double temperature = 0.0;
+    int n_electrical = 0, n_temperature = 0;
     const bool dwelt = session_.read_until(
         [&](const DeviceTelemetry& t) {
           if (!t.is(protocol::AmpState::enabled)) return false;
@@ -204,6 +208,21 @@ class Sweeper {
           normal += t.tip_normal_um;
           tangential += t.tip_tangential_um;
           ++n;
+          if (t.electrical) {
+            const ElectricalReading& e = *t.electrical;
+            electrical.current_a_a += e.current_a_a;
+            electrical.current_b_a += e.current_b_a;
+            electrical.phase_a_deg += e.phase_a_deg;
+            electrical.phase_b_deg += e.phase_b_deg;
+            electrical.motional_phase_a_deg += e.motional_phase_a_deg;
+            electrical.motional_phase_b_deg += e.motional_phase_b_deg;
+            electrical.power_w += e.power_w();
+            ++n_electrical;
+          }
+          if (t.stator_temperature_c) {
+            temperature += *t.stator_temperature_c;
+            ++n_temperature;
+          }
           return session_.time_of(t) >= dwell_end;
         },
         plan_.dwell_s + 1.0, plan_.keep_alive_s);
@@ -214,6 +233,15 @@ class Sweeper {
     row.tip_normal_um = normal / n;
     row.tip_tangential_um = tangential / n;
     row.speed_spread_mm_s = n > 1 ? std::sqrt(std::max(0.0, (sum2 - sum * sum / n) / (n - 1))) : 0.0;
+    if (n_electrical > 0) {
+      for (double* v :
+           {&electrical.current_a_a, &electrical.current_b_a, &electrical.phase_a_deg, &electrical.phase_b_deg,
+            &electrical.motional_phase_a_deg, &electrical.motional_phase_b_deg, &electrical.power_w}) {
+        *v /= n_electrical;
+      }
+      row.electrical = electrical;
+    }
+    if (n_temperature > 0) row.stator_temperature_c = temperature / n_temperature;
     return row;
   }
 

@@ -145,8 +145,13 @@ DeviceTelemetry ModbusDevice::step(const DriveSetpoint& s, const DriveSlew& slew
 
 DeviceTelemetry ModbusDevice::read() {
   std::array<std::uint16_t, input::kCount> r{};
-  if (modbus_read_input_registers(context_, 0, input::kCount, r.data()) != input::kCount) {
-    fail("telemetry read");
+  // One request for the whole table (45 registers, within a read's 125); a board that stops at
+  // register 35 (no electrical port) answers it with ILLEGAL DATA ADDRESS: read 0..35 from then on.
+  const int count = electrical_registers_ ? input::kCount : input::kCurrentA;
+  if (modbus_read_input_registers(context_, 0, count, r.data()) != count) {
+    if (!(electrical_registers_ && errno == EMBXILADD)) fail("telemetry read");
+    electrical_registers_ = false;
+    return read();
   }
   const modbus::InputImage image = modbus::decode_input(r);
   const protocol::Telemetry& d = image.telemetry;
@@ -173,6 +178,12 @@ DeviceTelemetry ModbusDevice::read() {
   t.lateness_p99_us = static_cast<double>(d.stats.lateness_p99_ns) / modbus::kTimingNsPerCount;
   t.lateness_max_us = static_cast<double>(d.stats.lateness_max_ns) / modbus::kTimingNsPerCount;
   t.overruns = static_cast<std::uint32_t>(d.stats.overruns);
+  if (electrical_registers_) {
+    const protocol::ElectricalValues& e = d.electrical;
+    t.electrical = ElectricalReading{e.current_a_a,          e.current_b_a,          e.phase_a_deg, e.phase_b_deg,
+                                     e.motional_phase_a_deg, e.motional_phase_b_deg, e.power_a_w,   e.power_b_w};
+    t.stator_temperature_c = d.stator_temperature_c;
+  }
   return t;
 }
 

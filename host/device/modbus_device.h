@@ -36,6 +36,9 @@ class ModbusDevice final : public Device {
   std::string endpoint_text_;
   modbus_t* context_ = nullptr;
   bool lockstep_ = false;  // input register 35 (clock) read when the device was opened
+  // False for a board without the electrical input registers 36..44 (it answered the read of
+  // the whole table with ILLEGAL DATA ADDRESS): then 0..35 are read, the electrical values absent.
+  bool electrical_registers_ = true;
 };
 
 }  // namespace swum::host

@@ -1,6 +1,8 @@
 #include "output/sweep_table.h"
 
+#include <algorithm>
 #include <cmath>
+#include <iterator>
 #include <map>
 #include <set>
 #include <sstream>
@@ -33,6 +35,7 @@ SweepLayout sweep_layout_of(const std::vector<SweepRow>& rows) {
     layout.spread = layout.spread || row.speed_spread_mm_s >= 0.0;
     layout.time = layout.time || row.time_s.has_value();
     layout.sweep = layout.sweep || row.sweep.has_value();
+    layout.electrical = layout.electrical || row.electrical.has_value() || row.stator_temperature_c.has_value();
   }
   return layout;
 }
@@ -42,8 +45,11 @@ std::string format_sweep_header(const SweepLayout& layout) {
   if (layout.time) csv += "time_s,";
   if (layout.sweep) csv += "sweep,";
   csv += "speed_mm_s,tip_normal_um,tip_tangential_um,";
-  csv += layout.spread ? "speed_spread_mm_s,status\n" : "status\n";
-  return csv;
+  csv += layout.spread ? "speed_spread_mm_s,status" : "status";
+  if (layout.electrical) {
+    for (const char* name : kElectricalColumns) csv += std::string(",") + name;
+  }
+  return csv + "\n";
 }
 
 std::string format_sweep_row(const SweepLayout& layout, const SweepRow& row) {
@@ -61,8 +67,18 @@ std::string format_sweep_row(const SweepLayout& layout, const SweepRow& row) {
     csv += ",,";
   }
   if (layout.spread) csv += "," + (row.ok && row.speed_spread_mm_s >= 0.0 ? format_number(row.speed_spread_mm_s) : "");
-  csv += "," + row.status + "\n";
-  return csv;
+  csv += "," + row.status;
+  if (layout.electrical) {
+    // Measured cells only for a measured point, like the speed.
+    const SweepElectrical* e = row.ok && row.electrical ? &*row.electrical : nullptr;
+    for (const double* v : {e ? &e->current_a_a : nullptr, e ? &e->current_b_a : nullptr, e ? &e->phase_a_deg : nullptr,
+                            e ? &e->phase_b_deg : nullptr, e ? &e->motional_phase_a_deg : nullptr,
+                            e ? &e->motional_phase_b_deg : nullptr, e ? &e->power_w : nullptr}) {
+      csv += "," + (v ? format_number(*v) : std::string());
+    }
+    csv += "," + (row.ok && row.stator_temperature_c ? format_number(*row.stator_temperature_c) : std::string());
+  }
+  return csv + "\n";
 }
 
 std::string format_sweep_csv(const std::vector<SweepRow>& rows) {
@@ -88,6 +104,8 @@ std::vector<SweepRow> parse_sweep_csv(const std::string& text, const std::string
   const int cv = column("vpp"), cf = column("frequency_hz"), cl = column("load_n"), cs = column("speed_mm_s"),
             cn = column("tip_normal_um"), ct = column("tip_tangential_um"), cst = column("status"),
             csp = column("speed_spread_mm_s"), ctime = column("time_s"), csweep = column("sweep");
+  int celectrical[std::size(kElectricalColumns)];
+  for (std::size_t k = 0; k < std::size(kElectricalColumns); ++k) celectrical[k] = column(kElectricalColumns[k]);
   if (cv < 0 || cf < 0 || cs < 0) {
     throw std::runtime_error(source + ": not a sweep table (header needs vpp, frequency_hz, speed_mm_s)");
   }
@@ -128,6 +146,13 @@ std::vector<SweepRow> parse_sweep_csv(const std::string& text, const std::string
       if (cn >= 0 && !cell(cn).empty()) row.tip_normal_um = value(cn);
       if (ct >= 0 && !cell(ct).empty()) row.tip_tangential_um = value(ct);
       if (csp >= 0 && !cell(csp).empty()) row.speed_spread_mm_s = value(csp);
+      constexpr std::size_t kValues = std::size(kElectricalColumns) - 1;  // then the temperature
+      if (std::all_of(celectrical, celectrical + kValues, [&](int c) { return !cell(c).empty(); })) {
+        row.electrical = SweepElectrical{value(celectrical[0]), value(celectrical[1]), value(celectrical[2]),
+                                         value(celectrical[3]), value(celectrical[4]), value(celectrical[5]),
+                                         value(celectrical[6])};
+      }
+      if (!cell(celectrical[kValues]).empty()) row.stator_temperature_c = value(celectrical[kValues]);
     }
     rows.push_back(row);
   }

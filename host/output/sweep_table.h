@@ -11,6 +11,15 @@
 
 namespace swum::host {
 
+// Live sweeps: the electrical port (docs/protocols.md "Electrical port"), means over the dwell.
+struct SweepElectrical {
+  double current_a_a = 0.0, current_b_a = 0.0;  // peak of the drive-frequency component
+  double phase_a_deg = 0.0, phase_b_deg = 0.0;  // current vs voltage, + = current leads
+  double motional_phase_a_deg = 0.0, motional_phase_b_deg = 0.0;
+  double power_w = 0.0;  // real power, both phases
+  bool operator==(const SweepElectrical&) const = default;
+};
+
 struct SweepRow {
   double vpp = 0.0;
   double frequency_hz = 0.0;
@@ -28,6 +37,10 @@ struct SweepRow {
   // ... and the continuous curve it belongs to: one per (load, voltage) pass from the top
   // frequency down, a new one whenever the drive had to be started again after a fault.
   std::optional<int> sweep = std::nullopt;
+  // Live sweeps, when the device reports them (empty cells otherwise): the electrical port and
+  // the stator temperature, means over the dwell window.
+  std::optional<SweepElectrical> electrical = std::nullopt;
+  std::optional<double> stator_temperature_c = std::nullopt;
 };
 
 /// Statuses (the one-word `status` column): `ok`; from the model `unsettled` (values are its
@@ -36,17 +49,22 @@ struct SweepRow {
 /// point — for the picking rule a collapse — false when the point was simply not measured.
 bool is_physical_failure(const SweepRow& row);
 
-/// The optional columns of a sweep file. A device sweep always has all three (kDeviceSweep),
+/// The optional columns of a sweep file. A device sweep always has all four (kDeviceSweep),
 /// a model sweep none (kModelSweep): their files are written row by row, so the header cannot
 /// wait for the rows.
 struct SweepLayout {
-  bool time = false;    // time_s and ...
-  bool sweep = false;   // ... sweep, after load_n
-  bool spread = false;  // speed_spread_mm_s, after tip_tangential_um
+  bool time = false;        // time_s and ...
+  bool sweep = false;       // ... sweep, after load_n
+  bool spread = false;      // speed_spread_mm_s, after tip_tangential_um
+  bool electrical = false;  // kElectricalColumns, after status
   bool operator==(const SweepLayout&) const = default;
 };
 inline constexpr SweepLayout kModelSweep{};
-inline constexpr SweepLayout kDeviceSweep{true, true, true};
+inline constexpr SweepLayout kDeviceSweep{true, true, true, true};
+/// The electrical columns of a live sweep, in order (the same names as `swum log`'s).
+inline constexpr const char* kElectricalColumns[] = {"current_a_a", "current_b_a",          "phase_a_deg",
+                                                     "phase_b_deg", "motional_phase_a_deg", "motional_phase_b_deg",
+                                                     "power_w",     "stator_temperature_c"};
 
 /// The columns the rows use: time/sweep when any row has one, spread when any row has one.
 SweepLayout sweep_layout_of(const std::vector<SweepRow>& rows);
@@ -58,11 +76,13 @@ std::string format_sweep_row(const SweepLayout& layout, const SweepRow& row);
 /// `vpp,frequency_hz,load_n,speed_mm_s,tip_normal_um,tip_tangential_um,status` then one line per row; a failed row has
 /// empty measured cells, never made-up numbers. When any row has a time or a sweep id (live sweeps), `time_s` and
 /// `sweep` follow `load_n`; when any row has a measured spread, a `speed_spread_mm_s` column follows
-/// `tip_tangential_um`.
+/// `tip_tangential_um`; when any row has electrical values or a stator temperature, the eight
+/// kElectricalColumns follow `status` (empty cells where a row has none).
 std::string format_sweep_csv(const std::vector<SweepRow>& rows);
 
 /// Reads a sweep CSV (the layouts above; columns found by name, `time_s`, `sweep`,
-/// `speed_spread_mm_s` and `status` optional). A row is ok when status is "ok", "unsettled"
+/// `speed_spread_mm_s`, `status` and the electrical columns optional; a row's electrical values
+/// are read when all seven of their cells are filled). A row is ok when status is "ok", "unsettled"
 /// (or absent) and the speed is present.
 /// Throws std::runtime_error naming `source` and the line of a bad row, std::invalid_argument
 /// naming them and the column of a cell that is not a finite number.

@@ -89,8 +89,21 @@ struct MeasurementSet {
 // fault, named from `fault_code` as in a sweep's status), or when `phase_deg` is not 90
 // ("phase_not_90_deg": predictions are made at 90 deg). Without a `sweep` column, a file with
 // a `state` column (a log) gets sweep ids: each stretch of consecutive rows used is one sweep.
-inline constexpr std::array<std::string_view, 7> kInformationalColumns{
-    "speed_spread_mm_s", "host_time_s", "position_mm", "last_reject", "lateness_p99_us", "lateness_max_us", "overruns"};
+inline constexpr std::array<std::string_view, 15> kInformationalColumns{"speed_spread_mm_s",
+                                                                        "host_time_s",
+                                                                        "position_mm",
+                                                                        "last_reject",
+                                                                        "lateness_p99_us",
+                                                                        "lateness_max_us",
+                                                                        "overruns",
+                                                                        "current_a_a",
+                                                                        "current_b_a",
+                                                                        "phase_a_deg",
+                                                                        "phase_b_deg",
+                                                                        "motional_phase_a_deg",
+                                                                        "motional_phase_b_deg",
+                                                                        "power_w",
+                                                                        "stator_temperature_c"};
 
 [[nodiscard]] MeasurementSet parse_measurements_csv(std::string_view text, std::string_view source_name);
 

@@ -27,7 +27,8 @@ class FakeDevice : public Device {
   std::function<void(int reads)> on_read;       // e.g. raise(SIGINT)
   // (device time, fault code): trips once, at the first read at or after that time while enabled.
   std::vector<std::pair<double, int>> fault_schedule;
-  bool lockstep_mode = false;  // step() runs ticks / tick_hz of device time per call
+  bool lockstep_mode = false;   // step() runs ticks / tick_hz of device time per call
+  bool electrical_port = true;  // reports the electrical values and the stator temperature
   double tick_hz = 10000.0;
 
   // Resonance drift: peak at 40.4 kHz at 100 Vpp, 1 Hz lower per Vpp above.
@@ -122,6 +123,14 @@ class FakeDevice : public Device {
     t.vpp = vpp_out;
     t.phase_deg = setpoint_.phase_deg;
     t.load_n = setpoint_.load_n;
+    if (electrical_port) {
+      // Current in proportion to the voltage, the motional phase crossing 0 at the peak.
+      const double current_a = 6e-4 * vpp_out;
+      const double motional_deg = std::clamp((peak_hz(vpp_out) - setpoint_.frequency_hz) / 10.0, -90.0, 90.0);
+      t.electrical = ElectricalReading{current_a,    0.98 * current_a, 60.0,           59.0,
+                                       motional_deg, motional_deg,     0.02 * vpp_out, 0.019 * vpp_out};
+      t.stator_temperature_c = 20.0 + 0.5 * time_s;
+    }
     longest_command_gap_s = std::max(longest_command_gap_s, state == 1 ? time_s - last_command_s_ : 0.0);
     return t;
   }
