@@ -22,9 +22,12 @@ namespace can = protocol::can;
 
 class FakeNode {
  public:
-  FakeNode(std::shared_ptr<io::FakeCanNetwork> network, std::uint8_t node)
-      : bus_(network->attach("node")), ids_(protocol::can::ids_for_node(node)) {
+  // electrical: send the ElectricalA/B frames (a board of the older protocol does not).
+  FakeNode(std::shared_ptr<io::FakeCanNetwork> network, std::uint8_t node, bool electrical = true)
+      : bus_(network->attach("node")), ids_(protocol::can::ids_for_node(node)), electrical_(electrical) {
     telemetry_.state = protocol::AmpState::enabled;
+    telemetry_.electrical = {0.1834, 0.1791, 61.23, 58.77, -4.32, 3.22, 8.77, 8.12};
+    telemetry_.stator_temperature_c = 21.5;
     telemetry_.output.vpp = 250.0;
     telemetry_.output.frequency_hz = 40123.0;
     telemetry_.speed_m_s = 0.321;
@@ -67,12 +70,17 @@ class FakeNode {
         (void)bus_->send(protocol::can::encode_drive(telemetry_, ids_.drive));
         (void)bus_->send(protocol::can::encode_loop_stats(telemetry_, ids_.loop_stats));
         (void)bus_->send(protocol::can::encode_clock(telemetry_, ids_.clock));
+        if (electrical_) {
+          (void)bus_->send(protocol::can::encode_electrical_a(telemetry_, ids_.electrical_a));
+          (void)bus_->send(protocol::can::encode_electrical_b(telemetry_, ids_.electrical_b));
+        }
         (void)bus_->send(protocol::can::encode_output(telemetry_, ids_.output));
       }
     }
   }
   std::unique_ptr<io::FakeCanBus> bus_;
   protocol::can::Ids ids_;
+  bool electrical_;
   protocol::Telemetry telemetry_;
   std::atomic<bool> stop_{false};
   std::mutex mutex_;
@@ -97,6 +105,32 @@ TEST(CanDevice, ReadsCompleteTelemetrySetsWithTheDeviceClock) {
   ASSERT_TRUE(a.sample_counter && b.sample_counter);
   EXPECT_EQ(a.sample_counter_modulus, 256u);
   EXPECT_EQ(device.name(), "can host node 7");
+}
+
+TEST(CanDevice, ReadsTheElectricalFramesOfASet) {
+  auto network = io::FakeCanNetwork::create();
+  FakeNode node(network, 7);
+  CanDevice device(network->attach("host"), 7, kTimeouts);
+  const DeviceTelemetry t = device.read();
+  ASSERT_TRUE(t.electrical && t.stator_temperature_c);
+  EXPECT_NEAR(t.electrical->current_a_a, 0.1834, 1e-4);
+  EXPECT_NEAR(t.electrical->current_b_a, 0.1791, 1e-4);
+  EXPECT_NEAR(t.electrical->phase_a_deg, 61.23, 0.01);
+  EXPECT_NEAR(t.electrical->motional_phase_b_deg, 3.22, 0.01);
+  EXPECT_NEAR(t.electrical->power_w(), 16.89, 0.02);
+  EXPECT_NEAR(*t.stator_temperature_c, 21.5, 0.01);
+}
+
+// A board that does not send ElectricalA/B: its sets are complete at Output as before, without
+// electrical values, and its Status bytes 6-7 are not read as a temperature.
+TEST(CanDevice, ASetWithoutTheElectricalFramesIsCompleteWithoutThem) {
+  auto network = io::FakeCanNetwork::create();
+  FakeNode node(network, 7, false);
+  CanDevice device(network->attach("host"), 7, kTimeouts);
+  const DeviceTelemetry t = device.read();
+  EXPECT_NEAR(t.speed_mm_s, 321.0, 1e-3);
+  EXPECT_FALSE(t.electrical);
+  EXPECT_FALSE(t.stator_temperature_c);
 }
 
 TEST(CanDevice, SendsValidCommandFramesWithAdvancingAliveCounters) {
