@@ -5,7 +5,10 @@
 // Invariants, for each decoder: an accepted frame is a standard 8-byte frame with zero reserved
 // bits, and encoding what was decoded gives the same bytes (encode∘decode round trip); any
 // single flipped bit of an accepted frame is refused (CRC-8/SAE-J1850 catches it); a refusal
-// gives one of the reasons the decoder documents.
+// gives one of the reasons the decoder documents. The same frames also go to the host's decoder
+// of the ElectricalA/B telemetry frames (can_telemetry_decode.h decode_electrical): every
+// standard 8-byte frame decodes (no CRC), encoding the decoded values as phase A and as phase B
+// gives the same bytes, anything else is wrong_length.
 #include <algorithm>
 #include <cstddef>
 #include <cstdint>
@@ -13,6 +16,7 @@
 #include <vector>
 
 #include "can_codec.h"
+#include "can_telemetry_decode.h"
 #include "fuzz_check.h"
 
 namespace {
@@ -69,6 +73,24 @@ const Codec<can::AuxFrame> kAux{"decode_aux",
                                 can::encode_aux,
                                 {Reason::wrong_length, Reason::bad_checksum, Reason::reserved_bits}};
 
+void check_electrical(const CanFrame& frame) {
+  can::ElectricalFields e;
+  const Reason why = can::decode_electrical(frame, e);
+  FUZZ_CHECK((why == Reason::none) == (!frame.extended && frame.dlc == 8), "decode_electrical: %s for %s",
+             swum::protocol::to_string(why), swum::protocol::to_cansend(frame).c_str());
+  if (why != Reason::none) {
+    FUZZ_CHECK(why == Reason::wrong_length, "decode_electrical refused with reason %s", swum::protocol::to_string(why));
+    return;
+  }
+  swum::protocol::Telemetry t;
+  t.electrical = {e.current_a,          e.current_a,          e.phase_deg, e.phase_deg,
+                  e.motional_phase_deg, e.motional_phase_deg, e.power_w,   e.power_w};
+  for (const CanFrame& again : {can::encode_electrical_a(t, frame.id), can::encode_electrical_b(t, frame.id)}) {
+    FUZZ_CHECK(same_content(again, frame), "decode_electrical: %s re-encodes as %s",
+               swum::protocol::to_cansend(frame).c_str(), swum::protocol::to_cansend(again).c_str());
+  }
+}
+
 }  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
@@ -81,5 +103,6 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   if ((data[0] & 0x40U) != 0) frame.data[7] = can::crc8(frame.id, frame.data.data());
   check(frame, kCommand);
   check(frame, kAux);
+  check_electrical(frame);
   return 0;
 }

@@ -95,6 +95,14 @@ inline void check_pdu(std::span<const std::uint8_t> pdu) {
                "decide answered exception %u", d.exception);
     return;
   }
+  // An accepted read lies within its table: input registers 0..44 (the electrical port 36..44
+  // included), holding 0..10; the emulator's image of that many registers answers it.
+  if (!is_write) {
+    const unsigned table = request.function == modbus::kReadInputRegisters ? modbus::input::kCount
+                                                                           : modbus::holding::kCount;
+    FUZZ_CHECK(request.address + request.quantity <= table, "function %u: read of %u..%u accepted (table of %u)",
+               request.function, request.address, request.address + request.quantity - 1, table);
+  }
   // A write carries a command unless it covers only the lockstep advance register (a step alone).
   const bool advance_only = is_write && request.address == modbus::holding::kAdvance;
   FUZZ_CHECK(d.has_command == (is_write && !advance_only), "function %u: has_command %d", request.function,
