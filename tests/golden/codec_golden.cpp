@@ -61,6 +61,7 @@ inline bool decode_motion(const Frame& f, MotionFields& o) { return wire::decode
 inline bool decode_drive(const Frame& f, DriveFields& o) { return wire::decode_drive(f, o) == kOk; }
 inline bool decode_output(const Frame& f, OutputFields& o) { return wire::decode_output(f, o) == kOk; }
 inline bool decode_clock(const Frame& f, ClockFields& o) { return wire::decode_clock(f, o) == kOk; }
+inline bool decode_electrical(const Frame& f, ElectricalFields& o) { return wire::decode_electrical(f, o) == kOk; }
 }  // namespace can
 namespace host = swum::host;
 namespace io = swum::io;
@@ -212,6 +213,19 @@ a::Telemetry telemetry_from(const json& j) {
   t.tip_tangential_um = num(j.at("tip_tangential_um"));
   t.applied_commands = j.at("applied_commands").get<std::uint64_t>();
   t.last_sequence = j.at("last_sequence").get<std::uint64_t>();
+  // The electrical port (issue: electrical registers and frames); absent: the defaults.
+  if (j.contains("electrical")) {
+    const json& e = j.at("electrical");
+    t.electrical.current_a_a = num(e.at("current_a_a"));
+    t.electrical.current_b_a = num(e.at("current_b_a"));
+    t.electrical.phase_a_deg = num(e.at("phase_a_deg"));
+    t.electrical.phase_b_deg = num(e.at("phase_b_deg"));
+    t.electrical.motional_phase_a_deg = num(e.at("motional_phase_a_deg"));
+    t.electrical.motional_phase_b_deg = num(e.at("motional_phase_b_deg"));
+    t.electrical.power_a_w = num(e.at("power_a_w"));
+    t.electrical.power_b_w = num(e.at("power_b_w"));
+  }
+  if (j.contains("stator_temperature_c")) t.stator_temperature_c = num(j.at("stator_temperature_c"));
   return t;
 }
 
@@ -276,6 +290,20 @@ json device_telemetry_json(const a::host::DeviceTelemetry& t) {
   j["vpp"] = t.vpp;
   j["phase_deg"] = t.phase_deg;
   j["load_n"] = t.load_n;
+  if (t.electrical) {
+    const auto& e = *t.electrical;
+    j["electrical"] = {{"current_a_a", e.current_a_a},
+                       {"current_b_a", e.current_b_a},
+                       {"phase_a_deg", e.phase_a_deg},
+                       {"phase_b_deg", e.phase_b_deg},
+                       {"motional_phase_a_deg", e.motional_phase_a_deg},
+                       {"motional_phase_b_deg", e.motional_phase_b_deg},
+                       {"power_a_w", e.power_a_w},
+                       {"power_b_w", e.power_b_w}};
+  } else {
+    j["electrical"] = nullptr;
+  }
+  j["stator_temperature_c"] = t.stator_temperature_c ? json(*t.stator_temperature_c) : json(nullptr);
   // lateness_p99_us, lateness_max_us, overruns: timing, not captured (the inputs carry zeros).
   return j;
 }
@@ -456,9 +484,17 @@ json codes(const json&) {
 // ---------------------------------------------------------------- emulator: CAN
 json can_ids(const json& in) {
   const auto ids = a::can::ids_for_node(in.at("node").get<std::uint8_t>());
-  return {{"command", hex_id(ids.command)}, {"aux", hex_id(ids.aux)},     {"status", hex_id(ids.status)},
-          {"motion", hex_id(ids.motion)},   {"drive", hex_id(ids.drive)}, {"loop_stats", hex_id(ids.loop_stats)},
-          {"output", hex_id(ids.output)},   {"clock", hex_id(ids.clock)}, {"heartbeat", hex_id(ids.heartbeat)}};
+  return {{"command", hex_id(ids.command)},
+          {"aux", hex_id(ids.aux)},
+          {"status", hex_id(ids.status)},
+          {"motion", hex_id(ids.motion)},
+          {"drive", hex_id(ids.drive)},
+          {"loop_stats", hex_id(ids.loop_stats)},
+          {"output", hex_id(ids.output)},
+          {"clock", hex_id(ids.clock)},
+          {"heartbeat", hex_id(ids.heartbeat)},
+          {"electrical_a", hex_id(ids.electrical_a)},
+          {"electrical_b", hex_id(ids.electrical_b)}};
 }
 
 json can_crc8(const json& in) {
@@ -541,6 +577,8 @@ json can_telemetry_encode(const json& in) {
           {"drive", frame_text(a::can::encode_drive(t, ids.drive))},
           {"output", frame_text(a::can::encode_output(t, ids.output))},
           {"clock", frame_text(a::can::encode_clock(t, ids.clock))},
+          {"electrical_a", frame_text(a::can::encode_electrical_a(t, ids.electrical_a))},
+          {"electrical_b", frame_text(a::can::encode_electrical_b(t, ids.electrical_b))},
           {"heartbeat", frame_text(a::can::encode_heartbeat(ids.heartbeat))}};
 }
 
@@ -561,7 +599,8 @@ json can_telemetry_decode(const json& in) {
              {"last_reject", s.last_reject},
              {"reject_count", s.reject_count},
              {"applied_count", s.applied_count},
-             {"status_counter", s.status_counter}};
+             {"status_counter", s.status_counter},
+             {"stator_temperature_c", s.stator_temperature_c}};
   } else if (as == "motion") {
     a::can::MotionFields m;
     ok = a::can::decode_motion(f, m);
@@ -582,6 +621,14 @@ json can_telemetry_decode(const json& in) {
     a::can::ClockFields c;
     ok = a::can::decode_clock(f, c);
     if (ok) out = {{"sim_time_s", c.sim_time_s}, {"tick", c.tick}};
+  } else if (as == "electrical") {
+    a::can::ElectricalFields e;
+    ok = a::can::decode_electrical(f, e);
+    if (ok)
+      out = {{"current_a", e.current_a},
+             {"phase_deg", e.phase_deg},
+             {"motional_phase_deg", e.motional_phase_deg},
+             {"power_w", e.power_w}};
   } else {
     throw std::invalid_argument("unknown telemetry frame kind " + as);
   }

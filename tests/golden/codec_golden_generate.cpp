@@ -55,6 +55,11 @@ json setpoints(json f, json a, json p, json l, json fs, json as) {
           {"amplitude_slew_vpp_per_s", as}};
 }
 
+json electrical(json ia, json ib, json pa, json pb, json ma, json mb, json wa, json wb) {
+  return {{"current_a_a", ia},          {"current_b_a", ib},          {"phase_a_deg", pa}, {"phase_b_deg", pb},
+          {"motional_phase_a_deg", ma}, {"motional_phase_b_deg", mb}, {"power_a_w", wa},   {"power_b_w", wb}};
+}
+
 // A telemetry snapshot with every field written out (defaults: a disabled amplifier at rest).
 json telemetry(const json& overrides = json::object()) {
   json t = {{"tick", 0},
@@ -88,7 +93,9 @@ const json kDriving = telemetry(
      {"tip_normal_um", 3.2105},
      {"tip_tangential_um", 2.4449},
      {"applied_commands", 42},
-     {"last_sequence", 77}});
+     {"last_sequence", 77},
+     {"electrical", electrical(0.18346, 0.17912, 61.234, 58.765, -4.321, 3.219, 8.7654, 8.1234)},
+     {"stator_temperature_c", 23.456}});
 const json kFault = telemetry(
     {{"tick", 987654321},
      {"sim_time_s", 98765.4321},
@@ -123,7 +130,9 @@ const json kExtremes = telemetry(
      {"tip_normal_um", 70.0},
      {"tip_tangential_um", 65.5355},
      {"applied_commands", 4294967297ULL},
-     {"last_sequence", 8589934595ULL}});
+     {"last_sequence", 8589934595ULL},
+     {"electrical", electrical(7.0, -0.5, 400.0, -400.0, 180.0, -180.0, 500.0, -500.0)},
+     {"stator_temperature_c", -400.0}});
 const json kNonFinite = telemetry(
     {{"state", 1},
      {"sim_time_s", "nan"},
@@ -132,7 +141,9 @@ const json kNonFinite = telemetry(
      {"tick_speed_m_s", "inf"},
      {"position_m", "-inf"},
      {"tip_normal_um", "nan"},
-     {"tip_tangential_um", "inf"}});
+     {"tip_tangential_um", "inf"},
+     {"electrical", electrical("nan", "inf", "nan", "-inf", "inf", "nan", "-inf", "nan")},
+     {"stator_temperature_c", "nan"}});
 const json kEnabledIdle = telemetry(
     {{"tick", 7}, {"sim_time_s", 0.0007}, {"state", 1}, {"enable_line", false}, {"at_setpoint", false}});
 
@@ -423,8 +434,12 @@ void can_cases(Vectors& v) {
     const json set = encode_set(s);
     for (const char* kind : {"status", "motion", "drive", "output", "clock"})
       v.add("emu.can.telemetry_decode", std::string(kind) + ": " + s.name, {{"as", kind}, {"frame", set.at(kind)}});
+    for (const char* frame : {"electrical_a", "electrical_b"}) {
+      v.add("emu.can.telemetry_decode", std::string(frame) + ": " + s.name,
+            {{"as", "electrical"}, {"frame", set.at(frame)}});
+    }
   }
-  for (const char* kind : {"status", "motion", "drive", "output", "clock"}) {
+  for (const char* kind : {"status", "motion", "drive", "output", "clock", "electrical"}) {
     v.add("emu.can.telemetry_decode", std::string(kind) + ": all bits set",
           {{"as", kind}, {"frame", "181#ffffffffffffffff"}});
     v.add("emu.can.telemetry_decode", std::string(kind) + ": DLC 7", {{"as", kind}, {"frame", "181#ffffffffffffff"}});
@@ -486,13 +501,13 @@ void host_cases(Vectors& v) {
            {{"call", "read"}, {"input_registers", by_hand}}}}});
 
   // CAN: telemetry sets as the emulator sends them (Status, Motion, Drive, LoopStats, Clock,
-  // Output), the LoopStats payload zero.
+  // ElectricalA, ElectricalB, Output), the LoopStats payload zero.
   auto full_set = [](const Telemetries& s) {
     const json e = encode_set(s);
     char loop_stats[32];
     std::snprintf(loop_stats, sizeof loop_stats, "%03X#0000000000000000", 0x480U + s.node);
-    return json::array(
-        {e.at("status"), e.at("motion"), e.at("drive"), std::string(loop_stats), e.at("clock"), e.at("output")});
+    return json::array({e.at("status"), e.at("motion"), e.at("drive"), std::string(loop_stats), e.at("clock"),
+                        e.at("electrical_a"), e.at("electrical_b"), e.at("output")});
   };
   const auto& sets = telemetry_sets();
   const json rest = full_set(sets[0]);
@@ -505,6 +520,13 @@ void host_cases(Vectors& v) {
   json other_node = full_set(sets[2]);                                 // node 42
   json set_then_rest = missing_drive;  // an incomplete set is discarded, the next one returned
   for (const auto& f : extremes) set_then_rest.push_back(f);
+  // A board without the electrical frames (the older protocol): the set is complete at Output,
+  // the sample has no electrical values and no stator temperature; with one of the two, neither.
+  json without_electrical = driving;
+  without_electrical.erase(6);
+  without_electrical.erase(5);
+  json only_electrical_a = driving;
+  only_electrical_a.erase(6);
 
   json calls = {drive(40000.0, 250.0, 90.0, 0.0),
                 command("enable"),
@@ -534,7 +556,9 @@ void host_cases(Vectors& v) {
            {{"call", "read"}, {"frames", short_status}},
            {{"call", "read"}, {"frames", other_node}},
            {{"call", "read"}, {"frames", json::array()}},
-           {{"call", "read"}, {"frames", full_set(sets[5])}}}}});
+           {{"call", "read"}, {"frames", full_set(sets[5])}},
+           {{"call", "read"}, {"frames", without_electrical}},
+           {{"call", "read"}, {"frames", only_electrical_a}}}}});
 }
 
 }  // namespace
