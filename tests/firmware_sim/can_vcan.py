@@ -271,7 +271,7 @@ def scenario_bus_errors():
         assert "bus-off" in emu.stderr and "Network is down" in emu.stderr, emu.stderr
 
 
-TELEMETRY = ("Status", "Motion", "Drive", "LoopStats", "Clock", "Output")
+TELEMETRY = ("Status", "Motion", "Drive", "LoopStats", "Clock", "ElectricalA", "ElectricalB", "Output")
 
 
 def sync_frame(counter):
@@ -339,6 +339,12 @@ def scenario_lockstep():
     assert states[enable_at] == 0 and states[enable_at + 1] == 1, \
         f"one cycle of delay expected: state at SYNC {enable_at} = {states[enable_at]}, next = {states[enable_at + 1]}"
     assert quiet[-1]["Motion"][1]["Speed"] > 0.1, "the motor did not move"
+    # Output ends every set (a controller takes the set as complete there): the electrical frames come before it.
+    assert all(list(frames)[-1] == "Output" for frames in quiet), [list(frames) for frames in quiet[:2]]
+    a, b, status = quiet[-1]["ElectricalA"][1], quiet[-1]["ElectricalB"][1], quiet[-1]["Status"][1]
+    assert a["CurrentA"] > 0 and b["CurrentB"] > 0 and a["PowerA"] + b["PowerB"] > 0, (a, b)
+    assert abs(status["StatorTemperature"] - 20.0) < 5.0, status
+    assert quiet[0]["ElectricalA"][1]["CurrentA"] == 0, "a current before the drive was enabled"
     loaded, _ = lockstep_run(cycles, enable_at, hog=True, can_log=logs[1])
     raw = lambda log: [[frames[n][0] for n in TELEMETRY] for frames in log]  # noqa: E731
     assert raw(quiet) == raw(loaded), "telemetry bytes differ with a CPU hog running"

@@ -27,7 +27,8 @@ OUT = tempfile.mkdtemp(prefix="swum-killsafe-")
 EMU_ARGS = ["--watchdog-ms", "5000"]  # generous: a shared CI machine can stall the client
 MODEL_HEADER = "vpp,frequency_hz,load_n,speed_mm_s,tip_normal_um,tip_tangential_um,status\n"
 DEVICE_HEADER = ("vpp,frequency_hz,load_n,time_s,sweep,speed_mm_s,tip_normal_um,tip_tangential_um,"
-                 "speed_spread_mm_s,status\n")
+                 "speed_spread_mm_s,status,current_a_a,current_b_a,phase_a_deg,phase_b_deg,motional_phase_a_deg,"
+                 "motional_phase_b_deg,power_w,stator_temperature_c\n")
 # Big enough for about a second on two cores (a model point takes ~4 ms of CPU on the scalar
 # path, ~0.5 ms in the SIMD lanes of a batch, issue 16), so the kill lands after the first row
 # and well before the last.

@@ -29,6 +29,8 @@ from emu_harness import CONFIG, Emulator, RegisterMap  # noqa: E402
 SWUM = os.environ["SWUM_BINARY"]
 MAP = RegisterMap()
 OUT = tempfile.mkdtemp(prefix="swum-live-")
+ELECTRICAL = ["current_a_a", "current_b_a", "phase_a_deg", "phase_b_deg", "motional_phase_a_deg", "motional_phase_b_deg",
+              "power_w", "stator_temperature_c"]  # the last columns of a live sweep and of a log
 # A generous watchdog: a shared CI machine can stall the client for a while; the keep-alive
 # itself is unit-tested against a fake device with the default 100 ms.
 EMU_ARGS = ["--watchdog-ms", "5000"]
@@ -121,9 +123,15 @@ def sweep_log_modbus():
         with open(offline_csv) as f:
             offline = list(csv.DictReader(f))
         check(list(live[0].keys()) == ["vpp", "frequency_hz", "load_n", "time_s", "sweep", "speed_mm_s", "tip_normal_um",
-                                       "tip_tangential_um", "speed_spread_mm_s", "status"], f"columns {list(live[0])}")
-        check(list(offline[0].keys()) == [k for k in live[0].keys() if k not in ("time_s", "sweep", "speed_spread_mm_s")],
+                                       "tip_tangential_um", "speed_spread_mm_s", "status", *ELECTRICAL],
+              f"columns {list(live[0])}")
+        check(list(offline[0].keys()) == [k for k in live[0].keys()
+                                          if k not in ("time_s", "sweep", "speed_spread_mm_s", *ELECTRICAL)],
               "offline columns")
+        # The electrical port of the device, means over each dwell (docs/protocols.md "Electrical port").
+        check(all(float(r["current_a_a"]) > 0 and float(r["current_b_a"]) > 0 and float(r["power_w"]) > 0
+                  and abs(float(r["stator_temperature_c"]) - 20.0) < 5.0 for r in live),
+              f"electrical cells {[[r[k] for k in ELECTRICAL] for r in live]}")
         # One continuous sweep per voltage, timed on the device clock from the session start.
         check([r["sweep"] for r in live] == ["0"] * 11 + ["1"] * 11, f"sweep ids {[r['sweep'] for r in live]}")
         times = [float(r["time_s"]) for r in live]
@@ -148,6 +156,9 @@ def sweep_log_modbus():
         with open(log_csv) as f:
             rows = list(csv.DictReader(f))
         check(len(rows) >= 100, f"only {len(rows)} samples in 1 s at 200 Hz")
+        check(list(rows[0].keys())[-len(ELECTRICAL):] == ELECTRICAL, f"log columns {list(rows[0])}")
+        check(all(r["stator_temperature_c"] != "" and r["current_a_a"] != "" for r in rows), "log rows without the "
+              "electrical values the emulator reports")
         times = [float(r["device_time_s"]) for r in rows]
         check(all(b >= a for a, b in zip(times, times[1:])), "device time not monotonic")
         check("gaps" in out, f"log summary lacks the gap count: {out}")
@@ -282,6 +293,11 @@ def pick_can():
                                 "--connect-timeout-ms", "5000", "--timeout-ms", "2000",
                                 "--out", os.path.join(OUT, "second.csv"), timeout=600)
         check(status == 0, f"second CAN session failed ({status}): {err}")
+        # The ElectricalA/B frames and Status.StatorTemperature reach the sweep file over CAN too.
+        with open(os.path.join(OUT, "second.csv")) as f:
+            rows = list(csv.DictReader(f))
+        check(all(float(r["current_a_a"]) > 0 and float(r["power_w"]) > 0 and r["stator_temperature_c"] != ""
+                  for r in rows), f"CAN sweep electrical cells {[[r[k] for k in ELECTRICAL] for r in rows]}")
     status, out, err = swum("log", "--can", "vcan0:6", "--connect-timeout-ms", "300", "--duration", "1",
                             "--out", os.path.join(OUT, "x.csv"), timeout=60)
     check(status == 1 and "no answer from node 6" in err, f"absent node: exit {status}, stderr {err!r}")
