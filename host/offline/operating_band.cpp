@@ -1,0 +1,132 @@
+#include "offline/operating_band.h"
+
+#include <algorithm>
+#include <functional>
+#include <span>
+#include <stdexcept>
+#include <string>
+
+#include "analysis/steady_state.h"
+#include "analysis/steady_state_batch.h"
+#include "config/number_format.h"
+#include "model/batch_simulator.h"
+#include "offline/offline_sweep.h"
+#include "offline/parallel_for.h"
+
+namespace swum::host {
+namespace {
+
+// The down-sweep of one (voltage, load, rise): frequencies from high to low, each point from the
+// state the previous one left (run_chains_to_steady_state), the slow states frozen at the rise.
+OperatingChain down_sweep(const BandGrid& grid, double vpp, double load_n, double rise_k) {
+  std::vector<double> frequencies = grid.frequencies_hz;
+  std::sort(frequencies.begin(), frequencies.end(), std::greater<>());
+  OperatingChain chain;
+  for (double f : frequencies) {
+    OperatingPoint point;
+    point.vpp = vpp;
+    point.frequency_hz = f;
+    point.load_n = load_n;
+    point.stator_temperature_rise_k = rise_k;
+    point.freeze_slow_states = true;
+    chain.push_back(point);
+  }
+  return chain;
+}
+
+// A point that blew up is a collapse for the pick, as in a model sweep (model_pick.h); an
+// unsettled one is a measured speed.
+CurveSample sample_of(const OperatingPoint& point, const SteadyStateResult& r) {
+  CurveSample s;
+  s.frequency_hz = point.frequency_hz;
+  s.ok = !r.diverged;
+  s.speed_mm_s = r.diverged ? 0.0 : r.speed_mm_s;
+  return s;
+}
+
+void widen(std::optional<FrequencyRange>& range, double f) {
+  if (!range) {
+    range = FrequencyRange{f, f};
+    return;
+  }
+  range->low_hz = std::min(range->low_hz, f);
+  range->high_hz = std::max(range->high_hz, f);
+}
+
+}  // namespace
+
+void check_band_grid(const BandGrid& grid) {
+  check_grid(OfflineGrid{grid.voltages, grid.frequencies_hz, grid.loads_n});
+  if (grid.temperature_rises_k.empty()) throw std::invalid_argument("--temperature-rise-k: no values");
+  for (double rise : grid.temperature_rises_k) {
+    if (!(rise >= 0.0 && rise <= 300.0)) {
+      throw std::invalid_argument("--temperature-rise-k: " + format_number(rise) + " is outside 0..300 K");
+    }
+  }
+  if (!(grid.margin_hz >= 0.0 && grid.margin_hz <= 10000.0)) {
+    throw std::invalid_argument("--margin-hz: must be within 0..10000");
+  }
+  if (grid.jobs < 0 || grid.jobs > 1024) throw std::invalid_argument("--jobs: must be within 0..1024 (0 = all cores)");
+}
+
+void check_band_thermal(const BandGrid& grid, const MotorParameters& parameters, const std::string& parameters_source) {
+  if (parameters.effects.thermal.enabled) return;
+  for (double rise : grid.temperature_rises_k) {
+    if (rise != 0.0) {
+      throw std::invalid_argument("--temperature-rise-k: " + format_number(rise) + " K needs the thermal effect, but " +
+                                  parameters_source + " has [effects.thermal] enabled = false");
+    }
+  }
+}
+
+std::vector<BandRow> operating_band(const MotorModel& model, const BandGrid& grid, const BandPointDone& point_done) {
+  std::vector<BandRow> rows;
+  std::vector<OperatingChain> chains;
+  for (double v : grid.voltages) {
+    for (double load : grid.loads_n) {
+      for (double rise : grid.temperature_rises_k) {
+        rows.push_back(BandRow{v, load, rise, {}, {}});
+        chains.push_back(down_sweep(grid, v, load, rise));
+      }
+    }
+  }
+  // As a model sweep runs its points (offline_sweep.cpp): as many tasks as threads while each
+  // still fills a vector of lanes, a contiguous run of chains per task; a chain stays in one lane.
+  const unsigned jobs = static_cast<unsigned>(std::max(grid.jobs, 0));
+  const std::size_t batches = (chains.size() + BatchSimulator::kLanePadding - 1) / BatchSimulator::kLanePadding;
+  const std::size_t tasks = std::clamp<std::size_t>(batches, 1, parallel_threads(jobs));
+  const std::size_t per_task = (chains.size() + tasks - 1) / tasks;
+  make_parallel_for(jobs)(tasks, [&](std::size_t task) {
+    const std::size_t begin = std::min(chains.size(), task * per_task);
+    const std::size_t end = std::min(chains.size(), begin + per_task);
+    const std::span<const OperatingChain> mine(chains.data() + begin, end - begin);
+    auto done = [&](std::size_t, std::size_t, const SteadyStateResult&) {
+      if (point_done) point_done();
+    };
+    const auto results = run_chains_to_steady_state(model, mine, {}, kDefaultBatchLanes, done);
+    for (std::size_t c = 0; c < mine.size(); ++c) {
+      BandRow& row = rows[begin + c];
+      for (std::size_t k = 0; k < mine[c].size(); ++k) row.curve.push_back(sample_of(mine[c][k], results[c][k]));
+    }
+  });
+  PickOptions options;
+  options.min_margin_hz = grid.margin_hz;
+  for (BandRow& row : rows) row.pick = pick_operating_point(row.curve, options);
+  return rows;
+}
+
+BandSummary summarize_band(const std::vector<BandRow>& rows) {
+  BandSummary s;
+  for (const BandRow& row : rows) {
+    if (!row.pick.decided) {
+      ++s.undecided;
+      continue;
+    }
+    ++s.decided;
+    widen(s.band, row.pick.frequency_hz);
+    widen(s.peak, row.pick.peak_frequency_hz);
+  }
+  return s;
+}
+
+}  // namespace swum::host

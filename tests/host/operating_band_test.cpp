@@ -1,0 +1,175 @@
+// operating_band on the calibrated motor (config/li2019.toml) and on it with a thermal effect whose
+// stiffness falls with temperature: physical facts of the band an oscillator must cover.
+#include "offline/operating_band.h"
+
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <mutex>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "config/parameter_file.h"
+#include "output/value_lists.h"
+
+namespace swum::host {
+namespace {
+
+MotorParameters li2019() {
+  const std::string path = std::string(SWUM_SOURCE_DIR) + "/config/li2019.toml";
+  std::ifstream in(path);
+  std::stringstream text;
+  text << in.rdbuf();
+  return parse_motor_parameters(text.str(), path);
+}
+
+// li2019 + [effects.thermal] enabled = true, stiffness_coefficient_per_k = -5e-4,
+// damping_coefficient_per_k = 1e-3: the resonance falls as the stator warms (docs/discrepancy.md).
+MotorParameters li2019_softening_when_hot() {
+  MotorParameters p = li2019();
+  p.effects.thermal.enabled = true;
+  p.effects.thermal.stiffness_coefficient_per_k = -5e-4;
+  p.effects.thermal.damping_coefficient_per_k = 1e-3;
+  return p;
+}
+
+// Coarse, to keep the test short: the peaks at 100 and 400 Vpp and 400 Vpp 50 K warmer, their
+// collapses below and peak + margin above.
+BandGrid coarse_grid(std::vector<double> voltages, std::vector<double> rises_k = {0.0}) {
+  BandGrid grid;
+  grid.voltages = std::move(voltages);
+  grid.temperature_rises_k = std::move(rises_k);
+  grid.frequencies_hz = parse_range_or_value("38750:40500:50", "--frequency");
+  grid.margin_hz = 100.0;
+  return grid;
+}
+
+const BandRow& row_at(const std::vector<BandRow>& rows, double vpp, double rise_k = 0.0) {
+  for (const BandRow& r : rows) {
+    if (r.vpp == vpp && r.temperature_rise_k == rise_k) return r;
+  }
+  throw std::logic_error("no row");
+}
+
+TEST(OperatingBand, PicksAMarginAboveTheSofteningPeakAndThePeakFallsWithVoltage) {
+  const MotorModel model(li2019());
+  const auto rows = operating_band(model, coarse_grid({100.0, 400.0}));
+  ASSERT_EQ(rows.size(), 2u);
+  const BandRow& low = row_at(rows, 100.0);
+  const BandRow& high = row_at(rows, 400.0);
+  ASSERT_TRUE(low.pick.decided) << low.pick.reason;
+  ASSERT_TRUE(high.pick.decided) << high.pick.reason;
+  // At 400 Vpp the pick sits at least the margin above the peak, on the stable high side.
+  EXPECT_GE(high.pick.frequency_hz, high.pick.peak_frequency_hz + 100.0) << high.pick.reason;
+  ASSERT_TRUE(high.pick.collapse_hz.has_value()) << "a down-sweep jumps below a softening peak";
+  EXPECT_LT(*high.pick.collapse_hz, high.pick.peak_frequency_hz);
+  // Softening: the peak drifts down as the drive grows (docs/validation.md).
+  EXPECT_GT(low.pick.peak_frequency_hz, high.pick.peak_frequency_hz + 300.0)
+      << low.pick.peak_frequency_hz << " vs " << high.pick.peak_frequency_hz;
+  // The curve is the chain's: every grid point, highest first.
+  ASSERT_EQ(high.curve.size(), 36u);
+  EXPECT_EQ(high.curve.front().frequency_hz, 40500.0);
+  EXPECT_EQ(high.curve.back().frequency_hz, 38750.0);
+
+  const BandSummary s = summarize_band(rows);
+  EXPECT_EQ(s.decided, 2u);
+  EXPECT_EQ(s.undecided, 0u);
+  ASSERT_TRUE(s.band && s.peak);
+  EXPECT_EQ(s.band->low_hz, high.pick.frequency_hz);
+  EXPECT_EQ(s.band->high_hz, low.pick.frequency_hz);
+  EXPECT_EQ(s.peak->low_hz, high.pick.peak_frequency_hz);
+  EXPECT_EQ(s.peak->high_hz, low.pick.peak_frequency_hz);
+}
+
+TEST(OperatingBand, AWarmerStatorWhoseStiffnessFallsMovesThePeakDown) {
+  const MotorModel model(li2019_softening_when_hot());
+  const auto rows = operating_band(model, coarse_grid({400.0}, {0.0, 50.0}));
+  const BandRow& cold = row_at(rows, 400.0, 0.0);
+  const BandRow& hot = row_at(rows, 400.0, 50.0);
+  ASSERT_TRUE(cold.pick.decided) << cold.pick.reason;
+  ASSERT_TRUE(hot.pick.decided) << hot.pick.reason;
+  // a_K = -5e-4 /K: about -10 Hz/K at 40 kHz (measured: ~450 Hz over 50 K at 400 Vpp).
+  EXPECT_GT(cold.pick.peak_frequency_hz - hot.pick.peak_frequency_hz, 200.0)
+      << cold.pick.peak_frequency_hz << " vs " << hot.pick.peak_frequency_hz;
+  EXPECT_GE(hot.pick.frequency_hz, hot.pick.peak_frequency_hz + 100.0);
+  // The cold row is the motor without the effect: the frozen rise 0 changes nothing.
+  const auto plain = operating_band(MotorModel(li2019()), coarse_grid({400.0}));
+  EXPECT_EQ(plain.front().pick.peak_frequency_hz, cold.pick.peak_frequency_hz);
+}
+
+TEST(OperatingBand, RowsDoNotDependOnTheThreads) {
+  const MotorModel model(li2019());
+  BandGrid grid = coarse_grid({200.0, 400.0});
+  grid.loads_n = {0.0, 1.0};
+  grid.jobs = 1;
+  const auto one = operating_band(model, grid);
+  grid.jobs = 2;
+  std::size_t points = 0;
+  std::mutex m;
+  const auto two = operating_band(model, grid, [&] {
+    const std::lock_guard lock(m);
+    ++points;
+  });
+  EXPECT_EQ(points, 4u * 36u);
+  ASSERT_EQ(one.size(), 4u);
+  ASSERT_EQ(two.size(), 4u);
+  for (std::size_t i = 0; i < one.size(); ++i) {
+    EXPECT_EQ(one[i].vpp, two[i].vpp);
+    EXPECT_EQ(one[i].load_n, two[i].load_n);
+    EXPECT_EQ(one[i].pick.frequency_hz, two[i].pick.frequency_hz);
+    EXPECT_EQ(one[i].pick.speed_mm_s, two[i].pick.speed_mm_s);
+    EXPECT_EQ(one[i].pick.reason, two[i].pick.reason);
+  }
+  EXPECT_EQ(one[0].vpp, 200.0);
+  EXPECT_EQ(one[1].load_n, 1.0);
+}
+
+TEST(OperatingBand, ChecksNameTheOption) {
+  auto message = [](const BandGrid& grid) {
+    try {
+      check_band_grid(grid);
+    } catch (const std::invalid_argument& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  BandGrid grid = coarse_grid({400.0});
+  EXPECT_EQ(message(grid), "no error");
+  grid.temperature_rises_k = {400.0};
+  EXPECT_EQ(message(grid), "--temperature-rise-k: 400 is outside 0..300 K");
+  grid.temperature_rises_k = {0.0};
+  grid.margin_hz = -1.0;
+  EXPECT_EQ(message(grid), "--margin-hz: must be within 0..10000");
+  grid.margin_hz = 100.0;
+  grid.jobs = -1;
+  EXPECT_EQ(message(grid), "--jobs: must be within 0..1024 (0 = all cores)");
+
+  grid = coarse_grid({400.0}, {0.0, 20.0});
+  try {
+    check_band_thermal(grid, li2019(), "li2019.toml");
+    FAIL() << "a rise without the thermal effect";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_EQ(std::string(e.what()),
+              "--temperature-rise-k: 20 K needs the thermal effect, but li2019.toml has [effects.thermal] enabled = "
+              "false");
+  }
+  EXPECT_NO_THROW(check_band_thermal(grid, li2019_softening_when_hot(), "hot.toml"));
+  EXPECT_NO_THROW(check_band_thermal(coarse_grid({400.0}), li2019(), "li2019.toml"));
+}
+
+TEST(OperatingBand, SummaryOfUndecidedRowsHasNoBand) {
+  std::vector<BandRow> rows(2);
+  rows[0].pick.reason = "sweep higher";
+  rows[1].pick.reason = "too noisy";
+  const BandSummary s = summarize_band(rows);
+  EXPECT_EQ(s.decided, 0u);
+  EXPECT_EQ(s.undecided, 2u);
+  EXPECT_FALSE(s.band.has_value());
+  EXPECT_FALSE(s.peak.has_value());
+}
+
+}  // namespace
+}  // namespace swum::host
