@@ -164,7 +164,8 @@ void add_band_command(CLI::App& app) {
   sub->add_option("--margin-hz", o->margin_hz, "minimum margin above the peak (Hz), as swum pick")
       ->capture_default_str();
   sub->add_option("--frequency", o->frequency_range,
-                  "START:STOP:STEP (Hz), each chain swept from the highest down; default 41500 down to 38000 in 25 Hz")
+                  "START:STOP:STEP (Hz); every chain runs it from STOP down to START (default: 41500 down to 38000 Hz "
+                  "in 25 Hz steps)")
       ->capture_default_str();
   sub->add_option("--out", o->out_path, "write the rows as CSV (atomically)");
   sub->add_flag("--json", o->json, "summary and rows as JSON on stdout");
