@@ -45,7 +45,8 @@ EMU = os.environ.get("SWUM_EMU", os.path.join(SOURCE, "build", "ci", "firmware_s
 CONFIG = "config/li2019.toml"
 LITERAL = "config/li2019_literal.toml"
 INPUTS = "tests/golden/inputs"
-SUBCOMMANDS = ["modes", "simulate", "sweep", "validate", "stator", "identify", "pick", "log", "synth", "discrepancy"]
+SUBCOMMANDS = ["modes", "simulate", "sweep", "validate", "stator", "identify", "pick", "log", "synth", "discrepancy",
+               "band"]
 
 
 class Run:
