@@ -28,6 +28,8 @@ int main(int argc, char** argv) {
   add_discrepancy_command(app);
   add_population_command(app);
   add_control_command(app);
+  add_track_command(app);
+  add_track_report_command(app);
 
   try {
     app.parse(argc, argv);

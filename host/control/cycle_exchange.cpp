@@ -50,8 +50,8 @@ DeviceTelemetry CycleExchange::exchange(const DriveSetpoint& setpoint, DeviceAct
     check_tick_rate(t);
     return t;
   }
-  const auto deadline =
-      start_ + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(cycle_s_ * cycles_++));
+  const auto deadline = start_ + std::chrono::duration_cast<Clock::duration>(
+                                     std::chrono::duration<double>(cycle_s_ * cycles_++));
   std::this_thread::sleep_until(deadline);
   device_.set_drive(setpoint);
   if (action != DeviceAction::keep_alive) device_.command(action);

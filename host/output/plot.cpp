@@ -89,7 +89,12 @@ void write_png_plot(const PlotSpec& spec, const std::filesystem::path& path) {
   pls->init();
   pls->schr(0.0, 0.9);
   pls->col0(1);
-  pls->env(x_range.min, x_range.max, y_range.min, y_range.max, 0, 2);  // 2: with grid
+  // The axes leave the right quarter of the page to the legend: a legend inside the axes hid
+  // the curves under it (the speed-vs-frequency plot between 40.5 and 41 kHz).
+  pls->adv(0);
+  pls->vpor(0.09, 0.74, 0.11, 0.91);
+  pls->wind(x_range.min, x_range.max, y_range.min, y_range.max);
+  pls->box("bcgnst", 0.0, 0, "bcgnstv", 0.0, 0);  // frame, grid, ticks, numbers
   pls->lab(spec.x_label.c_str(), spec.y_label.c_str(), spec.title.c_str());
 
   const int n_series = static_cast<int>(spec.series.size());
@@ -112,12 +117,15 @@ void write_png_plot(const PlotSpec& spec, const std::filesystem::path& path) {
     }
     pls->col0(color);
     pls->width(2.0);
+    pls->lsty(s.dashed ? 2 : 1);
     if (s.draw_line && xs.size() > 1) pls->line(static_cast<PLINT>(xs.size()), xs.data(), ys.data());
+    pls->lsty(1);
     if (s.draw_markers && !xs.empty()) {
       pls->string(static_cast<PLINT>(xs.size()), xs.data(), ys.data(), "#(728)");
     }
     opt[k] = (s.draw_line ? PL_LEGEND_LINE : 0) | (s.draw_markers ? PL_LEGEND_SYMBOL : 0);
     line_colors[k] = color;
+    line_styles[k] = s.dashed ? 2 : 1;
     symbol_colors[k] = color;
     texts[k] = s.label.c_str();
     symbol_ptrs[k] = symbols[k].c_str();
@@ -129,7 +137,7 @@ void write_png_plot(const PlotSpec& spec, const std::filesystem::path& path) {
     pls->col0(1);
     pls->width(1.0);
     pls->legend(&legend_width, &legend_height, PL_LEGEND_BACKGROUND | PL_LEGEND_BOUNDING_BOX,
-                PL_POSITION_TOP | PL_POSITION_RIGHT | PL_POSITION_INSIDE, 0.02, 0.02, 0.1, 0, 0, 1, 0, 0, n_series,
+                PL_POSITION_TOP | PL_POSITION_RIGHT | PL_POSITION_OUTSIDE, 0.02, 0.0, 0.1, 0, 0, 1, 0, 0, n_series,
                 opt.data(), 1.0, 0.9, 2.0, 1.0, text_colors.data(), texts.data(), nullptr, nullptr, nullptr, nullptr,
                 line_colors.data(), line_styles.data(), line_widths.data(), symbol_colors.data(), symbol_scales.data(),
                 symbol_numbers.data(), symbol_ptrs.data());

@@ -1,4 +1,4 @@
-// PNG line plots for people: axes with units, a title, a legend. A thin layer over
+// PNG line plots for people: axes with units, a title, a legend right of the axes. A thin layer over
 // PLplot (pngcairo driver) so the rest of the host tool never sees plotting calls.
 #pragma once
 
@@ -14,6 +14,7 @@ struct PlotSeries {
   std::vector<double> y;
   bool draw_line = true;
   bool draw_markers = true;
+  bool dashed = false;  // a reference curve
 };
 
 struct PlotSpec {

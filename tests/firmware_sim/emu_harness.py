@@ -55,10 +55,11 @@ class RegisterMap:
 
 
 class Emulator:
-    """swum-emu as a child process. `args` are extra command-line arguments."""
+    """swum-emu as a child process. `args` are extra command-line arguments; `config` the
+    parameter file (default: CONFIG at the time of the call, which some tests reassign)."""
 
-    def __init__(self, *args, modbus="tcp://127.0.0.1:0", timeout=30.0):
-        cmd = [EMU, "--config", CONFIG, "--modbus", modbus, *args]
+    def __init__(self, *args, modbus="tcp://127.0.0.1:0", timeout=30.0, config=None):
+        cmd = [EMU, "--config", config or CONFIG, "--modbus", modbus, *args]
         self.proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
         self.ready = self.proc.stdout.readline()  # blocks until the ready line (or EOF on failure)
         if "swum-emu ready" not in self.ready:

@@ -1,0 +1,149 @@
+// `swum track`: hold a live device's drive a margin above the drifting softening peak (docs/host.md,
+// "swum track"), by the motional phase (what an amplifier board measures) or by the speed, or
+// hold the cold pick (the baseline); one CSV row per cycle, plots of the run.
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "commands/command_error.h"
+#include "commands/commands.h"
+#include "config/number_format.h"
+#include "device/device_options.h"
+#include "device/stop_signal.h"
+#include "output/partial_file.h"
+#include "output/plot.h"
+#include "track/track_run.h"
+
+namespace swum::host {
+namespace {
+
+struct TrackOptions {
+  DeviceOptions device;
+  TrackRunSettings settings;
+  std::string method = "phase";
+  double phase_deg = 1000.0;  // sentinel: not given
+  double cycle_ms = 20.0;
+  std::string out_path;
+  std::string plot_dir;
+};
+
+TrackMethod parse_method(const std::string& text) {
+  if (text == "phase") return TrackMethod::phase;
+  if (text == "speed") return TrackMethod::speed;
+  if (text == "fixed") return TrackMethod::fixed;
+  throw std::invalid_argument("--method: " + text + ": expected phase, speed or fixed");
+}
+
+// What the plots show: the rows kept in memory (a few numbers per cycle).
+struct Series {
+  std::vector<double> time_s, frequency_khz, speed_mm_s, temperature_c, phase_deg;
+  void add(const TrackRow& r) {
+    time_s.push_back(r.time_s);
+    frequency_khz.push_back(r.frequency_hz * 1e-3);
+    speed_mm_s.push_back(r.speed_mm_s);
+    temperature_c.push_back(r.stator_temperature_c.value_or(std::nan("")));
+    phase_deg.push_back(r.electrical ? r.electrical->motional_phase_a_deg : std::nan(""));
+  }
+};
+
+void write_plots(const Series& s, const std::string& dir, const std::string& method) {
+  std::filesystem::create_directories(dir);
+  auto plot = [&](const std::string& file, const std::string& title, const std::string& y_label,
+                  const std::vector<double>& y) {
+    PlotSpec spec{title + " (swum track --method " + method + ")", "device time (s)", y_label, {}};
+    spec.series.push_back({method, s.time_s, y, true, false});
+    write_png_plot(spec, std::filesystem::path(dir) / file);
+  };
+  plot("track_frequency.png", "Drive frequency", "frequency (kHz)", s.frequency_khz);
+  plot("track_speed.png", "Mover speed", "speed (mm/s)", s.speed_mm_s);
+  bool any_temperature = false, any_phase = false;
+  for (const double t : s.temperature_c) any_temperature |= std::isfinite(t);
+  for (const double p : s.phase_deg) any_phase |= std::isfinite(p);
+  if (any_temperature) plot("track_temperature.png", "Stator temperature", "temperature (degC)", s.temperature_c);
+  if (any_phase) plot("track_phase.png", "Motional current phase, phase A", "phase (deg)", s.phase_deg);
+}
+
+void run_track_command(TrackOptions& o) {
+  TrackRunSettings& s = o.settings;
+  s.tracker.method = parse_method(o.method);
+  if (o.phase_deg != 1000.0) {
+    if (s.tracker.method != TrackMethod::phase) throw std::invalid_argument("--phase-deg: only with --method phase");
+    s.tracker.phase_setpoint_deg = o.phase_deg;
+  }
+  s.cycle_s = o.cycle_ms * 1e-3;
+  StopSignal stop;
+  const auto device = open_device(o.device.address, o.device.timeouts());
+  PartialFile out(o.out_path, kTrackCsvHeader);
+  Series series;
+  TrackRunHooks hooks;
+  hooks.on_row = [&](const TrackRow& row) {
+    out.append(format_track_row(row));
+    series.add(row);
+  };
+  hooks.on_event = [](const std::string& line) { std::fprintf(stderr, "swum track: %s\n", line.c_str()); };
+  hooks.stop_requested = [] { return StopSignal::requested(); };
+  if (!device->lockstep()) {
+    std::fprintf(stderr, "swum track: %s runs on wall time: cycles follow the host clock, not reproducible\n",
+                 device->name().c_str());
+  }
+  TrackRunResult result;
+  try {
+    result = run_track(*device, s, hooks);
+  } catch (const DeviceError&) {
+    std::fprintf(stderr, "swum: the rows before the error are in %s\n", out.partial().c_str());
+    throw;
+  }
+  out.commit();
+  if (!o.plot_dir.empty() && !series.time_s.empty()) write_plots(series, o.plot_dir, o.method);
+  std::printf("%llu cycles (%s, method %s) -> %s; final %s Hz; peak %s; phase set-point %s; %d collapses\n",
+              static_cast<unsigned long long>(result.cycles), device->lockstep() ? "lockstep" : "wall time",
+              o.method.c_str(), o.out_path.c_str(), format_number(result.final_frequency_hz).c_str(),
+              result.peak_hz ? (format_number(*result.peak_hz) + " Hz").c_str() : "none",
+              result.phase_setpoint_deg ? (format_number(*result.phase_setpoint_deg) + " deg").c_str() : "none",
+              result.collapses);
+  if (result.stop_reason == "interrupted")
+    throw CommandError("interrupted: drive off; " + o.out_path + " holds every cycle run", kExitInterrupted);
+  if (!result.stop_reason.empty())
+    throw CommandError("stopped: " + result.stop_reason + "; drive off; rows in " + o.out_path);
+}
+
+}  // namespace
+
+void add_track_command(CLI::App& app) {
+  auto o = std::make_shared<TrackOptions>();
+  TrackSettings& t = o->settings.tracker;
+  CLI::App* sub = app.add_subcommand(
+      "track", "Hold a live device a margin above its drifting resonance (by motional phase or speed)");
+  add_device_options(*sub, o->device);
+  sub->add_option("--vpp", o->settings.vpp, "drive amplitude (Vpp)")->required();
+  sub->add_option("--duration-s,--duration", o->settings.duration_s, "run length (device time in lockstep)")
+      ->capture_default_str();
+  sub->add_option("--method", o->method, "phase (PLL on the motional phase), speed (search), fixed (cold pick held)")
+      ->capture_default_str();
+  sub->add_option("--margin-hz", t.margin_hz, "operating point above the speed peak (Hz)")->capture_default_str();
+  sub->add_option("--phase-deg", o->phase_deg,
+                  "phase method: motional phase set-point (deg); default: measured at peak + margin after one "
+                  "cold speed search");
+  sub->add_option("--start-hz", t.start_hz, "the approach starts here, above the resonance")->capture_default_str();
+  sub->add_option("--min-hz", t.min_hz, "never drive below")->capture_default_str();
+  sub->add_option("--max-hz", t.max_hz, "never drive above")->capture_default_str();
+  sub->add_option("--search-step-hz", t.search_step_hz, "frequency step of a speed search")->capture_default_str();
+  sub->add_option("--probe-interval-s", t.probe_interval_s, "speed method: time between searches")
+      ->capture_default_str();
+  sub->add_option("--phase-gain", t.phase_gain_hz_per_deg, "phase method: Hz per degree of error per cycle")
+      ->capture_default_str();
+  sub->add_option("--recovery-hz", t.recovery_hz, "jump above the operating point after a collapse")
+      ->capture_default_str();
+  sub->add_option("--drive-phase-deg", o->settings.drive_phase_deg, "V_B ahead of V_A (the direction)")
+      ->capture_default_str();
+  sub->add_option("--cycle-ms", o->cycle_ms, "control cycle (ms)")->capture_default_str();
+  sub->add_option("--tick-hz", o->settings.tick_hz, "lockstep: the device's tick rate (checked against its clock)")
+      ->capture_default_str();
+  sub->add_option("--out", o->out_path, "output CSV, one row per cycle")->required();
+  sub->add_option("--plots", o->plot_dir, "directory for track_frequency/speed/temperature/phase.png");
+  sub->callback([o] { run_track_command(*o); });
+}
+
+}  // namespace swum::host

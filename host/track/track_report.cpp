@@ -1,0 +1,177 @@
+#include "track/track_report.h"
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <map>
+#include <stdexcept>
+
+#include "config/csv_cells.h"
+#include "config/number_format.h"
+
+namespace swum::host {
+namespace {
+
+double interpolate(const std::vector<double>& x, const std::vector<double>& y, double at) {
+  if (x.empty()) return std::nan("");
+  if (at <= x.front()) return y.front();
+  if (at >= x.back()) return y.back();
+  const auto hi = static_cast<std::size_t>(std::upper_bound(x.begin(), x.end(), at) - x.begin());
+  const double w = (at - x[hi - 1]) / (x[hi] - x[hi - 1]);
+  return y[hi - 1] + w * (y[hi] - y[hi - 1]);
+}
+
+// A CSV table with a header: cells by column name, one-line errors naming file:line.
+class CsvTable {
+ public:
+  explicit CsvTable(const std::string& path) : path_(path) {
+    std::ifstream in(path);
+    if (!in) throw std::runtime_error(path + ": cannot open");
+    std::string line;
+    int number = 0;
+    while (std::getline(in, line)) {
+      ++number;
+      if (line.empty() || line[0] == '#') continue;
+      std::vector<std::string> cells;
+      for (const std::string_view c : split_csv_cells(line)) cells.emplace_back(c);
+      if (header_.empty()) {
+        for (std::size_t i = 0; i < cells.size(); ++i) header_[cells[i]] = i;
+        width_ = cells.size();
+        continue;
+      }
+      if (cells.size() != width_) {
+        throw std::runtime_error(path + ":" + std::to_string(number) + ": " + std::to_string(cells.size()) +
+                                 " cells, the header has " + std::to_string(width_));
+      }
+      rows_.push_back(std::move(cells));
+      lines_.push_back(number);
+    }
+    if (header_.empty()) throw std::runtime_error(path + ": empty (no header)");
+  }
+  [[nodiscard]] std::size_t size() const { return rows_.size(); }
+  [[nodiscard]] std::size_t column(const std::string& name) const {
+    const auto it = header_.find(name);
+    if (it == header_.end()) throw std::runtime_error(path_ + ": no column " + name);
+    return it->second;
+  }
+  [[nodiscard]] const std::string& cell(std::size_t row, std::size_t column) const { return rows_[row][column]; }
+  [[nodiscard]] double number(std::size_t row, std::size_t column, const std::string& name) const {
+    double value = 0.0;
+    if (const char* problem = parse_number_cell(rows_[row][column], value)) {
+      throw std::runtime_error(path_ + ":" + std::to_string(lines_[row]) + ": " + name + " '" + rows_[row][column] +
+                               "' " + problem);
+    }
+    return value;
+  }
+
+ private:
+  std::string path_;
+  std::map<std::string, std::size_t> header_;
+  std::size_t width_ = 0;
+  std::vector<std::vector<std::string>> rows_;
+  std::vector<int> lines_;
+};
+
+}  // namespace
+
+double BestSpeedCurve::speed_at(double rise_k) const { return interpolate(temperature_rise_k, speed_mm_s, rise_k); }
+double BestSpeedCurve::frequency_at(double rise_k) const {
+  return interpolate(temperature_rise_k, frequency_hz, rise_k);
+}
+
+TrackRunSummary summarise_track(const TrackSeries& run, const BestSpeedCurve& best, double ambient_c, double skip_s,
+                                double block_s) {
+  if (best.temperature_rise_k.size() < 2) throw std::invalid_argument("the band has fewer than two decided rises");
+  if (!(block_s > 0.0)) throw std::invalid_argument("--block-s: must be > 0");
+  TrackRunSummary s;
+  s.name = run.name;
+  TrackBlock block;
+  double best_sum = 0.0, speed_sum = 0.0, rise_sum = 0.0;
+  int count = 0;
+  auto close_block = [&] {
+    if (count == 0) return;
+    block.mean_speed_mm_s = speed_sum / count;
+    block.best_speed_mm_s = best_sum / count;
+    block.mean_rise_k = rise_sum / count;
+    block.share = block.mean_speed_mm_s / block.best_speed_mm_s;
+    s.blocks.push_back(block);
+    best_sum = speed_sum = rise_sum = 0.0;
+    count = 0;
+  };
+  for (std::size_t i = 0; i < run.time_s.size(); ++i) {
+    const double t = run.time_s[i];
+    if (std::isnan(run.stator_temperature_c[i]))
+      throw std::invalid_argument(run.name + ": row " + std::to_string(i + 1) + " has no stator temperature");
+    const double rise = run.stator_temperature_c[i] - ambient_c;
+    s.max_rise_k = std::max(s.max_rise_k, rise);
+    if (t < skip_s) continue;
+    if (rise < best.temperature_rise_k.front() - 1e-9 || rise > best.temperature_rise_k.back() + 1e-9) {
+      throw std::invalid_argument(run.name + ": temperature rise " + format_number(rise) + " K at t = " +
+                                  format_number(t) + " s outside the band's " +
+                                  format_number(best.temperature_rise_k.front()) + ".." +
+                                  format_number(best.temperature_rise_k.back()) + " K");
+    }
+    if (count > 0 && t >= block.start_s + block_s) close_block();
+    if (count == 0) block.start_s = t;
+    block.end_s = t;
+    best_sum += best.speed_at(rise);
+    speed_sum += run.speed_mm_s[i];
+    rise_sum += rise;
+    ++count;
+    s.final_frequency_hz = run.frequency_hz[i];
+    s.final_rise_k = rise;
+  }
+  close_block();
+  if (s.blocks.empty()) throw std::invalid_argument(run.name + ": no rows after --skip-s");
+  s.min_share = 1e300;
+  for (const TrackBlock& b : s.blocks) s.min_share = std::min(s.min_share, b.share);
+  s.final_share = s.blocks.back().share;
+  return s;
+}
+
+TrackSeries read_track_csv(const std::string& path, const std::string& name) {
+  const CsvTable table(path);
+  TrackSeries run;
+  run.name = name;
+  const std::size_t time = table.column("time_s"), frequency = table.column("frequency_hz"),
+                    speed = table.column("speed_mm_s"), temperature = table.column("stator_temperature_c");
+  for (std::size_t r = 0; r < table.size(); ++r) {
+    run.time_s.push_back(table.number(r, time, "time_s"));
+    run.frequency_hz.push_back(table.number(r, frequency, "frequency_hz"));
+    run.speed_mm_s.push_back(table.number(r, speed, "speed_mm_s"));
+    run.stator_temperature_c.push_back(table.cell(r, temperature).empty()
+                                           ? std::nan("")
+                                           : table.number(r, temperature, "stator_temperature_c"));
+  }
+  if (run.time_s.empty()) throw std::runtime_error(path + ": no rows");
+  return run;
+}
+
+BestSpeedCurve read_band_csv(const std::string& path, double vpp, double load_n) {
+  const CsvTable table(path);
+  const std::size_t v = table.column("vpp"), load = table.column("load_n"), rise = table.column("temperature_rise_k"),
+                    decided = table.column("decided"), speed = table.column("speed_mm_s"),
+                    frequency = table.column("frequency_hz");
+  std::vector<std::pair<double, std::pair<double, double>>> points;
+  for (std::size_t r = 0; r < table.size(); ++r) {
+    if (table.number(r, v, "vpp") != vpp || table.number(r, load, "load_n") != load_n) continue;
+    const std::string& d = table.cell(r, decided);
+    if (d != "1" && d != "true") continue;
+    points.push_back({table.number(r, rise, "temperature_rise_k"),
+                      {table.number(r, speed, "speed_mm_s"), table.number(r, frequency, "frequency_hz")}});
+  }
+  std::sort(points.begin(), points.end());
+  BestSpeedCurve curve;
+  for (const auto& [r, sf] : points) {
+    curve.temperature_rise_k.push_back(r);
+    curve.speed_mm_s.push_back(sf.first);
+    curve.frequency_hz.push_back(sf.second);
+  }
+  if (curve.temperature_rise_k.size() < 2) {
+    throw std::runtime_error(path + ": fewer than two decided rows at " + format_number(vpp) + " Vpp and " +
+                             format_number(load_n) + " N");
+  }
+  return curve;
+}
+
+}  // namespace swum::host

@@ -1,0 +1,130 @@
+#include "track/track_run.h"
+
+#include <cinttypes>
+#include <cmath>
+#include <cstdio>
+#include <stdexcept>
+
+#include "codes.h"
+#include "control/cycle_exchange.h"
+
+namespace swum::host {
+namespace {
+
+void check_settings(const TrackRunSettings& s) {
+  if (!(s.vpp > 0.0 && s.vpp <= 10000.0)) throw std::invalid_argument("--vpp: must be in (0, 10000]");
+  if (!(std::abs(s.drive_phase_deg) <= 180.0)) throw std::invalid_argument("--drive-phase-deg: outside -180..180");
+  if (!(s.cycle_s > 0.0 && s.cycle_s <= 10.0)) throw std::invalid_argument("--cycle-ms: must be within (0, 10000]");
+  if (!(s.duration_s >= s.cycle_s && s.duration_s <= 1e6))
+    throw std::invalid_argument("--duration-s: must be at least one cycle and <= 1e6 s");
+  if (!(s.tick_hz > 0.0)) throw std::invalid_argument("--tick-hz: must be > 0");
+  const std::string problem = check(s.tracker);
+  if (!problem.empty()) throw std::invalid_argument(problem);
+}
+
+std::string fault_text(int code) {
+  const std::string name =
+      code >= 0 && code <= 255 ? protocol::to_string(static_cast<protocol::FaultCode>(code)) : std::string("?");
+  return (name == "?" ? "fault" : name) + " (code " + std::to_string(code) + ")";
+}
+
+// The cycles of one run; the caller switches the drive off afterwards.
+void run_cycles(CycleExchange& exchange, ResonanceTracker& tracker, const TrackRunSettings& s,
+                const TrackRunHooks& hooks, TrackRunResult& result) {
+  auto event = [&hooks](const std::string& line) {
+    if (!line.empty() && hooks.on_event) hooks.on_event(line);
+  };
+  DriveSetpoint setpoint;
+  setpoint.vpp = s.vpp;
+  setpoint.phase_deg = s.drive_phase_deg;
+  TrackDecision decision = tracker.start();
+  event(decision.event);
+  const auto cycles = static_cast<std::uint64_t>(std::llround(s.duration_s / s.cycle_s));
+  DeviceAction action = DeviceAction::enable;
+  for (std::uint64_t cycle = 0; cycle < cycles; ++cycle) {
+    if (hooks.stop_requested && hooks.stop_requested()) {
+      result.stop_reason = "interrupted";
+      return;
+    }
+    setpoint.frequency_hz = decision.frequency_hz;
+    const DeviceTelemetry t = exchange.exchange(setpoint, action);
+    action = DeviceAction::keep_alive;
+    result.cycles = cycle + 1;
+    TrackRow row;
+    row.cycle = cycle;
+    row.time_s = t.device_time_s.value_or(exchange.host_seconds(t));
+    row.mode = decision.mode;
+    row.frequency_hz = setpoint.frequency_hz;
+    row.speed_mm_s = t.speed_mm_s;
+    row.electrical = t.electrical;
+    row.stator_temperature_c = t.stator_temperature_c;
+    row.state = t.state;
+    row.fault_code = t.fault_code;
+    if (hooks.on_row) hooks.on_row(row);
+    if (t.is(protocol::AmpState::fault)) {
+      result.stop_reason = fault_text(t.fault_code) + " at cycle " + std::to_string(cycle);
+      return;
+    }
+    if (!t.is(protocol::AmpState::enabled)) {
+      result.stop_reason = "the device is not enabled at cycle " + std::to_string(cycle) + " (enable line low?)";
+      return;
+    }
+    TrackSample sample;
+    sample.time_s = row.time_s;
+    sample.speed_mm_s = t.speed_mm_s;
+    if (t.electrical) sample.motional_phase_deg = t.electrical->motional_phase_a_deg;
+    try {
+      decision = tracker.next(sample);
+    } catch (const std::runtime_error& e) {
+      result.stop_reason = e.what();
+      return;
+    }
+    event(decision.event);
+  }
+}
+
+}  // namespace
+
+std::string format_track_row(const TrackRow& r) {
+  char electrical[160] = ",,,,";
+  if (r.electrical) {
+    const ElectricalReading& e = *r.electrical;
+    std::snprintf(electrical, sizeof electrical, "%.3f,%.3f,%.6f,%.6f,%.4f", e.motional_phase_a_deg, e.phase_a_deg,
+                  e.current_a_a, e.current_b_a, e.power_w());
+  }
+  char temperature[32] = "";
+  if (r.stator_temperature_c) std::snprintf(temperature, sizeof temperature, "%.3f", *r.stator_temperature_c);
+  char line[400];
+  std::snprintf(line, sizeof line, "%" PRIu64 ",%.6f,%s,%.3f,%.3f,%s,%s,%d,%d\n", r.cycle, r.time_s,
+                mode_name(r.mode), r.frequency_hz, r.speed_mm_s, electrical, temperature, r.state, r.fault_code);
+  return line;
+}
+
+TrackRunResult run_track(Device& device, const TrackRunSettings& s, const TrackRunHooks& hooks) {
+  check_settings(s);
+  ResonanceTracker tracker(s.tracker);
+  CycleExchange exchange(device, s.cycle_s, s.tick_hz, DriveSlew{});
+  TrackRunResult result;
+  DriveSetpoint off;
+  off.phase_deg = s.drive_phase_deg;
+  try {
+    run_cycles(exchange, tracker, s, hooks, result);
+    off.frequency_hz = tracker.frequency_hz();
+    exchange.drive_off(off);
+  } catch (const DeviceError&) {
+    try {
+      off.frequency_hz = tracker.frequency_hz();
+      exchange.drive_off(off);
+    } catch (const DeviceError&) {
+      // The device does not answer: its watchdog switches the drive off.
+    }
+    throw;
+  }
+  result.peak_hz = tracker.peak_hz();
+  result.phase_setpoint_deg = tracker.phase_setpoint_deg();
+  result.final_frequency_hz = tracker.frequency_hz();
+  result.collapses = tracker.collapses();
+  return result;
+}
+
+}  // namespace swum::host
