@@ -137,9 +137,9 @@ void write_png_plot(const PlotSpec& spec, const std::filesystem::path& path) {
     pls->col0(1);
     pls->width(1.0);
     pls->legend(&legend_width, &legend_height, PL_LEGEND_BACKGROUND | PL_LEGEND_BOUNDING_BOX,
-                PL_POSITION_TOP | PL_POSITION_RIGHT | PL_POSITION_OUTSIDE, 0.02, 0.0, 0.1, 0, 0, 1, 0, 0, n_series,
-                opt.data(), 1.0, 0.9, 2.0, 1.0, text_colors.data(), texts.data(), nullptr, nullptr, nullptr, nullptr,
-                line_colors.data(), line_styles.data(), line_widths.data(), symbol_colors.data(), symbol_scales.data(),
+                PL_POSITION_RIGHT | PL_POSITION_OUTSIDE, 0.02, 0.0, 0.1, 0, 0, 1, 0, 0, n_series, opt.data(), 1.0, 0.9,
+                2.0, 1.0, text_colors.data(), texts.data(), nullptr, nullptr, nullptr, nullptr, line_colors.data(),
+                line_styles.data(), line_widths.data(), symbol_colors.data(), symbol_scales.data(),
                 symbol_numbers.data(), symbol_ptrs.data());
   }
   pls.reset();  // flushes and closes the PNG
