@@ -36,8 +36,8 @@ EmulatorCore::EmulatorCore(const MotorModel& model, CoreConfig config, SharedSta
   position_ring_.assign(window_ticks + 1, simulator_.state().mover_position_m);
   if (!(config_.electrical_window_s > 0.0) || !std::isfinite(config_.electrical_window_s))
     throw std::invalid_argument("electrical window must be positive");
-  electrical_ring_.assign(static_cast<std::size_t>(std::max(1.0, std::round(config_.electrical_window_s / tick_s_))),
-                          ElectricalSums{});
+  electrical_window_ticks_ =
+      static_cast<std::uint64_t>(std::max(1.0, std::round(config_.electrical_window_s / tick_s_)));
   config_.sample_stride = std::max(1U, config_.sample_stride);
   simulator_.set_drive(amplifier_.output());
   telemetry_.position_m = simulator_.state().mover_position_m;
@@ -90,12 +90,9 @@ const Telemetry& EmulatorCore::tick() {
   std::uint64_t steps = target_steps - steps_done_;
   double un_min = 1e300, un_max = -1e300, ut_min = 1e300, ut_max = -1e300;
   const std::uint64_t stride = config_.sample_stride;
-  ElectricalSums& tick_sums = electrical_ring_[electrical_index_];
-  tick_sums = ElectricalSums{};
-  electrical_index_ = (electrical_index_ + 1) % electrical_ring_.size();
   for (std::uint64_t done = 0; done < steps;) {
     const std::uint64_t n = std::min(stride, steps - done);
-    simulator_.advance(n, tick_sums);
+    simulator_.advance(n, electrical_sums_);
     done += n;
     const MotorState& s = simulator_.state();
     const double un = MotorModel::tip_normal_m(s);
@@ -119,7 +116,8 @@ const Telemetry& EmulatorCore::tick() {
     simulator_.set_drive(amplifier_.output());
     ++telemetry_.divergences;
     un_min = un_max = ut_min = ut_max = 0.0;
-    std::fill(electrical_ring_.begin(), electrical_ring_.end(), ElectricalSums{});
+    electrical_sums_ = ElectricalSums{};
+    electrical_ticks_ = 0;
   }
 
   // 5. Telemetry (what the sensors report: a scenario's sensor faults act here, not on the motor).
@@ -147,11 +145,13 @@ const Telemetry& EmulatorCore::tick() {
                              : telemetry_.tick_speed_m_s;
   telemetry_.tip_normal_um = 0.5e6 * (un_max - un_min);
   telemetry_.tip_tangential_um = 0.5e6 * (ut_max - ut_min);
-  ElectricalSums window;
-  for (const ElectricalSums& e : electrical_ring_) window += e;
-  const ElectricalReadings r = electrical_readings(window, drive.phase_deg);
-  telemetry_.electrical = {r.current_a_a,          r.current_b_a,          r.phase_a_deg, r.phase_b_deg,
-                           r.motional_phase_a_deg, r.motional_phase_b_deg, r.power_a_w,   r.power_b_w};
+  if (++electrical_ticks_ >= electrical_window_ticks_) {
+    const ElectricalReadings r = electrical_readings(electrical_sums_, drive.phase_deg);
+    telemetry_.electrical = {r.current_a_a,          r.current_b_a,          r.phase_a_deg, r.phase_b_deg,
+                             r.motional_phase_a_deg, r.motional_phase_b_deg, r.power_a_w,   r.power_b_w};
+    electrical_sums_ = ElectricalSums{};
+    electrical_ticks_ = 0;
+  }
   telemetry_.stator_temperature_c = kReferenceAmbientC + simulator_.ambient_offset_k() +
                                     simulator_.state().stator_temperature_rise_k;
   telemetry_.applied_commands = amplifier_.applied_commands();

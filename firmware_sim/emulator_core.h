@@ -42,7 +42,10 @@ struct CoreConfig {
   double tick_hz = 10000.0;
   AmplifierConfig amplifier;  // tick_s is overwritten from tick_hz
   double speed_window_s = 0.010;
-  double electrical_window_s = 0.001;  // the phase currents are fitted over the last N ticks of this length
+  // The phase currents are fitted over windows of this length (whole ticks), one after the
+  // other: the telemetry holds the last complete window's values, as a board updates its
+  // measurement once per window (and the fit costs once per window, not per tick).
+  double electrical_window_s = 0.001;
   unsigned sample_stride = 4;          // sub-steps between tip-amplitude samples
   bool external_clock = false;         // lockstep: reported in the telemetry
 };
@@ -90,8 +93,9 @@ class EmulatorCore {
   std::vector<double> position_ring_;  // mover position at the end of each of the last N ticks
   std::size_t ring_index_ = 0;
   std::size_t ring_filled_ = 0;
-  std::vector<ElectricalSums> electrical_ring_;  // each of the last N ticks' sums (electrical.h)
-  std::size_t electrical_index_ = 0;
+  ElectricalSums electrical_sums_;  // the window under way (electrical.h)
+  std::uint64_t electrical_window_ticks_ = 1;
+  std::uint64_t electrical_ticks_ = 0;  // ticks in the window under way
   std::array<std::uint64_t, 64> accepted_ns_{};  // first 64 commands of a tick
   std::size_t accepted_count_ = 0;
   TickObserver* observer_ = nullptr;

@@ -44,18 +44,26 @@ double thread_cpu_s() {
 // Counters (plain numbers, not rates): ns_per_step = thread CPU ns per step, taken as the best
 // of the batches of this run (a shared machine only ever slows a batch down);
 // real_time_factor = step / (CPU time per step) for that best batch.
+// electrical: the emulator's path, advance(steps, ElectricalSums&) (the phase currents of every
+// 4th step, model/electrical.h), against the plain advance(steps) of the same motor.
 void run(benchmark::State& state, const swum::MotorParameters& p, double vpp, double frequency_hz,
-         double load_n = 0.0) {
+         double load_n = 0.0, bool electrical = false) {
   const swum::MotorModel model(p);
   swum::MotorSimulator sim(model);
   sim.set_drive({vpp, frequency_hz, 90.0, load_n});
   sim.advance(200000);  // reach the periodic regime
   constexpr std::uint64_t kBatch = 4096;
   double best_s = 1e30;
+  swum::ElectricalSums sums;
   for (auto _ : state) {
     const double t0 = thread_cpu_s();
-    sim.advance(kBatch);
+    if (electrical) {
+      sim.advance(kBatch, sums);
+    } else {
+      sim.advance(kBatch);
+    }
     benchmark::DoNotOptimize(sim.state().q1_m);
+    benchmark::DoNotOptimize(sums.power_a);
     best_s = std::min(best_s, thread_cpu_s() - t0);
   }
   const double steps = static_cast<double>(state.iterations() * kBatch);
@@ -68,6 +76,13 @@ void run(benchmark::State& state, const swum::MotorParameters& p, double vpp, do
 // Calibrated motor (the product default).
 // Slip-dominated: 400 Vpp at 40 kHz (intermittent contact, sliding friction).
 void BM_Calibrated_Slip_400Vpp_40kHz(benchmark::State& s) { run(s, calibrated(), 400.0, 40000.0); }
+// The same with the electrical port measured (what swum-emu runs since issue 15).
+void BM_Calibrated_Slip_400Vpp_40kHz_Electrical(benchmark::State& s) {
+  run(s, calibrated(), 400.0, 40000.0, 0.0, true);
+}
+void BM_Calibrated_Separation_400Vpp_39k5Hz_Electrical(benchmark::State& s) {
+  run(s, calibrated(), 400.0, 39500.0, 0.0, true);
+}
 // Stick-dominated: 50 Vpp at 40 kHz (dead zone: contact sticks elastically, mover at rest).
 void BM_Calibrated_Stick_50Vpp_40kHz(benchmark::State& s) { run(s, calibrated(), 50.0, 40000.0); }
 // Separation: 400 Vpp at 39.5 kHz (largest normal amplitude, contact open ~half the cycle).
@@ -105,8 +120,10 @@ void BM_CalibratedSingleStepCall_400Vpp(benchmark::State& state) {
 }
 
 BENCHMARK(BM_Calibrated_Slip_400Vpp_40kHz);
+BENCHMARK(BM_Calibrated_Slip_400Vpp_40kHz_Electrical);
 BENCHMARK(BM_Calibrated_Stick_50Vpp_40kHz);
 BENCHMARK(BM_Calibrated_Separation_400Vpp_39k5Hz);
+BENCHMARK(BM_Calibrated_Separation_400Vpp_39k5Hz_Electrical);
 BENCHMARK(BM_Calibrated_Rest_Loaded);
 BENCHMARK(BM_Calibrated64Steps_Slip_400Vpp_40kHz);
 BENCHMARK(BM_Calibrated64Steps_Separation_400Vpp_39k5Hz);
