@@ -128,6 +128,9 @@ class MotorSimulator {
   ModelFaults faults_{};
   bool diverged_ = false;
   std::uint64_t divergence_count_ = 0;
+  // (sin, cos) at mid-step = (phasor at t_n + phasor at t_n+1) x this = 1 / (2 cos(w dt/2)):
+  // the electrical port's sampling point, computed once per drive frequency (set_drive).
+  double midpoint_scale_ = 0.5;
 };
 
 }  // namespace swum
