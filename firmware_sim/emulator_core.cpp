@@ -36,8 +36,8 @@ EmulatorCore::EmulatorCore(const MotorModel& model, CoreConfig config, SharedSta
   position_ring_.assign(window_ticks + 1, simulator_.state().mover_position_m);
   if (!(config_.electrical_window_s > 0.0) || !std::isfinite(config_.electrical_window_s))
     throw std::invalid_argument("electrical window must be positive");
-  electrical_window_ticks_ =
-      static_cast<std::uint64_t>(std::max(1.0, std::round(config_.electrical_window_s / tick_s_)));
+  electrical_window_ticks_ = static_cast<std::uint64_t>(
+      std::max(1.0, std::round(config_.electrical_window_s / tick_s_)));
   config_.sample_stride = std::max(1U, config_.sample_stride);
   simulator_.set_drive(amplifier_.output());
   telemetry_.position_m = simulator_.state().mover_position_m;

@@ -46,8 +46,8 @@ struct CoreConfig {
   // other: the telemetry holds the last complete window's values, as a board updates its
   // measurement once per window (and the fit costs once per window, not per tick).
   double electrical_window_s = 0.001;
-  unsigned sample_stride = 4;          // sub-steps between tip-amplitude samples
-  bool external_clock = false;         // lockstep: reported in the telemetry
+  unsigned sample_stride = 4;   // sub-steps between tip-amplitude samples
+  bool external_clock = false;  // lockstep: reported in the telemetry
 };
 
 class EmulatorCore {
@@ -95,7 +95,7 @@ class EmulatorCore {
   std::size_t ring_filled_ = 0;
   ElectricalSums electrical_sums_;  // the window under way (electrical.h)
   std::uint64_t electrical_window_ticks_ = 1;
-  std::uint64_t electrical_ticks_ = 0;  // ticks in the window under way
+  std::uint64_t electrical_ticks_ = 0;           // ticks in the window under way
   std::array<std::uint64_t, 64> accepted_ns_{};  // first 64 commands of a tick
   std::size_t accepted_count_ = 0;
   TickObserver* observer_ = nullptr;

@@ -31,11 +31,13 @@ void write_plots(const std::vector<TrackSeries>& runs, const std::vector<TrackRu
                  const BestSpeedCurve& best, const TrackReportOptions& o) {
   std::filesystem::create_directories(o.plot_dir);
   const std::filesystem::path dir(o.plot_dir);
-  PlotSpec share{"Share of the best speed at the same margin (" + format_number(o.vpp) + " Vpp)", "device time (s)",
-                 "mean speed / best at that temperature", {}};
+  PlotSpec share{"Share of the best speed at the same margin (" + format_number(o.vpp) + " Vpp)",
+                 "device time (s)",
+                 "mean speed / best at that temperature",
+                 {}};
   PlotSpec frequency{"Drive frequency (" + format_number(o.vpp) + " Vpp)", "device time (s)", "frequency (kHz)", {}};
-  PlotSpec speed{"Mover speed (dashed: best at the same margin, each run's temperature)", "device time (s)",
-                 "speed (mm/s)", {}};
+  PlotSpec speed{
+      "Mover speed (dashed: best at the same margin, each run's temperature)", "device time (s)", "speed (mm/s)", {}};
   PlotSpec temperature{"Stator temperature", "device time (s)", "temperature (degC)", {}};
   for (std::size_t k = 0; k < runs.size(); ++k) {
     const TrackSeries& r = runs[k];

@@ -106,8 +106,8 @@ TrackRunSummary summarise_track(const TrackSeries& run, const BestSpeedCurve& be
     s.max_rise_k = std::max(s.max_rise_k, rise);
     if (t < skip_s) continue;
     if (rise < best.temperature_rise_k.front() - 1e-9 || rise > best.temperature_rise_k.back() + 1e-9) {
-      throw std::invalid_argument(run.name + ": temperature rise " + format_number(rise) + " K at t = " +
-                                  format_number(t) + " s outside the band's " +
+      throw std::invalid_argument(run.name + ": temperature rise " + format_number(rise) +
+                                  " K at t = " + format_number(t) + " s outside the band's " +
                                   format_number(best.temperature_rise_k.front()) + ".." +
                                   format_number(best.temperature_rise_k.back()) + " K");
     }
@@ -139,9 +139,8 @@ TrackSeries read_track_csv(const std::string& path, const std::string& name) {
     run.time_s.push_back(table.number(r, time, "time_s"));
     run.frequency_hz.push_back(table.number(r, frequency, "frequency_hz"));
     run.speed_mm_s.push_back(table.number(r, speed, "speed_mm_s"));
-    run.stator_temperature_c.push_back(table.cell(r, temperature).empty()
-                                           ? std::nan("")
-                                           : table.number(r, temperature, "stator_temperature_c"));
+    run.stator_temperature_c.push_back(
+        table.cell(r, temperature).empty() ? std::nan("") : table.number(r, temperature, "stator_temperature_c"));
   }
   if (run.time_s.empty()) throw std::runtime_error(path + ": no rows");
   return run;

@@ -23,8 +23,8 @@ void check_settings(const TrackRunSettings& s) {
 }
 
 std::string fault_text(int code) {
-  const std::string name =
-      code >= 0 && code <= 255 ? protocol::to_string(static_cast<protocol::FaultCode>(code)) : std::string("?");
+  const std::string name = code >= 0 && code <= 255 ? protocol::to_string(static_cast<protocol::FaultCode>(code))
+                                                    : std::string("?");
   return (name == "?" ? "fault" : name) + " (code " + std::to_string(code) + ")";
 }
 
@@ -95,8 +95,8 @@ std::string format_track_row(const TrackRow& r) {
   char temperature[32] = "";
   if (r.stator_temperature_c) std::snprintf(temperature, sizeof temperature, "%.3f", *r.stator_temperature_c);
   char line[400];
-  std::snprintf(line, sizeof line, "%" PRIu64 ",%.6f,%s,%.3f,%.3f,%s,%s,%d,%d\n", r.cycle, r.time_s,
-                mode_name(r.mode), r.frequency_hz, r.speed_mm_s, electrical, temperature, r.state, r.fault_code);
+  std::snprintf(line, sizeof line, "%" PRIu64 ",%.6f,%s,%.3f,%.3f,%s,%s,%d,%d\n", r.cycle, r.time_s, mode_name(r.mode),
+                r.frequency_hz, r.speed_mm_s, electrical, temperature, r.state, r.fault_code);
   return line;
 }
 

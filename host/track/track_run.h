@@ -44,8 +44,8 @@ inline constexpr const char* kTrackCsvHeader =
 
 struct TrackRunResult {
   std::uint64_t cycles = 0;
-  std::optional<double> peak_hz;              // the last peak a search found
-  std::optional<double> phase_setpoint_deg;   // phase method
+  std::optional<double> peak_hz;             // the last peak a search found
+  std::optional<double> phase_setpoint_deg;  // phase method
   double final_frequency_hz = 0.0;
   int collapses = 0;
   std::string stop_reason;  // empty when the run completed, else one line ("interrupted", a fault)

@@ -46,8 +46,8 @@ double thread_cpu_s() {
 // real_time_factor = step / (CPU time per step) for that best batch.
 // electrical: the emulator's path, advance(steps, ElectricalSums&) (the phase currents of every
 // 4th step, model/electrical.h), against the plain advance(steps) of the same motor.
-void run(benchmark::State& state, const swum::MotorParameters& p, double vpp, double frequency_hz,
-         double load_n = 0.0, bool electrical = false) {
+void run(benchmark::State& state, const swum::MotorParameters& p, double vpp, double frequency_hz, double load_n = 0.0,
+         bool electrical = false) {
   const swum::MotorModel model(p);
   swum::MotorSimulator sim(model);
   sim.set_drive({vpp, frequency_hz, 90.0, load_n});
