@@ -146,7 +146,9 @@ const Telemetry& EmulatorCore::tick() {
   telemetry_.tip_normal_um = 0.5e6 * (un_max - un_min);
   telemetry_.tip_tangential_um = 0.5e6 * (ut_max - ut_min);
   if (++electrical_ticks_ >= electrical_window_ticks_) {
-    const ElectricalReadings r = electrical_readings(electrical_sums_, drive.phase_deg);
+    // No drive, no measurement: a ring-down current at V = 0 has a phase but nothing to refer it to.
+    const ElectricalReadings r = drive.vpp > 0.0 ? electrical_readings(electrical_sums_, drive.phase_deg)
+                                                 : ElectricalReadings{};
     telemetry_.electrical = {r.current_a_a,          r.current_b_a,          r.phase_a_deg, r.phase_b_deg,
                              r.motional_phase_a_deg, r.motional_phase_b_deg, r.power_a_w,   r.power_b_w};
     electrical_sums_ = ElectricalSums{};

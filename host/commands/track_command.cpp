@@ -23,7 +23,8 @@ struct TrackOptions {
   DeviceOptions device;
   TrackRunSettings settings;
   std::string method = "phase";
-  double phase_deg = 1000.0;  // sentinel: not given
+  double phase_deg = 0.0;
+  CLI::Option* phase_option = nullptr;  // given or not
   double cycle_ms = 20.0;
   std::string out_path;
   std::string plot_dir;
@@ -68,11 +69,15 @@ void write_plots(const Series& s, const std::string& dir, const std::string& met
 void run_track_command(TrackOptions& o) {
   TrackRunSettings& s = o.settings;
   s.tracker.method = parse_method(o.method);
-  if (o.phase_deg != 1000.0) {
+  if (o.phase_option->count() > 0) {
     if (s.tracker.method != TrackMethod::phase) throw std::invalid_argument("--phase-deg: only with --method phase");
     s.tracker.phase_setpoint_deg = o.phase_deg;
   }
   s.cycle_s = o.cycle_ms * 1e-3;
+  s.tracker.direction = s.drive_phase_deg < 0.0 ? -1.0 : 1.0;
+  // Every option checked before the device is opened or a file created.
+  const std::string problem = check(s);
+  if (!problem.empty()) throw std::invalid_argument(problem);
   StopSignal stop;
   const auto device = open_device(o.device.address, o.device.timeouts());
   PartialFile out(o.out_path, kTrackCsvHeader);
@@ -91,8 +96,8 @@ void run_track_command(TrackOptions& o) {
   TrackRunResult result;
   try {
     result = run_track(*device, s, hooks);
-  } catch (const DeviceError&) {
-    std::fprintf(stderr, "swum: the rows before the error are in %s\n", out.partial().c_str());
+  } catch (...) {
+    std::fprintf(stderr, "swum: drive off; the rows before the error are in %s\n", out.partial().c_str());
     throw;
   }
   out.commit();
@@ -123,9 +128,9 @@ void add_track_command(CLI::App& app) {
   sub->add_option("--method", o->method, "phase (PLL on the motional phase), speed (search), fixed (cold pick held)")
       ->capture_default_str();
   sub->add_option("--margin-hz", t.margin_hz, "operating point above the speed peak (Hz)")->capture_default_str();
-  sub->add_option("--phase-deg", o->phase_deg,
-                  "phase method: motional phase set-point (deg); default: measured at peak + margin after one "
-                  "cold speed search");
+  o->phase_option = sub->add_option("--phase-deg", o->phase_deg,
+                                    "phase method: motional phase set-point (deg, -90..30); default: measured at "
+                                    "peak + margin after one cold speed search");
   sub->add_option("--start-hz", t.start_hz, "the approach starts here, above the resonance")->capture_default_str();
   sub->add_option("--min-hz", t.min_hz, "never drive below")->capture_default_str();
   sub->add_option("--max-hz", t.max_hz, "never drive above")->capture_default_str();
@@ -136,7 +141,17 @@ void add_track_command(CLI::App& app) {
       ->capture_default_str();
   sub->add_option("--recovery-hz", t.recovery_hz, "jump above the operating point after a collapse")
       ->capture_default_str();
-  sub->add_option("--drive-phase-deg", o->settings.drive_phase_deg, "V_B ahead of V_A (the direction)")
+  sub->add_option("--drive-phase-deg", o->settings.drive_phase_deg,
+                  "V_B ahead of V_A; its sign is the direction (phase method: forward only)")
+      ->capture_default_str();
+  sub->add_option("--vpp-slew", o->settings.slew.vpp_per_s,
+                  "amplitude slew limit written to the device (Vpp/s, 0 = none)")
+      ->capture_default_str();
+  sub->add_option("--frequency-slew", o->settings.slew.frequency_hz_per_s,
+                  "frequency slew limit written to the device (Hz/s, 0 = none)")
+      ->capture_default_str();
+  sub->add_option("--max-collapses", o->settings.tracker.max_collapses,
+                  "collapses allowed in one run; one more ends it with an error")
       ->capture_default_str();
   sub->add_option("--cycle-ms", o->cycle_ms, "control cycle (ms)")->capture_default_str();
   sub->add_option("--tick-hz", o->settings.tick_hz, "lockstep: the device's tick rate (checked against its clock)")

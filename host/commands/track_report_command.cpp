@@ -68,6 +68,7 @@ void write_plots(const std::vector<TrackSeries>& runs, const std::vector<TrackRu
 }
 
 void run_report(const TrackReportOptions& o) {
+  if (!(o.vpp > 0.0 && o.vpp <= 10000.0)) throw std::invalid_argument("--vpp: must be in (0, 10000]");
   const BestSpeedCurve best = read_band_csv(o.band_path, o.vpp, o.load_n);
   std::vector<TrackSeries> runs;
   std::vector<TrackRunSummary> summaries;
@@ -89,12 +90,14 @@ void run_report(const TrackReportOptions& o) {
                           {"mean_speed_mm_s", b.mean_speed_mm_s},
                           {"best_speed_mm_s", b.best_speed_mm_s},
                           {"mean_rise_k", b.mean_rise_k},
+                          {"margin_hz", b.margin_hz},
                           {"share", b.share}});
       }
       out.push_back({{"run", s.name},
                      {"min_share", s.min_share},
                      {"final_share", s.final_share},
                      {"final_frequency_hz", s.final_frequency_hz},
+                     {"final_margin_hz", s.final_margin_hz},
                      {"final_rise_k", s.final_rise_k},
                      {"max_rise_k", s.max_rise_k},
                      {"blocks", blocks}});
@@ -102,10 +105,10 @@ void run_report(const TrackReportOptions& o) {
     std::printf("%s\n", out.dump(2).c_str());
     return;
   }
-  std::printf("run      min share  final share  final frequency (Hz)  final rise (K)\n");
+  std::printf("run      min share  final share  final frequency (Hz)  final margin (Hz)  final rise (K)\n");
   for (const TrackRunSummary& s : summaries) {
-    std::printf("%-8s %9.3f  %11.3f  %20.1f  %14.1f\n", s.name.c_str(), s.min_share, s.final_share,
-                s.final_frequency_hz, s.final_rise_k);
+    std::printf("%-8s %9.3f  %11.3f  %20.1f  %17.1f  %14.1f\n", s.name.c_str(), s.min_share, s.final_share,
+                s.final_frequency_hz, s.final_margin_hz, s.final_rise_k);
   }
 }
 

@@ -5,16 +5,10 @@
 #include <stdexcept>
 
 #include "config/number_format.h"
+#include "model/electrical.h"
 
 namespace swum::host {
 namespace {
-
-// Wraps to (-180, 180].
-double wrapped_deg(double deg) {
-  double d = std::remainder(deg, 360.0);
-  if (d <= -180.0) d += 360.0;
-  return d;
-}
 
 std::string hz(double f) { return format_number(f) + " Hz"; }
 
@@ -36,8 +30,11 @@ std::string check(const TrackSettings& s) {
   if (!(s.probe_interval_s > 0.0 && s.probe_interval_s <= 1e5))
     return bad("--probe-interval-s", s.probe_interval_s, "(0, 1e5]");
   if (s.settle_cycles < 1 || s.settle_cycles > 10000) return "--settle-cycles: outside 1..10000";
-  if (s.phase_setpoint_deg && !(std::abs(*s.phase_setpoint_deg) <= 180.0))
-    return bad("--phase-deg", *s.phase_setpoint_deg, "-180..180");
+  if (s.phase_setpoint_deg && !(*s.phase_setpoint_deg >= -90.0 && *s.phase_setpoint_deg <= kMaxPhaseSetpointDeg))
+    return bad("--phase-deg", *s.phase_setpoint_deg,
+               "-90..30 (above +30 deg the motional phase lies below the speed peak)");
+  if (!(s.direction == 1.0 || s.direction == -1.0)) return "direction: must be +1 or -1";
+  if (s.max_collapses < 0 || s.max_collapses > 1000) return "--max-collapses: outside 0..1000";
   if (!(s.phase_gain_hz_per_deg > 0.0 && s.phase_gain_hz_per_deg <= 1000.0))
     return bad("--phase-gain", s.phase_gain_hz_per_deg, "(0, 1000]");
   if (!(s.max_step_hz > 0.0 && s.max_step_hz <= 5000.0)) return bad("--max-step-hz", s.max_step_hz, "(0, 5000]");
@@ -70,7 +67,7 @@ ResonanceTracker::ResonanceTracker(const TrackSettings& settings) : settings_(se
 
 double ResonanceTracker::clamp_hz(double f) const { return std::clamp(f, settings_.min_hz, settings_.max_hz); }
 
-double ResonanceTracker::speed_of(const TrackSample& s) const { return direction_ * s.speed_mm_s; }
+double ResonanceTracker::speed_of(const TrackSample& s) const { return settings_.direction * s.speed_mm_s; }
 
 TrackDecision ResonanceTracker::decide(TrackMode mode, std::string event) {
   mode_ = mode;
@@ -112,27 +109,32 @@ TrackDecision ResonanceTracker::found_peak(const std::string& why) {
 }
 
 TrackDecision ResonanceTracker::collapse(const TrackSample& s, const std::string& why) {
-  ++collapses_;
+  if (++collapses_ > settings_.max_collapses) {
+    throw std::runtime_error("collapsed " + std::to_string(collapses_) + " times (last at " + hz(frequency_hz_) + ": " +
+                             why + "): the set-point or margin cannot be held; drive off");
+  }
   const double from = frequency_hz_;
   frequency_hz_ = clamp_hz(std::max(frequency_hz_, operating_hz_) + settings_.recovery_hz);
+  good_speed_mm_s_ = 0.0;  // the mover re-accelerates: no collapse test until a new reference
   return decide(TrackMode::recover, "collapse at " + hz(from) + " (" + why + ", t = " + format_number(s.time_s) +
                                         " s): up to " + hz(frequency_hz_) + ", approaching again from above");
 }
 
 bool ResonanceTracker::collapsed(const TrackSample& s) const {
+  const bool speed_collapsed = good_speed_mm_s_ > 0.0 && speed_of(s) < settings_.collapse_share * good_speed_mm_s_;
   if (settings_.method == TrackMethod::phase && setpoint_deg_) {
-    return s.motional_phase_deg &&
-           std::abs(wrapped_deg(*s.motional_phase_deg - *setpoint_deg_)) > settings_.phase_collapse_deg;
+    const bool phase_collapsed = s.motional_phase_deg &&
+                                 std::abs(wrap_phase_deg(*s.motional_phase_deg - *setpoint_deg_)) >
+                                     settings_.phase_collapse_deg;
+    // With --phase-deg the speed is never read (a board without a speed sensor): the phase only.
+    return phase_collapsed || (!settings_.phase_setpoint_deg && speed_collapsed);
   }
-  return good_speed_mm_s_ > 0.0 && speed_of(s) < settings_.collapse_share * good_speed_mm_s_;
+  return speed_collapsed;
 }
 
 TrackDecision ResonanceTracker::search_step(const TrackSample& s) {
   if (++dwell_ < settings_.search_dwell_cycles) return decide(TrackMode::search);
   dwell_ = 0;
-  if (!searched_once_ && direction_ == 1.0 && s.speed_mm_s <= -1.0 && best_speed_mm_s_ == -1e300) {
-    direction_ = -1.0;  // the drive's phase runs this motor backwards: maximise the other sign
-  }
   const double v = speed_of(s);
   if (best_speed_mm_s_ > 0.0 && v < settings_.collapse_share * best_speed_mm_s_) {
     // Past the fold within one step: the peak is known, the branch is lost.
@@ -197,11 +199,12 @@ TrackDecision ResonanceTracker::next(const TrackSample& s) {
       return decide(TrackMode::hold);
     }
     case TrackMode::lock: {
-      const double error_deg = wrapped_deg(*s.motional_phase_deg - *setpoint_deg_);
-      if (std::abs(error_deg) > settings_.phase_collapse_deg) {
-        return collapse(s, "phase " + format_number(*s.motional_phase_deg) + " deg, " + format_number(error_deg) +
-                               " deg off the set-point");
+      const double error_deg = wrap_phase_deg(*s.motional_phase_deg - *setpoint_deg_);
+      if (collapsed(s)) {
+        return collapse(s, "phase " + format_number(*s.motional_phase_deg) + " deg (" + format_number(error_deg) +
+                               " deg off the set-point), speed " + format_number(speed_of(s)) + " mm/s");
       }
+      if (!settings_.phase_setpoint_deg) good_speed_mm_s_ += 0.2 * (speed_of(s) - good_speed_mm_s_);
       // Above the resonance the phase falls with frequency: a phase above the set-point means
       // the drive is too low, so the frequency goes up.
       const double step = std::clamp(settings_.phase_gain_hz_per_deg * error_deg, -settings_.max_step_hz,
@@ -214,9 +217,12 @@ TrackDecision ResonanceTracker::next(const TrackSample& s) {
     case TrackMode::recover: {
       if (uses_phase && setpoint_deg_) {
         // Down from above until the phase reaches the set-point, then the loop takes over.
-        if (wrapped_deg(*s.motional_phase_deg - *setpoint_deg_) >= 0.0 && frequency_hz_ < settings_.max_hz)
+        if (wrap_phase_deg(*s.motional_phase_deg - *setpoint_deg_) >= 0.0 && frequency_hz_ < settings_.max_hz) {
+          good_speed_mm_s_ = std::max(0.0, speed_of(s));  // the collapse test's reference from here on
           return decide(TrackMode::lock, "phase set-point reached at " + hz(frequency_hz_));
+        }
         frequency_hz_ = clamp_hz(frequency_hz_ - settings_.approach_step_hz);
+        operating_hz_ = frequency_hz_;  // a collapse now recovers from here, not from --start-hz
         return decide(mode_);
       }
       // Speed and fixed: down to the operating point, settle, then (speed) search again.

@@ -27,6 +27,7 @@ enum class TrackMethod { phase, speed, fixed };
 
 struct TrackSettings {
   TrackMethod method = TrackMethod::phase;
+  double direction = 1.0;                    // sign of the speed the drive produces (the command: sign of its phase)
   double margin_hz = 100.0;                  // operating point above the peak
   double start_hz = 41500.0;                 // the approach starts here (above the resonance)
   double min_hz = 30000.0;                   // never below (a search that finds no peak stops here)
@@ -44,7 +45,13 @@ struct TrackSettings {
   double collapse_share = 0.5;               // speed below this share of the last good one: collapsed
   double phase_collapse_deg = 60.0;          // |phase - set-point| above this: collapsed
   double recovery_hz = 600.0;                // jump above the operating point after a collapse
+  int max_collapses = 5;                     // more in one run: the set-point or margin cannot be held (error)
 };
+
+// The highest phase set-point accepted: on the calibrated motor phase A's motional phase is
+// +8 deg (400 Vpp) and +17 deg (100 Vpp) at the speed peak and rises to +24 deg at the fold; a
+// set-point above +30 deg lies below the peak, where the loop would lock on the collapsed side.
+inline constexpr double kMaxPhaseSetpointDeg = 30.0;
 
 // One line naming the first bad setting (the command's option name), empty when all are usable.
 [[nodiscard]] std::string check(const TrackSettings& settings);
@@ -96,7 +103,6 @@ class ResonanceTracker {
   double operating_hz_ = 0.0;
   std::optional<double> peak_hz_;
   std::optional<double> setpoint_deg_;
-  double direction_ = 1.0;  // sign of the first substantial speed (the drive's direction)
   // Search state.
   double best_speed_mm_s_ = 0.0;
   double best_hz_ = 0.0;

@@ -78,15 +78,21 @@ double BestSpeedCurve::speed_at(double rise_k) const { return interpolate(temper
 double BestSpeedCurve::frequency_at(double rise_k) const {
   return interpolate(temperature_rise_k, frequency_hz, rise_k);
 }
+double BestSpeedCurve::peak_frequency_at(double rise_k) const {
+  return interpolate(temperature_rise_k, peak_frequency_hz, rise_k);
+}
 
 TrackRunSummary summarise_track(const TrackSeries& run, const BestSpeedCurve& best, double ambient_c, double skip_s,
                                 double block_s) {
   if (best.temperature_rise_k.size() < 2) throw std::invalid_argument("the band has fewer than two decided rises");
-  if (!(block_s > 0.0)) throw std::invalid_argument("--block-s: must be > 0");
+  if (!(block_s > 0.0 && block_s <= 1e6)) throw std::invalid_argument("--block-s: must be in (0, 1e6]");
+  if (!(skip_s >= 0.0 && skip_s <= 1e6)) throw std::invalid_argument("--skip-s: must be in 0..1e6");
+  if (!(std::abs(ambient_c) <= 1000.0))
+    throw std::invalid_argument("--ambient-c: must be a temperature in -1000..1000");
   TrackRunSummary s;
   s.name = run.name;
   TrackBlock block;
-  double best_sum = 0.0, speed_sum = 0.0, rise_sum = 0.0;
+  double best_sum = 0.0, speed_sum = 0.0, rise_sum = 0.0, margin_sum = 0.0;
   int count = 0;
   auto close_block = [&] {
     if (count == 0) return;
@@ -94,8 +100,9 @@ TrackRunSummary summarise_track(const TrackSeries& run, const BestSpeedCurve& be
     block.best_speed_mm_s = best_sum / count;
     block.mean_rise_k = rise_sum / count;
     block.share = block.mean_speed_mm_s / block.best_speed_mm_s;
+    block.margin_hz = margin_sum / count;
     s.blocks.push_back(block);
-    best_sum = speed_sum = rise_sum = 0.0;
+    best_sum = speed_sum = rise_sum = margin_sum = 0.0;
     count = 0;
   };
   for (std::size_t i = 0; i < run.time_s.size(); ++i) {
@@ -105,7 +112,7 @@ TrackRunSummary summarise_track(const TrackSeries& run, const BestSpeedCurve& be
     const double rise = run.stator_temperature_c[i] - ambient_c;
     s.max_rise_k = std::max(s.max_rise_k, rise);
     if (t < skip_s) continue;
-    if (rise < best.temperature_rise_k.front() - 1e-9 || rise > best.temperature_rise_k.back() + 1e-9) {
+    if (!(rise >= best.temperature_rise_k.front() - 1e-9 && rise <= best.temperature_rise_k.back() + 1e-9)) {
       throw std::invalid_argument(run.name + ": temperature rise " + format_number(rise) +
                                   " K at t = " + format_number(t) + " s outside the band's " +
                                   format_number(best.temperature_rise_k.front()) + ".." +
@@ -117,6 +124,7 @@ TrackRunSummary summarise_track(const TrackSeries& run, const BestSpeedCurve& be
     best_sum += best.speed_at(rise);
     speed_sum += run.speed_mm_s[i];
     rise_sum += rise;
+    margin_sum += run.frequency_hz[i] - best.peak_frequency_at(rise);
     ++count;
     s.final_frequency_hz = run.frequency_hz[i];
     s.final_rise_k = rise;
@@ -126,6 +134,7 @@ TrackRunSummary summarise_track(const TrackSeries& run, const BestSpeedCurve& be
   s.min_share = 1e300;
   for (const TrackBlock& b : s.blocks) s.min_share = std::min(s.min_share, b.share);
   s.final_share = s.blocks.back().share;
+  s.final_margin_hz = s.blocks.back().margin_hz;
   return s;
 }
 
@@ -150,21 +159,30 @@ BestSpeedCurve read_band_csv(const std::string& path, double vpp, double load_n)
   const CsvTable table(path);
   const std::size_t v = table.column("vpp"), load = table.column("load_n"), rise = table.column("temperature_rise_k"),
                     decided = table.column("decided"), speed = table.column("speed_mm_s"),
-                    frequency = table.column("frequency_hz");
-  std::vector<std::pair<double, std::pair<double, double>>> points;
+                    frequency = table.column("frequency_hz"), peak = table.column("peak_frequency_hz");
+  struct Point {
+    double rise, speed, frequency, peak;
+    bool operator<(const Point& o) const { return rise < o.rise; }
+  };
+  std::vector<Point> points;
   for (std::size_t r = 0; r < table.size(); ++r) {
     if (table.number(r, v, "vpp") != vpp || table.number(r, load, "load_n") != load_n) continue;
     const std::string& d = table.cell(r, decided);
     if (d != "1" && d != "true") continue;
-    points.push_back({table.number(r, rise, "temperature_rise_k"),
-                      {table.number(r, speed, "speed_mm_s"), table.number(r, frequency, "frequency_hz")}});
+    points.push_back({table.number(r, rise, "temperature_rise_k"), table.number(r, speed, "speed_mm_s"),
+                      table.number(r, frequency, "frequency_hz"), table.number(r, peak, "peak_frequency_hz")});
   }
   std::sort(points.begin(), points.end());
   BestSpeedCurve curve;
-  for (const auto& [r, sf] : points) {
-    curve.temperature_rise_k.push_back(r);
-    curve.speed_mm_s.push_back(sf.first);
-    curve.frequency_hz.push_back(sf.second);
+  for (const Point& p : points) {
+    if (!curve.temperature_rise_k.empty() && p.rise == curve.temperature_rise_k.back()) {
+      throw std::runtime_error(path + ": two decided rows at a " + format_number(p.rise) + " K rise, " +
+                               format_number(vpp) + " Vpp and " + format_number(load_n) + " N");
+    }
+    curve.temperature_rise_k.push_back(p.rise);
+    curve.speed_mm_s.push_back(p.speed);
+    curve.frequency_hz.push_back(p.frequency);
+    curve.peak_frequency_hz.push_back(p.peak);
   }
   if (curve.temperature_rise_k.size() < 2) {
     throw std::runtime_error(path + ": fewer than two decided rows at " + format_number(vpp) + " Vpp and " +

@@ -18,16 +18,18 @@ struct TrackSeries {
 
 // The reference: the best speed at peak + margin against the temperature rise (K), ascending.
 struct BestSpeedCurve {
-  std::vector<double> temperature_rise_k, speed_mm_s, frequency_hz;
+  std::vector<double> temperature_rise_k, speed_mm_s, frequency_hz, peak_frequency_hz;
   // Linear interpolation; outside the grid the nearest end (the caller checks coverage).
   [[nodiscard]] double speed_at(double rise_k) const;
   [[nodiscard]] double frequency_at(double rise_k) const;
+  [[nodiscard]] double peak_frequency_at(double rise_k) const;
 };
 
 struct TrackBlock {
   double start_s = 0.0, end_s = 0.0;
   double mean_speed_mm_s = 0.0, mean_rise_k = 0.0, best_speed_mm_s = 0.0;
-  double share = 0.0;  // mean speed / mean best over the block's rows
+  double share = 0.0;      // mean speed / mean best over the block's rows
+  double margin_hz = 0.0;  // mean of (frequency driven - the band's peak at the row's rise)
 };
 
 struct TrackRunSummary {
@@ -36,6 +38,7 @@ struct TrackRunSummary {
   double min_share = 0.0;          // lowest block share
   double final_share = 0.0;        // the last block's
   double final_frequency_hz = 0.0;
+  double final_margin_hz = 0.0;  // the last block's
   double final_rise_k = 0.0;
   double max_rise_k = 0.0;
 };

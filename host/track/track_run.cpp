@@ -11,17 +11,6 @@
 namespace swum::host {
 namespace {
 
-void check_settings(const TrackRunSettings& s) {
-  if (!(s.vpp > 0.0 && s.vpp <= 10000.0)) throw std::invalid_argument("--vpp: must be in (0, 10000]");
-  if (!(std::abs(s.drive_phase_deg) <= 180.0)) throw std::invalid_argument("--drive-phase-deg: outside -180..180");
-  if (!(s.cycle_s > 0.0 && s.cycle_s <= 10.0)) throw std::invalid_argument("--cycle-ms: must be within (0, 10000]");
-  if (!(s.duration_s >= s.cycle_s && s.duration_s <= 1e6))
-    throw std::invalid_argument("--duration-s: must be at least one cycle and <= 1e6 s");
-  if (!(s.tick_hz > 0.0)) throw std::invalid_argument("--tick-hz: must be > 0");
-  const std::string problem = check(s.tracker);
-  if (!problem.empty()) throw std::invalid_argument(problem);
-}
-
 std::string fault_text(int code) {
   const std::string name = code >= 0 && code <= 255 ? protocol::to_string(static_cast<protocol::FaultCode>(code))
                                                     : std::string("?");
@@ -41,6 +30,7 @@ void run_cycles(CycleExchange& exchange, ResonanceTracker& tracker, const TrackR
   event(decision.event);
   const auto cycles = static_cast<std::uint64_t>(std::llround(s.duration_s / s.cycle_s));
   DeviceAction action = DeviceAction::enable;
+  int not_enabled = 0;
   for (std::uint64_t cycle = 0; cycle < cycles; ++cycle) {
     if (hooks.stop_requested && hooks.stop_requested()) {
       result.stop_reason = "interrupted";
@@ -66,9 +56,17 @@ void run_cycles(CycleExchange& exchange, ResonanceTracker& tracker, const TrackR
       return;
     }
     if (!t.is(protocol::AmpState::enabled)) {
-      result.stop_reason = "the device is not enabled at cycle " + std::to_string(cycle) + " (enable line low?)";
-      return;
+      // A wall-time board applies the enable a tick after it reads it: ask again, and give up only
+      // after enable_cycles (an enable line held low, a board that refuses).
+      if (++not_enabled > s.enable_cycles) {
+        result.stop_reason = "the device is not enabled after " + std::to_string(s.enable_cycles) + " cycles (cycle " +
+                             std::to_string(cycle) + "; enable line low?)";
+        return;
+      }
+      action = DeviceAction::enable;
+      continue;  // the tracker sees only cycles with the drive on
     }
+    not_enabled = 0;
     TrackSample sample;
     sample.time_s = row.time_s;
     sample.speed_mm_s = t.speed_mm_s;
@@ -84,6 +82,24 @@ void run_cycles(CycleExchange& exchange, ResonanceTracker& tracker, const TrackR
 }
 
 }  // namespace
+
+std::string check(const TrackRunSettings& s) {
+  if (!(s.vpp > 0.0 && s.vpp <= 10000.0)) return "--vpp: must be in (0, 10000]";
+  if (!(std::abs(s.drive_phase_deg) <= 180.0) || s.drive_phase_deg == 0.0)
+    return "--drive-phase-deg: must be in -180..180 and not 0 (its sign is the direction)";
+  if (!(s.cycle_s > 0.0 && s.cycle_s <= 10.0)) return "--cycle-ms: must be within (0, 10000]";
+  if (!(s.duration_s >= s.cycle_s && s.duration_s <= 1e6))
+    return "--duration-s: must be at least one cycle and <= 1e6 s";
+  if (!(s.tick_hz > 0.0 && s.tick_hz <= 1e6)) return "--tick-hz: must be in (0, 1e6]";
+  if (!(s.slew.frequency_hz_per_s >= 0.0 && s.slew.frequency_hz_per_s <= 1e9))
+    return "--frequency-slew: must be in 0..1e9 Hz/s";
+  if (!(s.slew.vpp_per_s >= 0.0 && s.slew.vpp_per_s <= 1e9)) return "--vpp-slew: must be in 0..1e9 Vpp/s";
+  if (s.tracker.method == TrackMethod::phase && s.drive_phase_deg < 0.0)
+    return "--method phase: only the forward drive (--drive-phase-deg > 0) is characterised: phase A's motional "
+           "phase sits 40 deg lower when reversed (docs/host.md)";
+  if (s.tracker.direction != (s.drive_phase_deg > 0.0 ? 1.0 : -1.0)) return "direction: must follow --drive-phase-deg";
+  return check(s.tracker);
+}
 
 std::string format_track_row(const TrackRow& r) {
   char electrical[160] = ",,,,";
@@ -101,9 +117,10 @@ std::string format_track_row(const TrackRow& r) {
 }
 
 TrackRunResult run_track(Device& device, const TrackRunSettings& s, const TrackRunHooks& hooks) {
-  check_settings(s);
+  const std::string problem = check(s);
+  if (!problem.empty()) throw std::invalid_argument(problem);
   ResonanceTracker tracker(s.tracker);
-  CycleExchange exchange(device, s.cycle_s, s.tick_hz, DriveSlew{});
+  CycleExchange exchange(device, s.cycle_s, s.tick_hz, s.slew);
   TrackRunResult result;
   DriveSetpoint off;
   off.phase_deg = s.drive_phase_deg;
@@ -111,7 +128,8 @@ TrackRunResult run_track(Device& device, const TrackRunSettings& s, const TrackR
     run_cycles(exchange, tracker, s, hooks, result);
     off.frequency_hz = tracker.frequency_hz();
     exchange.drive_off(off);
-  } catch (const DeviceError&) {
+  } catch (...) {
+    // A device error, or a hook's (the log could not be written): the drive goes off first.
     try {
       off.frequency_hz = tracker.frequency_hz();
       exchange.drive_off(off);

@@ -20,6 +20,8 @@ struct TrackRunSettings {
   double duration_s = 60.0;
   double cycle_s = 0.02;
   double tick_hz = 10000.0;  // lockstep: the device's tick rate (checked against its clock)
+  DriveSlew slew;            // written to the device (0 = unlimited)
+  int enable_cycles = 50;    // cycles a drive that is not (yet) enabled is asked again before the run stops
 };
 
 // The telemetry after one cycle at frequency_hz and what the tracker did in it.
@@ -57,8 +59,13 @@ struct TrackRunHooks {
   std::function<bool()> stop_requested;  // Ctrl-C
 };
 
-// Throws std::invalid_argument for settings that cannot run, DeviceError when the device fails
-// (after switching the drive off when it still answers).
+// One line naming the first bad setting (its option), empty when usable: the command checks
+// before it connects or creates a file.
+[[nodiscard]] std::string check(const TrackRunSettings& settings);
+
+// Throws std::invalid_argument for settings that cannot run; whatever ends the run early
+// (DeviceError, an output write error thrown by a hook) is rethrown after the drive was switched
+// off if the device still answers.
 TrackRunResult run_track(Device& device, const TrackRunSettings& settings, const TrackRunHooks& hooks);
 
 }  // namespace swum::host

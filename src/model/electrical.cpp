@@ -24,17 +24,6 @@ ElectricalSums& ElectricalSums::operator+=(const ElectricalSums& o) {
   return *this;
 }
 
-namespace {
-
-// Wraps to (-180, 180].
-double wrapped_deg(double deg) {
-  double d = std::remainder(deg, 360.0);
-  if (d <= -180.0) d += 360.0;
-  return d;
-}
-
-}  // namespace
-
 ElectricalReadings electrical_readings(const ElectricalSums& sums, double phase_deg) {
   ElectricalReadings r;
   // Normal equations of I ~ x sin + y cos: [ss sc; sc cc] (x, y) = (sum I sin, sum I cos). Over a
@@ -49,7 +38,7 @@ ElectricalReadings electrical_readings(const ElectricalSums& sums, double phase_
     const double y = inv * (sums.ss * ic - sums.sc * is);
     amplitude = std::hypot(x, y);
     // x sin + y cos = |I| sin(theta + atan2(y, x)); the phase's voltage is at theta + reference.
-    phase = amplitude > 0.0 ? wrapped_deg(std::atan2(y, x) * rad_to_deg - reference_deg) : 0.0;
+    phase = amplitude > 0.0 ? wrap_phase_deg(std::atan2(y, x) * rad_to_deg - reference_deg) : 0.0;
   };
   fit(sums.a_s, sums.a_c, 0.0, r.current_a_a, r.phase_a_deg);
   fit(sums.b_s, sums.b_c, phase_deg, r.current_b_a, r.phase_b_deg);

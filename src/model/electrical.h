@@ -10,6 +10,7 @@
 // sq0 = e311 a1; lin1 = e311 a2; sq1 = e3111 a3; lin2 = e3111 a4).
 #pragma once
 
+#include <cmath>
 #include <cstdint>
 
 #include "model/stator.h"
@@ -93,6 +94,13 @@ struct ElectricalReadings {
   double power_a_w = 0.0, power_b_w = 0.0;
   double duration_s = 0.0;
 };
+
+// An angle in degrees wrapped to (-180, 180].
+[[nodiscard]] inline double wrap_phase_deg(double deg) {
+  double d = std::remainder(deg, 360.0);
+  if (d <= -180.0) d += 360.0;
+  return d;
+}
 
 // phase_deg: the drive's phase difference (V_B ahead of V_A), to refer phase B's currents to V_B.
 [[nodiscard]] ElectricalReadings electrical_readings(const ElectricalSums& sums, double phase_deg);

@@ -21,6 +21,7 @@ namespace {
 struct Plant {
   std::function<double(double)> peak_hz;  // fp(t)
   bool collapsed = false;
+  double collapsed_phase_deg = -160.0;  // the motional phase on the lower branch
   TrackSample sample(double f, double t) {
     const double fp = peak_hz(t);
     if (f < fp - 150.0) collapsed = true;
@@ -154,6 +155,47 @@ TEST(ResonanceTracker, PhaseRecoversFromACollapse) {
   EXPECT_FALSE(plant.collapsed);
 }
 
+// A lower branch whose phase stays within the phase limit of the set-point (seen on the reverse
+// drive: +14 deg against a set-point near 0): with a calibrated set-point the speed is read too,
+// and its collapse is caught.
+TEST(ResonanceTracker, PhaseLockCatchesACollapseThePhaseHides) {
+  Plant plant{[](double) { return 39450.0; }};
+  plant.collapsed_phase_deg = 14.0;
+  ResonanceTracker tracker(settings(TrackMethod::phase));
+  (void)run(tracker, plant, 10.0);
+  plant.collapsed = true;
+  double f = tracker.frequency_hz();
+  for (double t = 10.0 + kCycleS; t <= 30.0; t += kCycleS) f = tracker.next(plant.sample(f, t)).frequency_hz;
+  EXPECT_EQ(tracker.collapses(), 1);
+  EXPECT_FALSE(plant.collapsed);
+  EXPECT_NEAR(f, 39550.0, 15.0);
+}
+
+// A margin the motor cannot hold (here: the plant collapses whenever the drive is within 200 Hz
+// of the peak) ends the run with an error instead of cycling through the fold forever.
+TEST(ResonanceTracker, RepeatedCollapsesEndTheRun) {
+  Plant plant{[](double) { return 39450.0; }};
+  TrackSettings s = settings(TrackMethod::speed);
+  s.max_collapses = 3;
+  ResonanceTracker tracker(s);
+  double f = tracker.start().frequency_hz;
+  bool threw = false;
+  for (double t = kCycleS; t <= 120.0 && !threw; t += kCycleS) {
+    TrackSample sample = plant.sample(f, t);
+    if (f < 39650.0) {  // this motor collapses 200 Hz above its peak
+      plant.collapsed = true;
+      sample = plant.sample(f, t);
+    }
+    try {
+      f = tracker.next(sample).frequency_hz;
+    } catch (const std::runtime_error& e) {
+      threw = true;
+      EXPECT_NE(std::string(e.what()).find("collapsed 4 times"), std::string::npos) << e.what();
+    }
+  }
+  EXPECT_TRUE(threw);
+}
+
 TEST(ResonanceTracker, SpeedRecoversFromACollapse) {
   Plant plant{[](double) { return 39450.0; }};
   ResonanceTracker tracker(settings(TrackMethod::speed));
@@ -208,7 +250,9 @@ TEST(ResonanceTracker, SettingsAreChecked) {
   EXPECT_EQ(check(s), "--start-hz: 60000 outside --min-hz..--max-hz");
   s = TrackSettings{};
   s.phase_setpoint_deg = std::numeric_limits<double>::quiet_NaN();
-  EXPECT_EQ(check(s), "--phase-deg: nan outside -180..180");
+  EXPECT_EQ(check(s), "--phase-deg: nan outside -90..30 (above +30 deg the motional phase lies below the speed peak)");
+  s.phase_setpoint_deg = 45.0;
+  EXPECT_NE(check(s), "");
   EXPECT_THROW(ResonanceTracker{s}, std::invalid_argument);
 }
 

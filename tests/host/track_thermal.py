@@ -93,7 +93,8 @@ def ten_minutes():
     for m in methods:
         s = summary[m]
         print(f"{m:6s}: min share {s['min_share']:.3f}, final share {s['final_share']:.3f}, final "
-              f"{s['final_frequency_hz']:.0f} Hz, rise {s['final_rise_k']:.1f} K (max {s['max_rise_k']:.1f} K)")
+              f"{s['final_frequency_hz']:.0f} Hz ({s['final_margin_hz']:+.0f} Hz from the peak), rise "
+              f"{s['final_rise_k']:.1f} K (max {s['max_rise_k']:.1f} K)")
     # The drift is real: the motor heats by tens of kelvin and the trackers move down with it.
     check(summary["phase"]["max_rise_k"] > 40.0, "the stator did not heat")
     cold = float(rows_of(os.path.join(OUT, "track_fixed.csv"))[-1]["frequency_hz"])
@@ -101,6 +102,9 @@ def ten_minutes():
         check(cold - summary[m]["final_frequency_hz"] > 300.0,
               f"{m}: ended {cold - summary[m]['final_frequency_hz']:.0f} Hz below the cold pick: no drift followed")
         check(summary[m]["min_share"] >= 0.90, f"{m}: a block at {summary[m]['min_share']:.3f} of the best speed")
+        # The comparison is at the same margin only if the tracker holds it (not closer to the fold).
+        check(50.0 <= summary[m]["final_margin_hz"] <= 150.0,
+              f"{m}: ends {summary[m]['final_margin_hz']:.0f} Hz above the band's peak, asked {MARGIN_HZ}")
     check(summary["fixed"]["final_share"] < 0.90,
           f"the cold pick held fixed keeps {summary['fixed']['final_share']:.3f}: the comparison shows nothing")
     for name in ("tracking_share.png", "tracking_frequency.png", "tracking_speed.png", "tracking_temperature.png"):
