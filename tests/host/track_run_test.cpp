@@ -174,18 +174,28 @@ TEST(TrackRun, AFaultStopsTheRunNamingTheFaultAndTheCycle) {
 // Accepts every command but enable (an enable line held low).
 class NeverEnables : public FakeDevice {
  public:
+  int enable_requests = 0;
   void command(DeviceAction a) override {
-    if (a != DeviceAction::enable) FakeDevice::command(a);
+    if (a == DeviceAction::enable) {
+      ++enable_requests;
+    } else {
+      FakeDevice::command(a);
+    }
   }
 };
 
+// A board that is not enabled is asked again each cycle (a wall-time board applies the enable a
+// tick after it reads it); after enable_cycles more the run stops.
 TEST(TrackRun, ADeviceThatIsNotEnabledStopsTheRun) {
   NeverEnables device;
   device.lockstep_mode = true;
   device.read_step_s = 0.0;
-  const TrackRun r = run(device, settings_for(TrackMethod::speed, 1.0));
-  EXPECT_EQ(r.result.stop_reason, "the device is not enabled at cycle 0 (enable line low?)");
-  EXPECT_EQ(r.rows.size(), 1u);
+  TrackRunSettings s = settings_for(TrackMethod::speed, 1.0);
+  s.enable_cycles = 5;
+  const TrackRun r = run(device, s);
+  EXPECT_EQ(r.result.stop_reason, "the device is not enabled after 5 cycles (cycle 5; enable line low?)");
+  EXPECT_EQ(r.rows.size(), 6u);
+  EXPECT_EQ(device.enable_requests, 6) << "the enable is asked for in every cycle";
   expect_drive_off_last(device);
 }
 
@@ -310,13 +320,20 @@ TEST(TrackRun, BadSettingsAreRefusedNamingTheOptionBeforeAnythingIsSent) {
       {[](TrackRunSettings& s) { s.vpp = 0.0; }, "--vpp: must be in (0, 10000]"},
       {[](TrackRunSettings& s) { s.vpp = 10001.0; }, "--vpp: must be in (0, 10000]"},
       {[](TrackRunSettings& s) { s.vpp = std::nan(""); }, "--vpp: must be in (0, 10000]"},
-      {[](TrackRunSettings& s) { s.drive_phase_deg = 181.0; }, "--drive-phase-deg: outside -180..180"},
+      {[](TrackRunSettings& s) { s.drive_phase_deg = 181.0; },
+       "--drive-phase-deg: must be in -180..180 and not 0 (its sign is the direction)"},
       {[](TrackRunSettings& s) { s.cycle_s = 0.0; }, "--cycle-ms: must be within (0, 10000]"},
       {[](TrackRunSettings& s) { s.duration_s = 0.01; }, "--duration-s: must be at least one cycle and <= 1e6 s"},
-      {[](TrackRunSettings& s) { s.tick_hz = 0.0; }, "--tick-hz: must be > 0"},
+      {[](TrackRunSettings& s) { s.tick_hz = 0.0; }, "--tick-hz: must be in (0, 1e6]"},
       {[](TrackRunSettings& s) { s.tracker.margin_hz = -1.0; }, "--margin-hz: -1 outside 0..5000"},
       {[](TrackRunSettings& s) { s.tracker.start_hz = 60000.0; }, "--start-hz: 60000 outside --min-hz..--max-hz"},
-      {[](TrackRunSettings& s) { s.tracker.phase_setpoint_deg = 200.0; }, "--phase-deg: 200 outside -180..180"},
+      {[](TrackRunSettings& s) { s.tracker.phase_setpoint_deg = 200.0; },
+       "--phase-deg: 200 outside -90..30 (above +30 deg the motional phase lies below the speed peak)"},
+      {[](TrackRunSettings& s) { s.tracker.phase_setpoint_deg = 45.0; },
+       "--phase-deg: 45 outside -90..30 (above +30 deg the motional phase lies below the speed peak)"},
+      {[](TrackRunSettings& s) { s.drive_phase_deg = -90.0; },
+       "--method phase: only the forward drive (--drive-phase-deg > 0) is characterised: phase A's motional "
+       "phase sits 40 deg lower when reversed (docs/host.md)"},
       // In lockstep a cycle must be a whole number of ticks.
       {[](TrackRunSettings& s) { s.cycle_s = 0.00015; },
        "--cycle-ms: 0.150000 ms is not a whole number of ticks in 1..65535 at --tick-hz 10000.000000"},
