@@ -176,7 +176,7 @@ std::string describe(const PowerBalance& b) {
 // Steady running at the calibrated motor's operating range (100 and 400 Vpp, no load and loaded):
 // the electrical power in balances every sink. The gap is the step's error (the contact slip is
 // first order in dt): measured 1.0, 0.9 and 1.5 % at 48 steps per period (the product step),
-// 0.55, 0.36 and 0.8 % at half of it. Within 2 %, and halving the step cuts the gap by a quarter
+// 0.55, 0.50 and 0.8 % at half of it. Within 2 %, and halving the step cuts the gap by a quarter
 // at least.
 TEST(Electrical, PowerBalanceInSteadyState) {
   const DriveInput cases[] = {{400.0, 40600.0, 90.0, 0.0}, {400.0, 40600.0, 90.0, 1.0}, {100.0, 40000.0, 90.0, 0.0}};
