@@ -18,12 +18,13 @@
 namespace swum::host {
 namespace {
 
-// Best speed 800 -> 700 -> 500 mm/s over rises 0, 10, 20 K.
+// Best speed 800 -> 700 -> 500 mm/s over rises 0, 10, 20 K, the speed peak 100 Hz below.
 BestSpeedCurve curve() {
   BestSpeedCurve c;
   c.temperature_rise_k = {0.0, 10.0, 20.0};
   c.speed_mm_s = {800.0, 700.0, 500.0};
   c.frequency_hz = {39500.0, 39400.0, 39200.0};
+  c.peak_frequency_hz = {39400.0, 39300.0, 39100.0};
   return c;
 }
 
@@ -38,6 +39,8 @@ TEST(BestSpeedCurve, InterpolatesLinearlyBetweenRisesAndHoldsTheEnds) {
   EXPECT_DOUBLE_EQ(c.speed_at(30.0), 500.0);
   EXPECT_DOUBLE_EQ(c.frequency_at(15.0), 39300.0);
   EXPECT_DOUBLE_EQ(c.frequency_at(2.5), 39475.0);
+  EXPECT_DOUBLE_EQ(c.peak_frequency_at(15.0), 39200.0);
+  EXPECT_DOUBLE_EQ(c.peak_frequency_at(30.0), 39100.0);
   EXPECT_TRUE(std::isnan(BestSpeedCurve{}.speed_at(1.0)));
 }
 
@@ -63,6 +66,9 @@ TEST(SummariseTrack, BlocksAfterTheSkipWithTheirSharesOfTheBestAtEachRowsRise) {
   ASSERT_EQ(s.blocks.size(), 3u);
   const double start[] = {2, 5, 8}, end[] = {4, 7, 9}, best[] = {740, 660, 560}, rise[] = {6, 12, 17},
                share[] = {0.9, 0.8, 0.98};
+  // Driven at 39000 + t Hz against the peak at each row's rise: (39002 - 39360 + 39003 - 39340 +
+  // 39004 - 39320) / 3 = -337 Hz, then -254 and -151.5 Hz.
+  const double margin[] = {-337.0, -254.0, -151.5};
   for (std::size_t b = 0; b < 3; ++b) {
     EXPECT_EQ(s.blocks[b].start_s, start[b]) << b;
     EXPECT_EQ(s.blocks[b].end_s, end[b]) << b;
@@ -70,10 +76,12 @@ TEST(SummariseTrack, BlocksAfterTheSkipWithTheirSharesOfTheBestAtEachRowsRise) {
     EXPECT_NEAR(s.blocks[b].mean_rise_k, rise[b], 1e-12) << b;
     EXPECT_NEAR(s.blocks[b].mean_speed_mm_s, share[b] * best[b], 1e-9) << b;
     EXPECT_NEAR(s.blocks[b].share, share[b], 1e-12) << b;
+    EXPECT_NEAR(s.blocks[b].margin_hz, margin[b], 1e-9) << b;
   }
   EXPECT_NEAR(s.min_share, 0.8, 1e-12);
   EXPECT_NEAR(s.final_share, 0.98, 1e-12);
   EXPECT_EQ(s.final_frequency_hz, 39009.0);
+  EXPECT_NEAR(s.final_margin_hz, -151.5, 1e-9);
   EXPECT_EQ(s.final_rise_k, 18.0);
   EXPECT_EQ(s.max_rise_k, 18.0);
   // One block over everything after the skip: the shares pooled by the best speed.
@@ -90,9 +98,9 @@ TEST(SummariseTrack, BlocksAfterTheSkipWithTheirSharesOfTheBestAtEachRowsRise) {
 
 // What summarise_track refuses with, "accepted" when it does not.
 std::string refusal(const TrackSeries& run, const BestSpeedCurve& best = curve(), double skip_s = 2.0,
-                    double block_s = 3.0) {
+                    double block_s = 3.0, double ambient_c = 20.0) {
   try {
-    (void)summarise_track(run, best, 20.0, skip_s, block_s);
+    (void)summarise_track(run, best, ambient_c, skip_s, block_s);
   } catch (const std::invalid_argument& e) {
     return e.what();
   }
@@ -120,13 +128,27 @@ TEST(SummariseTrack, ARowWithoutTemperatureAndUnusableInputsAreRefused) {
   gap.stator_temperature_c[3] = 26.0;
   gap.stator_temperature_c[0] = std::nan("");  // also in the skipped start: the rise is every row's
   EXPECT_EQ(refusal(gap), "phase: row 1 has no stator temperature");
-  EXPECT_EQ(refusal(series(), curve(), 2.0, 0.0), "--block-s: must be > 0");
+  EXPECT_EQ(refusal(series(), curve(), 2.0, 0.0), "--block-s: must be in (0, 1e6]");
+  EXPECT_EQ(refusal(series(), curve(), -1.0), "--skip-s: must be in 0..1e6");
+  EXPECT_EQ(refusal(series(), curve(), 2.0, 3.0, std::nan("")), "--ambient-c: must be a temperature in -1000..1000");
   EXPECT_EQ(refusal(series(), curve(), 10.0, 3.0), "phase: no rows after --skip-s");
   BestSpeedCurve single = curve();
   single.temperature_rise_k.resize(1);
   single.speed_mm_s.resize(1);
   single.frequency_hz.resize(1);
+  single.peak_frequency_hz.resize(1);
   EXPECT_EQ(refusal(series(), single), "the band has fewer than two decided rises");
+}
+
+TEST(SummariseTrack, ACurveWhoseColumnsDifferInLengthIsRefused) {
+  // DEFECT (reported, not fixed here): summarise_track checks only temperature_rise_k's size;
+  // a curve without peak_frequency_hz (the column added with the margins) makes
+  // peak_frequency_at read past the end of an empty vector (a segfault here), where a one-line
+  // std::invalid_argument is expected.
+  GTEST_SKIP() << "defect: summarise_track reads past a BestSpeedCurve column shorter than the rises";
+  BestSpeedCurve no_peaks = curve();
+  no_peaks.peak_frequency_hz.clear();
+  EXPECT_NE(refusal(series(), no_peaks), "accepted");
 }
 
 // Files in a folder of their own under the system temporary directory.
@@ -221,6 +243,7 @@ TEST(ReadBandCsv, TheDecidedRowsAtTheVoltageAndLoadByRise) {
   EXPECT_EQ(c.temperature_rise_k, (std::vector<double>{0, 25, 50}));
   EXPECT_EQ(c.speed_mm_s, (std::vector<double>{600, 510, 420.5}));
   EXPECT_EQ(c.frequency_hz, (std::vector<double>{39600, 39400, 39150}));
+  EXPECT_EQ(c.peak_frequency_hz, (std::vector<double>{39500, 39300, 39050}));
   // Another load, and "true" as the decided cell.
   const std::string loaded = write_file("band_load.csv", kBandHeader + "400,1,0,true,39500,500,39400,510,100,,ok\n"
                                                                        "400,1,10,1,39000,100,38900,110,100,,ok\n");
@@ -242,6 +265,10 @@ TEST(ReadBandCsv, OneLineErrorsNameTheFileAndTheLine) {
   EXPECT_EQ(error_of([&] { (void)read_band_csv(vpp, 400.0, 0.0); }), vpp + ":2: vpp '4OO' is not a number");
   const std::string column = write_file("band_column.csv", "vpp,load_n,temperature_rise_k,frequency_hz,speed_mm_s\n");
   EXPECT_EQ(error_of([&] { (void)read_band_csv(column, 400.0, 0.0); }), column + ": no column decided");
+  const std::string twice = write_file("band_twice.csv",
+                                       kBandHeader + row + "400,0,0,1,39610,601,39510,611,100,39460,ok\n");
+  EXPECT_EQ(error_of([&] { (void)read_band_csv(twice, 400.0, 0.0); }),
+            twice + ": two decided rows at a 0 K rise, 400 Vpp and 0 N");
 }
 
 }  // namespace
