@@ -5,6 +5,7 @@
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "commands/commands.h"
@@ -69,14 +70,19 @@ void write_plots(const std::vector<TrackSeries>& runs, const std::vector<TrackRu
 
 void run_report(const TrackReportOptions& o) {
   if (!(o.vpp > 0.0 && o.vpp <= 10000.0)) throw std::invalid_argument("--vpp: must be in (0, 10000]");
-  const BestSpeedCurve best = read_band_csv(o.band_path, o.vpp, o.load_n);
-  std::vector<TrackSeries> runs;
-  std::vector<TrackRunSummary> summaries;
+  // The NAME=FILE form of every --run before any file is read.
+  std::vector<std::pair<std::string, std::string>> named;
   for (const std::string& spec : o.runs) {
     const std::size_t eq = spec.find('=');
     if (eq == std::string::npos || eq == 0 || eq + 1 == spec.size())
       throw std::invalid_argument("--run: " + spec + ": expected NAME=FILE");
-    runs.push_back(read_track_csv(spec.substr(eq + 1), spec.substr(0, eq)));
+    named.emplace_back(spec.substr(0, eq), spec.substr(eq + 1));
+  }
+  const BestSpeedCurve best = read_band_csv(o.band_path, o.vpp, o.load_n);
+  std::vector<TrackSeries> runs;
+  std::vector<TrackRunSummary> summaries;
+  for (const auto& [name, path] : named) {
+    runs.push_back(read_track_csv(path, name));
     summaries.push_back(summarise_track(runs.back(), best, o.ambient_c, o.skip_s, o.block_s));
   }
   if (!o.plot_dir.empty()) write_plots(runs, summaries, best, o);

@@ -84,7 +84,10 @@ double BestSpeedCurve::peak_frequency_at(double rise_k) const {
 
 TrackRunSummary summarise_track(const TrackSeries& run, const BestSpeedCurve& best, double ambient_c, double skip_s,
                                 double block_s) {
-  if (best.temperature_rise_k.size() < 2) throw std::invalid_argument("the band has fewer than two decided rises");
+  const std::size_t n = best.temperature_rise_k.size();
+  if (n < 2) throw std::runtime_error("the band has fewer than two decided rises");
+  if (best.speed_mm_s.size() != n || best.frequency_hz.size() != n || best.peak_frequency_hz.size() != n)
+    throw std::runtime_error("the band's columns differ in length");
   if (!(block_s > 0.0 && block_s <= 1e6)) throw std::invalid_argument("--block-s: must be in (0, 1e6]");
   if (!(skip_s >= 0.0 && skip_s <= 1e6)) throw std::invalid_argument("--skip-s: must be in 0..1e6");
   if (!(std::abs(ambient_c) <= 1000.0))
@@ -108,15 +111,15 @@ TrackRunSummary summarise_track(const TrackSeries& run, const BestSpeedCurve& be
   for (std::size_t i = 0; i < run.time_s.size(); ++i) {
     const double t = run.time_s[i];
     if (std::isnan(run.stator_temperature_c[i]))
-      throw std::invalid_argument(run.name + ": row " + std::to_string(i + 1) + " has no stator temperature");
+      throw std::runtime_error(run.name + ": row " + std::to_string(i + 1) + " has no stator temperature");
     const double rise = run.stator_temperature_c[i] - ambient_c;
     s.max_rise_k = std::max(s.max_rise_k, rise);
     if (t < skip_s) continue;
     if (!(rise >= best.temperature_rise_k.front() - 1e-9 && rise <= best.temperature_rise_k.back() + 1e-9)) {
-      throw std::invalid_argument(run.name + ": temperature rise " + format_number(rise) +
-                                  " K at t = " + format_number(t) + " s outside the band's " +
-                                  format_number(best.temperature_rise_k.front()) + ".." +
-                                  format_number(best.temperature_rise_k.back()) + " K");
+      throw std::runtime_error(run.name + ": temperature rise " + format_number(rise) +
+                               " K at t = " + format_number(t) + " s outside the band's " +
+                               format_number(best.temperature_rise_k.front()) + ".." +
+                               format_number(best.temperature_rise_k.back()) + " K");
     }
     if (count > 0 && t >= block.start_s + block_s) close_block();
     if (count == 0) block.start_s = t;
@@ -130,7 +133,7 @@ TrackRunSummary summarise_track(const TrackSeries& run, const BestSpeedCurve& be
     s.final_rise_k = rise;
   }
   close_block();
-  if (s.blocks.empty()) throw std::invalid_argument(run.name + ": no rows after --skip-s");
+  if (s.blocks.empty()) throw std::runtime_error(run.name + ": no rows after --skip-s");
   s.min_share = 1e300;
   for (const TrackBlock& b : s.blocks) s.min_share = std::min(s.min_share, b.share);
   s.final_share = s.blocks.back().share;

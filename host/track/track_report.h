@@ -44,8 +44,9 @@ struct TrackRunSummary {
 };
 
 // Each row's best speed is taken at its own temperature rise (stator_temperature_c minus
-// ambient_c). Blocks of block_s from skip_s on; rows whose rise lies outside the curve's grid
-// make it throw std::invalid_argument (the band must cover the run).
+// ambient_c). Blocks of block_s from skip_s on. Bad options throw std::invalid_argument; data
+// that cannot be compared (a rise outside the curve's grid: the band must cover the run; a row
+// without temperature; no rows after skip_s) std::runtime_error, one line naming the run.
 [[nodiscard]] TrackRunSummary summarise_track(const TrackSeries& run, const BestSpeedCurve& best, double ambient_c,
                                               double skip_s, double block_s);
 

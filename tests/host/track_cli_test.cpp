@@ -200,9 +200,9 @@ INSTANTIATE_TEST_SUITE_P(
                       BadReport{{"--run", "phase=@run", "--skip-s", "0", "--block-s", "0"},
                                 2,
                                 "swum: error: --block-s: must be in (0, 1e6]\n"},
-                      BadReport{{"--run", "phase=@run"}, 2, "swum: error: phase: no rows after --skip-s\n"},
+                      BadReport{{"--run", "phase=@run"}, 1, "swum: error: phase: no rows after --skip-s\n"},
                       BadReport{{"--run", "hot=@hot", "--skip-s", "0"},
-                                2,
+                                1,
                                 "swum: error: hot: temperature rise 30.5 K at t = 2 s outside the band's 0..20 K\n"},
                       BadReport{{"--run", "phase=@run", "--load", "1"},
                                 1,
@@ -216,11 +216,9 @@ TEST(SwumTrackReport, AMissingBandFileIsNamed) {
   EXPECT_EQ(r.output, "swum: error: " + missing + ": cannot open\n");
 }
 
+// A usage error (exit 2) is not hidden behind a file error (exit 1): every --run's NAME=FILE form
+// is checked before the band or a run is read.
 TEST(SwumTrackReport, RunSyntaxIsCheckedBeforeAnyFileIsRead) {
-  // DEFECT (reported, not fixed here): track_report_command.cpp reads --band (and each earlier
-  // run) before it checks a --run's NAME=FILE form, so a usage error (exit 2) is hidden behind
-  // a file error (exit 1) when the band is missing.
-  GTEST_SKIP() << "defect: swum track-report checks --run NAME=FILE only after reading --band";
   const std::string missing = scratch("no_band.csv");
   std::filesystem::remove(missing);
   const auto r = run_swum({"track-report", "--run", "phase", "--band", missing, "--vpp", "400"});
