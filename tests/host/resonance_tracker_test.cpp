@@ -155,6 +155,16 @@ TEST(ResonanceTracker, PhaseRecoversFromACollapse) {
   EXPECT_FALSE(plant.collapsed);
 }
 
+// Ten seconds of running, then the plant knocked onto its lower branch (e.g. a load step) and
+// run on to t = 30 s: the frequency the tracker ends at.
+double collapse_and_run_on(ResonanceTracker& tracker, Plant& plant) {
+  (void)run(tracker, plant, 10.0);
+  plant.collapsed = true;
+  double f = tracker.frequency_hz();
+  for (double t = 10.0 + kCycleS; t <= 30.0; t += kCycleS) f = tracker.next(plant.sample(f, t)).frequency_hz;
+  return f;
+}
+
 // A lower branch whose phase stays within the phase limit of the set-point (seen on the reverse
 // drive: +14 deg against a set-point near 0): with a calibrated set-point the speed is read too,
 // and its collapse is caught.
@@ -162,10 +172,7 @@ TEST(ResonanceTracker, PhaseLockCatchesACollapseThePhaseHides) {
   Plant plant{[](double) { return 39450.0; }};
   plant.collapsed_phase_deg = 14.0;
   ResonanceTracker tracker(settings(TrackMethod::phase));
-  (void)run(tracker, plant, 10.0);
-  plant.collapsed = true;
-  double f = tracker.frequency_hz();
-  for (double t = 10.0 + kCycleS; t <= 30.0; t += kCycleS) f = tracker.next(plant.sample(f, t)).frequency_hz;
+  const double f = collapse_and_run_on(tracker, plant);
   EXPECT_EQ(tracker.collapses(), 1);
   EXPECT_FALSE(plant.collapsed);
   EXPECT_NEAR(f, 39550.0, 15.0);
@@ -199,10 +206,7 @@ TEST(ResonanceTracker, RepeatedCollapsesEndTheRun) {
 TEST(ResonanceTracker, SpeedRecoversFromACollapse) {
   Plant plant{[](double) { return 39450.0; }};
   ResonanceTracker tracker(settings(TrackMethod::speed));
-  (void)run(tracker, plant, 10.0);
-  plant.collapsed = true;
-  double f = tracker.frequency_hz();
-  for (double t = 10.0 + kCycleS; t <= 30.0; t += kCycleS) f = tracker.next(plant.sample(f, t)).frequency_hz;
+  const double f = collapse_and_run_on(tracker, plant);
   EXPECT_EQ(tracker.collapses(), 1);
   EXPECT_FALSE(plant.collapsed);
   EXPECT_NEAR(f, 39550.0, 25.0);
