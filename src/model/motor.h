@@ -179,6 +179,9 @@ class MotorSplitSystem {
   }
 
   [[nodiscard]] const InterfaceForces& forces() const { return forces_; }
+  // The last step's forces, for a solver that runs this system's step on its own copy of the
+  // state (MotorSimulator's fused Jenkins loop).
+  void set_forces(const InterfaceForces& forces) { forces_ = forces; }
   // The stator's modal force coefficients as the hot loop uses them (electrical.h derives the
   // phase currents from the same numbers).
   [[nodiscard]] const PairedForceCoefficients& paired_coefficients() const { return paired_; }

@@ -58,6 +58,7 @@ constexpr std::array<std::string_view, 2> kLeverChoices{"same_as_force", "free_t
 constexpr std::array<std::string_view, 2> kPrefactorChoices{"derived", "paper_x4"};
 constexpr std::array<std::string_view, 2> kDiagonalChoices{"standard", "swapped"};
 constexpr std::array<std::string_view, 2> kFrictionChoices{"coulomb_projection", "erf_newton"};
+constexpr std::array<std::string_view, 2> kStepKernelChoices{"fused", "generic"};
 constexpr std::array<std::string_view, 2> kPreloadChoices{"both_ends", "back_end_constant"};
 constexpr std::array<std::string_view, 2> kGuideChoices{"smoothed_sign", "implicit_coulomb"};
 
@@ -167,6 +168,9 @@ const std::array kSpecs{
               "Fixed step of the semi-implicit solver (default 1/(96 x 40 kHz))"),
     SWUM_CHOICE(numerics, NumericsParameters, friction_solver, kFrictionChoices,
                 "Implicit friction solve: Coulomb projection or exact erf root"),
+    SWUM_CHOICE(numerics, NumericsParameters, step_kernel, kStepKernelChoices,
+                "Jenkins contact with implicit Coulomb guide: the hand-fused step or the generic "
+                "one (same results to rounding; fused ~1.4x faster)"),
     SWUM_INT(numerics, NumericsParameters, quadrature_points, "-", 4.0, 4000.0,
              "Gauss-Legendre points per interval for the modal integrals"),
     SWUM_REAL(numerics, NumericsParameters, divergence_limit_um, "um", 1e-3, 1e9,

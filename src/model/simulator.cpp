@@ -14,7 +14,8 @@ MotorSimulator::MotorSimulator(const MotorModel& model)
       state_(model.rest_state()),
       dt_(model.time_step_s()),
       position_limit_m_(model.parameters().numerics.divergence_limit_um * 1e-6),
-      speed_limit_m_s_(model.parameters().numerics.divergence_speed_limit_m_s) {
+      speed_limit_m_s_(model.parameters().numerics.divergence_speed_limit_m_s),
+      fused_step_(model.parameters().numerics.step_kernel == StepKernel::fused) {
   drive_.vpp = 0.0;
   set_drive(drive_);
 }
@@ -30,7 +31,12 @@ void MotorSimulator::set_drive(const DriveInput& input) {
     waveform_valid_ = true;
     midpoint_scale_ = 0.5 / std::cos(0.5 * waveform_.angular_frequency_rad_s * dt_);
   }
+  const double old_a = waveform_.amplitude_a_v, old_b = waveform_.amplitude_b_v;
   apply_phase_gains();
+  // A new amplitude, frequency or phase reseeds the drive recurrence; a new load does not.
+  if (!same_waveform || waveform_.amplitude_a_v != old_a || waveform_.amplitude_b_v != old_b) {
+    drive_recurrence_seeded_ = false;
+  }
   drive_ = input;
 }
 
@@ -54,6 +60,7 @@ void MotorSimulator::set_faults(const ModelFaults& faults) {
   if (faults_.jammed && std::isnan(faults_.jam_position_m)) faults_.jam_position_m = state_.mover_position_m;
   hold_jammed_mover();
   apply_phase_gains();
+  drive_recurrence_seeded_ = false;
   // F_P in F_N = max(0, F_P - k_e q1) and the constant back-end term gNP F_P (model_spec §4),
   // mu_s of the guide friction (eqs. 24-25).
   system_.set_preload_factor(model_.coefficients(), faults_.preload_factor);
@@ -109,6 +116,7 @@ void MotorSimulator::update_effects(const MotorSplitSystem::Vector& q, const Mot
 }
 
 void MotorSimulator::apply_slow_states() {
+  drive_recurrence_seeded_ = false;  // the modal stiffness is in the cubic's coefficients
   const MotorCoefficients& k = model_.coefficients();
   const EffectCoefficients& e = k.effects;
   if (e.thermal) {
@@ -147,6 +155,7 @@ void MotorSimulator::set_state(const MotorState& state) {
     state_.drive_sin = 0.0;
     state_.drive_cos = 1.0;
   }
+  drive_recurrence_seeded_ = false;
   hold_jammed_mover();
 }
 
@@ -162,6 +171,7 @@ void MotorSimulator::reset() {
   system_.set_contact_deflection_m(0.0);
   state_.drive_sin = s;
   state_.drive_cos = c;
+  drive_recurrence_seeded_ = false;
   hold_jammed_mover();
 }
 

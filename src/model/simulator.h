@@ -6,6 +6,7 @@
 #include <cstdint>
 
 #include "model/drive.h"
+#include "model/drive_recurrence.h"
 #include "model/electrical.h"
 #include "model/model_faults.h"
 #include "model/motor.h"
@@ -102,6 +103,10 @@ class MotorSimulator {
   // kElectrical: add each step's currents to *sums.
   template <TangentialContact C, GuideFrictionModel G, bool kWindow, bool kJammed, bool kElectrical = false>
   void advance_specialised(std::uint64_t steps, WindowStatistics* window, ElectricalSums* sums = nullptr);
+  // The same step fused by hand for the Jenkins contact and the implicit Coulomb guide
+  // (simulator_loop.h), the calibrated motor's: every sweep, fit and the emulator.
+  template <bool kWindow, bool kElectrical>
+  void advance_jenkins(std::uint64_t steps, WindowStatistics* window, ElectricalSums* sums);
   // V_A and V_B amplitudes of waveform_ from its V0 and the phase gains of faults_.
   void apply_phase_gains();
   // Mover at the jam position at rest when jammed.
@@ -131,6 +136,12 @@ class MotorSimulator {
   // (sin, cos) at mid-step = (phasor at t_n + phasor at t_n+1) x this = 1 / (2 cos(w dt/2)):
   // the electrical port's sampling point, computed once per drive frequency (set_drive).
   double midpoint_scale_ = 0.5;
+  // The drive phasor and modal-cubic coefficients of advance_jenkins between calls, so that
+  // advance(n) and n calls of step() give the same bits; reseeded from state_'s phasor whenever
+  // the drive, the faults, the slow states or the state change (and every 64 steps).
+  DriveRecurrence drive_recurrence_{};
+  bool drive_recurrence_seeded_ = false;
+  bool fused_step_ = true;  // numerics.step_kernel
 };
 
 }  // namespace swum

@@ -1,13 +1,18 @@
-// The fixed-step hot loop of MotorSimulator (simulator.h), as a template for the translation
-// units that instantiate it: simulator.cpp (plain and windowed steps) and
+// The fixed-step hot loops of MotorSimulator (simulator.h), as templates for the translation
+// units that instantiate them: simulator.cpp (plain and windowed steps) and
 // simulator_electrical.cpp (steps with the electrical port). Private to the model library.
+// advance_specialised is the semi-implicit Euler step of MotorSplitSystem for every contact law;
+// advance_jenkins is the same step fused by hand for the calibrated contact (Jenkins element,
+// implicit Coulomb guide), which every sweep, fit and the emulator run (issue 16).
 // Why two units: with every variant in one unit GCC ran out of inlining budget and the plain
 // loop, the emulator's and every sweep's, ran 45 % slower (docs/performance.md, issue 15).
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 
 #include "integrators/semi_implicit_euler.h"
+#include "model/drive_recurrence.h"
 #include "model/simulator.h"
 
 namespace swum {
@@ -16,10 +21,69 @@ namespace simulator_detail {
 // Values this small are physically zero; flushing them avoids subnormal arithmetic (x100 slower)
 // when a mode decays at zero drive.
 inline double flush_tiny(double x) { return std::abs(x) < 1e-200 ? 0.0 : x; }
+// x clipped to [-limit, limit] (limit >= 0), as min/max instructions: no branch to mispredict at
+// every stick-slip event.
+inline double clamp_symmetric(double x, double limit) {
+  const double lower = x < -limit ? -limit : x;
+  return lower > limit ? limit : lower;
+}
+
+// WindowStatistics::add's arithmetic on lane pairs (the tip extremes (u, w), the sums of F_T and
+// F_N, the two damping powers): the same IEEE operations in the same order, so the same sums
+// as add() (tested bit for bit), at ~16 operations per step instead of ~25.
+struct PairedWindow {
+  DoublePair damping, scale, low, high, force_sums;
+  double energy_j, duration_s, contact_s, ft2_sum_n2_s;
+
+  PairedWindow(const WindowStatistics& w, double g_tv)
+      : damping{w.c1_n_s_m, w.c2_n_s_m},
+        scale{-1.0, g_tv},
+        low{w.u_min_m, w.w_min_m},
+        high{w.u_max_m, w.w_max_m},
+        force_sums{w.ft_sum_n_s, w.fn_sum_n_s},
+        energy_j(w.energy_j),
+        duration_s(w.duration_s),
+        contact_s(w.contact_s),
+        ft2_sum_n2_s(w.ft2_sum_n2_s) {}
+
+  // add(dt, -q1, g_tv q2, fn, ft, damping_power_w(v1, v2)).
+  void add(double dt, DoublePair q, DoublePair v, double fn, double ft) {
+    const DoublePair p = (damping * v) * v;  // C1 v1 v1, C2 v2 v2
+    energy_j += dt * (p[0] + p[1]);
+    duration_s += dt;
+    const DoublePair uw = q * scale;  // (-q1, g_tv q2)
+    low = uw < low ? uw : low;        // std::min(low, uw)
+    high = high < uw ? uw : high;     // std::max(high, uw)
+    if (fn > 0.0) contact_s += dt;
+    const DoublePair impulse = dt * DoublePair{ft, fn};
+    force_sums += impulse;
+    ft2_sum_n2_s += impulse[0] * ft;
+  }
+
+  void store(WindowStatistics& w) const {
+    w.energy_j = energy_j;
+    w.duration_s = duration_s;
+    w.u_min_m = low[0];
+    w.w_min_m = low[1];
+    w.u_max_m = high[0];
+    w.w_max_m = high[1];
+    w.contact_s = contact_s;
+    w.ft_sum_n_s = force_sums[0];
+    w.fn_sum_n_s = force_sums[1];
+    w.ft2_sum_n2_s = ft2_sum_n2_s;
+  }
+};
 }  // namespace simulator_detail
 
 template <TangentialContact C, GuideFrictionModel G, bool kWindow, bool kJammed, bool kElectrical>
 void MotorSimulator::advance_specialised(std::uint64_t steps, WindowStatistics* window, ElectricalSums* sums) {
+  if constexpr (C == TangentialContact::jenkins && G == GuideFrictionModel::implicit_coulomb && !kJammed) {
+    if (fused_step_) {
+      advance_jenkins<kWindow, kElectrical>(steps, window, sums);
+      return;
+    }
+  }
+  drive_recurrence_seeded_ = false;  // this loop rotates the phasor itself
   SpecialisedMotorSystem<C, G, kJammed> system{system_};
   MotorSplitSystem::Vector q{state_.q1_m, state_.q2_m, state_.mover_position_m};
   MotorSplitSystem::Vector v{state_.q1_dot_m_s, state_.q2_dot_m_s, state_.mover_velocity_m_s};
@@ -110,6 +174,182 @@ void MotorSimulator::advance_specialised(std::uint64_t steps, WindowStatistics* 
   state_.contact_deflection_m = system_.contact_deflection_m();
   state_.drive_sin = s;
   state_.drive_cos = c;
+  state_.time_s = t;
+}
+
+// MotorSplitSystem's step (motor.h: explicit accelerations, implicit_velocity_correction with the
+// Jenkins element and the implicit Coulomb guide, the return mapping) for the calibrated
+// contact, fused into one loop over local copies of the state and the constants, in the same
+// order of evaluation; what differs is arithmetic rearranged for a shorter dependency chain per
+// step (products of step constants folded, the mover's update in displacement units, the
+// position update from the modal force directly), so the results agree with
+// advance_specialised's to rounding (tested), not bit for bit. The drive comes from
+// DriveRecurrence. Why: the generic step spent ~100 floating-point operations and ~210
+// instructions per step (voltages and their products, stores and reloads of the system's
+// members); this one ~60 and ~140 (docs/performance.md, issue 16).
+template <bool kWindow, bool kElectrical>
+void MotorSimulator::advance_jenkins(std::uint64_t steps, WindowStatistics* window, ElectricalSums* sums) {
+  const EffectCoefficients& effects = model_.coefficients().effects;
+  DriveWaveform waveform = waveform_;
+  waveform.amplitude_a_v *= droop_gain_;
+  waveform.amplitude_b_v *= droop_gain_;
+  const double dt = dt_;
+  const double inv_dt = 1.0 / dt;
+  const double load = drive_.load_n;
+  // Step constants (MotorSplitSystem::update_step), read again after the effects change them:
+  // v+ = v + dt A (f + [gN F_N, -gT F_T] - C v) = damp v + dt A force, with gNP F_P in f's c0.
+  DoublePair k3, damp, dt_a, dt_dt_a;
+  double g_n = 0.0, kt = 0.0, g_t_kt = 0.0, dt_keep = 0.0, dt_push = 0.0, dt_dtm_kt = 0.0, dt_dmu = 0.0, dt_dmu_w = 0.0,
+         slider = 0.0, dt_gtv = 0.0, preload = 0.0, ke = 0.0, m_over_dt = 0.0;
+  const auto load_constants = [&] {
+    const MotorCoefficients& k = system_.coefficients();
+    const MotorSplitSystem::StepConstants sc = system_.step_constants();
+    k3 = system_.paired_coefficients().k3;
+    damp = DoublePair{1.0 - dt * sc.a1_per_kg * k.c1_n_s_m, 1.0 - dt * sc.a2_per_kg * k.c2_n_s_m};
+    dt_a = DoublePair{dt * sc.a1_per_kg, dt * sc.a2_per_kg};
+    dt_dt_a = dt * dt_a;
+    g_n = k.g_n;
+    kt = k.tangential_stiffness_n_m;
+    g_t_kt = k.g_t * kt;
+    // Mover in displacement units u = dt v: u_pred = dt keep v_m + dt (dt/m)(-load) +
+    // dt (dt/m) F_T; the guide holds |u| <= dt cap, cap = dt mu_s (F_N + g m)/m.
+    dt_keep = dt * (1.0 - sc.dt_over_m * k.mover_damping_n_s_m);
+    dt_push = -dt * sc.dt_over_m * load;
+    dt_dtm_kt = dt * sc.dt_over_m * kt;
+    dt_dmu = dt * sc.dt_mu_s_over_m;
+    dt_dmu_w = dt_dmu * k.guide.weight_n;
+    slider = k.slider_limit_per_normal_force_m_n;
+    dt_gtv = dt * k.g_tv;
+    preload = k.preload_n;
+    ke = k.contact_stiffness_n_m;
+    m_over_dt = sc.m_over_dt;
+  };
+  load_constants();
+  // gNP F_P (eq. 14's constant back-end term) in the cubic's constant: it is a force on L1 like c0.
+  DoublePair constant_force{system_.coefficients().preload_constant_force_n, 0.0};
+  if (!drive_recurrence_seeded_) {
+    drive_recurrence_.seed(system_.paired_coefficients(), constant_force, waveform, state_.drive_sin, state_.drive_cos);
+    drive_recurrence_seeded_ = true;
+  }
+  DriveRecurrence drive = drive_recurrence_;
+  DoublePair q{state_.q1_m, state_.q2_m};
+  DoublePair v{state_.q1_dot_m_s, state_.q2_dot_m_s};
+  double xm = state_.mover_position_m;
+  double vm = state_.mover_velocity_m_s;
+  double delta = system_.contact_deflection_m();
+  double fn = std::max(preload - ke * q[0], 0.0);  // eq. 16 at q1_n (the step's F_N)
+  // Inside the cone already unless set_state() put it elsewhere (then as the generic step's clip).
+  delta = simulator_detail::clamp_symmetric(delta, slider * fn);
+  InterfaceForces last = system_.forces();
+  double u_held = 0.0;
+  double t = state_.time_s;
+  const DoublePair position_limit_sq = DoublePair{1.0, 1.0} * (position_limit_m_ * position_limit_m_);
+  const double speed_limit_sq = speed_limit_m_s_ * speed_limit_m_s_;
+  [[maybe_unused]] const double clamped_capacitance_f = model_.coefficients().clamped_capacitance_f;
+  [[maybe_unused]] const double midpoint_scale = midpoint_scale_;
+  // The window's sums in a local copy: written through the pointer, every field was a load and
+  // a store per step (the compiler cannot keep what may alias in registers). Same sums.
+  [[maybe_unused]] simulator_detail::PairedWindow sums_window{kWindow ? *window : WindowStatistics{},
+                                                              system_.coefficients().g_tv};
+  std::uint64_t housekeeping = housekeeping_steps_;
+  for (std::uint64_t k = 0; k < steps; ++k) {
+    const ModalCubic cubic = drive.cubic();
+    [[maybe_unused]] const double s_start = drive.sin_theta(), c_start = drive.cos_theta();
+    drive.next();
+    [[maybe_unused]] const DoublePair q_start = q;
+    [[maybe_unused]] const double fn_start = fn;
+    const DoublePair f = modal_forces_n(cubic, k3, q);  // eqs. 14-15
+    // The Jenkins force k_t delta: delta lies inside the cone mu_c F_N(t_n) by the last return
+    // mapping (with the same F_N), so the generic step's clip of k_t delta is a no-op here.
+    const double ft = kt * delta;
+    // The interface forces on the modes (gN F_N on L1, -gT F_T on B2) join the modal forces before
+    // the step's products (one addition on the way from F_N to the next q).
+    const DoublePair force = f + DoublePair{g_n * fn, -g_t_kt * delta};
+    const DoublePair base = damp * v;
+    v = base + dt_a * force;
+    q = (q + dt * base) + dt_dt_a * force;  // q + dt v+, with the forces one product nearer
+    // Guide (coulomb_guide_velocity_m_s in displacement units): stuck (du = 0 exactly) while the
+    // guide friction can stop the mover.
+    const double u_pred = dt_keep * vm + dt_push + dt_dtm_kt * delta;
+    u_held = simulator_detail::clamp_symmetric(u_pred, dt_dmu * fn + dt_dmu_w);
+    const double um = u_pred - u_held;
+    vm = um * inv_dt;
+    xm += um;
+    // Return mapping with F_N at the end of the step, which is also the next step's F_N.
+    fn = std::max(preload - ke * q[0], 0.0);
+    delta = simulator_detail::clamp_symmetric((delta - um) + dt_gtv * v[1], slider * fn);
+    if constexpr (kElectrical) {
+      // Every kElectricalStride-th step, at the step's midpoint (see advance_specialised).
+      if ((housekeeping & (kElectricalStride - 1)) == kElectricalStride - 1) {
+        const double s_mid = (s_start + drive.sin_theta()) * midpoint_scale;
+        const double c_mid = (c_start + drive.cos_theta()) * midpoint_scale;
+        const DriveVoltages u_mid = drive_voltages(waveform, s_mid, c_mid);
+        const double w = waveform.angular_frequency_rad_s;
+        const double dva = waveform.amplitude_a_v * w * c_mid;
+        const double dvb = waveform.amplitude_b_v * w * (c_mid * waveform.cos_phase - s_mid * waveform.sin_phase);
+        const PhaseCurrents i = phase_currents(system_.paired_coefficients(), clamped_capacitance_f,
+                                               0.5 * (q_start + q), v, u_mid.va_v, u_mid.vb_v, dva, dvb);
+        sums->add(i, s_mid, c_mid, u_mid.va_v, u_mid.vb_v, kElectricalStride * dt);
+      }
+    }
+    t += dt;
+    if ((++housekeeping & 63U) == 0U) {
+      double s = drive.sin_theta();
+      double c = drive.cos_theta();
+      renormalise_phasor(s, c);
+      v[0] = simulator_detail::flush_tiny(v[0]);
+      v[1] = simulator_detail::flush_tiny(v[1]);
+      vm = simulator_detail::flush_tiny(vm);
+      if (effects.any()) [[unlikely]] {
+        update_effects(MotorSplitSystem::Vector{q[0], q[1], xm}, MotorSplitSystem::Vector{v[0], v[1], vm}, s, c,
+                       waveform);
+        load_constants();
+        // A lower mu_c (wear) narrows the cone: keep the deflection inside it.
+        delta = simulator_detail::clamp_symmetric(delta, slider * fn);
+      }
+      drive.seed(system_.paired_coefficients(), constant_force, waveform, s, c);
+    }
+    // Runaway limits on |q1|, |q2| (one comparison of the pair) and v_m. A NaN fails the
+    // comparisons; a NaN or Inf anywhere in v reaches q in the same step, one in delta v_m.
+    const DoublePair q_sq = q * q;
+    const bool sane = ((q_sq < position_limit_sq)[0] & (q_sq < position_limit_sq)[1]) != 0 && vm * vm < speed_limit_sq;
+    if (!sane) [[unlikely]] {
+      const MotorState rest = model_.rest_state(t);
+      q = DoublePair{rest.q1_m, rest.q2_m};
+      v = DoublePair{rest.q1_dot_m_s, rest.q2_dot_m_s};
+      xm = rest.mover_position_m;
+      vm = rest.mover_velocity_m_s;
+      delta = 0.0;
+      fn = std::max(preload - ke * q[0], 0.0);
+      diverged_ = true;
+      ++divergence_count_;
+    }
+    if constexpr (kWindow) {
+      // What a caller of step() reads after it: the end state and this step's forces.
+      sums_window.add(dt, q, v, fn_start, ft);
+    }
+    last.normal_n = fn_start;
+    last.friction_n = ft;
+  }
+  if constexpr (kWindow) sums_window.store(*window);
+  if (steps > 0) {
+    // F_f = (v_m+ - v_pred) m/dt = -held m/dt (motor.h).
+    last.guide_n = -u_held * inv_dt * m_over_dt;
+    system_.set_forces(last);
+  }
+  drive_recurrence_ = drive;
+  drive_recurrence_seeded_ = true;  // update_effects' slow states were followed by a reseed
+  housekeeping_steps_ = housekeeping;
+  state_.q1_m = q[0];
+  state_.q2_m = q[1];
+  state_.mover_position_m = xm;
+  state_.q1_dot_m_s = v[0];
+  state_.q2_dot_m_s = v[1];
+  state_.mover_velocity_m_s = vm;
+  system_.set_contact_deflection_m(delta);
+  state_.contact_deflection_m = delta;
+  state_.drive_sin = drive.sin_theta();
+  state_.drive_cos = drive.cos_theta();
   state_.time_s = t;
 }
 

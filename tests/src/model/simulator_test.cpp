@@ -6,6 +6,9 @@
 #include <cmath>
 #include <limits>
 
+#include "calibrated_parameters.h"
+#include "integrators/semi_implicit_euler.h"
+
 namespace swum {
 namespace {
 
@@ -243,6 +246,117 @@ TEST(ImplicitCoulombGuide, HoldsBelowBreakawayAndSlidesAbove) {
   slide.advance(200000);
   EXPECT_LT(slide.state().mover_velocity_m_s, -1e-3);    // pushed backwards by the load
   EXPECT_NEAR(slide.forces().guide_n, breakaway, 1e-6);  // full Coulomb force opposes motion
+}
+
+// The calibrated contact (Jenkins element, implicit Coulomb guide) runs a step fused by hand
+// (simulator_loop.h: advance_jenkins); it must be MotorSplitSystem's semi-implicit Euler step with
+// another order of rounding. Reference: that step driven as the simulator drove it before issue
+// 16 (phasor rotation, voltages, SpecialisedMotorSystem), from the same state, without the
+// housekeeping (renormalisation and flush change nothing measurable in 3000 steps).
+struct GenericRun {
+  MotorSplitSystem::Vector q, v;
+  double deflection_m;
+};
+GenericRun run_generic_step(const MotorModel& model, const DriveInput& drive, int steps) {
+  MotorSplitSystem system(model.coefficients(), model.time_step_s());
+  SpecialisedMotorSystem<TangentialContact::jenkins, GuideFrictionModel::implicit_coulomb> specialised{system};
+  const MotorState rest = model.rest_state();
+  MotorSplitSystem::Vector q{rest.q1_m, rest.q2_m, rest.mover_position_m};
+  MotorSplitSystem::Vector v{rest.q1_dot_m_s, rest.q2_dot_m_s, rest.mover_velocity_m_s};
+  const DriveWaveform w = make_drive_waveform(drive, model.coefficients().drive_amplitude_per_volt,
+                                              model.time_step_s());
+  double s = rest.drive_sin, c = rest.drive_cos, t = 0.0;
+  for (int k = 0; k < steps; ++k) {
+    system.set_inputs(drive_voltages(w, s, c), drive.load_n);
+    semi_implicit_euler_step(specialised, t, model.time_step_s(), q, v);
+    rotate_phasor(w, s, c);
+    t += model.time_step_s();
+  }
+  return {q, v, system.contact_deflection_m()};
+}
+
+TEST(MotorSimulator, FusedJenkinsStepIsTheGenericStepToRounding) {
+  const MotorModel model{test::calibrated_parameters()};
+  ASSERT_EQ(model.coefficients().tangential, TangentialContact::jenkins);
+  ASSERT_EQ(model.coefficients().guide_model, GuideFrictionModel::implicit_coulomb);
+  constexpr int kSteps = 3000;  // 62 drive periods: contact, separation, stick and slip events
+  for (const DriveInput drive : {DriveInput{400.0, 40000.0, 90.0, 0.0}, DriveInput{400.0, 39500.0, 90.0, 0.5},
+                                 DriveInput{100.0, 40300.0, 90.0, 0.0}, DriveInput{50.0, 40000.0, -90.0, 0.0}}) {
+    MotorSimulator sim(model);
+    sim.set_drive(drive);
+    sim.advance(kSteps);
+    const GenericRun g = run_generic_step(model, drive, kSteps);
+    const MotorState& f = sim.state();
+    // Scales: 1 um for the modes (amplitudes are ~1-5 um), 1 m/s for their velocities.
+    EXPECT_NEAR(f.q1_m, g.q[0], 1e-9 * 1e-6) << drive.vpp << " Vpp " << drive.frequency_hz << " Hz";
+    EXPECT_NEAR(f.q2_m, g.q[1], 1e-9 * 1e-6);
+    EXPECT_NEAR(f.q1_dot_m_s, g.v[0], 1e-9);
+    EXPECT_NEAR(f.q2_dot_m_s, g.v[1], 1e-9);
+    EXPECT_NEAR(f.mover_position_m, g.q[2], 1e-9 * 1e-6);
+    EXPECT_NEAR(f.mover_velocity_m_s, g.v[2], 1e-9 * 1e-3);
+    EXPECT_NEAR(f.contact_deflection_m, g.deflection_m, 1e-9 * 1e-6);
+  }
+}
+
+// The same through the simulator over 50 ms (housekeeping, reseeds, every regime of the grid):
+// numerics.step_kernel = "generic" runs MotorSplitSystem's step for the same motor. Rounding
+// differences stay rounding-sized: the mover (which integrates everything) within 1e-9.
+TEST(MotorSimulator, FusedAndGenericKernelsAgreeOverManyPeriods) {
+  MotorParameters generic = test::calibrated_parameters();
+  generic.numerics.step_kernel = StepKernel::generic;
+  const MotorModel fused_model{test::calibrated_parameters()};
+  const MotorModel generic_model{generic};
+  for (const DriveInput drive : {DriveInput{400.0, 40000.0, 90.0, 0.0}, DriveInput{400.0, 39500.0, 90.0, 1.0},
+                                 DriveInput{100.0, 40300.0, 90.0, 0.0}, DriveInput{50.0, 40000.0, 90.0, 0.0}}) {
+    MotorSimulator a(fused_model), b(generic_model);
+    a.set_drive(drive);
+    b.set_drive(drive);
+    const auto steps = static_cast<std::uint64_t>(0.05 / fused_model.time_step_s());
+    a.advance(steps);
+    b.advance(steps);
+    EXPECT_NEAR(a.state().mover_position_m, b.state().mover_position_m,
+                1e-9 * std::max(1e-6, std::abs(b.state().mover_position_m)))
+        << drive.vpp << " Vpp " << drive.frequency_hz << " Hz";
+    EXPECT_NEAR(a.state().q1_m, b.state().q1_m, 1e-9 * 1e-6);
+    EXPECT_NEAR(a.state().q2_m, b.state().q2_m, 1e-9 * 1e-6);
+    EXPECT_NEAR(a.forces().normal_n, b.forces().normal_n, 1e-9 * 100.0);
+    EXPECT_NEAR(a.forces().friction_n, b.forces().friction_n, 1e-9 * 100.0);
+    EXPECT_NEAR(a.forces().guide_n, b.forces().guide_n, 1e-9 * 100.0);
+    EXPECT_EQ(a.state().time_s, b.state().time_s);
+  }
+}
+
+// The fused step keeps the drive recurrence between calls: step() by step() is advance(n) bit
+// for bit, also across drive changes (amplitude only, frequency, a repeated identical set_drive)
+// at steps that are not block boundaries, and with a slow state evolving (thermal effect: the
+// modal stiffness changes inside the cubic every block).
+TEST(MotorSimulator, FusedJenkinsStepAndAdvanceAgreeAcrossDriveChanges) {
+  MotorParameters p = test::calibrated_parameters();
+  p.effects.thermal.enabled = true;
+  p.effects.thermal.time_constant_s = 1e-3;  // fast enough to move in 10^4 steps
+  p.effects.thermal.thermal_resistance_k_per_w = 50.0;
+  const MotorModel model{p};
+  MotorSimulator a(model), b(model);
+  const DriveInput drives[] = {{400.0, 40000.0, 90.0, 0.0},
+                               {300.0, 40000.0, 90.0, 0.0},   // amplitude only
+                               {300.0, 40000.0, 90.0, 0.0},   // the same again
+                               {300.0, 39600.0, 90.0, 0.2}};  // frequency and load
+  const int lengths[] = {1001, 777, 1500, 2023};
+  for (int i = 0; i < 4; ++i) {
+    a.set_drive(drives[i]);
+    b.set_drive(drives[i]);
+    a.advance(static_cast<std::uint64_t>(lengths[i]));
+    for (int k = 0; k < lengths[i]; ++k) b.step();
+  }
+  EXPECT_EQ(a.state().q1_m, b.state().q1_m);
+  EXPECT_EQ(a.state().q2_dot_m_s, b.state().q2_dot_m_s);
+  EXPECT_EQ(a.state().mover_position_m, b.state().mover_position_m);
+  EXPECT_EQ(a.state().contact_deflection_m, b.state().contact_deflection_m);
+  EXPECT_EQ(a.state().drive_sin, b.state().drive_sin);
+  EXPECT_GT(a.state().stator_temperature_rise_k, 0.0);
+  EXPECT_EQ(a.state().stator_temperature_rise_k, b.state().stator_temperature_rise_k);
+  EXPECT_EQ(a.forces().guide_n, b.forces().guide_n);
+  EXPECT_EQ(a.forces().friction_n, b.forces().friction_n);
 }
 
 }  // namespace
