@@ -31,9 +31,20 @@ SteadyStateResult window_loop(const SteadyStateOptions& opt, Run&& run, Position
   while (true) {
     WindowStats w;
     w.start_position_m = position();
-    if (!run(opt.window_s, &w, r)) return r;
+    // Running to max_s (stop_when_settled false), only the last window's statistics are reported
+    // and the verdict compares speeds: the windows before it run without statistics, so that a
+    // timing run costs what its steps cost (issue 16). Stopping when settled, any window may be
+    // the last.
+    const bool last = elapsed + 2.0 * opt.window_s > opt.max_s + 1e-12;
+    const bool statistics = opt.stop_when_settled || last;
+    const double start_s = r.sim_s;
+    if (!run(opt.window_s, statistics ? &w : nullptr, r)) return r;
     elapsed += opt.window_s;
-    w.store(position(), r);
+    if (statistics) {
+      w.store(position(), r);
+    } else {
+      r.speed_mm_s = 1e3 * (position() - w.start_position_m) / (r.sim_s - start_s);
+    }
     ++r.windows;
     if (window_verdict(opt, elapsed, previous_speed, r)) return r;
   }
