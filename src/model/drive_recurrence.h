@@ -40,33 +40,35 @@ class DriveRecurrence {
     dc0_ = m.sq0_a * half_a2 + m.sq0_b * half_b2 + constant_force_n;
     dc1_ = m.sq1_a * half_a2 + m.sq1_b * half_b2 - m.k;
     dc2_ = -m.k2;
-    harmonics_at(m, w, sin_theta, cos_theta, now_);
+    harmonics_at(m, w, sin_theta, cos_theta, slots_[now_]);
     const double s_before = sin_theta * w.rotation_cos - cos_theta * w.rotation_sin;
     const double c_before = cos_theta * w.rotation_cos + sin_theta * w.rotation_sin;
-    harmonics_at(m, w, s_before, c_before, before_);
-    const double k1 = 2.0 * w.rotation_cos;                                  // 2 cos(w dt)
+    harmonics_at(m, w, s_before, c_before, slots_[now_ ^ 1U]);
+    const double k1 = 2.0 * w.rotation_cos;                                 // 2 cos(w dt)
     const double k2 = 2.0 * (2.0 * w.rotation_cos * w.rotation_cos - 1.0);  // 2 cos(2 w dt)
     k1_ = DoublePair{k1, k1};
     k2_ = DoublePair{k2, k2};
   }
 
   [[nodiscard]] ModalCubic cubic() const {
-    return {dc0_ + now_.h1_0 + now_.h2_0, dc1_ + now_.h1_1 + now_.h2_1, dc2_ + now_.h1_2};
+    const Harmonics& h = slots_[now_];
+    return {dc0_ + h.h1_0 + h.h2_0, dc1_ + h.h1_1 + h.h2_1, dc2_ + h.h1_2};
   }
-  [[nodiscard]] double sin_theta() const { return now_.phasor[0]; }
-  [[nodiscard]] double cos_theta() const { return now_.phasor[1]; }
+  [[nodiscard]] double sin_theta() const { return slots_[now_].phasor[0]; }
+  [[nodiscard]] double cos_theta() const { return slots_[now_].phasor[1]; }
 
-  // One step: theta += w dt.
+  // One step: theta += w dt. x_n+1 overwrites x_n-1 in place and the two slots swap roles: no
+  // copies (the state is twelve register pairs, more than the registers there are).
   void next() {
-    Harmonics n;
-    n.phasor = k1_ * now_.phasor - before_.phasor;
-    n.h1_0 = k1_ * now_.h1_0 - before_.h1_0;
-    n.h2_0 = k2_ * now_.h2_0 - before_.h2_0;
-    n.h1_1 = k1_ * now_.h1_1 - before_.h1_1;
-    n.h2_1 = k2_ * now_.h2_1 - before_.h2_1;
-    n.h1_2 = k1_ * now_.h1_2 - before_.h1_2;
-    before_ = now_;
-    now_ = n;
+    const Harmonics& a = slots_[now_];
+    Harmonics& b = slots_[now_ ^ 1U];
+    b.phasor = k1_ * a.phasor - b.phasor;
+    b.h1_0 = k1_ * a.h1_0 - b.h1_0;
+    b.h2_0 = k2_ * a.h2_0 - b.h2_0;
+    b.h1_1 = k1_ * a.h1_1 - b.h1_1;
+    b.h2_1 = k2_ * a.h2_1 - b.h2_1;
+    b.h1_2 = k1_ * a.h1_2 - b.h1_2;
+    now_ ^= 1U;
   }
 
  private:
@@ -74,8 +76,7 @@ class DriveRecurrence {
     DoublePair phasor;                        // (sin theta, cos theta)
     DoublePair h1_0, h2_0, h1_1, h2_1, h1_2;  // harmonic h of coefficient c_k: hh_k
   };
-  static void harmonics_at(const PairedForceCoefficients& m, const DriveWaveform& w, double s, double c,
-                           Harmonics& h) {
+  static void harmonics_at(const PairedForceCoefficients& m, const DriveWaveform& w, double s, double c, Harmonics& h) {
     const DriveVoltages u = drive_voltages(w, s, c);
     const double qa = u.va_v * u.va_v - 0.5 * w.amplitude_a_v * w.amplitude_a_v;
     const double qb = u.vb_v * u.vb_v - 0.5 * w.amplitude_b_v * w.amplitude_b_v;
@@ -89,7 +90,8 @@ class DriveRecurrence {
   }
 
   DoublePair dc0_{}, dc1_{}, dc2_{};
-  Harmonics now_{}, before_{};
+  Harmonics slots_[2]{};
+  unsigned now_ = 0;  // slots_[now_] holds x_n, the other x_n-1
   DoublePair k1_{}, k2_{};
 };
 

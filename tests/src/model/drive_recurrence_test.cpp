@@ -38,8 +38,8 @@ TEST_P(DriveRecurrenceAgrees, WithTheVoltagesStepByStep) {
   for (int n = 0; n < 64; ++n) {  // one housekeeping block: the simulator reseeds after it
     const double theta = theta0 + n * step_rad;
     const DriveVoltages u = drive_voltages(w, std::sin(theta), std::cos(theta));
-    worst_phasor = std::max({worst_phasor, std::abs(r.sin_theta() - std::sin(theta)),
-                             std::abs(r.cos_theta() - std::cos(theta))});
+    worst_phasor = std::max(
+        {worst_phasor, std::abs(r.sin_theta() - std::sin(theta)), std::abs(r.cos_theta() - std::cos(theta))});
     for (const double q_um : {-2.0, 0.0, 0.5, 3.0}) {
       const DoublePair q{q_um * 1e-6, q_um * 1e-6};
       const DoublePair direct = modal_forces_n(m, q, u.va_v, u.vb_v) + constant;
@@ -85,9 +85,8 @@ TEST(DriveRecurrence, ZeroDriveIsConstant) {
 TEST(DriveRecurrence, DriftsSlowlyWithoutReseeding) {
   const MotorModel model{test::calibrated_parameters()};
   const PairedForceCoefficients m = make_paired_force_coefficients(model.coefficients().stator);
-  const DriveWaveform w =
-      make_drive_waveform({400.0, 40123.0, 90.0, 0.0}, model.coefficients().drive_amplitude_per_volt,
-                          model.time_step_s());
+  const DriveWaveform w = make_drive_waveform({400.0, 40123.0, 90.0, 0.0},
+                                              model.coefficients().drive_amplitude_per_volt, model.time_step_s());
   DriveRecurrence r;
   r.seed(m, DoublePair{0.0, 0.0}, w, 0.0, 1.0);
   constexpr int kSteps = 100000;
