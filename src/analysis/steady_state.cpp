@@ -20,6 +20,11 @@ struct WindowStats : WindowStatistics {
   }
 };
 
+// True when another window would end after max_s: the window that ends at elapsed_s is the last.
+bool no_window_after(const SteadyStateOptions& opt, double elapsed_s) {
+  return elapsed_s + opt.window_s > opt.max_s + 1e-12;
+}
+
 // Shared window logic: `run(duration, stats_or_null)` advances the solver; returns false on
 // failure (diverged or solver failure, with result.failure set).
 template <typename Run, typename Position>
@@ -35,7 +40,7 @@ SteadyStateResult window_loop(const SteadyStateOptions& opt, Run&& run, Position
     // and the verdict compares speeds: the windows before it run without statistics, so that a
     // timing run costs what its steps cost (issue 16). Stopping when settled, any window may be
     // the last.
-    const bool last = elapsed + 2.0 * opt.window_s > opt.max_s + 1e-12;
+    const bool last = no_window_after(opt, elapsed + opt.window_s);
     const bool statistics = opt.stop_when_settled || last;
     const double start_s = r.sim_s;
     if (!run(opt.window_s, statistics ? &w : nullptr, r)) return r;
@@ -75,7 +80,7 @@ bool window_verdict(const SteadyStateOptions& opt, double elapsed_s, double& pre
     if (r.ok && opt.stop_when_settled) return true;
   }
   previous_speed_mm_s = r.speed_mm_s;
-  if (elapsed_s + opt.window_s > opt.max_s + 1e-12) {
+  if (no_window_after(opt, elapsed_s)) {
     if (r.ok) return true;  // ran on after settling (stop_when_settled false): the last two agree
     r.failure = r.windows < 2 ? std::string("only one window fits within ") + std::to_string(opt.max_s) +
                                     " s: nothing to compare it with"

@@ -174,7 +174,7 @@ const std::array kSpecs{
     SWUM_INT(numerics, NumericsParameters, quadrature_points, "-", 4.0, 4000.0,
              "Gauss-Legendre points per interval for the modal integrals"),
     SWUM_REAL(numerics, NumericsParameters, divergence_limit_um, "um", 1e-3, 1e9,
-              "Runaway limit on |q1|, |q2| (NaN guard resets above it)"),
+              "Runaway limit on the modal coordinates, sqrt(q1^2 + q2^2) (NaN guard resets above it)"),
     SWUM_REAL(numerics, NumericsParameters, divergence_speed_limit_m_s, "m/s", 1e-6, 1e9,
               "Runaway limit on the mover speed (NaN guard resets above it)"),
     // [effects.*] candidate effects of the discrepancy workflow (docs/discrepancy.md)

@@ -135,7 +135,7 @@ struct NumericsParameters {
   FrictionSolver friction_solver = FrictionSolver::coulomb_projection;
   StepKernel step_kernel = StepKernel::fused;
   int quadrature_points = 400;                // Gauss-Legendre points per interval (§1.5)
-  double divergence_limit_um = 1000.0;        // |q1|, |q2| above this = runaway (NaN guard)
+  double divergence_limit_um = 1000.0;        // sqrt(q1^2 + q2^2) above this = runaway (NaN guard)
   double divergence_speed_limit_m_s = 100.0;  // |v_m| above this = runaway
 };
 

@@ -33,9 +33,12 @@ void MotorSimulator::set_drive(const DriveInput& input) {
   }
   const double old_a = waveform_.amplitude_a_v, old_b = waveform_.amplitude_b_v;
   apply_phase_gains();
-  // A new amplitude, frequency or phase reseeds the drive recurrence; a new load does not.
-  if (!same_waveform || waveform_.amplitude_a_v != old_a || waveform_.amplitude_b_v != old_b) {
-    drive_recurrence_seeded_ = false;
+  // The drive recurrence: a new frequency or phase anchors it at the current phasor, new
+  // amplitudes are replayed from its anchor; a new load is not in it.
+  if (!same_waveform) {
+    drive_recurrence_state_ = RecurrenceState::unanchored;
+  } else if (waveform_.amplitude_a_v != old_a || waveform_.amplitude_b_v != old_b) {
+    recurrence_inputs_changed();
   }
   drive_ = input;
 }
@@ -56,15 +59,21 @@ void MotorSimulator::hold_jammed_mover() {
 void MotorSimulator::set_faults(const ModelFaults& faults) {
   const std::string problem = check(faults);
   if (!problem.empty()) throw std::invalid_argument("MotorSimulator::set_faults: " + problem);
+  const double old_a = waveform_.amplitude_a_v, old_b = waveform_.amplitude_b_v;
+  const double old_constant = system_.coefficients().preload_constant_force_n;
   faults_ = faults;
   if (faults_.jammed && std::isnan(faults_.jam_position_m)) faults_.jam_position_m = state_.mover_position_m;
   hold_jammed_mover();
   apply_phase_gains();
-  drive_recurrence_seeded_ = false;
   // F_P in F_N = max(0, F_P - k_e q1) and the constant back-end term gNP F_P (model_spec §4),
   // mu_s of the guide friction (eqs. 24-25).
   system_.set_preload_factor(model_.coefficients(), faults_.preload_factor);
   system_.set_guide_friction_factor(model_.coefficients(), faults_.guide_friction_factor);
+  // The phase gains and the constant preload term are in the drive recurrence.
+  if (waveform_.amplitude_a_v != old_a || waveform_.amplitude_b_v != old_b ||
+      system_.coefficients().preload_constant_force_n != old_constant) {
+    recurrence_inputs_changed();
+  }
 }
 
 void MotorSimulator::step() { advance(1); }
@@ -116,7 +125,7 @@ void MotorSimulator::update_effects(const MotorSplitSystem::Vector& q, const Mot
 }
 
 void MotorSimulator::apply_slow_states() {
-  drive_recurrence_seeded_ = false;  // the modal stiffness is in the cubic's coefficients
+  const DoublePair old_stiffness = system_.paired_coefficients().k;  // in the cubic's c1
   const MotorCoefficients& k = model_.coefficients();
   const EffectCoefficients& e = k.effects;
   if (e.thermal) {
@@ -126,6 +135,8 @@ void MotorSimulator::apply_slow_states() {
   if (e.wear) {
     system_.set_friction_coefficient(k.friction_coefficient * wear_friction_factor(e, state_.sliding_distance_m));
   }
+  const DoublePair new_stiffness = system_.paired_coefficients().k;
+  if (new_stiffness[0] != old_stiffness[0] || new_stiffness[1] != old_stiffness[1]) recurrence_inputs_changed();
 }
 
 void MotorSimulator::set_ambient_offset_k(double offset_k) {
@@ -155,7 +166,7 @@ void MotorSimulator::set_state(const MotorState& state) {
     state_.drive_sin = 0.0;
     state_.drive_cos = 1.0;
   }
-  drive_recurrence_seeded_ = false;
+  drive_recurrence_state_ = RecurrenceState::unanchored;
   hold_jammed_mover();
 }
 
@@ -171,7 +182,6 @@ void MotorSimulator::reset() {
   system_.set_contact_deflection_m(0.0);
   state_.drive_sin = s;
   state_.drive_cos = c;
-  drive_recurrence_seeded_ = false;
   hold_jammed_mover();
 }
 

@@ -137,10 +137,23 @@ class MotorSimulator {
   // the electrical port's sampling point, computed once per drive frequency (set_drive).
   double midpoint_scale_ = 0.5;
   // The drive phasor and modal-cubic coefficients of advance_jenkins between calls, so that
-  // advance(n) and n calls of step() give the same bits; reseeded from state_'s phasor whenever
-  // the drive, the faults, the slow states or the state change (and every 64 steps).
+  // advance(n) and n calls of step() give the same bits. Anchored at every 64-step boundary (the
+  // renormalised phasor); a new frequency, phase or state anchors it where it happens
+  // (unanchored); new amplitudes (drive, phase faults, droop) or a new modal stiffness (thermal)
+  // are replayed from the anchor (stale), so that the values at a step do not depend on when
+  // such a change was made.
+  enum class RecurrenceState { current, stale, unanchored };
+  struct RecurrenceAnchor {
+    double sin_theta = 0.0, cos_theta = 1.0;
+    std::uint64_t step = 0;  // housekeeping_steps_ at the anchor
+  };
   DriveRecurrence drive_recurrence_{};
-  bool drive_recurrence_seeded_ = false;
+  RecurrenceState drive_recurrence_state_ = RecurrenceState::unanchored;
+  RecurrenceAnchor recurrence_anchor_{};
+  // Marks the recurrence stale unless it is already unanchored.
+  void recurrence_inputs_changed() {
+    if (drive_recurrence_state_ == RecurrenceState::current) drive_recurrence_state_ = RecurrenceState::stale;
+  }
   bool fused_step_ = true;  // numerics.step_kernel
 };
 

@@ -21,11 +21,19 @@ namespace simulator_detail {
 // Values this small are physically zero; flushing them avoids subnormal arithmetic (x100 slower)
 // when a mode decays at zero drive.
 inline double flush_tiny(double x) { return std::abs(x) < 1e-200 ? 0.0 : x; }
-// x clipped to [-limit, limit] (limit >= 0), as min/max instructions: no branch to mispredict at
-// every stick-slip event.
+// Note on bit-identity (PairedWindow, advance_jenkins against step() loops): the model library
+// is built without FP contraction into fused multiply-adds (GCC, x86-64 baseline: no FMA);
+// a build that contracts a * b + c in one translation unit and not in another breaks the
+// bit-for-bit claims below, though not the results' accuracy.
+// x clipped to [-limit, limit] (limit >= 0; NaN stays NaN), written as branches on purpose: the
+// clips lie on the step's critical dependency chain (the deflection's and the mover's), a
+// predicted branch costs no latency where min/max instructions cost 8 cycles, and the
+// mispredictions (a few stick-slip events per drive period) cost less: 12 % faster per step
+// (docs/performance.md).
 inline double clamp_symmetric(double x, double limit) {
-  const double lower = x < -limit ? -limit : x;
-  return lower > limit ? limit : lower;
+  if (__builtin_expect(x > limit, 0)) return limit;
+  if (__builtin_expect(x < -limit, 0)) return -limit;
+  return x;
 }
 
 // WindowStatistics::add's arithmetic on lane pairs (the tip extremes (u, w), the sums of F_T and
@@ -83,7 +91,7 @@ void MotorSimulator::advance_specialised(std::uint64_t steps, WindowStatistics* 
       return;
     }
   }
-  drive_recurrence_seeded_ = false;  // this loop rotates the phasor itself
+  drive_recurrence_state_ = RecurrenceState::unanchored;  // this loop rotates the phasor itself
   SpecialisedMotorSystem<C, G, kJammed> system{system_};
   MotorSplitSystem::Vector q{state_.q1_m, state_.q2_m, state_.mover_position_m};
   MotorSplitSystem::Vector v{state_.q1_dot_m_s, state_.q2_dot_m_s, state_.mover_velocity_m_s};
@@ -199,8 +207,8 @@ void MotorSimulator::advance_jenkins(std::uint64_t steps, WindowStatistics* wind
   // Step constants (MotorSplitSystem::update_step), read again after the effects change them:
   // v+ = v + dt A (f + [gN F_N, -gT F_T] - C v) = damp v + dt A force, with gNP F_P in f's c0.
   DoublePair k3, damp, dt_a, dt_dt_a;
-  double g_n = 0.0, kt = 0.0, g_t_kt = 0.0, dt_keep = 0.0, dt_push = 0.0, dt_dtm_kt = 0.0, dt_dmu = 0.0, dt_dmu_w = 0.0,
-         slider = 0.0, dt_gtv = 0.0, preload = 0.0, ke = 0.0, m_over_dt = 0.0;
+  double g_n = 0.0, kt = 0.0, g_t = 0.0, mu = 0.0, dt_keep = 0.0, dt_push = 0.0, dt_dtm = 0.0, dt_dmu = 0.0,
+         dt_dmu_w = 0.0, slider = 0.0, dt_gtv = 0.0, preload = 0.0, ke = 0.0, m_over_dt = 0.0;
   const auto load_constants = [&] {
     const MotorCoefficients& k = system_.coefficients();
     const MotorSplitSystem::StepConstants sc = system_.step_constants();
@@ -210,12 +218,13 @@ void MotorSimulator::advance_jenkins(std::uint64_t steps, WindowStatistics* wind
     dt_dt_a = dt * dt_a;
     g_n = k.g_n;
     kt = k.tangential_stiffness_n_m;
-    g_t_kt = k.g_t * kt;
+    g_t = k.g_t;
+    mu = k.friction_coefficient;
     // Mover in displacement units u = dt v: u_pred = dt keep v_m + dt (dt/m)(-load) +
     // dt (dt/m) F_T; the guide holds |u| <= dt cap, cap = dt mu_s (F_N + g m)/m.
     dt_keep = dt * (1.0 - sc.dt_over_m * k.mover_damping_n_s_m);
     dt_push = -dt * sc.dt_over_m * load;
-    dt_dtm_kt = dt * sc.dt_over_m * kt;
+    dt_dtm = dt * sc.dt_over_m;
     dt_dmu = dt * sc.dt_mu_s_over_m;
     dt_dmu_w = dt_dmu * k.guide.weight_n;
     slider = k.slider_limit_per_normal_force_m_n;
@@ -227,9 +236,18 @@ void MotorSimulator::advance_jenkins(std::uint64_t steps, WindowStatistics* wind
   load_constants();
   // gNP F_P (eq. 14's constant back-end term) in the cubic's constant: it is a force on L1 like c0.
   DoublePair constant_force{system_.coefficients().preload_constant_force_n, 0.0};
-  if (!drive_recurrence_seeded_) {
-    drive_recurrence_.seed(system_.paired_coefficients(), constant_force, waveform, state_.drive_sin, state_.drive_cos);
-    drive_recurrence_seeded_ = true;
+  std::uint64_t housekeeping = housekeeping_steps_;
+  if (drive_recurrence_state_ != RecurrenceState::current) {
+    // A new phasor or frequency anchors the recurrence here; new amplitudes or a new stiffness
+    // are replayed from the last anchor (the last 64-step boundary), so that the values do not
+    // depend on when the change was made: a simulator that always had them has the same bits.
+    if (drive_recurrence_state_ == RecurrenceState::unanchored) {
+      recurrence_anchor_ = {state_.drive_sin, state_.drive_cos, housekeeping};
+    }
+    drive_recurrence_.seed(system_.paired_coefficients(), constant_force, waveform, recurrence_anchor_.sin_theta,
+                           recurrence_anchor_.cos_theta);
+    for (std::uint64_t n = recurrence_anchor_.step; n < housekeeping; ++n) drive_recurrence_.next();
+    drive_recurrence_state_ = RecurrenceState::current;
   }
   DriveRecurrence drive = drive_recurrence_;
   DoublePair q{state_.q1_m, state_.q2_m};
@@ -237,13 +255,11 @@ void MotorSimulator::advance_jenkins(std::uint64_t steps, WindowStatistics* wind
   double xm = state_.mover_position_m;
   double vm = state_.mover_velocity_m_s;
   double delta = system_.contact_deflection_m();
-  double fn = std::max(preload - ke * q[0], 0.0);  // eq. 16 at q1_n (the step's F_N)
-  // Inside the cone already unless set_state() put it elsewhere (then as the generic step's clip).
-  delta = simulator_detail::clamp_symmetric(delta, slider * fn);
+  double fn = normal_force_n(preload, ke, q[0]);  // eq. 16 at q1_n (the step's F_N)
   InterfaceForces last = system_.forces();
   double u_held = 0.0;
   double t = state_.time_s;
-  const DoublePair position_limit_sq = DoublePair{1.0, 1.0} * (position_limit_m_ * position_limit_m_);
+  const double position_limit_sq = position_limit_m_ * position_limit_m_;
   const double speed_limit_sq = speed_limit_m_s_ * speed_limit_m_s_;
   [[maybe_unused]] const double clamped_capacitance_f = model_.coefficients().clamped_capacitance_f;
   [[maybe_unused]] const double midpoint_scale = midpoint_scale_;
@@ -251,7 +267,6 @@ void MotorSimulator::advance_jenkins(std::uint64_t steps, WindowStatistics* wind
   // a store per step (the compiler cannot keep what may alias in registers). Same sums.
   [[maybe_unused]] simulator_detail::PairedWindow sums_window{kWindow ? *window : WindowStatistics{},
                                                               system_.coefficients().g_tv};
-  std::uint64_t housekeeping = housekeeping_steps_;
   for (std::uint64_t k = 0; k < steps; ++k) {
     const ModalCubic cubic = drive.cubic();
     [[maybe_unused]] const double s_start = drive.sin_theta(), c_start = drive.cos_theta();
@@ -259,24 +274,25 @@ void MotorSimulator::advance_jenkins(std::uint64_t steps, WindowStatistics* wind
     [[maybe_unused]] const DoublePair q_start = q;
     [[maybe_unused]] const double fn_start = fn;
     const DoublePair f = modal_forces_n(cubic, k3, q);  // eqs. 14-15
-    // The Jenkins force k_t delta: delta lies inside the cone mu_c F_N(t_n) by the last return
-    // mapping (with the same F_N), so the generic step's clip of k_t delta is a no-op here.
-    const double ft = kt * delta;
+    // The Jenkins force k_t delta within the cone mu_c F_N (jenkins_force_n). The return mapping
+    // keeps delta inside it, so the clip only acts after set_state(), a lower preload or wear;
+    // as a branch it is predicted and costs no latency.
+    const double ft = simulator_detail::clamp_symmetric(kt * delta, mu * fn);
     // The interface forces on the modes (gN F_N on L1, -gT F_T on B2) join the modal forces before
     // the step's products (one addition on the way from F_N to the next q).
-    const DoublePair force = f + DoublePair{g_n * fn, -g_t_kt * delta};
+    const DoublePair force = f + DoublePair{g_n * fn, -g_t * ft};
     const DoublePair base = damp * v;
     v = base + dt_a * force;
     q = (q + dt * base) + dt_dt_a * force;  // q + dt v+, with the forces one product nearer
     // Guide (coulomb_guide_velocity_m_s in displacement units): stuck (du = 0 exactly) while the
     // guide friction can stop the mover.
-    const double u_pred = dt_keep * vm + dt_push + dt_dtm_kt * delta;
+    const double u_pred = dt_keep * vm + dt_push + dt_dtm * ft;
     u_held = simulator_detail::clamp_symmetric(u_pred, dt_dmu * fn + dt_dmu_w);
     const double um = u_pred - u_held;
     vm = um * inv_dt;
     xm += um;
     // Return mapping with F_N at the end of the step, which is also the next step's F_N.
-    fn = std::max(preload - ke * q[0], 0.0);
+    fn = normal_force_n(preload, ke, q[0]);
     delta = simulator_detail::clamp_symmetric((delta - um) + dt_gtv * v[1], slider * fn);
     if constexpr (kElectrical) {
       // Every kElectricalStride-th step, at the step's midpoint (see advance_specialised).
@@ -300,19 +316,22 @@ void MotorSimulator::advance_jenkins(std::uint64_t steps, WindowStatistics* wind
       v[0] = simulator_detail::flush_tiny(v[0]);
       v[1] = simulator_detail::flush_tiny(v[1]);
       vm = simulator_detail::flush_tiny(vm);
+      // A decaying B2 mode at rest reaches ~1e-160 m, whose square (the cubic's q^2) is
+      // subnormal: x100 slower arithmetic on every step. Below 1e-150 m it is zero.
+      q[1] = std::abs(q[1]) < 1e-150 ? 0.0 : q[1];
       if (effects.any()) [[unlikely]] {
         update_effects(MotorSplitSystem::Vector{q[0], q[1], xm}, MotorSplitSystem::Vector{v[0], v[1], vm}, s, c,
                        waveform);
         load_constants();
-        // A lower mu_c (wear) narrows the cone: keep the deflection inside it.
-        delta = simulator_detail::clamp_symmetric(delta, slider * fn);
       }
       drive.seed(system_.paired_coefficients(), constant_force, waveform, s, c);
+      recurrence_anchor_ = {s, c, housekeeping};
     }
-    // Runaway limits on |q1|, |q2| (one comparison of the pair) and v_m. A NaN fails the
-    // comparisons; a NaN or Inf anywhere in v reaches q in the same step, one in delta v_m.
+    // Runaway limits on q1, q2 (q1^2 + q2^2 < limit^2, as the generic step) and v_m, and a
+    // finite x_m (x - x is NaN for NaN and Inf). A NaN or Inf in v reaches q in the same step,
+    // one in delta reaches v_m.
     const DoublePair q_sq = q * q;
-    const bool sane = ((q_sq < position_limit_sq)[0] & (q_sq < position_limit_sq)[1]) != 0 && vm * vm < speed_limit_sq;
+    const bool sane = q_sq[0] + q_sq[1] < position_limit_sq && vm * vm < speed_limit_sq && xm - xm == 0.0;
     if (!sane) [[unlikely]] {
       const MotorState rest = model_.rest_state(t);
       q = DoublePair{rest.q1_m, rest.q2_m};
@@ -320,7 +339,7 @@ void MotorSimulator::advance_jenkins(std::uint64_t steps, WindowStatistics* wind
       xm = rest.mover_position_m;
       vm = rest.mover_velocity_m_s;
       delta = 0.0;
-      fn = std::max(preload - ke * q[0], 0.0);
+      fn = normal_force_n(preload, ke, q[0]);
       diverged_ = true;
       ++divergence_count_;
     }
@@ -338,7 +357,7 @@ void MotorSimulator::advance_jenkins(std::uint64_t steps, WindowStatistics* wind
     system_.set_forces(last);
   }
   drive_recurrence_ = drive;
-  drive_recurrence_seeded_ = true;  // update_effects' slow states were followed by a reseed
+  drive_recurrence_state_ = RecurrenceState::current;  // update_effects' changes were reseeded
   housekeeping_steps_ = housekeeping;
   state_.q1_m = q[0];
   state_.q2_m = q[1];

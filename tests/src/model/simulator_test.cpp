@@ -359,5 +359,118 @@ TEST(MotorSimulator, FusedJenkinsStepAndAdvanceAgreeAcrossDriveChanges) {
   EXPECT_EQ(a.forces().friction_n, b.forces().friction_n);
 }
 
+// Calls that change nothing change nothing, mid-run (not at a 64-step boundary): the drive
+// recurrence is not reseeded by them. And a fault set and cleared mid-run leaves the recurrence
+// exactly as if it had never been set (new amplitudes are replayed from the last anchor).
+TEST(MotorSimulator, FusedJenkinsNoOpCallsMidRunChangeNoBit) {
+  const MotorModel model{test::calibrated_parameters()};
+  MotorSimulator a(model), b(model);
+  const DriveInput drive{400.0, 40000.0, 90.0, 0.0};
+  a.set_drive(drive);
+  b.set_drive(drive);
+  a.advance(10000);  // 10000 = 156 x 64 + 16: mid-block
+  b.advance(10000);
+  b.set_faults(ModelFaults{});
+  b.set_slow_states(0.0, 0.0, false);
+  b.set_drive(drive);
+  b.set_faults({.phase_a_gain = 0.4, .preload_factor = 0.7, .guide_friction_factor = 1.0, .jammed = false});
+  b.set_faults(ModelFaults{});
+  a.advance(10001);
+  b.advance(10001);
+  EXPECT_EQ(a.state().q1_m, b.state().q1_m);
+  EXPECT_EQ(a.state().q2_m, b.state().q2_m);
+  EXPECT_EQ(a.state().mover_position_m, b.state().mover_position_m);
+  EXPECT_EQ(a.state().drive_sin, b.state().drive_sin);
+}
+
+// An amplitude change mid-run gives the same bits as the same change made by a simulator that
+// took the steps in other chunks (the change lands on the same step).
+TEST(MotorSimulator, FusedJenkinsAmplitudeChangeMidBlockIsChunkIndependent) {
+  const MotorModel model{test::calibrated_parameters()};
+  MotorSimulator a(model), b(model);
+  a.set_drive({400.0, 40000.0, 90.0, 0.0});
+  b.set_drive({400.0, 40000.0, 90.0, 0.0});
+  a.advance(1000);
+  for (int k = 0; k < 1000; ++k) b.step();
+  a.set_drive({250.0, 40000.0, 90.0, 0.0});
+  b.set_drive({250.0, 40000.0, 90.0, 0.0});
+  a.advance(3000);
+  b.advance(1500);
+  b.advance(1500);
+  EXPECT_EQ(a.state().q1_m, b.state().q1_m);
+  EXPECT_EQ(a.state().mover_position_m, b.state().mover_position_m);
+}
+
+// The NaN guard sees the mover too: a non-finite position from set_state() is reset at once,
+// as the generic step does, and a NaN q1 does not leak a NaN normal force into the forces.
+TEST(MotorSimulator, FusedJenkinsNanGuardCoversTheMover) {
+  const MotorModel model{test::calibrated_parameters()};
+  for (const double bad : {std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::infinity()}) {
+    MotorSimulator sim(model);
+    sim.set_drive({300.0, 40000.0, 90.0, 0.0});
+    sim.advance(1000);
+    MotorState s = sim.state();
+    s.mover_position_m = bad;
+    sim.set_state(s);
+    sim.step();
+    EXPECT_TRUE(sim.diverged());
+    EXPECT_TRUE(std::isfinite(sim.state().mover_position_m));
+  }
+  MotorSimulator sim(model);
+  sim.set_drive({300.0, 40000.0, 90.0, 0.0});
+  sim.advance(1000);
+  MotorState s = sim.state();
+  s.q1_m = std::numeric_limits<double>::quiet_NaN();
+  sim.set_state(s);
+  sim.step();
+  EXPECT_TRUE(sim.diverged());
+  EXPECT_FALSE(std::isnan(sim.forces().normal_n));
+}
+
+// A deflection outside the cone (set_state, or the cone narrowed by a lower preload or by wear)
+// is handled as the generic step handles it: the force is clipped, the deflection's return
+// mapping starts from where it is.
+TEST(MotorSimulator, FusedJenkinsDeflectionOutsideTheConeAsTheGenericStep) {
+  MotorParameters generic = test::calibrated_parameters();
+  generic.numerics.step_kernel = StepKernel::generic;
+  const MotorModel fused_model{test::calibrated_parameters()};
+  const MotorModel generic_model{generic};
+  MotorSimulator a(fused_model), b(generic_model);
+  a.set_drive({300.0, 40000.0, 90.0, 0.0});
+  b.set_drive({300.0, 40000.0, 90.0, 0.0});
+  a.advance(5000);
+  b.advance(5000);
+  MotorState s = b.state();
+  s.contact_deflection_m = 5.0 * s.contact_deflection_m + 1e-7;
+  a.set_state(s);
+  b.set_state(s);
+  a.step();
+  b.step();
+  EXPECT_NEAR(a.state().contact_deflection_m, b.state().contact_deflection_m, 1e-15);
+  EXPECT_NEAR(a.forces().friction_n, b.forces().friction_n, 1e-9);
+  a.advance(3000);
+  b.advance(3000);
+  EXPECT_NEAR(a.state().mover_position_m, b.state().mover_position_m, 1e-15);
+}
+
+// Wear lowers mu_c every block while the motor runs: the fused and generic steps agree.
+TEST(MotorSimulator, FusedJenkinsUnderWearAsTheGenericStep) {
+  MotorParameters p = test::calibrated_parameters();
+  p.effects.wear.enabled = true;
+  p.effects.wear.friction_change = -0.9;
+  p.effects.wear.run_in_distance_m = 1e-3;  // run in within a few ms at 0.6 m/s
+  MotorParameters g = p;
+  g.numerics.step_kernel = StepKernel::generic;
+  const MotorModel fused_model{p}, generic_model{g};
+  MotorSimulator a(fused_model), b(generic_model);
+  a.set_drive({400.0, 40000.0, 90.0, 0.0});
+  b.set_drive({400.0, 40000.0, 90.0, 0.0});
+  a.advance(20000);
+  b.advance(20000);
+  EXPECT_GT(a.state().sliding_distance_m, 1e-3);
+  EXPECT_NEAR(a.state().mover_position_m, b.state().mover_position_m, 1e-9 * std::abs(b.state().mover_position_m));
+  EXPECT_NEAR(a.state().contact_deflection_m, b.state().contact_deflection_m, 1e-15);
+}
+
 }  // namespace
 }  // namespace swum
