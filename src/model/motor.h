@@ -75,6 +75,11 @@ class MotorSplitSystem {
     const double limit = k_.friction_coefficient * fn;
     double ft = 0.0;
     if constexpr (C == TangentialContact::jenkins) {
+      // A deflection outside the cone (after set_contact_deflection_m, a lower preload or mu_c)
+      // is projected onto it: the spring cannot hold more than the slider transmits. Inside it
+      // (always, after a return mapping with the same F_N) this changes nothing.
+      const double cone_m = k_.slider_limit_per_normal_force_m_n * fn;
+      deflection_m_ = deflection_m_ > cone_m ? cone_m : (deflection_m_ < -cone_m ? -cone_m : deflection_m_);
       ft = jenkins_force_n(k_.tangential_stiffness_n_m, deflection_m_, limit);
     } else if constexpr (C == TangentialContact::rigid_projection) {
       // Coulomb projection, written with the precomputed inverse compliance.

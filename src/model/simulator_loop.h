@@ -207,8 +207,8 @@ void MotorSimulator::advance_jenkins(std::uint64_t steps, WindowStatistics* wind
   // Step constants (MotorSplitSystem::update_step), read again after the effects change them:
   // v+ = v + dt A (f + [gN F_N, -gT F_T] - C v) = damp v + dt A force, with gNP F_P in f's c0.
   DoublePair k3, damp, dt_a, dt_dt_a;
-  double g_n = 0.0, kt = 0.0, g_t = 0.0, mu = 0.0, dt_keep = 0.0, dt_push = 0.0, dt_dtm = 0.0, dt_dmu = 0.0,
-         dt_dmu_w = 0.0, slider = 0.0, dt_gtv = 0.0, preload = 0.0, ke = 0.0, m_over_dt = 0.0;
+  double g_n = 0.0, kt = 0.0, g_t_kt = 0.0, dt_keep = 0.0, dt_push = 0.0, dt_dtm_kt = 0.0, dt_dmu = 0.0, dt_dmu_w = 0.0,
+         slider = 0.0, dt_gtv = 0.0, preload = 0.0, ke = 0.0, m_over_dt = 0.0;
   const auto load_constants = [&] {
     const MotorCoefficients& k = system_.coefficients();
     const MotorSplitSystem::StepConstants sc = system_.step_constants();
@@ -218,13 +218,12 @@ void MotorSimulator::advance_jenkins(std::uint64_t steps, WindowStatistics* wind
     dt_dt_a = dt * dt_a;
     g_n = k.g_n;
     kt = k.tangential_stiffness_n_m;
-    g_t = k.g_t;
-    mu = k.friction_coefficient;
+    g_t_kt = k.g_t * kt;
     // Mover in displacement units u = dt v: u_pred = dt keep v_m + dt (dt/m)(-load) +
     // dt (dt/m) F_T; the guide holds |u| <= dt cap, cap = dt mu_s (F_N + g m)/m.
     dt_keep = dt * (1.0 - sc.dt_over_m * k.mover_damping_n_s_m);
     dt_push = -dt * sc.dt_over_m * load;
-    dt_dtm = dt * sc.dt_over_m;
+    dt_dtm_kt = dt * sc.dt_over_m * kt;
     dt_dmu = dt * sc.dt_mu_s_over_m;
     dt_dmu_w = dt_dmu * k.guide.weight_n;
     slider = k.slider_limit_per_normal_force_m_n;
@@ -256,6 +255,10 @@ void MotorSimulator::advance_jenkins(std::uint64_t steps, WindowStatistics* wind
   double vm = state_.mover_velocity_m_s;
   double delta = system_.contact_deflection_m();
   double fn = normal_force_n(preload, ke, q[0]);  // eq. 16 at q1_n (the step's F_N)
+  // Outside the cone only after set_state() or a lower preload (set_faults): projected onto it,
+  // as the generic step does at every step (MotorSplitSystem::implicit_velocity_correction).
+  delta = simulator_detail::clamp_symmetric(delta, slider * fn);
+  bool mover_finite = xm - xm == 0.0;  // x - x is NaN for NaN and Inf
   InterfaceForces last = system_.forces();
   double u_held = 0.0;
   double t = state_.time_s;
@@ -274,19 +277,18 @@ void MotorSimulator::advance_jenkins(std::uint64_t steps, WindowStatistics* wind
     [[maybe_unused]] const DoublePair q_start = q;
     [[maybe_unused]] const double fn_start = fn;
     const DoublePair f = modal_forces_n(cubic, k3, q);  // eqs. 14-15
-    // The Jenkins force k_t delta within the cone mu_c F_N (jenkins_force_n). The return mapping
-    // keeps delta inside it, so the clip only acts after set_state(), a lower preload or wear;
-    // as a branch it is predicted and costs no latency.
-    const double ft = simulator_detail::clamp_symmetric(kt * delta, mu * fn);
+    // The Jenkins force k_t delta: delta lies inside the cone mu_c F_N(t_n) (the last return
+    // mapping used the same F_N; after set_state(), a lower preload or wear it was projected).
+    const double ft = kt * delta;
     // The interface forces on the modes (gN F_N on L1, -gT F_T on B2) join the modal forces before
     // the step's products (one addition on the way from F_N to the next q).
-    const DoublePair force = f + DoublePair{g_n * fn, -g_t * ft};
+    const DoublePair force = f + DoublePair{g_n * fn, -g_t_kt * delta};
     const DoublePair base = damp * v;
     v = base + dt_a * force;
     q = (q + dt * base) + dt_dt_a * force;  // q + dt v+, with the forces one product nearer
     // Guide (coulomb_guide_velocity_m_s in displacement units): stuck (du = 0 exactly) while the
     // guide friction can stop the mover.
-    const double u_pred = dt_keep * vm + dt_push + dt_dtm * ft;
+    const double u_pred = dt_keep * vm + dt_push + dt_dtm_kt * delta;
     u_held = simulator_detail::clamp_symmetric(u_pred, dt_dmu * fn + dt_dmu_w);
     const double um = u_pred - u_held;
     vm = um * inv_dt;
@@ -323,15 +325,17 @@ void MotorSimulator::advance_jenkins(std::uint64_t steps, WindowStatistics* wind
         update_effects(MotorSplitSystem::Vector{q[0], q[1], xm}, MotorSplitSystem::Vector{v[0], v[1], vm}, s, c,
                        waveform);
         load_constants();
+        delta = simulator_detail::clamp_symmetric(delta, slider * fn);  // a lower mu_c (wear)
       }
       drive.seed(system_.paired_coefficients(), constant_force, waveform, s, c);
       recurrence_anchor_ = {s, c, housekeeping};
     }
-    // Runaway limits on q1, q2 (q1^2 + q2^2 < limit^2, as the generic step) and v_m, and a
-    // finite x_m (x - x is NaN for NaN and Inf). A NaN or Inf in v reaches q in the same step,
-    // one in delta reaches v_m.
+    // Runaway limits on q1, q2 (q1^2 + q2^2 < limit^2, as the generic step) and v_m. A NaN or
+    // Inf in v reaches q in the same step, one in delta reaches v_m, and x_m changes by dt v_m
+    // only: a non-finite x_m can only come from set_state() (mover_finite, checked once).
     const DoublePair q_sq = q * q;
-    const bool sane = q_sq[0] + q_sq[1] < position_limit_sq && vm * vm < speed_limit_sq && xm - xm == 0.0;
+    // One branch for the three conditions (each a branch of its own made the step slower).
+    const bool sane = (q_sq[0] + q_sq[1] < position_limit_sq) & (vm * vm < speed_limit_sq) & mover_finite;
     if (!sane) [[unlikely]] {
       const MotorState rest = model_.rest_state(t);
       q = DoublePair{rest.q1_m, rest.q2_m};
@@ -340,6 +344,7 @@ void MotorSimulator::advance_jenkins(std::uint64_t steps, WindowStatistics* wind
       vm = rest.mover_velocity_m_s;
       delta = 0.0;
       fn = normal_force_n(preload, ke, q[0]);
+      mover_finite = true;
       diverged_ = true;
       ++divergence_count_;
     }
