@@ -239,7 +239,9 @@ HWY_NOINLINE void AdvanceLanes(const BatchConstants& k, double* HWY_RESTRICT bas
       V ft;
       V delta;
       if constexpr (kJenkins) {
-        delta = hn::Load(d, dlp + i);
+        // Projected onto the cone first, as the scalar step (MotorSplitSystem, advance_jenkins):
+        // a no-op unless a lane starts outside it (set_lane with another preload or mu_c).
+        delta = Clamp(hn::Load(d, dlp + i), hn::Mul(slider, fn));
         ft = Clamp(hn::Mul(kt, delta), limit);
       } else {
         ft = Clamp(hn::Mul(hn::MulSub(g_tv, w2, w3), inv_compliance), limit);

@@ -255,8 +255,9 @@ void MotorSimulator::advance_jenkins(std::uint64_t steps, WindowStatistics* wind
   double vm = state_.mover_velocity_m_s;
   double delta = system_.contact_deflection_m();
   double fn = normal_force_n(preload, ke, q[0]);  // eq. 16 at q1_n (the step's F_N)
-  // Outside the cone only after set_state() or a lower preload (set_faults): projected onto it,
-  // as the generic step does at every step (MotorSplitSystem::implicit_velocity_correction).
+  // Outside the cone only after set_state(), a lower preload (set_faults) or a lower mu_c
+  // (set_slow_states, set_ambient_offset_k with wear): projected onto it, as the generic step
+  // does at every step (MotorSplitSystem::implicit_velocity_correction) and the lanes do.
   delta = simulator_detail::clamp_symmetric(delta, slider * fn);
   bool mover_finite = xm - xm == 0.0;  // x - x is NaN for NaN and Inf
   InterfaceForces last = system_.forces();
@@ -363,6 +364,7 @@ void MotorSimulator::advance_jenkins(std::uint64_t steps, WindowStatistics* wind
   }
   drive_recurrence_ = drive;
   drive_recurrence_state_ = RecurrenceState::current;  // update_effects' changes were reseeded
+  if (steps == 0) return;                              // advance(0) changes nothing (not even the projection above)
   housekeeping_steps_ = housekeeping;
   state_.q1_m = q[0];
   state_.q2_m = q[1];

@@ -236,5 +236,30 @@ TEST(BatchSimulator, IdleLanesStayAtRest) {
   EXPECT_GT(batch.lane_state(8).time_s, 0.0);
 }
 
+// A lane started with its Jenkins deflection outside the cone (a state from another preload or
+// mu_c) is projected onto it as the scalar step does (both kernels): the lanes still follow.
+TEST(BatchSimulator, DeflectionOutsideTheConeAsTheScalarStep) {
+  const MotorModel model{calibrated()};
+  MotorSimulator warm(model);
+  const DriveInput drive{300.0, 40000.0, 90.0, 0.0};
+  warm.set_drive(drive);
+  warm.advance(5000);
+  for (const double sign : {1.0, -1.0}) {
+    MotorState start = warm.state();
+    start.contact_deflection_m = sign * 1.2e-7;  // several times the cone at ~20 N
+    start.mover_velocity_m_s = sign * 0.3;
+    BatchSimulator batch(model, 1);
+    batch.set_lane(0, start, drive);
+    batch.advance(200);
+    MotorSimulator sim(model);
+    sim.set_drive(drive);
+    sim.set_state(start);
+    sim.advance(200);
+    EXPECT_NEAR(batch.lane_state(0).mover_position_m, sim.state().mover_position_m, 1e-13);
+    EXPECT_NEAR(batch.lane_state(0).mover_velocity_m_s, sim.state().mover_velocity_m_s, 1e-9);
+    EXPECT_NEAR(batch.lane_state(0).contact_deflection_m, sim.state().contact_deflection_m, 1e-15);
+  }
+}
+
 }  // namespace
 }  // namespace swum
