@@ -81,6 +81,25 @@ struct PairedWindow {
     w.ft2_sum_n2_s = ft2_sum_n2_s;
   }
 };
+// The electrical port's sample of one step (both loops): v_n+1 is the velocity over the step
+// (centred at t_n+1/2), so q, V, V' and the fit's basis are taken there too and the powers are
+// second-order accurate (with q_n and V_n, or q_n+1 and V_n+1, the electrical power is off by
+// ~O(w dt), 13 % at 48 steps per period). (s, c) at the midpoint = (phasor at t_n + phasor at
+// t_n+1) x midpoint_scale.
+inline void sample_electrical(const PairedForceCoefficients& m, double clamped_capacitance_f, const DriveWaveform& w,
+                              double midpoint_scale, double s_start, double c_start, double s_end, double c_end,
+                              DoublePair q_start, DoublePair q_end, DoublePair v, double weight_s,
+                              ElectricalSums& sums) {
+  const double s_mid = (s_start + s_end) * midpoint_scale;
+  const double c_mid = (c_start + c_end) * midpoint_scale;
+  const DriveVoltages u_mid = drive_voltages(w, s_mid, c_mid);
+  const double omega = w.angular_frequency_rad_s;
+  const double dva = w.amplitude_a_v * omega * c_mid;
+  const double dvb = w.amplitude_b_v * omega * (c_mid * w.cos_phase - s_mid * w.sin_phase);
+  const PhaseCurrents i = phase_currents(m, clamped_capacitance_f, 0.5 * (q_start + q_end), v, u_mid.va_v, u_mid.vb_v,
+                                         dva, dvb);
+  sums.add(i, s_mid, c_mid, u_mid.va_v, u_mid.vb_v, weight_s);
+}
 }  // namespace simulator_detail
 
 template <TangentialContact C, GuideFrictionModel G, bool kWindow, bool kJammed, bool kElectrical>
@@ -128,19 +147,9 @@ void MotorSimulator::advance_specialised(std::uint64_t steps, WindowStatistics* 
       // 12 samples per 40 kHz period fit the fundamental and average V I exactly up to the 5th
       // harmonic, at a quarter of the cost (15 ns per sampled step; docs/performance.md).
       if ((housekeeping & (kElectricalStride - 1)) == kElectricalStride - 1) {
-        // v_n+1 is the velocity over the step (centred at t_n+1/2): q, V, V' and the fit's basis
-        // are taken there too, so the powers are second-order accurate (with q_n and V_n, or
-        // q_n+1 and V_n+1, the electrical power is off by ~O(w dt), 13 % at 48 steps per period).
-        const double s_mid = (s_start + s) * midpoint_scale;
-        const double c_mid = (c_start + c) * midpoint_scale;
-        const DriveVoltages u_mid = drive_voltages(waveform, s_mid, c_mid);
-        const double w = waveform.angular_frequency_rad_s;
-        const double dva = waveform.amplitude_a_v * w * c_mid;
-        const double dvb = waveform.amplitude_b_v * w * (c_mid * waveform.cos_phase - s_mid * waveform.sin_phase);
-        const DoublePair q_mid = 0.5 * (q_start + DoublePair{q[0], q[1]});
-        const PhaseCurrents i = phase_currents(system_.paired_coefficients(), clamped_capacitance_f, q_mid,
-                                               DoublePair{v[0], v[1]}, u_mid.va_v, u_mid.vb_v, dva, dvb);
-        sums->add(i, s_mid, c_mid, u_mid.va_v, u_mid.vb_v, kElectricalStride * dt);
+        simulator_detail::sample_electrical(system_.paired_coefficients(), clamped_capacitance_f, waveform,
+                                            midpoint_scale, s_start, c_start, s, c, q_start, DoublePair{q[0], q[1]},
+                                            DoublePair{v[0], v[1]}, kElectricalStride * dt, *sums);
       }
     }
     t += dt;
@@ -300,15 +309,9 @@ void MotorSimulator::advance_jenkins(std::uint64_t steps, WindowStatistics* wind
     if constexpr (kElectrical) {
       // Every kElectricalStride-th step, at the step's midpoint (see advance_specialised).
       if ((housekeeping & (kElectricalStride - 1)) == kElectricalStride - 1) {
-        const double s_mid = (s_start + drive.sin_theta()) * midpoint_scale;
-        const double c_mid = (c_start + drive.cos_theta()) * midpoint_scale;
-        const DriveVoltages u_mid = drive_voltages(waveform, s_mid, c_mid);
-        const double w = waveform.angular_frequency_rad_s;
-        const double dva = waveform.amplitude_a_v * w * c_mid;
-        const double dvb = waveform.amplitude_b_v * w * (c_mid * waveform.cos_phase - s_mid * waveform.sin_phase);
-        const PhaseCurrents i = phase_currents(system_.paired_coefficients(), clamped_capacitance_f,
-                                               0.5 * (q_start + q), v, u_mid.va_v, u_mid.vb_v, dva, dvb);
-        sums->add(i, s_mid, c_mid, u_mid.va_v, u_mid.vb_v, kElectricalStride * dt);
+        simulator_detail::sample_electrical(system_.paired_coefficients(), clamped_capacitance_f, waveform,
+                                            midpoint_scale, s_start, c_start, drive.sin_theta(), drive.cos_theta(),
+                                            q_start, q, v, kElectricalStride * dt, *sums);
       }
     }
     t += dt;
