@@ -14,6 +14,7 @@
 #include "calibrated_parameters.h"
 #include "model/model_faults.h"
 #include "model/simulator.h"
+#include "same_state.h"
 
 namespace swum {
 namespace {
@@ -73,20 +74,6 @@ Window steady(const MotorModel& model, const ModelFaults& faults, const DriveInp
   return measure(sim, kWindowS);
 }
 
-void expect_same_state(const MotorSimulator& a, const MotorSimulator& b) {
-  EXPECT_EQ(a.state().q1_m, b.state().q1_m);
-  EXPECT_EQ(a.state().q2_m, b.state().q2_m);
-  EXPECT_EQ(a.state().q1_dot_m_s, b.state().q1_dot_m_s);
-  EXPECT_EQ(a.state().q2_dot_m_s, b.state().q2_dot_m_s);
-  EXPECT_EQ(a.state().mover_position_m, b.state().mover_position_m);
-  EXPECT_EQ(a.state().mover_velocity_m_s, b.state().mover_velocity_m_s);
-  EXPECT_EQ(a.state().contact_deflection_m, b.state().contact_deflection_m);
-  EXPECT_EQ(a.forces().normal_n, b.forces().normal_n);
-  EXPECT_EQ(a.forces().friction_n, b.forces().friction_n);
-  EXPECT_EQ(a.forces().guide_n, b.forces().guide_n);
-  EXPECT_EQ(a.droop_gain(), b.droop_gain());
-}
-
 // Nominal faults, set before and during a run (and after a fault was cleared), leave the
 // trajectory bit-identical to a simulator that never saw set_faults, with and without the
 // amplifier droop (the one effect that reads the phase amplitudes in the housekeeping).
@@ -104,7 +91,7 @@ TEST(MotorSimulatorFaults, NominalFaultsAreBitIdentical) {
     hooked.set_drive(kDrive);
     plain.advance(20000);
     hooked.advance(20000);
-    expect_same_state(plain, hooked);
+    test::expect_same_state(plain, hooked);
     // A fault set and cleared before any step: nothing of it remains.
     hooked.set_faults({.phase_a_gain = 0.3, .preload_factor = 0.5, .guide_friction_factor = 4.0, .jammed = false});
     hooked.set_faults(ModelFaults{});
@@ -114,7 +101,7 @@ TEST(MotorSimulatorFaults, NominalFaultsAreBitIdentical) {
     WindowStatistics wa, wb;
     plain.advance(10001, wa);
     hooked.advance(10001, wb);
-    expect_same_state(plain, hooked);
+    test::expect_same_state(plain, hooked);
     EXPECT_EQ(wa.energy_j, wb.energy_j);
     EXPECT_EQ(wa.fn_sum_n_s, wb.fn_sum_n_s);
     EXPECT_EQ(plain.voltages().va_v, hooked.voltages().va_v);
@@ -134,12 +121,12 @@ TEST(MotorSimulatorFaults, EqualPhaseGainsAreALowerVoltage) {
   lower.set_drive({200.0, 40000.0, 90.0, 0.0});
   sagged.advance(15000);
   lower.advance(15000);
-  expect_same_state(sagged, lower);
+  test::expect_same_state(sagged, lower);
   sagged.set_drive({300.0, 40000.0, 90.0, 0.0});  // amplitude only: the gains stay applied
   lower.set_drive({150.0, 40000.0, 90.0, 0.0});
   sagged.advance(15000);
   lower.advance(15000);
-  expect_same_state(sagged, lower);
+  test::expect_same_state(sagged, lower);
   EXPECT_EQ(sagged.voltages().va_v, lower.voltages().va_v);
   EXPECT_EQ(sagged.voltages().vb_v, lower.voltages().vb_v);
 }
@@ -246,7 +233,7 @@ TEST(MotorSimulatorFaults, FactorsEqualAMotorWithScaledParameters) {
     scaled.set_drive(loaded);
     faulted.advance(steps_for(faulted, 5e-3));
     scaled.advance(steps_for(scaled, 5e-3));
-    expect_same_state(faulted, scaled);
+    test::expect_same_state(faulted, scaled);
     EXPECT_NE(faulted.state().mover_position_m, 0.0);
   }
 }
