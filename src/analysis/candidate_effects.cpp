@@ -119,4 +119,15 @@ void apply_effect_argument(MotorParameters& p, std::string_view argument) {
   }
 }
 
+FreeParameter effect_free_parameter(const CandidateEffect& effect) {
+  const ParameterSpec& spec = effect_free_spec(effect);
+  return {spec.name(),
+          std::string(spec.unit),
+          effect.neutral,
+          effect.typical,
+          effect.lower,
+          effect.upper,
+          [&effect](MotorParameters& p, double value) { enable_effect(p, effect, value); }};
+}
+
 }  // namespace swum

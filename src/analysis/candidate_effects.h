@@ -8,6 +8,7 @@
 #include <string>
 #include <string_view>
 
+#include "analysis/free_parameter.h"
 #include "model/parameters.h"
 
 namespace swum {
@@ -38,6 +39,10 @@ struct CandidateEffect {
 // Enables the effect with the free parameter at `value` (other keys unchanged).
 void enable_effect(MotorParameters& p, const CandidateEffect& effect, double value);
 [[nodiscard]] double effect_value(const MotorParameters& p, const CandidateEffect& effect);
+
+// The effect's free parameter for a fit: origin = neutral, scale = typical, its fit bounds;
+// applying a value enables the effect.
+[[nodiscard]] FreeParameter effect_free_parameter(const CandidateEffect& effect);
 
 // Applies "NAME" (default magnitudes of EffectParameters{}) or "NAME:key=value,key=value" to
 // `p` and enables the effect. Throws std::invalid_argument naming the unknown effect (with

@@ -8,40 +8,11 @@
 #include <stdexcept>
 #include <tuple>
 
-#include "analysis/effect_fit.h"
+#include "analysis/parameter_fit.h"
 #include "config/number_format.h"
 
 namespace swum {
 namespace {
-
-// Held-out rows: operating points (vpp, frequency, load; a point's repeats stay together,
-// whatever their time) in a seeded random order; the first `count` of them are held out.
-std::vector<bool> held_out_rows(const MeasurementSet& set, const DiscrepancyOptions& options, int& held_points,
-                                int& point_count) {
-  std::map<std::tuple<double, double, double>, std::size_t> group_of;
-  std::vector<std::size_t> group(set.rows.size());
-  for (std::size_t i = 0; i < set.rows.size(); ++i) {
-    const Measurement& m = set.rows[i];
-    group[i] = group_of.try_emplace(std::make_tuple(m.vpp, m.frequency_hz, m.load_n), group_of.size()).first->second;
-  }
-  const std::size_t points = group_of.size();
-  std::vector<std::size_t> permutation(points);
-  std::iota(permutation.begin(), permutation.end(), std::size_t{0});
-  std::mt19937_64 rng(options.split_seed);
-  for (std::size_t i = permutation.size(); i > 1; --i) {  // Fisher-Yates, portable
-    std::swap(permutation[i - 1], permutation[rng() % i]);
-  }
-  const auto by_fraction = static_cast<std::size_t>(std::ceil(options.held_out_fraction * static_cast<double>(points)));
-  const std::size_t count = std::max(
-      by_fraction, std::min(static_cast<std::size_t>(std::max(options.min_held_out_points, 0)), points / 2));
-  std::vector<bool> held_group(points, false);
-  for (std::size_t k = 0; k < std::min(count, points); ++k) held_group[permutation[k]] = true;
-  std::vector<bool> held(set.rows.size());
-  for (std::size_t i = 0; i < held.size(); ++i) held[i] = held_group[group[i]];
-  held_points = static_cast<int>(std::min(count, points));
-  point_count = static_cast<int>(points);
-  return held;
-}
 
 double sum_of_squares(const std::vector<double>& r, const std::vector<std::size_t>& slots) {
   double s = 0.0;
@@ -68,13 +39,13 @@ std::string describe_evidence(double bic, const HeldOutEvidence& e) {
          format_numbers(", 90 %% interval %.0f..%.0f %%)", 100.0 * e.reduction_low, 100.0 * e.reduction_high);
 }
 
-// The Cauchy M-estimate (effect_fit.h) from a first fit `ls` (at the round's scale), rescaled
+// The Cauchy M-estimate (parameter_fit.h) from a first fit `ls` (at the round's scale), rescaled
 // by what that fit leaves. Its cost is not convex where a reading sits on a step of the model (a dead-zone edge,
 // a jump across the fold): the last parameter is first scanned around the least-squares value
 // (+-10, 25, 50 % of its offset from neutral, one batch) and the fit starts at the lowest
 // robust cost.
-EffectFit robust_refit(const EffectEvaluator& eval, const ResidualModel& model, const std::vector<std::size_t>& train,
-                       const EffectFit& ls, int max_iterations) {
+ParameterFit robust_refit(const ParameterEvaluator& eval, const ResidualModel& model,
+                          const std::vector<std::size_t>& train, const ParameterFit& ls, int max_iterations) {
   const double scale = kCauchyEfficiencyScale * robust_sigma(model.residuals(ls.predictions), train);
   if (!(scale > 0.0)) return ls;
   auto cauchy_cost = [&](const Predictions& p) {
@@ -85,8 +56,8 @@ EffectFit robust_refit(const EffectEvaluator& eval, const ResidualModel& model, 
     }
     return cost;
   };
-  const CandidateEffect& e = *eval.effects().back();
-  const double offset = ls.values.back() - e.neutral;
+  const FreeParameter& e = eval.free().back();
+  const double offset = ls.values.back() - e.origin;
   std::vector<std::vector<double>> starts;
   for (double f : {-0.5, -0.25, -0.1, 0.1, 0.25, 0.5}) {
     std::vector<double> v = ls.values;
@@ -105,16 +76,22 @@ EffectFit robust_refit(const EffectEvaluator& eval, const ResidualModel& model, 
       start_predictions = &scanned[k];
     }
   }
-  EffectFit robust = fit_effect(eval, model, train, start, max_iterations, start_predictions, scale);
+  ParameterFit robust = fit_parameters(eval, model, train, start, max_iterations, start_predictions, scale);
   return robust.ok ? robust : ls;
 }
 
-// Cauchy cost sum a^2 ln(1 + r^2/a^2) over `slots` (effect_fit.h).
+// Cauchy cost sum a^2 ln(1 + r^2/a^2) over `slots` (parameter_fit.h).
 // (a = 0, a model that leaves exactly nothing: the sum of squares.)
 double cauchy_cost(const std::vector<double>& r, const std::vector<std::size_t>& slots, double a) {
   double cost = 0.0;
   for (std::size_t k : slots) cost += a > 0.0 ? a * a * std::log1p(r[k] * r[k] / (a * a)) : r[k] * r[k];
   return cost;
+}
+
+std::vector<FreeParameter> free_parameters_of(const std::vector<const CandidateEffect*>& effects) {
+  std::vector<FreeParameter> free;
+  for (const CandidateEffect* e : effects) free.push_back(effect_free_parameter(*e));
+  return free;
 }
 
 struct Screened {
@@ -142,7 +119,8 @@ DiscrepancyResult run_discrepancy(const MotorParameters& baseline, const Measure
     }
   }
   DiscrepancyResult result;
-  result.held_out = held_out_rows(set, options, result.held_out_points, result.operating_points);
+  result.held_out = held_out_rows(set, {options.held_out_fraction, options.min_held_out_points, options.split_seed},
+                                  result.held_out_points, result.operating_points);
   const ResidualModel model(set, options.floor_fraction);
   std::vector<std::size_t> train, test;
   for (std::size_t k = 0; k < model.slots().size(); ++k) {
@@ -286,7 +264,7 @@ DiscrepancyResult run_discrepancy(const MotorParameters& baseline, const Measure
     ranked.resize(std::min<std::size_t>(ranked.size(), result.effects.empty() ? 1 : 3));
     struct Trial {
       std::size_t c;
-      EffectFit fit;
+      ParameterFit fit;
       std::vector<double> residuals;
       double bic;
       HeldOutEvidence evidence;
@@ -302,10 +280,11 @@ DiscrepancyResult run_discrepancy(const MotorParameters& baseline, const Measure
       for (const NamedEffect& named : result.effects) start.push_back(named.value);
       start.push_back(round.candidates[c].value);
       fitted_effects[last_index] = candidates[c];
-      const EffectEvaluator eval(current, fitted_effects, set, options.prediction, parallel, result.model_evaluations);
+      const ParameterEvaluator eval(current, free_parameters_of(fitted_effects), set, options.prediction, parallel,
+                                    result.model_evaluations);
       Trial trial{c,
-                  fit_effect(eval, model, train, start, options.max_fit_iterations, &best[c].predictions,
-                             robust_fit ? round_scale : 0.0),
+                  fit_parameters(eval, model, train, start, options.max_fit_iterations, &best[c].predictions,
+                                 robust_fit ? round_scale : 0.0),
                   {},
                   0.0,
                   {},
@@ -337,12 +316,13 @@ DiscrepancyResult run_discrepancy(const MotorParameters& baseline, const Measure
                      chosen->evidence.p_value < options.significance;
     const std::size_t c = chosen->c;
     const CandidateEffect& e = *candidates[c];
-    const EffectFit& fit = chosen->fit;
+    const ParameterFit& fit = chosen->fit;
     const std::vector<double>& fit_r = chosen->residuals;
     const double bic = chosen->bic;
     const HeldOutEvidence& evidence = chosen->evidence;
     fitted_effects[last_index] = &e;
-    const EffectEvaluator eval(current, fitted_effects, set, options.prediction, parallel, result.model_evaluations);
+    const ParameterEvaluator eval(current, free_parameters_of(fitted_effects), set, options.prediction, parallel,
+                                  result.model_evaluations);
     round.fitted = c;
     round.accepted = chosen->passes;
     round.held_out = evidence;

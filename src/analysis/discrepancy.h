@@ -34,7 +34,7 @@ struct DiscrepancyOptions {
   // combined, at this significance level (held_out_test.h).
   double bic_margin = 10.0;
   double significance = 0.01;
-  // The named value is the Cauchy M-estimate started from the least-squares fit (effect_fit.h).
+  // The named value is the Cauchy M-estimate started from the least-squares fit (parameter_fit.h).
   bool robust = true;
   int max_effects = 3;
   int max_fit_iterations = 8;

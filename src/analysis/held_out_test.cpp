@@ -6,6 +6,7 @@
 #include <map>
 #include <numeric>
 #include <random>
+#include <tuple>
 
 namespace swum {
 
@@ -156,6 +157,33 @@ HeldOutEvidence compare_held_out(const MeasurementSet& set, const ResidualModel&
   e.reduction_low = reductions[static_cast<std::size_t>(0.05 * (kResamples - 1))];
   e.reduction_high = reductions[static_cast<std::size_t>(0.95 * (kResamples - 1))];
   return e;
+}
+
+std::vector<bool> held_out_rows(const MeasurementSet& set, const HeldOutSplit& options, int& held_points,
+                                int& point_count) {
+  std::map<std::tuple<double, double, double>, std::size_t> group_of;
+  std::vector<std::size_t> group(set.rows.size());
+  for (std::size_t i = 0; i < set.rows.size(); ++i) {
+    const Measurement& m = set.rows[i];
+    group[i] = group_of.try_emplace(std::make_tuple(m.vpp, m.frequency_hz, m.load_n), group_of.size()).first->second;
+  }
+  const std::size_t points = group_of.size();
+  std::vector<std::size_t> permutation(points);
+  std::iota(permutation.begin(), permutation.end(), std::size_t{0});
+  std::mt19937_64 rng(options.seed);
+  for (std::size_t i = permutation.size(); i > 1; --i) {  // Fisher-Yates, portable
+    std::swap(permutation[i - 1], permutation[rng() % i]);
+  }
+  const auto by_fraction = static_cast<std::size_t>(std::ceil(options.fraction * static_cast<double>(points)));
+  const std::size_t count = std::max(by_fraction,
+                                     std::min(static_cast<std::size_t>(std::max(options.min_points, 0)), points / 2));
+  std::vector<bool> held_group(points, false);
+  for (std::size_t k = 0; k < std::min(count, points); ++k) held_group[permutation[k]] = true;
+  std::vector<bool> held(set.rows.size());
+  for (std::size_t i = 0; i < held.size(); ++i) held[i] = held_group[group[i]];
+  held_points = static_cast<int>(std::min(count, points));
+  point_count = static_cast<int>(points);
+  return held;
 }
 
 }  // namespace swum

@@ -43,6 +43,20 @@ struct HeldOutEvidence {
   double reduction_high = 0.0;
 };
 
+// Which operating points are held out for scoring: `fraction` of them, but at least
+// `min_points` (never more than half), chosen in a seeded random order.
+struct HeldOutSplit {
+  double fraction = 0.25;
+  int min_points = 12;
+  std::uint64_t seed = 2019;
+};
+
+// Held-out flag per row: operating points (vpp, frequency, load; a point's repeats stay
+// together, whatever their time) in a seeded random order; the first of them are held out.
+// held_points / point_count receive the counts.
+[[nodiscard]] std::vector<bool> held_out_rows(const MeasurementSet& set, const HeldOutSplit& split, int& held_points,
+                                              int& point_count);
+
 // One-sided exact (m <= 300) or normal-approximation p-value of the signed-rank statistic of
 // `differences` (> 0: improvement). Zero differences are dropped (Wilcoxon's convention); ties
 // get mid-ranks. Returns 1 when nothing is left.

@@ -1,9 +1,12 @@
 #include "config/parameter_file.h"
 
 #include <cmath>
+#include <optional>
 #include <string>
 
 #include <toml++/toml.h>
+
+#include "config/toml_number.h"
 
 namespace swum {
 namespace {
@@ -41,14 +44,9 @@ double read_value(const toml::node& node, const ParameterSpec& spec, std::string
   };
   switch (spec.kind) {
     case ParameterKind::real: {
-      double v = 0.0;
-      if (auto f = node.as_floating_point()) {
-        v = f->get();
-      } else if (auto i = node.as_integer()) {
-        v = static_cast<double>(i->get());
-      } else {
-        fail(source_name, region, spec, "must be a number");
-      }
+      const std::optional<double> number = toml_number(node);
+      if (!number) fail(source_name, region, spec, "must be a number");
+      const double v = *number;
       if (!std::isfinite(v)) fail(source_name, region, spec, "must be finite (NaN/Inf given)");
       return in_range(v);
     }

@@ -9,6 +9,7 @@
 #include <toml++/toml.h>
 
 #include "config/number_format.h"
+#include "config/toml_number.h"
 
 namespace swum {
 namespace {
@@ -52,14 +53,9 @@ class EntryReader {
     const toml::node* node = table_.get(key);
     if (node == nullptr) return std::nullopt;
     used_.push_back(std::string(key));
-    double v = 0.0;
-    if (const auto* f = node->as_floating_point()) {
-      v = f->get();
-    } else if (const auto* i = node->as_integer()) {
-      v = static_cast<double>(i->get());
-    } else {
-      fail(source_, *node, name_ + ": " + std::string(key) + " must be a number");
-    }
+    const std::optional<double> number = toml_number(*node);
+    if (!number) fail(source_, *node, name_ + ": " + std::string(key) + " must be a number");
+    const double v = *number;
     if (!std::isfinite(v)) fail(source_, *node, name_ + ": " + std::string(key) + " must be finite");
     return v;
   }

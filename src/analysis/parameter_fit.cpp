@@ -1,4 +1,4 @@
-#include "analysis/effect_fit.h"
+#include "analysis/parameter_fit.h"
 
 #include <ceres/ceres.h>
 #include <Eigen/Dense>
@@ -10,23 +10,23 @@
 
 namespace swum {
 
-EffectEvaluator::EffectEvaluator(const MotorParameters& current, std::vector<const CandidateEffect*> effects,
-                                 const MeasurementSet& set, const PredictionOptions& options,
-                                 const ParallelFor& parallel, int& evaluation_counter)
+ParameterEvaluator::ParameterEvaluator(const MotorParameters& current, std::vector<FreeParameter> free,
+                                       const MeasurementSet& set, const PredictionOptions& options,
+                                       const ParallelFor& parallel, int& evaluation_counter)
     : current_(current),
-      effects_(std::move(effects)),
+      free_(std::move(free)),
       set_(&set),
       options_(options),
       parallel_(parallel),
       counter_(&evaluation_counter) {}
 
-MotorParameters EffectEvaluator::parameters_at(std::span<const double> values) const {
+MotorParameters ParameterEvaluator::parameters_at(std::span<const double> values) const {
   MotorParameters p = current_;
-  for (std::size_t k = 0; k < effects_.size(); ++k) enable_effect(p, *effects_[k], values[k]);
+  for (std::size_t k = 0; k < free_.size(); ++k) free_[k].apply(p, values[k]);
   return p;
 }
 
-std::vector<Predictions> EffectEvaluator::evaluate(const std::vector<std::vector<double>>& value_sets) const {
+std::vector<Predictions> ParameterEvaluator::evaluate(const std::vector<std::vector<double>>& value_sets) const {
   std::vector<MotorParameters> models;
   for (const auto& v : value_sets) models.push_back(parameters_at(v));
   *counter_ += static_cast<int>(value_sets.size());
@@ -37,13 +37,12 @@ namespace {
 
 using Theta = std::vector<double>;
 
-// theta_k = (value_k - neutral_k) / typical_k: each free parameter in units of its typical
-// magnitude. The predictions of every point at the parameter sets the solver asks for, computed
-// in one parallel batch per request and cached (Ceres re-evaluates accepted points, and every
-// residual block of one evaluation reads the same batch).
+// theta_k = (value_k - origin_k) / scale_k: each free parameter in units of its scale. The predictions of every point
+// at the parameter sets the solver asks for, computed in one parallel batch per request and cached (Ceres re-evaluates
+// accepted points, and every residual block of one evaluation reads the same batch).
 class PredictionCache {
  public:
-  PredictionCache(const EffectEvaluator& evaluator, double step, Theta upper_theta)
+  PredictionCache(const ParameterEvaluator& evaluator, double step, Theta upper_theta)
       : evaluator_(evaluator), step_(step), upper_theta_(std::move(upper_theta)) {}
 
   [[nodiscard]] std::size_t size() const { return upper_theta_.size(); }
@@ -51,8 +50,8 @@ class PredictionCache {
   [[nodiscard]] std::vector<double> values_of(const Theta& theta) const {
     std::vector<double> v(theta.size());
     for (std::size_t k = 0; k < theta.size(); ++k) {
-      const CandidateEffect& e = *evaluator_.effects()[k];
-      v[k] = e.neutral + theta[k] * e.typical;
+      const FreeParameter& f = evaluator_.free()[k];
+      v[k] = f.origin + theta[k] * f.scale;
     }
     return v;
   }
@@ -100,7 +99,7 @@ class PredictionCache {
   }
 
  private:
-  const EffectEvaluator& evaluator_;
+  const ParameterEvaluator& evaluator_;
   double step_;
   Theta upper_theta_;
   std::map<Theta, Predictions> cache_;
@@ -131,20 +130,20 @@ class SlotResidual final : public ceres::CostFunction {
 
 }  // namespace
 
-EffectFit fit_effect(const EffectEvaluator& evaluator, const ResidualModel& residuals,
-                     std::span<const std::size_t> train_slots, std::vector<double> start, int max_iterations,
-                     const Predictions* start_predictions, double robust_scale) {
-  const std::size_t m = evaluator.effects().size();
+ParameterFit fit_parameters(const ParameterEvaluator& evaluator, const ResidualModel& residuals,
+                            std::span<const std::size_t> train_slots, std::vector<double> start, int max_iterations,
+                            const Predictions* start_predictions, double robust_scale) {
+  const std::size_t m = evaluator.free().size();
   Theta lo(m), hi(m), theta(m);
   for (std::size_t k = 0; k < m; ++k) {
-    const CandidateEffect& e = *evaluator.effects()[k];
-    // Bounds in theta units (typical may be negative).
-    lo[k] = (e.lower - e.neutral) / e.typical;
-    hi[k] = (e.upper - e.neutral) / e.typical;
+    const FreeParameter& f = evaluator.free()[k];
+    // Bounds in theta units (scale may be negative).
+    lo[k] = (f.lower - f.origin) / f.scale;
+    hi[k] = (f.upper - f.origin) / f.scale;
     if (lo[k] > hi[k]) std::swap(lo[k], hi[k]);
-    theta[k] = std::clamp((start[k] - e.neutral) / e.typical, lo[k], hi[k]);
+    theta[k] = std::clamp((start[k] - f.origin) / f.scale, lo[k], hi[k]);
   }
-  constexpr double kStep = 0.1;  // 10 % of the typical magnitude: far above the steady-state noise
+  constexpr double kStep = 0.1;  // 10 % of the scale: far above the steady-state noise
   PredictionCache cache(evaluator, kStep, hi);
   if (start_predictions != nullptr && cache.values_of(theta) == start) cache.remember(theta, *start_predictions);
   ceres::Problem problem;
@@ -172,7 +171,7 @@ EffectFit fit_effect(const EffectEvaluator& evaluator, const ResidualModel& resi
   ceres::Solver::Summary summary;
   ceres::Solve(so, &problem, &summary);
 
-  EffectFit fit;
+  ParameterFit fit;
   fit.iterations = static_cast<int>(summary.iterations.size());
   fit.ok = summary.IsSolutionUsable();
   // Jacobian and residuals at the solution (cached when Ceres evaluated them).
@@ -218,10 +217,19 @@ EffectFit fit_effect(const EffectEvaluator& evaluator, const ResidualModel& resi
   }
   fit.values = cache.values_of(theta);
   for (std::size_t k = 0; k < m; ++k) {
-    const double var = covariance.size() > 0 ? covariance(static_cast<Eigen::Index>(k), static_cast<Eigen::Index>(k))
-                                             : -1.0;
-    fit.standard_errors.push_back(var > 0.0 ? std::sqrt(var) * std::abs(evaluator.effects()[k]->typical)
+    const auto ik = static_cast<Eigen::Index>(k);
+    const double var = covariance.size() > 0 ? covariance(ik, ik) : -1.0;
+    fit.standard_errors.push_back(var > 0.0 ? std::sqrt(var) * std::abs(evaluator.free()[k].scale)
                                             : std::numeric_limits<double>::infinity());
+  }
+  if (covariance.size() > 0) {
+    fit.covariance.assign(m, std::vector<double>(m));
+    for (std::size_t a = 0; a < m; ++a) {
+      for (std::size_t b = 0; b < m; ++b) {
+        fit.covariance[a][b] = covariance(static_cast<Eigen::Index>(a), static_cast<Eigen::Index>(b)) *
+                               evaluator.free()[a].scale * evaluator.free()[b].scale;
+      }
+    }
   }
   fit.predictions = cache.at(theta);
   return fit;
