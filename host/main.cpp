@@ -26,6 +26,7 @@ int main(int argc, char** argv) {
   add_log_command(app);
   add_synth_command(app);
   add_discrepancy_command(app);
+  add_calibrate_command(app);
   add_population_command(app);
   add_control_command(app);
   add_track_command(app);

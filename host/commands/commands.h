@@ -16,6 +16,7 @@ void add_band_command(CLI::App& app);          // band_command.cpp
 void add_log_command(CLI::App& app);           // log_command.cpp
 void add_synth_command(CLI::App& app);         // synth_command.cpp
 void add_discrepancy_command(CLI::App& app);   // discrepancy_command.cpp
+void add_calibrate_command(CLI::App& app);     // calibrate_command.cpp
 void add_population_command(CLI::App& app);    // population_command.cpp
 void add_control_command(CLI::App& app);       // control_command.cpp
 void add_track_command(CLI::App& app);         // track_command.cpp

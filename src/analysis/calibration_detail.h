@@ -1,0 +1,48 @@
+// Steps shared by the two calibrations (calibration.h on sweeps, calibration_facts.h on
+// facts): the free parameters by name, the choice of the free set from the Fisher
+// information, and the record of a parameter held at its prior.
+#pragma once
+
+#include <Eigen/Dense>
+
+#include <random>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "analysis/calibration.h"
+#include "analysis/free_parameter.h"
+
+namespace swum {
+
+// What a calibration fits or chooses from, around `prior`: options.free when given, else
+// options.candidates, else every applicable candidate, in that order. Throws
+// std::invalid_argument for an unknown, repeated or inapplicable name, or an empty pool.
+[[nodiscard]] std::vector<FreeParameter> calibration_pool(const CalibrationOptions& options,
+                                                          const MotorParameters& prior);
+
+// The free set (calibration.h, step 1): `pool` in its order of preference. j: the Jacobian of
+// the residuals at the prior, one row per residual divided by its noise (or tolerance), one
+// column per parameter of `pool` in theta units (spreads). Fills `report` (one entry per pool
+// parameter) and returns the chosen columns.
+[[nodiscard]] std::vector<std::size_t> select_free_set(const Eigen::MatrixXd& j, const std::vector<FreeParameter>& pool,
+                                                       const CalibrationOptions& options,
+                                                       std::vector<CandidateInformation>& report);
+
+// `start`, then count - 1 seeded random starts uniform within +-1.5 spreads of the origins
+// (inside the bounds).
+[[nodiscard]] std::vector<std::vector<double>> fit_starts(const std::vector<double>& start,
+                                                          const std::vector<FreeParameter>& free, int count,
+                                                          std::mt19937_64& rng);
+
+// `f` as not identifiable, held at its prior, with the reason (standard_error may be +inf).
+[[nodiscard]] CalibratedParameter held_at_prior(const FreeParameter& f, double standard_error,
+                                                const CalibrationOptions& options);
+
+// Relative RMS of the prior's and the fit's residuals on the training and held-out values, and
+// the held-out evidence of fit against prior (result.prior_predictions, fitted_predictions).
+void score_on_measurements(const MeasurementSet& set, const ResidualModel& model,
+                           const std::vector<std::size_t>& train, const std::vector<std::size_t>& test,
+                           const CalibrationOptions& options, CalibrationResult& result);
+
+}  // namespace swum
