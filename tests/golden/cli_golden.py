@@ -46,7 +46,7 @@ CONFIG = "config/li2019.toml"
 LITERAL = "config/li2019_literal.toml"
 INPUTS = "tests/golden/inputs"
 SUBCOMMANDS = ["modes", "simulate", "sweep", "validate", "stator", "identify", "pick", "log", "synth", "discrepancy",
-               "band", "track", "track-report"]
+               "band", "track", "track-report", "calibrate"]
 
 
 class Run:
