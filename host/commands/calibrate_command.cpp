@@ -46,6 +46,9 @@ struct CalibrateCommandOptions {
   int max_free = CalibrationOptions{}.max_free;
   int starts = CalibrationOptions{}.starts;
   int max_evaluations = CalibrationOptions{}.max_evaluations;
+  // The measurement protocol of each predicted point (PredictionOptions::measurement_protocol).
+  double settle_ms = 1e3 * PredictionOptions::measurement_protocol().settle_s;
+  double window_ms = 1e3 * PredictionOptions::measurement_protocol().window_s;
   bool no_trade_offs = false;
   bool json = false;
   int jobs = 0;
@@ -185,8 +188,9 @@ std::string summary_text(const CalibrationResult& r, bool measured) {
   }
   for (const FactOutcome& f : r.facts) {
     out += "fact " + f.id + ": " + number(f.prior_value) + " -> " + number(f.value) + " " + f.unit + " (band " +
-           number(f.min) + ".." + number(f.max) + ") " + (f.holds ? "holds" : "FAILS") + "; every free parameter moving: " +
-           number(f.explored_value) + (f.holds_explored ? " holds" : " fails") + "\n";
+           number(f.min) + ".." + number(f.max) + ") " + (f.holds ? "holds" : "FAILS") +
+           "; every free parameter moving: " + number(f.explored_value) + (f.holds_explored ? " holds" : " fails") +
+           "\n";
   }
   if (!r.explored.empty()) {
     out += "first fit, every free parameter moving:";
@@ -197,13 +201,13 @@ std::string summary_text(const CalibrationResult& r, bool measured) {
     std::string breaks;
     for (const std::string& b : f.breaks) breaks += (breaks.empty() ? "" : ", ") + b;
     out += "pushed " + f.id + ": " + (f.reachable ? "holds" : "still fails") + " at " + number(f.value) +
-           (breaks.empty() ? "" : "; then fails: " + breaks) + "\n";
+           (breaks.empty() ? "" : "; then lose (miss grows): " + breaks) + "\n";
   }
   for (const FactFront& f : r.fronts) {
     out += "front " + f.first + " vs " + f.second + " (weight: first, second):\n";
     for (std::size_t k = 0; k < f.weights.size(); ++k) {
-      out += "  " + number(f.weights[k], "%g") + ": " + number(f.first_values[k]) + ", " +
-             number(f.second_values[k]) + "\n";
+      out += "  " + number(f.weights[k], "%g") + ": " + number(f.first_values[k]) + ", " + number(f.second_values[k]) +
+             "\n";
     }
   }
   out += "conclusion: " + r.conclusion + "\n";
@@ -275,7 +279,8 @@ std::string report_markdown(const CalibrateCommandOptions& o, const MeasurementS
     }
     md += "\n";
   }
-  md += "## Parameters\n\n| parameter | prior | fitted | standard error | unit | verdict |\n|---|---|---|---|---|---|\n";
+  md +=
+      "## Parameters\n\n| parameter | prior | fitted | standard error | unit | verdict |\n|---|---|---|---|---|---|\n";
   for (const CalibratedParameter& p : r.parameters) {
     md += "| `" + p.name + "` | " + number(p.prior) + " | " + number(p.value) + " | " +
           number(p.standard_error, "%.2g") + " | " + p.unit + " | " +
@@ -323,7 +328,8 @@ std::string report_markdown(const CalibrateCommandOptions& o, const MeasurementS
       std::string breaks;
       for (const std::string& b : f.breaks) breaks += (breaks.empty() ? "" : ", ") + b;
       md += "\nPushed to hold (weight 100): **" + f.id + "** " + (f.reachable ? "holds" : "still fails") + " at " +
-            number(f.value) + (breaks.empty() ? "; nothing else breaks." : "; then these fail: " + breaks + ".");
+            number(f.value) +
+            (breaks.empty() ? "; nothing else breaks." : "; then these lose (their miss grows): " + breaks + ".");
     }
     for (const FactFront& f : r.fronts) {
       md += "\n\nFront between " + f.first + " and " + f.second +
@@ -349,7 +355,7 @@ std::string fitted_header(const CalibrateCommandOptions& o, const CalibrationRes
     h += "#   " + p.name + " = " +
          (p.identifiable ? number(p.value) + " +- " + number(p.standard_error, "%.2g") + " " + p.unit + " (prior " +
                                number(p.prior) + ")"
-                         : number(p.value) + " " + p.unit + " held at its prior: " + p.reason) +
+                         : number(p.value) + " " + p.unit + ", not identifiable: " + p.reason) +
          "\n";
   }
   return h;
@@ -363,7 +369,12 @@ void run_calibrate_command(const CalibrateCommandOptions& o) {
   if (o.max_free < 1) throw std::invalid_argument("--max-free: must be >= 1");
   if (o.starts < 1) throw std::invalid_argument("--starts: must be >= 1");
   if (o.max_evaluations < 10) throw std::invalid_argument("--max-evaluations: must be >= 10");
+  if (!(o.settle_ms >= 0.0 && o.settle_ms <= 10000.0)) throw std::invalid_argument("--settle-ms: must be in 0..10000");
+  if (!(o.window_ms >= 1.0 && o.window_ms <= 10000.0)) throw std::invalid_argument("--window-ms: must be in 1..10000");
   CalibrationOptions options;
+  options.prediction.steady.settle_s = 1e-3 * o.settle_ms;
+  options.prediction.steady.window_s = 1e-3 * o.window_ms;
+  options.prediction.steady.max_s = 1e-3 * (o.settle_ms + o.window_ms);
   options.max_free = o.max_free;
   options.starts = o.starts;
   options.max_evaluations = o.max_evaluations;
@@ -379,10 +390,13 @@ void run_calibrate_command(const CalibrateCommandOptions& o) {
       const CalibrationCandidate* c = find_calibration_candidate(name);
       if (c == nullptr) {
         throw std::invalid_argument(std::string(list == &options.free ? "--free" : "--candidates") + ": '" + name +
-                                    "' is not a parameter calibration can fit (" + calibration_candidate_names() +
-                                    ")");
+                                    "' is not a parameter calibration can fit (" + calibration_candidate_names() + ")");
       }
-      (void)calibration_free_parameter(*c, prior);  // throws when it does not apply to this motor
+      try {
+        (void)calibration_free_parameter(*c, prior);  // throws when it does not apply to this motor
+      } catch (const std::invalid_argument& e) {
+        throw std::invalid_argument(std::string(list == &options.free ? "--free: " : "--candidates: ") + e.what());
+      }
     }
   }
   std::optional<MeasurementSet> measured;
@@ -413,6 +427,7 @@ void run_calibrate_command(const CalibrateCommandOptions& o) {
   }
   // The outputs' places first: a bad path must not fail after minutes of fitting.
   const fs::path out(o.out_path);
+  if (o.out_path.empty() || fs::is_directory(out)) throw CommandError("--out: '" + o.out_path + "' is not a file name");
   if (out.has_parent_path() && !fs::is_directory(out.parent_path())) {
     throw CommandError("--out: no directory " + out.parent_path().string());
   }
@@ -431,7 +446,8 @@ void run_calibrate_command(const CalibrateCommandOptions& o) {
   write_text_file_atomically(out, fitted_header(o, r) + "\n" + format_motor_parameters(r.fitted));
   const nlohmann::ordered_json j = to_json(r, set != nullptr, wall_s);
   if (!o.report_dir.empty()) {
-    const std::vector<std::string> plots = set != nullptr ? write_plots(o.report_dir, *set, r) : std::vector<std::string>{};
+    const std::vector<std::string> plots = set != nullptr ? write_plots(o.report_dir, *set, r)
+                                                          : std::vector<std::string>{};
     write_text_file_atomically(fs::path(o.report_dir) / "report.md", report_markdown(o, set, r, plots, wall_s));
     write_text_file_atomically(fs::path(o.report_dir) / "summary.json", j.dump(2) + "\n");
   }
@@ -460,6 +476,12 @@ void add_calibrate_command(CLI::App& app) {
   sub->add_option("--starts", o->starts, "starts of the first fit (the prior, then seeded random)")
       ->capture_default_str();
   sub->add_option("--max-evaluations", o->max_evaluations, "with --facts: cost evaluations per fit")
+      ->capture_default_str();
+  sub->add_option("--settle-ms", o->settle_ms,
+                  "with --measured: each predicted point settles this long (match the sweep's --settle-ms)")
+      ->capture_default_str();
+  sub->add_option("--window-ms", o->window_ms,
+                  "with --measured: and is averaged over this window (match the sweep's --dwell-ms)")
       ->capture_default_str();
   sub->add_flag("--no-trade-offs", o->no_trade_offs, "with --facts: do not push failing facts or trace fronts");
   sub->add_option("--out", o->out_path, "fitted parameter file (TOML)")->required();

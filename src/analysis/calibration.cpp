@@ -84,13 +84,13 @@ CalibrationResult calibrate_to_measurements(const MotorParameters& prior, const 
   while (!free.empty()) {
     ++result.rounds;
     const ParameterEvaluator eval(prior, free, set, options.prediction, parallel, result.model_evaluations);
-    const std::vector<std::vector<double>> starts =
-        fit_starts(start, free, result.rounds == 1 ? options.starts : 1, rng);
+    const std::vector<std::vector<double>> starts = fit_starts(start, free, result.rounds == 1 ? options.starts : 1,
+                                                               rng);
     std::optional<ParameterFit> best;
     for (const std::vector<double>& s : starts) {
       const bool at_prior = result.rounds == 1 && s == starts[0];
       ParameterFit f = fit_parameters(eval, model, train, s, options.max_iterations,
-                                      at_prior ? &result.prior_predictions : nullptr, 0.0);
+                                      at_prior ? &result.prior_predictions : nullptr, 0.0, true);
       ++result.starts_run;
       if (!best || (f.ok && !best->ok) || (f.ok == best->ok && f.train_sum_of_squares < best->train_sum_of_squares)) {
         best = std::move(f);
@@ -100,29 +100,19 @@ CalibrationResult calibrate_to_measurements(const MotorParameters& prior, const 
       const double a = kCauchyEfficiencyScale * robust_sigma(model.residuals(best->predictions), train);
       if (a > 0.0) {
         ParameterFit robust = fit_parameters(eval, model, train, best->values, options.max_iterations,
-                                             &best->predictions, a);
+                                             &best->predictions, a, true);
         if (robust.ok) best = std::move(robust);
       }
     }
-    // The least determined parameter above the limit goes back to its prior.
-    std::optional<std::size_t> worst;
-    double worst_ratio = options.max_spread_fraction;
-    for (std::size_t k = 0; k < free.size(); ++k) {
-      const double ratio = best->standard_errors[k] / std::abs(free[k].scale);
-      if (!(ratio <= worst_ratio)) {
-        worst_ratio = std::isfinite(ratio) ? ratio : kInfinity;
-        worst = k;
-        if (!std::isfinite(ratio)) break;
-      }
-    }
-    if (!best->ok || !worst) {
+    const Undetermined worst = least_determined(best->values, best->standard_errors, free, options);
+    if (!best->ok || !worst.index) {
       fit = std::move(best);
       break;
     }
-    dropped.push_back(held_at_prior(free[*worst], best->standard_errors[*worst], options));
+    dropped.push_back(held_at_prior(free[*worst.index], worst.reason));
     start = best->values;
-    start.erase(start.begin() + static_cast<std::ptrdiff_t>(*worst));
-    free.erase(free.begin() + static_cast<std::ptrdiff_t>(*worst));
+    start.erase(start.begin() + static_cast<std::ptrdiff_t>(*worst.index));
+    free.erase(free.begin() + static_cast<std::ptrdiff_t>(*worst.index));
   }
 
   result.fitted = prior;
@@ -131,10 +121,18 @@ CalibrationResult calibrate_to_measurements(const MotorParameters& prior, const 
       const FreeParameter& f = free[k];
       free[k].apply(result.fitted, fit->values[k]);
       const double v = fit->values[k];
-      const double tol = 1e-6 * std::abs(f.scale);
-      CalibratedParameter p{f.name, f.unit, f.origin, std::abs(f.scale), v, fit->standard_errors[k],
-                            f.lower, f.upper, fit->ok, std::abs(v - f.lower) <= tol || std::abs(v - f.upper) <= tol,
-                            fit->ok ? "" : "the fit failed (a prediction diverged): held at its prior"};
+      CalibratedParameter p{
+          f.name,
+          f.unit,
+          f.origin,
+          std::abs(f.scale),
+          v,
+          fit->standard_errors[k],
+          f.lower,
+          f.upper,
+          fit->ok,
+          at_bound(f, v),
+          fit->ok ? "" : "the least-squares solver failed (Ceres found no usable solution): held at its prior"};
       if (!fit->ok) {
         p.value = f.origin;
         p.standard_error = kInfinity;
@@ -146,8 +144,7 @@ CalibrationResult calibrate_to_measurements(const MotorParameters& prior, const 
       result.correlations.assign(free.size(), std::vector<double>(free.size()));
       for (std::size_t a = 0; a < free.size(); ++a) {
         for (std::size_t b = 0; b < free.size(); ++b) {
-          result.correlations[a][b] =
-              fit->covariance[a][b] / std::sqrt(fit->covariance[a][a] * fit->covariance[b][b]);
+          result.correlations[a][b] = fit->covariance[a][b] / std::sqrt(fit->covariance[a][a] * fit->covariance[b][b]);
         }
       }
     }
@@ -159,12 +156,12 @@ CalibrationResult calibrate_to_measurements(const MotorParameters& prior, const 
 
   int identified = 0;
   for (const CalibratedParameter& p : result.parameters) identified += p.identifiable ? 1 : 0;
-  result.conclusion =
-      std::to_string(identified) + " of " + std::to_string(result.parameters.size()) +
-      " free parameters identified" + (choose ? " (chosen from " + std::to_string(pool.size()) + " candidates)" : "") +
-      format_numbers("; held-out RMS %.3g %% -> %.3g %%", 100.0 * result.held_out_rms_prior,
-                     100.0 * result.held_out_rms) +
-      format_numbers(" (noise estimate %.3g %%, ", 100.0 * result.noise) + result.noise_source + ")";
+  result.conclusion = std::to_string(identified) + " of " + std::to_string(result.parameters.size()) +
+                      " free parameters identified" +
+                      (choose ? " (chosen from " + std::to_string(pool.size()) + " candidates)" : "") +
+                      format_numbers("; held-out RMS %.3g %% -> %.3g %%", 100.0 * result.held_out_rms_prior,
+                                     100.0 * result.held_out_rms) +
+                      format_numbers(" (noise estimate %.3g %%, ", 100.0 * result.noise) + result.noise_source + ")";
   return result;
 }
 

@@ -69,7 +69,7 @@ struct CalibratedParameter {
   std::string unit;
   double prior = 0.0;
   double spread = 0.0;
-  double value = 0.0;  // fitted when identifiable, else the prior
+  double value = 0.0;           // fitted when identifiable, else the prior
   double standard_error = 0.0;  // +inf when not identifiable
   double lower = 0.0, upper = 0.0;
   bool identifiable = false;
@@ -93,24 +93,24 @@ struct FactOutcome {
 // What pushing one fact that failed the joint fit to hold does to the others (weight x100).
 struct FactReach {
   std::string id;
-  bool reachable = false;            // it holds then
-  double value = 0.0;                // its value then
-  std::vector<std::string> breaks;   // facts that lose then: their miss grows (held and fail, or fail by more)
+  bool reachable = false;           // it holds then
+  double value = 0.0;               // its value then
+  std::vector<std::string> breaks;  // facts that lose then: their miss grows (held and fail, or fail by more)
 };
 
 // The front between two conflicting facts: the optimum as the weight of `first` grows.
 struct FactFront {
   std::string first, second;
-  std::vector<double> weights;        // of `first` (the others weigh 1)
-  std::vector<double> first_values;   // at each weight
+  std::vector<double> weights;       // of `first` (the others weigh 1)
+  std::vector<double> first_values;  // at each weight
   std::vector<double> second_values;
-  std::vector<double> first_misses;   // in tolerances outside the band (0: holds)
+  std::vector<double> first_misses;  // in tolerances outside the band (0: holds)
   std::vector<double> second_misses;
 };
 
 struct CalibrationResult {
-  std::vector<CandidateInformation> selection;  // empty when the free set was given
-  std::vector<CalibratedParameter> parameters;  // the free set, identifiable or not
+  std::vector<CandidateInformation> selection;    // empty when the free set was given
+  std::vector<CalibratedParameter> parameters;    // the free set, identifiable or not
   std::vector<std::vector<double>> correlations;  // of the identifiable ones, in their order
   MotorParameters fitted;
   Predictions prior_predictions, fitted_predictions;
@@ -121,11 +121,11 @@ struct CalibrationResult {
   double train_rms_prior = 0.0, train_rms = 0.0;  // relative
   double held_out_rms_prior = 0.0, held_out_rms = 0.0;
   HeldOutEvidence held_out_evidence;  // fit against prior on the held-out points
-  std::vector<FactOutcome> facts;  // with --facts
+  std::vector<FactOutcome> facts;     // with --facts
   // With facts: the first fit, before parameters the facts do not determine went back to their
   // priors (what the facts allow, as against what they determine).
   std::vector<std::pair<std::string, double>> explored;
-  std::vector<FactReach> reach;    // the facts that failed the joint fit
+  std::vector<FactReach> reach;  // the facts that failed the joint fit
   std::vector<FactFront> fronts;
   int rounds = 0;
   int starts_run = 0;
@@ -134,7 +134,7 @@ struct CalibrationResult {
 };
 
 // Throws std::invalid_argument for an unknown or inapplicable parameter name, a free set
-// larger than the number of training values, or an empty candidate list.
+// as large as the number of training values or larger, or an empty candidate list.
 [[nodiscard]] CalibrationResult calibrate_to_measurements(const MotorParameters& prior, const MeasurementSet& measured,
                                                           const CalibrationOptions& options,
                                                           const ParallelFor& parallel);

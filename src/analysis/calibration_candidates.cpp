@@ -33,10 +33,9 @@ constexpr std::array kCandidates{
                          0.0, 0.0, 3.0, 0.1},
     CalibrationCandidate{"contact.stiffness_n_m", "normal contact stiffness k_e (stiffened resonance)", 0.2, 0.0, 0.0,
                          3.0, 0.1},
-    CalibrationCandidate{"stator.target_l1_frequency_hz", "L1 natural frequency (peak position)", 0.0, 100.0, 0.0,
-                         10.0, 0.1},
-    CalibrationCandidate{"stator.damping_b2_n_s_m", "B2 modal damping (tangential amplitude)", 0.2, 0.0, 0.0, 3.0,
+    CalibrationCandidate{"stator.target_l1_frequency_hz", "L1 natural frequency (peak position)", 0.0, 100.0, 0.0, 10.0,
                          0.1},
+    CalibrationCandidate{"stator.damping_b2_n_s_m", "B2 modal damping (tangential amplitude)", 0.2, 0.0, 0.0, 3.0, 0.1},
     CalibrationCandidate{"stator.target_b2_frequency_hz", "B2 natural frequency", 0.0, 100.0, 0.0, 10.0, 0.1},
     CalibrationCandidate{"stator.substrate_thickness_mm",
                          "substrate thickness (modal mass and stiffness at fixed natural frequencies)", 0.2, 0.0, 0.0,
@@ -115,7 +114,12 @@ FreeParameter calibration_free_parameter(const CalibrationCandidate& c, const Mo
   lower = std::max(lower, spec.min_value);
   upper = std::min(upper, spec.max_value);
   const ParameterSpec* s = &spec;
-  return {spec.name(), std::string(spec.unit), value, spread, lower, upper,
+  return {spec.name(),
+          std::string(spec.unit),
+          value,
+          spread,
+          lower,
+          upper,
           [s](MotorParameters& p, double v) { s->set(p, v); }};
 }
 

@@ -24,11 +24,11 @@ std::vector<FreeParameter> free_parameters(const std::vector<std::string>& names
   for (const std::string& name : list) {
     const CalibrationCandidate* c = find_calibration_candidate(name);
     if (c == nullptr) {
-      throw std::invalid_argument(std::string(what) + ": '" + name + "' is not a parameter calibration can fit (" +
-                                  calibration_candidate_names() + ")");
+      throw std::invalid_argument("--" + std::string(what) + ": '" + name +
+                                  "' is not a parameter calibration can fit (" + calibration_candidate_names() + ")");
     }
     for (const FreeParameter& f : out) {
-      if (f.name == name) throw std::invalid_argument(std::string(what) + ": '" + name + "' is listed twice");
+      if (f.name == name) throw std::invalid_argument("--" + std::string(what) + ": '" + name + "' is listed twice");
     }
     out.push_back(calibration_free_parameter(*c, prior));
   }
@@ -64,8 +64,7 @@ Eigen::VectorXd expected_errors(const Eigen::MatrixXd& j, const std::vector<Eige
 }  // namespace
 
 std::vector<std::size_t> select_free_set(const Eigen::MatrixXd& j, const std::vector<FreeParameter>& pool,
-                                         const CalibrationOptions& options,
-                                         std::vector<CandidateInformation>& report) {
+                                         const CalibrationOptions& options, std::vector<CandidateInformation>& report) {
   const double limit = options.max_spread_fraction;
   report.clear();
   for (Eigen::Index c = 0; c < j.cols(); ++c) {
@@ -122,9 +121,9 @@ double rms_of(const std::vector<double>& r, const std::vector<std::size_t>& slot
 }
 }  // namespace
 
-void score_on_measurements(const MeasurementSet& set, const ResidualModel& model,
-                           const std::vector<std::size_t>& train, const std::vector<std::size_t>& test,
-                           const CalibrationOptions& options, CalibrationResult& result) {
+void score_on_measurements(const MeasurementSet& set, const ResidualModel& model, const std::vector<std::size_t>& train,
+                           const std::vector<std::size_t>& test, const CalibrationOptions& options,
+                           CalibrationResult& result) {
   const std::vector<double> r_prior = model.residuals(result.prior_predictions);
   const std::vector<double> r_fit = model.residuals(result.fitted_predictions);
   result.train_rms_prior = rms_of(r_prior, train);
@@ -149,15 +148,41 @@ std::vector<std::vector<double>> fit_starts(const std::vector<double>& start, co
   return starts;
 }
 
-CalibratedParameter held_at_prior(const FreeParameter& f, double standard_error, const CalibrationOptions& options) {
-  CalibratedParameter p{f.name, f.unit, f.origin, std::abs(f.scale), f.origin, kInfinity, f.lower, f.upper,
-                        false, false, ""};
-  const double ratio = standard_error / std::abs(f.scale);
-  p.reason = std::isfinite(standard_error)
-                 ? format_numbers("standard error %.3g is %.2g prior spreads (limit %.2g): held at its prior",
-                                  standard_error, ratio, options.max_spread_fraction)
-                 : std::string("the data leave it undetermined (singular information): held at its prior");
-  return p;
+bool at_bound(const FreeParameter& f, double value) {
+  const double tolerance = 1e-6 * std::abs(f.scale);
+  return std::abs(value - f.lower) <= tolerance || std::abs(value - f.upper) <= tolerance;
+}
+
+Undetermined least_determined(const std::vector<double>& values, const std::vector<double>& standard_errors,
+                              const std::vector<FreeParameter>& free, const CalibrationOptions& options) {
+  for (std::size_t k = 0; k < free.size(); ++k) {
+    if (at_bound(free[k], values[k])) {
+      return {k, format_numbers("the fit ran into its bound %.6g (prior %.6g +- 3 spreads): the data push it past "
+                                "what this design can be (a missing effect, or a measurement protocol the model does "
+                                "not follow); held at its prior",
+                                values[k], free[k].origin)};
+    }
+  }
+  Undetermined worst;
+  double worst_ratio = options.max_spread_fraction;
+  for (std::size_t k = 0; k < free.size(); ++k) {
+    const double ratio = standard_errors[k] / std::abs(free[k].scale);
+    if (!(ratio <= worst_ratio)) {
+      worst_ratio = std::isfinite(ratio) ? ratio : kInfinity;
+      worst.index = k;
+      worst.reason = std::isfinite(ratio)
+                         ? format_numbers("standard error %.3g is %.2g prior spreads (limit %.2g): held at its prior",
+                                          standard_errors[k], ratio, options.max_spread_fraction)
+                         : std::string("the data leave it undetermined (singular information): held at its prior");
+      if (!std::isfinite(ratio)) break;
+    }
+  }
+  return worst;
+}
+
+CalibratedParameter held_at_prior(const FreeParameter& f, std::string reason) {
+  return {f.name,  f.unit, f.origin, std::abs(f.scale), f.origin, kInfinity, f.lower,
+          f.upper, false,  false,    std::move(reason)};
 }
 
 }  // namespace swum

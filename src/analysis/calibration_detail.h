@@ -5,6 +5,7 @@
 
 #include <Eigen/Dense>
 
+#include <optional>
 #include <random>
 #include <string>
 #include <string_view>
@@ -35,14 +36,28 @@ namespace swum {
                                                           const std::vector<FreeParameter>& free, int count,
                                                           std::mt19937_64& rng);
 
-// `f` as not identifiable, held at its prior, with the reason (standard_error may be +inf).
-[[nodiscard]] CalibratedParameter held_at_prior(const FreeParameter& f, double standard_error,
-                                                const CalibrationOptions& options);
+// The parameter that goes back to its prior after a fit (calibration.h, step 3), and why: one
+// that ended on a bound first (the data push it past what a motor of this design can be; its
+// standard error describes no constrained estimate), else the one whose standard error is the
+// most prior spreads above options.max_spread_fraction. No index: every parameter is identified.
+struct Undetermined {
+  std::optional<std::size_t> index;
+  std::string reason;  // ends in "held at its prior"
+};
+[[nodiscard]] Undetermined least_determined(const std::vector<double>& values,
+                                            const std::vector<double>& standard_errors,
+                                            const std::vector<FreeParameter>& free, const CalibrationOptions& options);
+
+// True when `value` lies on one of f's bounds (within 1e-6 spread).
+[[nodiscard]] bool at_bound(const FreeParameter& f, double value);
+
+// `f` as not identifiable, held at its prior, with the reason.
+[[nodiscard]] CalibratedParameter held_at_prior(const FreeParameter& f, std::string reason);
 
 // Relative RMS of the prior's and the fit's residuals on the training and held-out values, and
 // the held-out evidence of fit against prior (result.prior_predictions, fitted_predictions).
-void score_on_measurements(const MeasurementSet& set, const ResidualModel& model,
-                           const std::vector<std::size_t>& train, const std::vector<std::size_t>& test,
-                           const CalibrationOptions& options, CalibrationResult& result);
+void score_on_measurements(const MeasurementSet& set, const ResidualModel& model, const std::vector<std::size_t>& train,
+                           const std::vector<std::size_t>& test, const CalibrationOptions& options,
+                           CalibrationResult& result);
 
 }  // namespace swum

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <exception>
 #include <limits>
 #include <map>
 #include <memory>
@@ -22,9 +23,13 @@ namespace {
 
 constexpr double kNan = std::numeric_limits<double>::quiet_NaN();
 constexpr double kInfinity = std::numeric_limits<double>::infinity();
-constexpr double kStep = 0.1;            // finite-difference step in spreads, as parameter_fit.cpp
-constexpr double kPushWeight = 100.0;    // weight of a fact pushed to hold
-constexpr std::size_t kMaxPushed = 3;    // failing facts pushed one by one
+constexpr double kStep = 0.1;           // finite-difference step in spreads, as parameter_fit.cpp
+constexpr double kPushWeight = 100.0;   // weight of a fact pushed to hold
+constexpr std::size_t kMaxPushed = 3;   // failing facts pushed one by one
+constexpr double kCentreWeight = 0.01;  // pull to a target inside its band (FactsProblem::cost)
+// The miss of a fact the model cannot produce (no forward motion, no onset in the search range,
+// a divergence): more than any finite miss, so the search never buys a missing value.
+constexpr double kMissingMiss = 1000.0;
 
 std::vector<double> speeds(const MotorModel& model, const std::vector<OperatingPoint>& points) {
   std::vector<double> out;
@@ -47,8 +52,8 @@ double peak_frequency(const MotorModel& model, const Fact& f) {
   const SpeedPeak peak = frequency_of_max_speed(model, f.vpp, f.search_hz[0], f.search_hz[1], f.search_hz[2], f.load_n);
   if (!peak.found) return kNan;
   const double h = f.search_hz[2] / 4.0;
-  const std::vector<double> s =
-      speeds(model, {point(f.vpp, peak.frequency_hz - h, f.load_n), point(f.vpp, peak.frequency_hz + h, f.load_n)});
+  const std::vector<double> s = speeds(model, {point(f.vpp, peak.frequency_hz - h, f.load_n),
+                                               point(f.vpp, peak.frequency_hz + h, f.load_n)});
   const double curvature = s[0] - 2.0 * peak.speed_mm_s + s[1];
   if (!std::isfinite(curvature) || !(curvature < 0.0)) return peak.frequency_hz;
   const double offset = std::clamp(0.5 * h * (s[0] - s[1]) / curvature, -0.5 * h, 0.5 * h);
@@ -59,7 +64,9 @@ double peak_frequency(const MotorModel& model, const Fact& f) {
 // first crossing, then the linear interpolation of the threshold inside the last bracket.
 double dead_zone_onset(const MotorModel& model, const Fact& f) {
   std::vector<OperatingPoint> grid;
-  for (double v : evenly_spaced(f.search_vpp[0], f.search_vpp[1], 10.0)) grid.push_back(point(v, f.frequency_hz, f.load_n));
+  std::vector<double> voltages = evenly_spaced(f.search_vpp[0], f.search_vpp[1], 10.0);
+  if (voltages.back() < f.search_vpp[1]) voltages.push_back(f.search_vpp[1]);  // the range's top, off the grid
+  for (double v : voltages) grid.push_back(point(v, f.frequency_hz, f.load_n));
   const std::vector<double> s = speeds(model, grid);
   std::size_t i = 0;
   while (i < s.size() && !(s[i] > f.threshold_mm_s)) ++i;
@@ -81,12 +88,16 @@ double dead_zone_onset(const MotorModel& model, const Fact& f) {
   return lo + (hi - lo) * std::clamp((f.threshold_mm_s - s_lo) / (s_hi - s_lo), 0.0, 1.0);
 }
 
+// The miss with the side it lies on (below the band negative); NaN for a missing value.
+double signed_miss(const Fact& f, double value) {
+  if (!std::isfinite(value)) return std::nan("");
+  return value < f.min ? -fact_miss(f, value) : fact_miss(f, value);
+}
+
 double fact_value(const MotorModel& model, const Fact& f) {
   switch (f.kind) {
-    case FactKind::peak_frequency:
-      return peak_frequency(model, f);
-    case FactKind::dead_zone_onset:
-      return dead_zone_onset(model, f);
+    case FactKind::peak_frequency: return peak_frequency(model, f);
+    case FactKind::dead_zone_onset: return dead_zone_onset(model, f);
     case FactKind::saturation_ratio: {
       std::vector<OperatingPoint> p;
       for (double v : f.ratio_vpp) p.push_back(point(v, f.frequency_hz, 0.0));
@@ -94,8 +105,7 @@ double fact_value(const MotorModel& model, const Fact& f) {
       const double low = s[1] - s[0];
       return low > 0.0 ? (s[3] - s[2]) / low : kNan;
     }
-    case FactKind::speed:
-      return speeds(model, {point(f.vpp, f.frequency_hz, f.load_n)})[0];
+    case FactKind::speed: return speeds(model, {point(f.vpp, f.frequency_hz, f.load_n)})[0];
   }
   return kNan;
 }
@@ -111,8 +121,8 @@ class FactsProblem {
   };
 
   FactsProblem(const MotorParameters& prior, std::vector<FreeParameter> free, std::span<const Fact> facts,
-               const MeasurementSet* measured, const ResidualModel* model, std::vector<std::size_t> train,
-               double sigma, const CalibrationOptions& options, const ParallelFor& parallel, int& counter)
+               const MeasurementSet* measured, const ResidualModel* model, std::vector<std::size_t> train, double sigma,
+               const CalibrationOptions& options, const ParallelFor& parallel, int& counter)
       : counter_(&counter),
         free_(std::move(free)),
         facts_(facts),
@@ -165,6 +175,12 @@ class FactsProblem {
     for (std::size_t f = 0; f < facts_.size(); ++f) {
       const double miss = fact_miss(facts_[f], e.facts[f]);
       c += weights[f] * miss * miss;
+      // A target (not a bare band) is aimed at: a faint pull to it, so that among parameter sets
+      // where every fact holds (cost 0) the search prefers margin to the edges of target +- tolerance.
+      if (facts_[f].target && std::isfinite(e.facts[f])) {
+        const double off = (e.facts[f] - *facts_[f].target) / facts_[f].tolerance;
+        c += kCentreWeight * off * off;
+      }
     }
     for (std::size_t k : train_) {
       const double r = e.residuals[k] / sigma_;
@@ -190,13 +206,19 @@ class FactsProblem {
       const double dtheta = (sets[k + 1][k] - values[k]) / free_[k].scale;
       const auto col = static_cast<Eigen::Index>(k);
       for (std::size_t f = 0; f < facts_.size(); ++f) {
-        const double d = (e[k + 1]->facts[f] - e[0]->facts[f]) / (dtheta * facts_[f].tolerance);
+        // A target is a measurement with sigma = tolerance: the slope of its value. A bare band
+        // says nothing about where inside it the value lies: the slope of its miss (0 while it
+        // holds), so a fact that holds with room to spare determines no parameter.
+        const Fact& fact = facts_[f];
+        const double d = fact.target
+                             ? (e[k + 1]->facts[f] - e[0]->facts[f]) / (dtheta * fact.tolerance)
+                             : (signed_miss(fact, e[k + 1]->facts[f]) - signed_miss(fact, e[0]->facts[f])) / dtheta;
         j(static_cast<Eigen::Index>(f), col) = std::isfinite(d) ? d : 0.0;
       }
       for (std::size_t i = 0; i < train_.size(); ++i) {
         const std::size_t s = train_[i];
-        j(static_cast<Eigen::Index>(facts_.size() + i), col) =
-            (e[k + 1]->residuals[s] - e[0]->residuals[s]) / (dtheta * sigma_);
+        j(static_cast<Eigen::Index>(facts_.size() + i), col) = (e[k + 1]->residuals[s] - e[0]->residuals[s]) /
+                                                               (dtheta * sigma_);
       }
     }
     return j;
@@ -236,11 +258,14 @@ SearchResult search(FactsProblem& problem, const std::vector<double>& start, con
     if (lo[k] > hi[k]) std::swap(lo[k], hi[k]);
     theta[k] = std::clamp((start[k] - free[k].origin) / free[k].scale, lo[k], hi[k]);
   }
+  nlopt::opt opt(nlopt::LN_SBPLX, static_cast<unsigned>(m));
   struct Context {
     FactsProblem* problem;
     const std::vector<double>* weights;
+    nlopt::opt* opt;
     SearchResult best;
-  } context{&problem, &weights, {}};
+    std::exception_ptr error;  // what the cost threw: rethrown, never taken for a result
+  } context{&problem, &weights, &opt, {}, nullptr};
   auto values_of = [&free](const std::vector<double>& t) {
     std::vector<double> v(t.size());
     for (std::size_t k = 0; k < t.size(); ++k) v[k] = free[k].origin + t[k] * free[k].scale;
@@ -251,7 +276,14 @@ SearchResult search(FactsProblem& problem, const std::vector<double>& start, con
     const std::vector<FreeParameter>& fp = c->problem->free();
     std::vector<double> v(t.size());
     for (std::size_t k = 0; k < t.size(); ++k) v[k] = fp[k].origin + t[k] * fp[k].scale;
-    const double cost = c->problem->cost(*c->problem->evaluate({v})[0], *c->weights);
+    double cost = 0.0;
+    try {
+      cost = c->problem->cost(*c->problem->evaluate({v})[0], *c->weights);
+    } catch (...) {
+      c->error = std::current_exception();
+      c->opt->force_stop();
+      return 1e300;
+    }
     ++c->best.evaluations;
     if (cost < c->best.cost) {
       c->best.cost = cost;
@@ -259,7 +291,6 @@ SearchResult search(FactsProblem& problem, const std::vector<double>& start, con
     }
     return std::isfinite(cost) ? cost : 1e300;
   };
-  nlopt::opt opt(nlopt::LN_SBPLX, static_cast<unsigned>(m));
   opt.set_lower_bounds(lo);
   opt.set_upper_bounds(hi);
   opt.set_min_objective(+objective, &context);
@@ -272,9 +303,12 @@ SearchResult search(FactsProblem& problem, const std::vector<double>& start, con
   double minimum = 0.0;
   try {
     opt.optimize(theta, minimum);
-  } catch (const std::exception&) {
-    // nlopt::roundoff_limited / forced stop: the best point seen stands.
+  } catch (const nlopt::roundoff_limited&) {
+    // Round-off ended the search: the best point seen stands.
+  } catch (const nlopt::forced_stop&) {
+    // Only the cost forces a stop, after storing what it threw.
   }
+  if (context.error) std::rethrow_exception(context.error);
   if (context.best.values.empty()) context.best.values = values_of(theta);
   return context.best;
 }
@@ -282,7 +316,7 @@ SearchResult search(FactsProblem& problem, const std::vector<double>& start, con
 }  // namespace
 
 double fact_miss(const Fact& fact, double value) {
-  if (!std::isfinite(value)) return 10.0;
+  if (!std::isfinite(value)) return kMissingMiss;
   if (value < fact.min) return (fact.min - value) / fact.tolerance;
   if (value > fact.max) return (value - fact.max) / fact.tolerance;
   return 0.0;
@@ -366,9 +400,10 @@ CalibrationResult calibrate_to_facts(const MotorParameters& prior, std::span<con
     ++result.rounds;
     problem = std::make_shared<FactsProblem>(prior, free, facts, measured, model ? &*model : nullptr, train, sigma,
                                              options, parallel, result.model_evaluations);
-    const std::vector<std::vector<double>> starts =
-        fit_starts(start, free, result.rounds == 1 ? options.starts : 1, rng);
-    const int budget = std::max(options.max_evaluations / static_cast<int>(starts.size()), 4 * static_cast<int>(free.size()));
+    const std::vector<std::vector<double>> starts = fit_starts(start, free, result.rounds == 1 ? options.starts : 1,
+                                                               rng);
+    const int budget = std::max(options.max_evaluations / static_cast<int>(starts.size()),
+                                4 * static_cast<int>(free.size()));
     std::optional<SearchResult> best;
     for (const std::vector<double>& s : starts) {
       SearchResult r = search(*problem, s, ones, budget);
@@ -384,16 +419,9 @@ CalibrationResult calibrate_to_facts(const MotorParameters& prior, std::span<con
                      .ldlt()
                      .solve(Eigen::MatrixXd::Identity(information.rows(), information.cols()));
     standard_errors.assign(free.size(), kInfinity);
-    std::optional<std::size_t> worst;
-    double worst_ratio = options.max_spread_fraction;
     for (std::size_t k = 0; k < free.size(); ++k) {
       const double var = covariance(static_cast<Eigen::Index>(k), static_cast<Eigen::Index>(k));
-      const double ratio = var > 0.0 && std::isfinite(var) ? std::sqrt(var) : kInfinity;
-      standard_errors[k] = ratio * std::abs(free[k].scale);
-      if (!(ratio <= worst_ratio)) {
-        worst_ratio = ratio;
-        worst = k;
-      }
+      if (var > 0.0 && std::isfinite(var)) standard_errors[k] = std::sqrt(var) * std::abs(free[k].scale);
     }
     if (result.rounds == 1) {
       for (std::size_t k = 0; k < free.size(); ++k) result.explored.emplace_back(free[k].name, best->values[k]);
@@ -401,14 +429,15 @@ CalibrationResult calibrate_to_facts(const MotorParameters& prior, std::span<con
       explore_problem = problem;
       explored_values = best->values;
     }
-    if (!worst) {
+    const Undetermined worst = least_determined(best->values, standard_errors, free, options);
+    if (!worst.index) {
       fit = std::move(best);
       break;
     }
-    dropped.push_back(held_at_prior(free[*worst], standard_errors[*worst], options));
+    dropped.push_back(held_at_prior(free[*worst.index], worst.reason));
     start = best->values;
-    start.erase(start.begin() + static_cast<std::ptrdiff_t>(*worst));
-    free.erase(free.begin() + static_cast<std::ptrdiff_t>(*worst));
+    start.erase(start.begin() + static_cast<std::ptrdiff_t>(*worst.index));
+    free.erase(free.begin() + static_cast<std::ptrdiff_t>(*worst.index));
   }
 
   result.fitted = prior;
@@ -418,9 +447,8 @@ CalibrationResult calibrate_to_facts(const MotorParameters& prior, std::span<con
       const FreeParameter& f = free[k];
       f.apply(result.fitted, fit->values[k]);
       const double v = fit->values[k];
-      const double tol = 1e-6 * std::abs(f.scale);
-      result.parameters.push_back({f.name, f.unit, f.origin, std::abs(f.scale), v, standard_errors[k], f.lower,
-                                   f.upper, true, std::abs(v - f.lower) <= tol || std::abs(v - f.upper) <= tol, ""});
+      result.parameters.push_back({f.name, f.unit, f.origin, std::abs(f.scale), v, standard_errors[k], f.lower, f.upper,
+                                   true, at_bound(f, v), ""});
     }
     result.correlations.assign(free.size(), std::vector<double>(free.size()));
     for (std::size_t a = 0; a < free.size(); ++a) {

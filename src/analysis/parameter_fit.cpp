@@ -132,7 +132,7 @@ class SlotResidual final : public ceres::CostFunction {
 
 ParameterFit fit_parameters(const ParameterEvaluator& evaluator, const ResidualModel& residuals,
                             std::span<const std::size_t> train_slots, std::vector<double> start, int max_iterations,
-                            const Predictions* start_predictions, double robust_scale) {
+                            const Predictions* start_predictions, double robust_scale, bool conservative_errors) {
   const std::size_t m = evaluator.free().size();
   Theta lo(m), hi(m), theta(m);
   for (std::size_t k = 0; k < m; ++k) {
@@ -190,6 +190,7 @@ ParameterFit fit_parameters(const ParameterEvaluator& evaluator, const ResidualM
   const auto mk = static_cast<Eigen::Index>(m);
   Eigen::MatrixXd bread = Eigen::MatrixXd::Zero(mk, mk);
   std::map<std::array<double, 3>, Eigen::VectorXd> scores;
+  double weighted_square_sum = 0.0;
   const double a2 = robust_scale * robust_scale;
   for (std::size_t i = 0; i < n; ++i) {
     fit.train_sum_of_squares += r[i] * r[i];
@@ -202,6 +203,7 @@ ParameterFit fit_parameters(const ParameterEvaluator& evaluator, const ResidualM
     const Measurement& row = residuals.set().rows[residuals.slots()[train_slots[i]].row];
     auto [it, added] = scores.try_emplace({row.vpp, row.frequency_hz, row.load_n}, Eigen::VectorXd::Zero(mk));
     it->second += w * r[i] * ji;
+    weighted_square_sum += w * r[i] * w * r[i];
   }
   Eigen::MatrixXd meat = Eigen::MatrixXd::Zero(mk, mk);
   for (const auto& [key, u] : scores) meat += u * u.transpose();
@@ -214,6 +216,18 @@ ParameterFit fit_parameters(const ParameterEvaluator& evaluator, const ResidualM
   if (lu.isInvertible()) {
     const Eigen::MatrixXd inverse = lu.inverse();
     covariance = inverse * meat * inverse;
+    if (conservative_errors) {
+      const Eigen::MatrixXd classical = weighted_square_sum / dof * inverse;
+      for (Eigen::Index k = 0; k < mk; ++k) {
+        if (classical(k, k) > covariance(k, k)) {
+          // Scale row and column k so the variance is the classical one and the correlations
+          // stay the sandwich's.
+          const double f = std::sqrt(classical(k, k) / covariance(k, k));
+          covariance.row(k) *= f;
+          covariance.col(k) *= f;
+        }
+      }
+    }
   }
   fit.values = cache.values_of(theta);
   for (std::size_t k = 0; k < m; ++k) {

@@ -3,7 +3,7 @@
 // calibrate` base parameters of the model (docs/calibration.md);
 // bounded Levenberg-Marquardt (Ceres, as identification.cpp) on the relative residuals of the
 // training points, forward-difference Jacobian evaluated in the same parallel batch as the
-// residuals, cluster-robust sandwich standard errors (fit_effect).
+// residuals, cluster-robust sandwich standard errors (fit_parameters).
 #pragma once
 
 #include <functional>
@@ -51,11 +51,14 @@ struct ParameterFit {
 // heavy-tailed residuals (a reading at the dead-zone edge or across the fold) cannot drag;
 // 0: least squares. Standard errors: the cluster-robust sandwich over operating points (the
 // quantities and repeats of one point are one cluster; weights w = 1/(1 + r^2/a^2) for the
-// M-estimate, 1 for least squares).
+// M-estimate, 1 for least squares). conservative_errors: each variance is the larger of the
+// sandwich's and the classical s^2 B^-1 (s^2 = sum (w r)^2 / (n - k)): with a few clusters the
+// sandwich is biased low (swum calibrate on small sweeps; the discrepancy workflow keeps the
+// sandwich alone).
 [[nodiscard]] ParameterFit fit_parameters(const ParameterEvaluator& evaluator, const ResidualModel& residuals,
                                           std::span<const std::size_t> train_slots, std::vector<double> start,
                                           int max_iterations, const Predictions* start_predictions = nullptr,
-                                          double robust_scale = 0.0);
+                                          double robust_scale = 0.0, bool conservative_errors = false);
 
 // Cauchy scale for 95 % efficiency at Gaussian residuals of standard deviation sigma.
 inline constexpr double kCauchyEfficiencyScale = 2.385;

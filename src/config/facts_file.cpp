@@ -82,8 +82,9 @@ class FactReader {
 
   void range(std::string_view key, double value, double lo, double hi) const {
     if (!(value >= lo && value <= hi)) {
-      fail(source_, line_, std::string(key) + " = " + std::to_string(value) + " outside [" + std::to_string(lo) + ", " +
-                               std::to_string(hi) + "]");
+      fail(source_, line_,
+           std::string(key) + " = " + std::to_string(value) + " outside [" + std::to_string(lo) + ", " +
+               std::to_string(hi) + "]");
     }
   }
 
@@ -104,28 +105,20 @@ double Fact::centre() const {
 
 std::string_view Fact::unit() const {
   switch (kind) {
-    case FactKind::peak_frequency:
-      return "Hz";
-    case FactKind::dead_zone_onset:
-      return "Vpp";
-    case FactKind::saturation_ratio:
-      return "";
-    case FactKind::speed:
-      return "mm/s";
+    case FactKind::peak_frequency: return "Hz";
+    case FactKind::dead_zone_onset: return "Vpp";
+    case FactKind::saturation_ratio: return "";
+    case FactKind::speed: return "mm/s";
   }
   return "";
 }
 
 std::string_view fact_kind_name(FactKind kind) {
   switch (kind) {
-    case FactKind::peak_frequency:
-      return "peak_frequency";
-    case FactKind::dead_zone_onset:
-      return "dead_zone_onset";
-    case FactKind::saturation_ratio:
-      return "saturation_ratio";
-    case FactKind::speed:
-      return "speed";
+    case FactKind::peak_frequency: return "peak_frequency";
+    case FactKind::dead_zone_onset: return "dead_zone_onset";
+    case FactKind::saturation_ratio: return "saturation_ratio";
+    case FactKind::speed: return "speed";
   }
   return "";
 }
@@ -172,7 +165,8 @@ std::vector<Fact> parse_facts(std::string_view toml_text, std::string_view sourc
       r.numbers("search_hz", f.search_hz);
       if (!(f.search_hz[0] < f.search_hz[1] && f.search_hz[2] > 0.0 &&
             f.search_hz[2] <= f.search_hz[1] - f.search_hz[0])) {
-        fail(source_name, line, "search_hz: expected [start, stop, step] with start < stop and 0 < step <= stop - start");
+        fail(source_name, line,
+             "search_hz: expected [start, stop, step] with start < stop and 0 < step <= stop - start");
       }
       // Each grid point is a run to steady state, at every evaluation of the fit.
       if ((f.search_hz[1] - f.search_hz[0]) / f.search_hz[2] > kMaxSearchPoints) {

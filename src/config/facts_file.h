@@ -53,7 +53,7 @@ struct Fact {
 
 // Throws ParameterError "SOURCE:LINE: what" for a TOML error, no [[fact]] table, an unknown
 // kind or key, a missing or non-numeric required key, a non-positive tolerance, both target and
-// min/max or neither, min > max, a vpp or frequency outside 1..10000 V / 1..200000 Hz, a
+// min/max or neither, min > max, a vpp or frequency outside 1..10000 V / 1000..200000 Hz, a
 // search range that is empty or in the wrong order, a ratio whose voltages are not increasing.
 [[nodiscard]] std::vector<Fact> parse_facts(std::string_view toml_text, std::string_view source_name);
 

@@ -29,6 +29,7 @@ import tempfile
 import tomllib
 
 from live_device_integration import check, swum  # also puts ../firmware_sim on the path
+from sweep_files import relative_rms_gap, speed_only
 
 import emu_harness
 from emu_harness import CONFIG, Emulator
@@ -40,7 +41,6 @@ EMU_ARGS = ["--speedup", "4", "--watchdog-ms", "5000"]
 GRID = ["--vpp", "150,250,350", "--frequency", "39200:41000:150", "--load", "0,2"]
 POINTS_PER_CURVE = 13
 CURVES = 3 * 2
-SPEED_ONLY = ["vpp", "frequency_hz", "load_n", "time_s", "sweep", "speed_mm_s", "status"]
 PROTOCOL_ALLOWANCE = 0.06  # relative; see the module docstring
 MIN_GAP_REDUCTION = 0.70
 
@@ -84,22 +84,6 @@ def live_sweep(config, extra, path):
     times = [float(r["time_s"]) for r in rows]
     check(all(b > a for a, b in zip(times, times[1:])), "time_s does not increase")
     return rows
-
-
-def speed_only(rows, path):
-    with open(path, "w", newline="") as f:
-        w = csv.writer(f)
-        w.writerow(SPEED_ONLY)
-        for r in rows:
-            w.writerow([r[k] for k in SPEED_ONLY])
-
-
-def relative_rms_gap(rows, device_rows):
-    """RMS of (speed - device speed) / max(|device speed|, 5 % of the largest), as the workflow."""
-    device = [float(r["speed_mm_s"]) for r in device_rows]
-    floor = 0.05 * max(abs(v) for v in device)
-    gaps = [(float(r["speed_mm_s"]) - v) / max(abs(v), floor) for r, v in zip(rows, device)]
-    return (sum(g * g for g in gaps) / len(gaps)) ** 0.5
 
 
 def run_case(effect):
