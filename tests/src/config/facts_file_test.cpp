@@ -48,7 +48,7 @@ TEST(FactsFile, ThePapersFactsLoad) {
   const std::string text = read(path);
   ASSERT_FALSE(text.empty()) << path;
   const std::vector<Fact> facts = parse_facts(text, path);
-  ASSERT_EQ(facts.size(), 5u);
+  ASSERT_EQ(facts.size(), 7u);
 
   EXPECT_EQ(facts[0].id, "E8 dead-zone onset at 40 kHz");
   EXPECT_EQ(facts[0].kind, FactKind::dead_zone_onset);
@@ -61,15 +61,26 @@ TEST(FactsFile, ThePapersFactsLoad) {
   EXPECT_EQ(facts[0].centre(), 50.0);
   EXPECT_EQ(facts[0].unit(), "Vpp");
 
-  EXPECT_EQ(facts[1].kind, FactKind::saturation_ratio);
-  EXPECT_EQ(facts[1].max, 0.5);
-  EXPECT_EQ(facts[1].tolerance, 0.05);
-  EXPECT_EQ(facts[1].unit(), "");
+  // The dead zone as the validation tests state it: still at 40 Vpp, moving at 75 Vpp.
+  EXPECT_EQ(facts[1].kind, FactKind::speed);
+  EXPECT_EQ(facts[1].vpp, 40.0);
+  EXPECT_EQ(facts[1].min, -1.0);
+  EXPECT_EQ(facts[1].max, 1.0);
+  EXPECT_EQ(facts[2].kind, FactKind::speed);
+  EXPECT_EQ(facts[2].vpp, 75.0);
+  EXPECT_EQ(facts[2].min, 2.0);
+  EXPECT_EQ(facts[2].max, kInfinity);
+  EXPECT_EQ(facts[2].unit(), "mm/s");
+
+  EXPECT_EQ(facts[3].kind, FactKind::saturation_ratio);
+  EXPECT_EQ(facts[3].max, 0.5);
+  EXPECT_EQ(facts[3].tolerance, 0.05);
+  EXPECT_EQ(facts[3].unit(), "");
 
   const double peaks[] = {40400.0, 40200.0, 39600.0};
   const double voltages[] = {100.0, 250.0, 400.0};
   for (std::size_t k = 0; k < 3; ++k) {
-    const Fact& f = facts[2 + k];
+    const Fact& f = facts[4 + k];
     EXPECT_EQ(f.kind, FactKind::peak_frequency) << f.id;
     EXPECT_EQ(f.vpp, voltages[k]) << f.id;
     ASSERT_TRUE(f.target.has_value()) << f.id;
@@ -78,7 +89,7 @@ TEST(FactsFile, ThePapersFactsLoad) {
     EXPECT_EQ(f.max, peaks[k] + 200.0) << f.id;
     EXPECT_EQ(f.unit(), "Hz") << f.id;
   }
-  EXPECT_EQ(facts[3].id, "E10 peak at 250 Vpp");
+  EXPECT_EQ(facts[5].id, "E10 peak at 250 Vpp");
   // Lines of the [[fact]] headers, ascending.
   EXPECT_GT(facts[0].line, 1);
   for (std::size_t k = 1; k < facts.size(); ++k) EXPECT_GT(facts[k].line, facts[k - 1].line);
