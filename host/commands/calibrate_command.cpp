@@ -261,12 +261,29 @@ std::vector<std::string> write_plots(const fs::path& dir, const MeasurementSet& 
   return files;
 }
 
+// The options that shape the result, as given (the output paths and --json/--jobs left out).
+std::string command_line(const CalibrateCommandOptions& o) {
+  const CalibrateCommandOptions d;
+  std::string c = "--config " + o.config_path;
+  if (!o.measured_path.empty()) c += " --measured " + o.measured_path;
+  if (!o.facts_path.empty()) c += " --facts " + o.facts_path;
+  if (!o.free.empty()) c += " --free " + o.free;
+  if (!o.candidates.empty()) c += " --candidates " + o.candidates;
+  if (o.max_free != d.max_free) c += " --max-free " + std::to_string(o.max_free);
+  if (o.starts != d.starts) c += " --starts " + std::to_string(o.starts);
+  if (!o.facts_path.empty() && o.max_evaluations != d.max_evaluations) {
+    c += " --max-evaluations " + std::to_string(o.max_evaluations);
+  }
+  if (o.settle_ms != d.settle_ms) c += " --settle-ms " + format_number(o.settle_ms, "%g");
+  if (o.window_ms != d.window_ms) c += " --window-ms " + format_number(o.window_ms, "%g");
+  if (o.no_trade_offs) c += " --no-trade-offs";
+  return c;
+}
+
 std::string report_markdown(const CalibrateCommandOptions& o, const MeasurementSet* set, const CalibrationResult& r,
                             const std::vector<std::string>& plots, double wall_s) {
-  std::string md = "# Calibration report\n\n`swum calibrate --config " + o.config_path;
-  if (!o.measured_path.empty()) md += " --measured " + o.measured_path;
-  if (!o.facts_path.empty()) md += " --facts " + o.facts_path;
-  md += "`\n\n**Conclusion:** " + r.conclusion + "\n\n";
+  std::string md = "# Calibration report\n\n`swum calibrate " + command_line(o) + "`\n\n**Conclusion:** " +
+                   r.conclusion + "\n\n";
   if (set != nullptr) {
     if (const std::string note = measurement_note(*set); !note.empty()) md += "Input: " + note + "\n\n";
   }
@@ -348,9 +365,7 @@ std::string report_markdown(const CalibrateCommandOptions& o, const MeasurementS
 }
 
 std::string fitted_header(const CalibrateCommandOptions& o, const CalibrationResult& r) {
-  std::string h = "# Written by `swum calibrate --config " + o.config_path +
-                  (o.measured_path.empty() ? "" : " --measured " + o.measured_path) +
-                  (o.facts_path.empty() ? "" : " --facts " + o.facts_path) + "`: " + r.conclusion + "\n";
+  std::string h = "# Written by `swum calibrate " + command_line(o) + "`: " + r.conclusion + "\n";
   for (const CalibratedParameter& p : r.parameters) {
     h += "#   " + p.name + " = " +
          (p.identifiable ? number(p.value) + " +- " + number(p.standard_error, "%.2g") + " " + p.unit + " (prior " +
@@ -387,6 +402,10 @@ void run_calibrate_command(const CalibrateCommandOptions& o) {
   const MotorParameters prior = load_motor_parameters(o.config_path);
   for (const auto* list : {&options.free, &options.candidates}) {
     for (const std::string& name : *list) {
+      if (std::count(list->begin(), list->end(), name) > 1) {
+        throw std::invalid_argument(std::string(list == &options.free ? "--free" : "--candidates") + ": '" + name +
+                                    "' is listed twice");
+      }
       const CalibrationCandidate* c = find_calibration_candidate(name);
       if (c == nullptr) {
         throw std::invalid_argument(std::string(list == &options.free ? "--free" : "--candidates") + ": '" + name +

@@ -132,7 +132,8 @@ CalibrationResult calibrate_to_measurements(const MotorParameters& prior, const 
           f.upper,
           fit->ok,
           at_bound(f, v),
-          fit->ok ? "" : "the least-squares solver failed (Ceres found no usable solution): held at its prior"};
+          fit->ok ? ""
+                  : "the fit failed (no usable Ceres solution, or a prediction diverged at it): held at its prior"};
       if (!fit->ok) {
         p.value = f.origin;
         p.standard_error = kInfinity;

@@ -157,10 +157,11 @@ Undetermined least_determined(const std::vector<double>& values, const std::vect
                               const std::vector<FreeParameter>& free, const CalibrationOptions& options) {
   for (std::size_t k = 0; k < free.size(); ++k) {
     if (at_bound(free[k], values[k])) {
-      return {k, format_numbers("the fit ran into its bound %.6g (prior %.6g +- 3 spreads): the data push it past "
-                                "what this design can be (a missing effect, or a measurement protocol the model does "
-                                "not follow); held at its prior",
-                                values[k], free[k].origin)};
+      return {k, format_numbers("the fit ran into its bound %.6g (bounds %.6g .. %.6g, prior %.6g): the data push it "
+                                "past what this design can be (a missing effect, or a measurement protocol the model "
+                                "does not follow); held at its prior",
+                                values[k], std::min(free[k].lower, free[k].upper),
+                                std::max(free[k].lower, free[k].upper), free[k].origin)};
     }
   }
   Undetermined worst;

@@ -28,7 +28,8 @@ constexpr double kPushWeight = 100.0;   // weight of a fact pushed to hold
 constexpr std::size_t kMaxPushed = 3;   // failing facts pushed one by one
 constexpr double kCentreWeight = 0.01;  // pull to a target inside its band (FactsProblem::cost)
 // The miss of a fact the model cannot produce (no forward motion, no onset in the search range,
-// a divergence): more than any finite miss, so the search never buys a missing value.
+// a divergence), in tolerances: more than any miss of a fact whose tolerance is a sensible
+// fraction of its range, so the search does not buy a missing value.
 constexpr double kMissingMiss = 1000.0;
 
 std::vector<double> speeds(const MotorModel& model, const std::vector<OperatingPoint>& points) {
@@ -86,12 +87,6 @@ double dead_zone_onset(const MotorModel& model, const Fact& f) {
   }
   if (!std::isfinite(s_lo) || !(s_hi > s_lo)) return hi;
   return lo + (hi - lo) * std::clamp((f.threshold_mm_s - s_lo) / (s_hi - s_lo), 0.0, 1.0);
-}
-
-// The miss with the side it lies on (below the band negative); NaN for a missing value.
-double signed_miss(const Fact& f, double value) {
-  if (!std::isfinite(value)) return std::nan("");
-  return value < f.min ? -fact_miss(f, value) : fact_miss(f, value);
 }
 
 double fact_value(const MotorModel& model, const Fact& f) {
@@ -207,13 +202,14 @@ class FactsProblem {
       const auto col = static_cast<Eigen::Index>(k);
       for (std::size_t f = 0; f < facts_.size(); ++f) {
         // A target is a measurement with sigma = tolerance: the slope of its value. A bare band
-        // says nothing about where inside it the value lies: the slope of its miss (0 while it
-        // holds), so a fact that holds with room to spare determines no parameter.
+        // says nothing about where inside it the value lies: it informs only while it is active,
+        // missed at either end of the step (then the slope of its value, whichever way the step
+        // went); a fact that holds with room to spare determines no parameter.
         const Fact& fact = facts_[f];
-        const double d = fact.target
-                             ? (e[k + 1]->facts[f] - e[0]->facts[f]) / (dtheta * fact.tolerance)
-                             : (signed_miss(fact, e[k + 1]->facts[f]) - signed_miss(fact, e[0]->facts[f])) / dtheta;
-        j(static_cast<Eigen::Index>(f), col) = std::isfinite(d) ? d : 0.0;
+        const double v0 = e[0]->facts[f], v1 = e[k + 1]->facts[f];
+        const bool informs = fact.target || fact_miss(fact, v0) > 0.0 || fact_miss(fact, v1) > 0.0;
+        const double d = (v1 - v0) / (dtheta * fact.tolerance);
+        j(static_cast<Eigen::Index>(f), col) = informs && std::isfinite(d) ? d : 0.0;
       }
       for (std::size_t i = 0; i < train_.size(); ++i) {
         const std::size_t s = train_[i];

@@ -4,13 +4,13 @@
 // change, so finite differences across it would mislead Levenberg-Marquardt: the fit is a
 // derivative-free bounded search (NLopt's Subplex) of
 //   cost = sum over facts of w_f miss_f^2 + sum over training values of (r_i / sigma)^2,
-// miss_f = (distance of the fact's value outside its band) / tolerance (1000 when the model
-// cannot produce the value: more than any finite miss), plus for a fact given as a target
+// miss_f = (distance of the fact's value outside its band) / tolerance (1000 tolerances when
+// the model cannot produce the value), plus for a fact given as a target
 // 0.01 x ((value - target) / tolerance)^2 (so that, among parameter sets where every fact
 // holds, the search prefers margin to the edges of target +- tolerance). The free set is
 // chosen as for sweeps (calibration.h, step 1), with the facts' rows in the Jacobian: a target
 // is a measurement with sigma = its tolerance (the slope of its value / tolerance), a bare band
-// informs only where it is missed (the slope of its miss, 0 while it holds). A parameter whose
+// only while it is active (missed at either end of the finite-difference step). A parameter whose
 // standard error (from the same Jacobian at the optimum) is not below half its prior spread, or
 // that ended on a bound, goes back to its prior. Facts that still fail are pushed one at a
 // time (weight x100): reachable or not, and which facts then lose (their miss grows); between

@@ -191,6 +191,7 @@ ParameterFit fit_parameters(const ParameterEvaluator& evaluator, const ResidualM
   Eigen::MatrixXd bread = Eigen::MatrixXd::Zero(mk, mk);
   std::map<std::array<double, 3>, Eigen::VectorXd> scores;
   double weighted_square_sum = 0.0;
+  double slope_sum = 0.0;
   const double a2 = robust_scale * robust_scale;
   for (std::size_t i = 0; i < n; ++i) {
     fit.train_sum_of_squares += r[i] * r[i];
@@ -204,6 +205,7 @@ ParameterFit fit_parameters(const ParameterEvaluator& evaluator, const ResidualM
     auto [it, added] = scores.try_emplace({row.vpp, row.frequency_hz, row.load_n}, Eigen::VectorXd::Zero(mk));
     it->second += w * r[i] * ji;
     weighted_square_sum += w * r[i] * w * r[i];
+    slope_sum += slope;
   }
   Eigen::MatrixXd meat = Eigen::MatrixXd::Zero(mk, mk);
   for (const auto& [key, u] : scores) meat += u * u.transpose();
@@ -217,7 +219,10 @@ ParameterFit fit_parameters(const ParameterEvaluator& evaluator, const ResidualM
     const Eigen::MatrixXd inverse = lu.inverse();
     covariance = inverse * meat * inverse;
     if (conservative_errors) {
-      const Eigen::MatrixXd classical = weighted_square_sum / dof * inverse;
+      // Huber's classical covariance: sum psi^2 / (n - k) / mean(psi') x B^-1 (for least squares
+      // psi' = 1 and this is s^2 (J'J)^-1).
+      const double mean_slope = slope_sum / nd;
+      const Eigen::MatrixXd classical = weighted_square_sum / dof / std::max(mean_slope, 1e-12) * inverse;
       for (Eigen::Index k = 0; k < mk; ++k) {
         if (classical(k, k) > covariance(k, k)) {
           // Scale row and column k so the variance is the classical one and the correlations

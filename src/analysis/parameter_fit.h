@@ -52,7 +52,8 @@ struct ParameterFit {
 // 0: least squares. Standard errors: the cluster-robust sandwich over operating points (the
 // quantities and repeats of one point are one cluster; weights w = 1/(1 + r^2/a^2) for the
 // M-estimate, 1 for least squares). conservative_errors: each variance is the larger of the
-// sandwich's and the classical s^2 B^-1 (s^2 = sum (w r)^2 / (n - k)): with a few clusters the
+// sandwich's and Huber's classical sum psi^2 / (n - k) / mean(psi') x B^-1 (s^2 (J'J)^-1 for
+// least squares): with a few clusters the
 // sandwich is biased low (swum calibrate on small sweeps; the discrepancy workflow keeps the
 // sandwich alone).
 [[nodiscard]] ParameterFit fit_parameters(const ParameterEvaluator& evaluator, const ResidualModel& residuals,

@@ -87,9 +87,9 @@ TEST(SwumCalibrate, BadInputsAreOneLineErrorsNamingWhatAndWhere) {
   // A Jenkins stiffness on a rigid contact (k_t = 0) would be another contact law.
   expect_one_line_error({"--config", kLiteralConfig, "--measured", m, "--free", "contact.tangential_stiffness_n_m"},
                         "contact.tangential_stiffness_n_m cannot be fitted: the contact is rigid", out);
-  expect_one_line_error(
-      {"--config", kConfig, "--measured", m, "--free", "contact.preload_n", "--candidates", "contact.preload_n"},
-      "--free and --candidates", out);
+  expect_one_line_error({"--config", kConfig, "--measured", m, "--free", "contact.preload_n", "--candidates",
+                         "contact.preload_n"},
+                        "--free and --candidates", out);
   expect_one_line_error({"--config", kConfig, "--measured", m, "--max-free", "0"}, "--max-free: must be >= 1", out);
   expect_one_line_error({"--config", kConfig, "--measured", m, "--starts", "0"}, "--starts: must be >= 1", out);
   expect_one_line_error({"--config", kConfig, "--measured", m, "--max-evaluations", "5"},
@@ -105,9 +105,8 @@ TEST(SwumCalibrate, BadInputsAreOneLineErrorsNamingWhatAndWhere) {
                         bad.string() + ":3:3: column load_n: 'zero' is not a number", out);
 
   const fs::path kind = scratch("unknown_kind.toml");
-  write(kind,
-        "[[fact]]\nkind = \"peak_frequency\"\nvpp = 250\ntarget = 40200\ntolerance = 200\n\n"
-        "[[fact]]\nkind = \"magic\"\nvpp = 250\ntarget = 1\ntolerance = 1\n");
+  write(kind, "[[fact]]\nkind = \"peak_frequency\"\nvpp = 250\ntarget = 40200\ntolerance = 200\n\n"
+              "[[fact]]\nkind = \"magic\"\nvpp = 250\ntarget = 1\ntolerance = 1\n");
   expect_one_line_error({"--config", kConfig, "--facts", kind.string()}, kind.string() + ":7: unknown kind 'magic'",
                         out);
   const fs::path tolerance = scratch("tolerance_0.toml");
@@ -117,9 +116,8 @@ TEST(SwumCalibrate, BadInputsAreOneLineErrorsNamingWhatAndWhere) {
 
   // Six distinct operating points (one repeated): too few to hold a quarter out.
   const fs::path few = scratch("few.csv");
-  write(few,
-        "vpp,frequency_hz,load_n,speed_mm_s\n100,40000,0,12\n200,40100,0,30\n200,40100,0,31\n100,40200,0,10\n"
-        "100,40300,0,9\n100,40400,0,8\n100,40500,0,7\n");
+  write(few, "vpp,frequency_hz,load_n,speed_mm_s\n100,40000,0,12\n200,40100,0,30\n200,40100,0,31\n100,40200,0,10\n"
+             "100,40300,0,9\n100,40400,0,8\n100,40500,0,7\n");
   expect_one_line_error({"--config", kConfig, "--measured", few.string()},
                         few.string() + ": 6 distinct operating points; calibration needs at least 8", out);
 
@@ -129,6 +127,23 @@ TEST(SwumCalibrate, BadInputsAreOneLineErrorsNamingWhatAndWhere) {
   fs::remove_all(scratch("no_such_dir"));
   expect_one_line_error({"--config", kConfig, "--measured", m}, "--out: no directory " + nowhere.string(),
                         nowhere / "fitted.toml");
+
+  // A name given twice is refused as such, before the report directory is made.
+  const fs::path report = scratch("twice_report");
+  fs::remove_all(report);
+  expect_one_line_error({"--config", kConfig, "--measured", m, "--free", "contact.preload_n,contact.preload_n",
+                         "--report", report.string()},
+                        "--free: 'contact.preload_n' is listed twice", out);
+  EXPECT_FALSE(fs::exists(report));
+
+  // --out naming an existing directory: refused before any fitting, nothing written into it.
+  const fs::path directory = scratch("out_is_a_directory");
+  fs::create_directories(directory);
+  const CliRun r = run_swum({"calibrate", "--config", kConfig, "--measured", m, "--out", directory.string()});
+  EXPECT_EQ(r.status, 1) << r.output;
+  EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << r.output;
+  EXPECT_NE(r.output.find("--out: '" + directory.string() + "' is not a file name"), std::string::npos) << r.output;
+  EXPECT_TRUE(fs::is_empty(directory));
 }
 
 TEST(SwumCalibrate, FitsThePreloadOfASynthesisedSweepAndHoldsE311AtItsPrior) {
@@ -137,8 +152,8 @@ TEST(SwumCalibrate, FitsThePreloadOfASynthesisedSweepAndHoldsE311AtItsPrior) {
   fs::remove(fitted);
   fs::remove_all(report);
   const CliRun r = run_swum({"calibrate", "--config", kConfig, "--measured", measured.string(), "--free",
-                             "contact.preload_n,stator.e311_c_per_v_m", "--out", fitted.string(), "--report", report.string(),
-                             "--json"});
+                             "contact.preload_n,stator.e311_c_per_v_m", "--out", fitted.string(), "--report",
+                             report.string(), "--json"});
   ASSERT_EQ(r.status, 0) << r.output;
   // stdout and stderr are merged: the object starts at the first '{' (a note on the input
   // file, if any, would come before it).
@@ -181,8 +196,8 @@ TEST(SwumCalibrate, FitsThePreloadOfASynthesisedSweepAndHoldsE311AtItsPrior) {
   EXPECT_EQ(text.rfind("# Written by `swum calibrate", 0), 0u) << text.substr(0, 200);
   EXPECT_NE(text.find("\n#   contact.preload_n = "), std::string::npos) << text.substr(0, 600);
   EXPECT_NE(text.find("\n#   stator.e311_c_per_v_m = "), std::string::npos) << text.substr(0, 600);
-  const CliRun sim =
-      run_swum({"simulate", "--config", fitted.string(), "--vpp", "200", "--frequency", "40200", "--json"});
+  const CliRun sim = run_swum(
+      {"simulate", "--config", fitted.string(), "--vpp", "200", "--frequency", "40200", "--json"});
   EXPECT_EQ(sim.status, 0) << sim.output;
 
   // The report directory: report.md, summary.json (the same object) and the plots.

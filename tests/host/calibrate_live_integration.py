@@ -19,12 +19,11 @@ the report directory holds report.md and summary.json; and swum-emu running fitt
 reproduces the device: the same live sweep on it is within 30 % of the gap between the device
 and swum-emu on the prior config (relative RMS, the workflow's floor of 5 % of the largest speed).
 
-Why the allowance (as in discrepancy_live_integration.py): the reported standard errors come
-from the fit's residual, which here is mostly not the injected noise but the difference between
-the model's measurement protocol and the live sweep (~0.1 % above the softening peak, several
-per cent across it, where the curve has collapsed and the speed depends on the mover's history).
-That mismatch does not shrink with the number of points while the standard errors do, so the
-fits land ~0.2-1 % from the truth, which can be 3-6 standard errors.
+Why an allowance at all: the model predicts each point with the sweep's own protocol (PROTOCOL:
+settle 50 ms, average 50 ms) and each sweep as one continuous run, but the first point of each
+sweep is reached by a voltage ramp on the device and from rest in the model, and the device
+samples its speed at the loop's ticks. What is left lands the fits 0.01-0.2 % from the truth
+(0.1-2.3 standard errors in the runs seen); PROTOCOL_ALLOWANCE (1 %) is the margin for it.
 """
 import csv
 import json
@@ -53,7 +52,7 @@ CURVES = 3 * 2
 # is determined (the mover's inertia sets the transient within each 50 ms settle) and lands
 # within its standard error of 0.2 kg; it is not among the free parameters here.
 PROTOCOL = ["--settle-ms", "50", "--window-ms", "50"]
-PROTOCOL_ALLOWANCE = 0.03  # relative; see the module docstring
+PROTOCOL_ALLOWANCE = 0.01  # relative; see the module docstring
 MAX_GAP_FRACTION = 0.30
 
 # The device's parameters: (section, key) -> (the line of config/li2019.toml up to its comment,
@@ -152,7 +151,7 @@ def main():
               f" ({'within' if within_se else 'not within'} 3 SE){'  AT A BOUND' if p['at_bound'] else ''}")
         check(within_se or miss <= PROTOCOL_ALLOWANCE * abs(truth),
               f"{p['name']} = {p['value']} +- {se}, truth {truth}")
-    check(identified >= 1, "none of the perturbed parameters identified")
+    check(identified == len(TRUTH), f"{identified} of the {len(TRUTH)} perturbed parameters identified")
 
     before, after = m["held_out_rms_prior"], m["held_out_rms"]
     print(f"  held-out RMS gap {100 * before:.3g} % -> {100 * after:.3g} % ({100 * after / before:.1f} % of before); "
