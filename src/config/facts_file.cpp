@@ -8,6 +8,7 @@
 
 #include <toml++/toml.h>
 
+#include "config/csv_cells.h"
 #include "config/toml_number.h"
 #include "model/parameters.h"
 
@@ -75,7 +76,7 @@ class FactReader {
     for (std::string_view a : allowed) list += (list.empty() ? "" : ", ") + std::string(a);
     for (const auto& [key, node] : table_) {
       if (std::find(allowed.begin(), allowed.end(), key.str()) == allowed.end()) {
-        fail(source_, line_, "unknown key '" + std::string(key.str()) + "' (this kind takes: " + list + ")");
+        fail(source_, line_, "unknown key '" + printable_cell(key.str()) + "' (this kind takes: " + list + ")");
       }
     }
   }
@@ -128,12 +129,12 @@ std::vector<Fact> parse_facts(std::string_view toml_text, std::string_view sourc
   try {
     root = toml::parse(toml_text, source_name);
   } catch (const toml::parse_error& e) {
-    fail(source_name, static_cast<int>(e.source().begin.line), std::string(e.description()));
+    fail(source_name, static_cast<int>(e.source().begin.line), "TOML syntax error: " + printable_cell(e.description()));
   }
   for (const auto& [key, node] : root) {
     if (key.str() != "fact") {
       fail(source_name, static_cast<int>(node.source().begin.line),
-           "unknown table or key '" + std::string(key.str()) + "' (a facts file holds [[fact]] tables)");
+           "unknown table or key '" + printable_cell(key.str()) + "' (a facts file holds [[fact]] tables)");
     }
   }
   const toml::array* array = root["fact"].as_array();
@@ -203,7 +204,8 @@ std::vector<Fact> parse_facts(std::string_view toml_text, std::string_view sourc
       f.load_n = r.number("load_n").value_or(0.0);
     } else {
       fail(source_name, line,
-           "unknown kind '" + *kind + "' (known: peak_frequency, dead_zone_onset, saturation_ratio, speed)");
+           "unknown kind '" + printable_cell(*kind) +
+               "' (known: peak_frequency, dead_zone_onset, saturation_ratio, speed)");
     }
     if (f.kind == FactKind::peak_frequency || f.kind == FactKind::speed) r.range("vpp", f.vpp, 1.0, 10000.0);
     if (f.kind != FactKind::peak_frequency) r.range("frequency_hz", f.frequency_hz, 1000.0, 200000.0);

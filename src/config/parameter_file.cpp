@@ -6,6 +6,7 @@
 
 #include <toml++/toml.h>
 
+#include "config/csv_cells.h"
 #include "config/toml_number.h"
 
 namespace swum {
@@ -79,7 +80,7 @@ MotorParameters parse_motor_parameters(std::string_view toml_text, std::string_v
   try {
     root = toml::parse(toml_text, source_name);
   } catch (const toml::parse_error& e) {
-    throw ParameterError(where(source_name, e.source()) + ": TOML syntax error: " + std::string(e.description()));
+    throw ParameterError(where(source_name, e.source()) + ": TOML syntax error: " + printable_cell(e.description()));
   }
   MotorParameters parameters{};
   const auto known_section = [](std::string_view name) {
@@ -118,7 +119,7 @@ MotorParameters parse_motor_parameters(std::string_view toml_text, std::string_v
       const auto* spec = find_parameter_spec(section, key.str());
       if (spec == nullptr) {
         throw ParameterError(where(source_name, node.source()) + ": unknown key " + section + "." +
-                             std::string(key.str()) + " (see docs/parameters.md for the valid keys)");
+                             printable_cell(key.str()) + " (see docs/parameters.md for the valid keys)");
       }
       spec->set(parameters, read_value(node, *spec, source_name));
     }

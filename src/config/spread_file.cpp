@@ -8,6 +8,7 @@
 
 #include <toml++/toml.h>
 
+#include "config/csv_cells.h"
 #include "config/number_format.h"
 #include "config/toml_number.h"
 
@@ -78,7 +79,7 @@ class EntryReader {
     for (auto&& [key, node] : table_) {
       if (std::find(used_.begin(), used_.end(), key.str()) == used_.end()) {
         fail(source_, node,
-             name_ + ": unknown key " + std::string(key.str()) + " for a " + distribution +
+             name_ + ": unknown key " + printable_cell(key.str()) + " for a " + distribution +
                  " distribution (normal: sigma or sigma_percent, truncate; uniform: min and max, "
                  "half_width or half_width_percent)");
       }
@@ -197,7 +198,7 @@ std::vector<ParameterSpread> parse_parameter_spreads(std::string_view toml_text,
   try {
     root = toml::parse(toml_text, source_name);
   } catch (const toml::parse_error& e) {
-    throw ParameterError(where(source_name, e.source()) + ": TOML syntax error: " + std::string(e.description()));
+    throw ParameterError(where(source_name, e.source()) + ": TOML syntax error: " + printable_cell(e.description()));
   }
   std::map<const ParameterSpec*, ParameterSpread> found;
   for (auto&& [section_key, section_node] : root) {

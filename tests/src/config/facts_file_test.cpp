@@ -278,8 +278,12 @@ TEST(FactsFile, RejectsAreOneLineWithFileLineAndWhat) {
   const std::string speed = kGoodFact + "[[fact]]\nkind = \"speed\"\nvpp = 100\nfrequency_hz = 40000\n";
   const Case cases[] = {
       // TOML errors, at the line of the error.
-      {kGoodFact + "[[fact]\n", "facts.toml:7: Error while parsing table header"},
-      {kGoodFact + "[[fact]]\nkind = \"speed\"\nvpp = = 3\n", "facts.toml:9: Error while parsing value"},
+      {kGoodFact + "[[fact]\n", "facts.toml:7: TOML syntax error: Error while parsing table header"},
+      {kGoodFact + "[[fact]]\nkind = \"speed\"\nvpp = = 3\n",
+       "facts.toml:9: TOML syntax error: Error while parsing value"},
+      // Control characters of the file are shown as \xNN: the message stays one line (fuzz finding).
+      {kGoodFact + "[[fact]]\nkind = \"peak\\nfrequency\"\n", "facts.toml:7: unknown kind 'peak\\x0afrequency'"},
+      {kGoodFact + "[[fact]]\nkind = n\nan\n", "facts.toml:8: TOML syntax error: "},
       // No [[fact]] table, or something else beside them.
       {"# nothing\n", "facts.toml: no [[fact]] table"},
       {"fact = []\n", "facts.toml: no [[fact]] table"},
