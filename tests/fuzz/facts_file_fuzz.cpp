@@ -44,8 +44,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         FUZZ_CHECK(f.vpp >= 1.0 && f.vpp <= 10000.0, "vpp %g", f.vpp);
         FUZZ_CHECK(f.search_hz[0] >= 1000.0 && f.search_hz[0] < f.search_hz[1] && f.search_hz[1] <= 200000.0,
                    "search %g..%g", f.search_hz[0], f.search_hz[1]);
-        FUZZ_CHECK(f.search_hz[2] > 0.0 && (f.search_hz[1] - f.search_hz[0]) / f.search_hz[2] <= 2000.0,
-                   "step %g", f.search_hz[2]);
+        FUZZ_CHECK(f.search_hz[2] > 0.0 && (f.search_hz[1] - f.search_hz[0]) / f.search_hz[2] <= 2000.0, "step %g",
+                   f.search_hz[2]);
         break;
       case swum::FactKind::dead_zone_onset:
         FUZZ_CHECK(f.frequency_hz >= 1000.0 && f.frequency_hz <= 200000.0, "frequency %g", f.frequency_hz);
