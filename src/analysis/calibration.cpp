@@ -109,10 +109,8 @@ CalibrationResult calibrate_to_measurements(const MotorParameters& prior, const 
       fit = std::move(best);
       break;
     }
-    dropped.push_back(held_at_prior(free[*worst.index], worst.reason));
     start = best->values;
-    start.erase(start.begin() + static_cast<std::ptrdiff_t>(*worst.index));
-    free.erase(free.begin() + static_cast<std::ptrdiff_t>(*worst.index));
+    dropped.push_back(hold_at_prior(worst, free, start));
   }
 
   result.fitted = prior;

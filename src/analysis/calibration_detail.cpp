@@ -181,9 +181,15 @@ Undetermined least_determined(const std::vector<double>& values, const std::vect
   return worst;
 }
 
-CalibratedParameter held_at_prior(const FreeParameter& f, std::string reason) {
-  return {f.name,  f.unit, f.origin, std::abs(f.scale), f.origin, kInfinity, f.lower,
-          f.upper, false,  false,    std::move(reason)};
+CalibratedParameter hold_at_prior(const Undetermined& which, std::vector<FreeParameter>& free,
+                                  std::vector<double>& start) {
+  const std::size_t k = *which.index;
+  const FreeParameter& f = free[k];
+  CalibratedParameter held{f.name,  f.unit, f.origin, std::abs(f.scale), f.origin, kInfinity, f.lower,
+                           f.upper, false,  false,    which.reason};
+  start.erase(start.begin() + static_cast<std::ptrdiff_t>(k));
+  free.erase(free.begin() + static_cast<std::ptrdiff_t>(k));
+  return held;
 }
 
 }  // namespace swum

@@ -51,8 +51,10 @@ struct Undetermined {
 // True when `value` lies on one of f's bounds (within 1e-6 spread).
 [[nodiscard]] bool at_bound(const FreeParameter& f, double value);
 
-// `f` as not identifiable, held at its prior, with the reason.
-[[nodiscard]] CalibratedParameter held_at_prior(const FreeParameter& f, std::string reason);
+// The next round of step 3: `which` (an index is set) leaves the free set and the values to
+// start from; returned as not identifiable, held at its prior, with the reason.
+[[nodiscard]] CalibratedParameter hold_at_prior(const Undetermined& which, std::vector<FreeParameter>& free,
+                                                std::vector<double>& start);
 
 // Relative RMS of the prior's and the fit's residuals on the training and held-out values, and
 // the held-out evidence of fit against prior (result.prior_predictions, fitted_predictions).
