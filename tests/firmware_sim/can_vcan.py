@@ -24,19 +24,14 @@ import canmatrix.formats
 
 from emu_harness import SOURCE_DIR, Emulator, RegisterMap, deadline, reference
 
+# The Python side's one CRC-8/SAE-J1850, written from docs/protocols.md (not the C++ codec's).
+sys.path.insert(0, os.path.join(SOURCE_DIR, "bench"))
+from swum_bench.can_link import crc8_sae_j1850 as crc8  # noqa: E402
+
 DB = canmatrix.formats.loadp_flat(os.path.join(SOURCE_DIR, "config/swum.dbc"))
 REASONS = RegisterMap().reasons
 COMMAND = DB.frame_by_name("Command")
 NODE = 1  # the DBC describes node 1
-
-
-def crc8(can_id, data7):
-    crc = 0xFF
-    for byte in bytes([can_id & 0xFF, (can_id >> 8) & 0xFF]) + bytes(data7):
-        crc ^= byte
-        for _ in range(8):
-            crc = ((crc << 1) ^ 0x1D) & 0xFF if crc & 0x80 else (crc << 1) & 0xFF
-    return crc ^ 0xFF
 
 
 def command_frame(mode, alive, frequency_hz, vpp, phase_deg=90.0):

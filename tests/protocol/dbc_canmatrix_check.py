@@ -7,19 +7,15 @@ identifier, little-endian, and bytes 0..6).
 usage: dbc_canmatrix_check.py SWUM_EMU_CAN_VECTORS config/swum.dbc
 """
 import json
+import os
 import subprocess
 import sys
 
 import canmatrix.formats
 
-
-def crc8(can_id, data7):
-    crc = 0xFF
-    for byte in bytes([can_id & 0xFF, (can_id >> 8) & 0xFF]) + bytes(data7):
-        crc ^= byte
-        for _ in range(8):
-            crc = ((crc << 1) ^ 0x1D) & 0xFF if crc & 0x80 else (crc << 1) & 0xFF
-    return crc ^ 0xFF
+# The Python side's one CRC-8/SAE-J1850, written from docs/protocols.md (not the C++ codec's).
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "bench"))
+from swum_bench.can_link import crc8_sae_j1850 as crc8  # noqa: E402
 
 
 def main():

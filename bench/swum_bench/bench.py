@@ -1,0 +1,353 @@
+"""The test bench: swum-emu in lockstep, a controller in the loop, and every control cycle's
+telemetry captured as named signals in emulated time (docs/testing-controllers.md).
+
+The emulator starts on the first step (or start()): faults and load events are given before,
+with inject() / scenario(), and reach swum-emu as --inject / --scenario, so they happen at an
+exact emulated time whatever the machine's load."""
+import math
+import os
+import queue
+import subprocess
+
+from . import telemetry
+from .controllers import Command, ExternalController, holding_values
+from .emulator import BenchError, Emulator
+from .modbus_gate import ModbusGate
+from .modbus_link import ModbusLink
+from .modbus_map import ModbusMap
+from .signals import BenchUsageError, Signal, write_csv
+
+# A hang guard only (wall time): how long the bench waits for one cycle of an external
+# controller, or for the emulator's answer, before calling the bench broken. Never a measure.
+HANG_GUARD_S = 120.0
+
+
+class Injection:
+    def __init__(self, kind, at_s, keys):
+        self.kind = kind
+        self.at_s = at_s
+        self.keys = keys
+
+    def option(self):
+        text = f"{self.kind}@{_bare(self.at_s)}"
+        if self.keys:
+            text += ":" + ",".join(f"{k}={_bare(v)}" for k, v in self.keys.items())
+        return text
+
+    def __repr__(self):
+        return f"Injection({self.option()})"
+
+
+def _bare(value):
+    if isinstance(value, bool):
+        raise BenchUsageError(f"inject: {value!r} is not a number or a word")
+    if isinstance(value, (int, float)):
+        if not math.isfinite(value):
+            raise BenchUsageError(f"inject: {value!r} is not a finite number")
+        return repr(value)
+    text = str(value)
+    if not text or any(c in text for c in ",:@= \t\n"):
+        raise BenchUsageError(f"inject: value {text!r} must be a bare word (no ',', ':', '@', '=', space)")
+    return text
+
+
+class Bench:
+    def __init__(self, emu_binary, source_dir, artifacts, transport="modbus", config=None, cycle_s=0.001,
+                 tick_hz=10000, watchdog_ms=100, emu_args=(), can_interface="vcan0", node=1):
+        if transport not in ("modbus", "can"):
+            raise BenchUsageError(f"transport must be 'modbus' or 'can', not {transport!r}")
+        if not (isinstance(tick_hz, int) and tick_hz > 0):
+            raise BenchUsageError(f"tick_hz must be a positive integer, not {tick_hz!r}")
+        ticks = cycle_s * tick_hz if isinstance(cycle_s, (int, float)) and math.isfinite(cycle_s) else float("nan")
+        if not (ticks >= 1 and abs(ticks - round(ticks)) < 1e-9 and round(ticks) <= 65535):
+            raise BenchUsageError(f"cycle_s {cycle_s!r} must be a whole number of ticks (1..65535) at {tick_hz} Hz")
+        self.emu_binary = emu_binary
+        self.source_dir = source_dir
+        self.artifacts = artifacts
+        self.transport = transport
+        self.config = config or os.path.join(source_dir, "config", "li2019.toml")
+        self.cycle_s = cycle_s
+        self.cycle_ticks = int(round(ticks))
+        self.tick_hz = tick_hz
+        self.watchdog_ms = watchdog_ms
+        self.emu_args = list(emu_args)
+        self.can_interface = can_interface
+        self.node = node
+        self.load_n = 0.0
+        self.injections = []
+        self.scenarios = []
+        self.controller = None
+        self.emulator = None
+        self.samples = []
+        self._link = None
+        self._gate = None
+        self._process = None
+        self._process_log = None
+        self._last = None
+        self._closed = False
+        # (emulated time, exit status) once an external controller has stopped, else None
+        self.controller_exit = None
+        os.makedirs(artifacts, exist_ok=True)
+
+    # ---- set-up (before the emulator starts) ------------------------------------------------
+    def _not_started(self, what):
+        if self.emulator is not None:
+            raise BenchUsageError(f"{what}: the emulator is running already (t = {self.time_s:g} s); "
+                                  "swum-emu takes faults and scenarios at start-up: call it before the first step")
+
+    def inject(self, kind, at_s, **keys):
+        """A scenario event at emulated time at_s (docs/scenarios.md: load_step, phase_open,
+        over_temperature, ...). Returns it; its at_s is what assert_fault_within wants."""
+        self._not_started("inject")
+        if not isinstance(kind, str) or not kind:
+            raise BenchUsageError(f"inject: the event type must be a name, not {kind!r}")
+        if isinstance(at_s, bool) or not isinstance(at_s, (int, float)) or not math.isfinite(at_s) or at_s < 0:
+            raise BenchUsageError(f"inject {kind}: at_s must be a finite number of seconds >= 0, not {at_s!r}")
+        event = Injection(kind, at_s, keys)
+        event.option()  # checks the values now, not at start-up
+        self.injections.append(event)
+        return event
+
+    def scenario(self, path):
+        """A scenario file (TOML, docs/scenarios.md) given to swum-emu at start-up."""
+        self._not_started("scenario")
+        if not os.path.isfile(path):
+            raise BenchUsageError(f"scenario: no such file {path}")
+        self.scenarios.append(path)
+
+    def use(self, controller):
+        """The controller in the loop: a Python object with cycle(sample) -> Command, an
+        ExternalController (a process), or None (the test sends commands with command())."""
+        self._not_started("use")
+        if controller is not None and not isinstance(controller, ExternalController) \
+                and not callable(getattr(controller, "cycle", None)):
+            raise BenchUsageError(f"use: {controller!r} has no cycle(sample) method and is not an ExternalController")
+        if isinstance(controller, ExternalController) and self.transport != "modbus":
+            raise BenchUsageError("use: an external controller process is gated over Modbus TCP; "
+                                  f"this bench runs over {self.transport}")
+        self.controller = controller
+        self._command = Command()
+
+    def command(self, action="keep_alive", **setpoints):
+        """Without a controller: what the bench sends from the next cycle on (the action once,
+        then keep-alives); setpoints are Command's fields (vpp=, frequency_hz=...)."""
+        if self.controller is not None:
+            raise BenchUsageError("command: a controller is in the loop; it sends the commands")
+        base = getattr(self, "_command", Command())
+        try:
+            self._command = Command(action=action, **{**base.__dict__, "action": action, **setpoints})
+        except TypeError as e:
+            raise BenchUsageError(f"command: {e}") from e
+        holding_values(self._command, self.load_n, 0)
+
+    # ---- running --------------------------------------------------------------------------
+    def start(self):
+        if self.emulator is not None:
+            return
+        if self._closed:
+            raise BenchUsageError("start: this bench is closed")
+        if not hasattr(self, "_command"):
+            self._command = Command()
+        args = ["--config", self.config, "--clock", "external", "--tick-hz", str(self.tick_hz),
+                "--watchdog-ms", str(self.watchdog_ms)]
+        if self.transport == "modbus":
+            args += ["--modbus", "tcp://127.0.0.1:0"]
+        else:
+            args += ["--modbus", "none", "--can", self.can_interface, "--node", str(self.node),
+                     "--sync-ticks", str(self.cycle_ticks)]
+        for path in self.scenarios:
+            args += ["--scenario", path]
+        for event in self.injections:
+            args += ["--inject", event.option()]
+        args += self.emu_args
+        self.emulator = Emulator(self.emu_binary, args, os.path.join(self.artifacts, "swum-emu.log"))
+        self.map = ModbusMap(os.path.join(self.source_dir, "config", "modbus_registers.json"))
+        if self.transport == "modbus":
+            host, port = self.emulator.modbus_endpoint()
+            self._link = ModbusLink(host, port, self.map, timeout_s=HANG_GUARD_S)
+            holding = self._read_holding()
+            self._capture(self._link.read_inputs(), holding)
+        else:
+            from .can_link import CanLink
+            self._link = CanLink(self.can_interface, self.node, self.source_dir, timeout_s=HANG_GUARD_S)
+            holding = holding_values(self._command, self.load_n, 0)
+            self._capture_can(self._link.sync(), holding)
+        if isinstance(self.controller, ExternalController):
+            self._start_external(host, port, holding)
+
+    def _read_holding(self):
+        rr = self._link.client.read_holding_registers(0, self.map.holding_count, slave=1)
+        if rr.isError():
+            raise BenchError(f"Modbus: read of holding registers 0..{self.map.holding_count - 1}: {rr}")
+        return self.map.decode_holding(rr.registers)
+
+    def _start_external(self, host, port, holding):
+        words = self.map.encode_holding(holding)
+        self._gate = ModbusGate((host, port), self._external_cycle)
+        self._gate.holding = dict(enumerate(words))
+        argv = self.controller.command_line(self._gate.endpoint, self.artifacts)
+        log_path = os.path.join(self.artifacts, "controller.log")
+        self._process_log = open(log_path, "w")
+        self._process_log.write("$ " + " ".join(argv) + "\n")
+        self._process_log.flush()
+        try:
+            self._process = subprocess.Popen(argv, stdin=subprocess.DEVNULL, stdout=self._process_log,
+                                             stderr=subprocess.STDOUT)
+        except OSError as e:
+            raise BenchError(f"cannot start the controller {argv[0]}: {e}") from e
+
+    def _external_cycle(self, words):
+        holding = self.map.decode_holding([words.get(i, 0) for i in range(self.map.holding_count)])
+        self._capture(self._link.read_inputs(), holding)
+        self._gate.events.put(("cycle", None))
+
+    def _capture(self, inputs, holding):
+        sample, sim_time = telemetry.from_modbus(inputs, self.tick_hz)
+        self._append(sample, sim_time, holding)
+
+    def _capture_can(self, values, holding):
+        sample, sim_time = telemetry.from_can(values, self.tick_hz)
+        self._append(sample, sim_time, holding)
+
+    def _append(self, sample, sim_time, holding):
+        if abs(sample["time_s"] - sim_time) > 0.0015:
+            raise BenchError(f"the emulator's tick rate is not {self.tick_hz} Hz: tick {sample['tick']:g} "
+                             f"at device time {sim_time:g} s")
+        telemetry.add_command(sample, holding)
+        self.samples.append(sample)
+        self._last = sample
+
+    def _one_cycle(self):
+        if isinstance(self.controller, ExternalController):
+            return self._external_step()
+        if self.controller is None:
+            command = self._command
+            self._command = Command(**{**command.__dict__, "action": "keep_alive"})
+        else:
+            command = self.controller.cycle(dict(self._last))
+        holding = holding_values(command, self.load_n, self.cycle_ticks)
+        if self.transport == "modbus":
+            self._capture(self._link.exchange(holding), holding)
+        else:
+            self._link.send_command(holding, enabled=self._last["state"] == 1)
+            self._capture_can(self._link.sync(), holding)
+
+    def _external_step(self):
+        if self.controller_exit is not None:
+            return self._bare_step()
+        self._gate.release()
+        while True:
+            try:
+                kind, detail = self._gate.events.get(timeout=HANG_GUARD_S)
+            except queue.Empty:
+                kind, detail = "error", f"no cycle from the controller in {HANG_GUARD_S:g} s of wall time"
+            if kind == "cycle":
+                return None
+            if kind == "closed":
+                try:  # gone for good, or reconnecting (then its next advance takes the permit)
+                    status = self._process.wait(5)
+                except subprocess.TimeoutExpired:
+                    continue
+                # The controller stopped (its run ended, or it gave up on a fault): time still
+                # belongs to the bench, which steps on with bare advances (no command, no
+                # watchdog feed), as a motor runs on when its controller dies.
+                self.controller_exit = (self.time_s, status)
+                return self._bare_step()
+            status = self._process.poll()
+            exited = f"; it exited with status {status}" if status is not None else ""
+            raise BenchError(f"controller {self.controller.name} at t = {self.time_s:g} s: {detail}{exited} "
+                             f"(log {self._process_log.name})")
+
+    def _bare_step(self):
+        """One cycle with no command: FC06 of `advance` alone (docs/protocols.md)."""
+        try:
+            wr = self._link.client.write_register(self.map.holding["advance"].address, self.cycle_ticks, slave=1)
+        except Exception as e:
+            raise BenchError(f"Modbus: write of advance: {e}") from e
+        if wr.isError():
+            raise BenchError(f"Modbus: write of advance refused: {wr}")
+        self._capture(self._link.read_inputs(), self._read_holding())
+
+    @property
+    def time_s(self):
+        """Emulated time of the last captured sample (0 before the start)."""
+        return self._last["time_s"] if self._last else 0.0
+
+    @property
+    def last(self):
+        """The last captured sample ({signal name: value})."""
+        self.start()
+        return dict(self._last)
+
+    def step(self, seconds):
+        """Runs control cycles until `seconds` of emulated time have passed (whole cycles)."""
+        if isinstance(seconds, bool) or not isinstance(seconds, (int, float)) or not math.isfinite(seconds) \
+                or seconds < 0:
+            raise BenchUsageError(f"step: seconds must be a finite number >= 0, not {seconds!r}")
+        self.start()
+        cycles = int(round(seconds / self.cycle_s))
+        if abs(cycles * self.cycle_s - seconds) > 1e-9:
+            raise BenchUsageError(f"step: {seconds:g} s is not a whole number of {self.cycle_s:g} s cycles")
+        for _ in range(cycles):
+            self._one_cycle()
+        return self.time_s
+
+    def run_until(self, condition, timeout_s):
+        """Runs cycles until condition(sample) is true for a captured sample; returns its time.
+        Not true within timeout_s of emulated time: AssertionError naming the condition."""
+        if not callable(condition):
+            raise BenchUsageError(f"run_until: condition must be a function of the sample, not {condition!r}")
+        if isinstance(timeout_s, bool) or not isinstance(timeout_s, (int, float)) or not math.isfinite(timeout_s) \
+                or timeout_s <= 0:
+            raise BenchUsageError(f"run_until: timeout_s must be a finite number > 0, not {timeout_s!r}")
+        self.start()
+        start = self.time_s
+        if condition(dict(self._last)):
+            return self.time_s
+        while self.time_s < start + timeout_s - 1e-9:
+            self._one_cycle()
+            if condition(dict(self._last)):
+                return self.time_s
+        name = getattr(condition, "__name__", "condition")
+        raise AssertionError(f"run_until({name}): not true within {timeout_s:g} s of emulated time "
+                             f"(from {start:.6f} s to {self.time_s:.6f} s); last sample: "
+                             + ", ".join(f"{k}={self._last[k]:g}" for k in ("speed_mm_s", "state", "fault_code")))
+
+    def signal(self, name):
+        """The captured signal `name` (telemetry.NAMES) as a Signal in emulated time."""
+        if name not in telemetry.UNITS:
+            raise BenchUsageError(f"signal: unknown signal {name!r} (known: {', '.join(telemetry.NAMES[1:])})")
+        if not self.samples:
+            raise BenchUsageError(f"signal {name}: nothing captured yet (step the bench first)")
+        return Signal(name, telemetry.UNITS[name], [s["time_s"] for s in self.samples],
+                      [s[name] for s in self.samples])
+
+    def signals(self):
+        return {name: self.signal(name) for name in telemetry.NAMES[1:]}
+
+    def save_capture(self, path=None):
+        """Every captured signal as CSV (default: capture.csv in the artifact folder)."""
+        path = path or os.path.join(self.artifacts, "capture.csv")
+        write_csv(path, self.signals())
+        return path
+
+    def close(self):
+        """Stops the controller and the emulator (by their pids) and closes the links."""
+        if self._closed:
+            return
+        self._closed = True
+        if self._gate is not None:  # first: a controller's last cycle must not wait on a permit
+            self._gate.close()
+        if self._process is not None and self._process.poll() is None:
+            self._process.terminate()
+            try:
+                self._process.wait(10)
+            except subprocess.TimeoutExpired:
+                self._process.kill()
+                self._process.wait()
+        if self._link is not None:
+            self._link.close()
+        if self.emulator is not None:
+            self.emulator.stop()
+        if self._process_log is not None:
+            self._process_log.close()

@@ -1,0 +1,118 @@
+"""The bench's CAN client (python-can on SocketCAN, frames from config/swum.dbc through
+canmatrix): one control cycle is a Command frame (plus AuxCommand when the load or a slew
+changes) and a CANopen SYNC; the eight telemetry frames that answer the SYNC were sampled at
+it (docs/protocols.md, "Lockstep over CAN"). The CRC and the alive counter are written here
+from the protocol text, apart from the C++ codec."""
+import os
+import time
+
+from .emulator import BenchError
+
+SYNC_ID = 0x080
+# Mode bits of the Command frame; a keep-alive repeats the mode that holds the drive as it is.
+MODES = {"disable": 0, "enable": 1, "reset_fault": 2}
+TELEMETRY = ("Status", "Motion", "Drive", "LoopStats", "Clock", "ElectricalA", "ElectricalB", "Output")
+
+
+def crc8_sae_j1850(can_id, data7):
+    """CRC-8/SAE-J1850 (poly 0x1D, init 0xFF, xorout 0xFF) over the identifier as two bytes,
+    little-endian, then payload bytes 0-6."""
+    crc = 0xFF
+    for byte in bytes([can_id & 0xFF, (can_id >> 8) & 0xFF]) + bytes(data7):
+        crc ^= byte
+        for _ in range(8):
+            crc = ((crc << 1) ^ 0x1D) & 0xFF if crc & 0x80 else (crc << 1) & 0xFF
+    return crc ^ 0xFF
+
+
+def load_dbc(source_dir):
+    import canmatrix.formats  # Debian's python3-canmatrix; imported here so Modbus-only runs need none
+    return canmatrix.formats.loadp_flat(os.path.join(source_dir, "config", "swum.dbc"))
+
+
+class CanLink:
+    def __init__(self, interface, node, source_dir, timeout_s=30.0):
+        import can  # python3-can
+        self.where = f"{interface} node {node}"
+        self.node = node
+        self.timeout_s = timeout_s
+        self.dbc = load_dbc(source_dir)
+        # The DBC describes node 1: identifiers are base + node.
+        self.frames = {f.name: f for f in self.dbc.frames}
+        self.ids = {name: f.arbitration_id.id - 1 + node for name, f in self.frames.items()
+                    if name not in ("Sync",)}
+        self.by_id = {self.ids[name]: name for name in TELEMETRY}
+        try:
+            self.bus = can.interface.Bus(channel=interface, interface="socketcan", receive_own_messages=False)
+        except (OSError, can.CanError) as e:
+            raise BenchError(f"CAN {interface}: cannot open: {e}") from e
+        self.bus.set_filters([{"can_id": i, "can_mask": 0x7FF} for i in self.by_id])
+        self._can = can
+        self._alive = {"Command": 0, "AuxCommand": 0}
+        self._aux = None
+
+    def close(self):
+        self.bus.shutdown()
+
+    def _send(self, name, raw):
+        frame = self.frames[name]
+        can_id = self.ids[name]
+        if name in self._alive:
+            self._alive[name] = (self._alive[name] + 1) % 16
+            raw["AliveCounter"] = self._alive[name]
+            raw["Crc"] = 0
+            data = frame.encode(raw)
+            data[7] = crc8_sae_j1850(can_id, data[:7])
+        else:
+            data = frame.encode(raw) if raw else bytearray()
+        msg = self._can.Message(arbitration_id=can_id, data=bytes(data), is_extended_id=False)
+        try:
+            self.bus.send(msg, timeout=self.timeout_s)
+        except self._can.CanError as e:
+            raise BenchError(f"CAN {self.where}: send of {name}: {e}") from e
+
+    def _raw(self, frame_name, signal_name, value):
+        return int(self.frames[frame_name].signal_by_name(signal_name).phys2raw(value))
+
+    def send_command(self, command, enabled):
+        """One Command frame (every set-point), and an AuxCommand when load or slews changed."""
+        action = command["command"]
+        mode = {0: 1 if enabled else 0, 1: 1, 2: 0, 3: 2}[action]
+        self._send("Command", {"Mode": mode, "Reserved1": 0, "Reserved2": 0,
+                               "Frequency": self._raw("Command", "Frequency", command["frequency_setpoint"]),
+                               "Phase": self._raw("Command", "Phase", command["phase_setpoint"]),
+                               "Amplitude": self._raw("Command", "Amplitude", command["amplitude_setpoint"])})
+        aux = (command["load_force"], command["frequency_slew"], command["amplitude_slew"])
+        if aux != self._aux:
+            self._send("AuxCommand", {"Reserved1": 0,
+                                      "Load": self._raw("AuxCommand", "Load", aux[0]),
+                                      "FrequencySlew": self._raw("AuxCommand", "FrequencySlew", aux[1]),
+                                      "AmplitudeSlew": self._raw("AuxCommand", "AmplitudeSlew", aux[2])})
+            self._aux = aux
+
+    def sync(self):
+        """One SYNC, and the telemetry set that answers it: {frame signal name: physical value}."""
+        msg = self._can.Message(arbitration_id=SYNC_ID, data=b"", is_extended_id=False)
+        try:
+            self.bus.send(msg, timeout=self.timeout_s)
+        except self._can.CanError as e:
+            raise BenchError(f"CAN {self.where}: send of SYNC: {e}") from e
+        return self.receive_set()
+
+    def receive_set(self):
+        """Telemetry frames up to Output, which ends a set (docs/protocols.md)."""
+        values = {}
+        deadline = time.monotonic() + self.timeout_s  # a hang guard, not a measurement
+        while True:
+            left = deadline - time.monotonic()
+            msg = self.bus.recv(timeout=max(left, 0)) if left > 0 else None
+            if msg is None:
+                raise BenchError(f"CAN {self.where}: no complete telemetry set within {self.timeout_s:g} s "
+                                 f"(got {sorted(values)})")
+            name = self.by_id.get(msg.arbitration_id)
+            if name is None:
+                continue
+            for signal_name, decoded in self.frames[name].decode(bytearray(msg.data)).items():
+                values[signal_name] = float(decoded.phys_value)
+            if name == "Output":
+                return values

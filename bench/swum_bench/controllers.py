@@ -1,0 +1,73 @@
+"""Controllers the bench can put in the loop.
+
+- A Python controller: any object with `cycle(sample) -> Command`; the bench calls it once per
+  control cycle with the telemetry of the previous one and sends what it returns.
+- An external process (ExternalController): it talks Modbus TCP to the endpoint the bench gives
+  it ("{modbus}" in its command line) and steps the emulator itself in lockstep; the bench's
+  gate lets its cycles through one by one (modbus_gate.py).
+- ReferenceController: `swum control`, the project's reference speed controller, as an external
+  process."""
+from dataclasses import dataclass
+
+from .signals import BenchUsageError
+
+
+@dataclass
+class Command:
+    """One cycle's command: action keep_alive | enable | disable | reset_fault, and the set-points
+    (Modbus holding registers 0-9 / CAN Command + AuxCommand)."""
+    action: str = "keep_alive"
+    frequency_hz: float = 40000.0
+    vpp: float = 0.0
+    phase_deg: float = 90.0
+    frequency_slew_hz_s: float = 1e6
+    amplitude_slew_vpp_s: float = 1e5
+
+
+ACTIONS = {"keep_alive": 0, "enable": 1, "disable": 2, "reset_fault": 3}
+
+
+def holding_values(command, load_n, advance_ticks):
+    """The holding registers 0..10 of a command ({register name: physical value})."""
+    if not isinstance(command, Command):
+        raise BenchUsageError(f"a controller's cycle() must return a swum_bench.Command, not {command!r}")
+    if command.action not in ACTIONS:
+        raise BenchUsageError(f"Command.action must be one of {sorted(ACTIONS)}, not {command.action!r}")
+    return {"command": ACTIONS[command.action], "frequency_setpoint": command.frequency_hz,
+            "amplitude_setpoint": command.vpp, "phase_setpoint": command.phase_deg, "load_force": load_n,
+            "frequency_slew": command.frequency_slew_hz_s, "amplitude_slew": command.amplitude_slew_vpp_s,
+            "advance": advance_ticks}
+
+
+class ExternalController:
+    """A controller process. argv: its command line, with "{modbus}" where the Modbus endpoint
+    (tcp://127.0.0.1:PORT) goes. It must step the emulator in lockstep (write `advance`) and wait
+    for replies without a short timeout: the bench holds a cycle while the test is not stepping."""
+
+    def __init__(self, argv, name=None):
+        if not argv or not any("{modbus}" in a for a in argv):
+            raise BenchUsageError("ExternalController: the command line must contain '{modbus}' "
+                                  "(where the bench's endpoint goes)")
+        self.argv = [str(a) for a in argv]
+        self.name = name or self.argv[0].rsplit("/", 1)[-1]
+
+    def command_line(self, endpoint, artifacts):
+        """argv with "{modbus}" -> the endpoint and "{artifacts}" -> the test's artifact folder."""
+        return [a.replace("{modbus}", endpoint).replace("{artifacts}", artifacts) for a in self.argv]
+
+
+class ReferenceController(ExternalController):
+    """`swum control`: PI speed control by the drive amplitude at a fixed frequency (docs/host.md).
+    Keyword arguments become its options (speed_mm_s=300 -> --speed-mm-s 300)."""
+
+    def __init__(self, swum_binary, speed_mm_s, duration_s=1000.0, cycle_ms=1, out="{artifacts}/swum_control.csv",
+                 **options):
+        argv = [swum_binary, "control", "--modbus", "{modbus}", "--speed-mm-s", repr(float(speed_mm_s)),
+                "--duration-s", repr(float(duration_s)), "--cycle-ms", str(cycle_ms),
+                # The gate holds a cycle while the test is not stepping: no response timeout.
+                "--timeout-ms", "600000"]
+        argv += ["--out", out]
+        for key, value in options.items():
+            argv += ["--" + key.replace("_", "-"), str(value)]
+        super().__init__(argv, name="swum control")
+        self.cycle_ms = cycle_ms

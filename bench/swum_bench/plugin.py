@@ -1,0 +1,120 @@
+"""The pytest plugin (`-p swum_bench.plugin`, or `pytest_plugins = ["swum_bench.plugin"]` in a
+conftest.py): the `swum_bench` fixture, command-line options, and the artifacts of a failing
+test (the plot of the failed assertion and the emulator's log) in its report and in the JUnit
+XML (`--junitxml`) as properties swum_plot / swum_emulator_log / swum_capture."""
+import os
+import re
+import shutil
+
+import pytest
+
+from . import attachments
+from .bench import Bench
+from .controllers import ReferenceController
+from .signals import BenchUsageError
+
+_HERE = os.path.dirname(os.path.abspath(__file__))
+
+
+def pytest_addoption(parser):
+    group = parser.getgroup("swum_bench", "swum-hil controller test bench")
+    group.addoption("--swum-emu", default=os.environ.get("SWUM_EMU"),
+                    help="swum-emu binary (default: $SWUM_EMU)")
+    group.addoption("--swum", default=os.environ.get("SWUM_BINARY"),
+                    help="swum binary, for the reference controller (default: $SWUM_BINARY)")
+    group.addoption("--swum-source", default=os.environ.get("SWUM_SOURCE_DIR", os.path.normpath(os.path.join(_HERE, "..", ".."))),
+                    help="swum-hil source tree (config/ is read from it)")
+    group.addoption("--swum-transport", default=os.environ.get("SWUM_BENCH_TRANSPORT", "modbus"),
+                    choices=("modbus", "can"), help="the bench's link to swum-emu (can: vcan0, lockstep by SYNC)")
+    group.addoption("--swum-can-interface", default="vcan0", help="CAN interface for --swum-transport can")
+    group.addoption("--swum-artifacts", default=None,
+                    help="folder for each test's capture.csv, logs and plots (default: under pytest's tmp_path)")
+
+
+def _test_folder(config, item, tmp_path_factory):
+    root = config.getoption("--swum-artifacts")
+    name = re.sub(r"[^A-Za-z0-9_.-]+", "_", item.nodeid)[-120:]
+    if root is None:
+        return str(tmp_path_factory.mktemp(name[-40:], numbered=True))
+    folder = os.path.join(root, name)
+    shutil.rmtree(folder, ignore_errors=True)
+    return folder
+
+
+class BenchFactory:
+    """What the `swum_bench` fixture gives: call it to get a Bench (one emulator each)."""
+
+    def __init__(self, config, folder):
+        self._config = config
+        self.folder = folder
+        self.benches = []
+
+    @property
+    def swum_binary(self):
+        binary = self._config.getoption("--swum")
+        if not binary:
+            raise BenchUsageError("the reference controller needs the swum binary: --swum or SWUM_BINARY")
+        return binary
+
+    def reference_controller(self, speed_mm_s, **options):
+        """`swum control` at speed_mm_s (options as in docs/host.md, e.g. frequency_hz=40000)."""
+        return ReferenceController(self.swum_binary, speed_mm_s, **options)
+
+    def __call__(self, controller=None, **options):
+        index = len(self.benches)
+        folder = self.folder if index == 0 else os.path.join(self.folder, f"bench{index + 1}")
+        bench = Bench(self._config.getoption("--swum-emu"), self._config.getoption("--swum-source"), folder,
+                      transport=options.pop("transport", self._config.getoption("--swum-transport")),
+                      can_interface=self._config.getoption("--swum-can-interface"), **options)
+        if controller is not None:
+            bench.use(controller)
+        self.benches.append(bench)
+        return bench
+
+
+@pytest.fixture
+def swum_bench(request, tmp_path_factory):
+    """Factory of benches: `bench = swum_bench(controller)`; every bench it made is closed (its
+    processes stopped by pid) and its capture saved when the test ends."""
+    folder = _test_folder(request.config, request.node, tmp_path_factory)
+    os.makedirs(folder, exist_ok=True)
+    factory = BenchFactory(request.config, folder)
+    request.node._swum_factory = factory
+    yield factory
+    for bench in factory.benches:
+        try:
+            if bench.samples:
+                path = bench.save_capture()
+                request.node.user_properties.append(("swum_capture", path))
+        finally:
+            bench.close()
+
+
+@pytest.hookimpl(hookwrapper=True)
+def pytest_runtest_call(item):
+    factory = getattr(item, "_swum_factory", None)
+    attachments.begin(factory.folder if factory else None)
+    try:
+        yield
+    finally:
+        item._swum_plots = attachments.end()
+
+
+@pytest.hookimpl(hookwrapper=True)
+def pytest_runtest_makereport(item, call):
+    if call.when == "call":
+        factory = getattr(item, "_swum_factory", None)
+        failed = call.excinfo is not None
+        if failed:
+            for path in getattr(item, "_swum_plots", []):
+                item.user_properties.append(("swum_plot", path))
+            for bench in factory.benches if factory else []:
+                if bench.emulator is not None:
+                    item.user_properties.append(("swum_emulator_log", bench.emulator.log_path))
+    outcome = yield
+    report = outcome.get_result()
+    if call.when == "call" and call.excinfo is not None:
+        factory = getattr(item, "_swum_factory", None)
+        for bench in factory.benches if factory else []:
+            if bench.emulator is not None:
+                report.sections.append((f"swum-emu log ({bench.emulator.log_path})", bench.emulator.log_tail()))
