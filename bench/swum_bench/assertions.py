@@ -5,7 +5,8 @@ Common rules:
   without samples, a negative band / tolerance / duration, a non-finite argument are
   BenchUsageError (a mistake in the test, not a controller failure).
 - A value on the edge of a band is inside it (compared with a rounding allowance of 1e-12
-  relative to the band's scale).
+  relative to the values' scale), and a sample at a deadline is at it (times within 1 ns:
+  0.1 + 0.2 is 0.3 here).
 - A NaN in the analysed window fails the assertion at the NaN's time: a controller or a plant
   that produces a non-number has failed, whatever the rest of the signal does.
 - A failure raises WaveformAssertionError naming the assertion, the signal, the first violating
@@ -36,7 +37,7 @@ def _number(what, name, value, minimum=None, strict=False):
     value = float(value)
     if minimum is not None and (value < minimum or (strict and value == minimum)):
         relation = ">" if strict else ">="
-        raise BenchUsageError(f"{what}: {name} must be {relation} {minimum:g}, got {value:g}")
+        raise BenchUsageError(f"{what}: {name} must be {relation} {minimum:.9g}, got {value:.9g}")
     return value
 
 
@@ -47,11 +48,14 @@ def _signal(what, signal):
 
 
 def _slack(*scales):
-    return 1e-12 * max([1.0] + [abs(s) for s in scales])
+    return 1e-12 * max([1.0] + [abs(float(s)) for s in scales if math.isfinite(s)])
+
+
+TIME_SLACK_S = 1e-9  # emulated times are whole ticks (>= 1 us); sums like 0.1 + 0.2 miss by ~1e-17
 
 
 def _v(value, unit):
-    return f"{value:.6g}{(' ' + unit) if unit else ''}"
+    return f"{value:.9g}{(' ' + unit) if unit else ''}"
 
 
 def _first_nan(w):
@@ -85,24 +89,24 @@ def assert_settles(signal, target, band, within_s, start_s=None, end_s=None):
     w = signal.window(start_s, end_s, what)
     start = float(w.time_s[0]) if start_s is None else _number(what, "start_s", start_s)
     deadline = start + within_s
-    if w.time_s[-1] < deadline:
-        raise BenchUsageError(f"{what}: the window ends at {w.time_s[-1]:g} s, before the deadline "
-                              f"{deadline:g} s (start {start:g} s + within {within_s:g} s): nothing to check")
+    if w.time_s[-1] < deadline - TIME_SLACK_S:
+        raise BenchUsageError(f"{what}: the window ends at {w.time_s[-1]:.9g} s, before the deadline "
+                              f"{deadline:.9g} s (start {start:.9g} s + within {within_s:.9g} s): nothing to check")
     lo, hi = target - band, target + band
     marks = [(deadline, "deadline")]
     _nan_check(what, w, band=(lo, hi), marks=marks)
-    inside = np.abs(w.values - target) <= band + _slack(target, band)
+    inside = np.abs(w.values - target) <= band + _slack(target, band, *w.values)
     outside = np.flatnonzero(~inside)
     settled_at = float(w.time_s[0]) if outside.size == 0 else None
     if outside.size and outside[-1] + 1 < len(w):
         settled_at = float(w.time_s[outside[-1] + 1])
-    late = np.flatnonzero(~inside & (w.time_s >= deadline))
+    late = np.flatnonzero(~inside & (w.time_s >= deadline - TIME_SLACK_S))
     if late.size:
         i = int(late[0])
         when = ("it never settles (the last sample is outside)" if settled_at is None
                 else f"it settles only at {settled_at:.6f} s")
-        _fail(what, w, f"not within {target:g} ± {band:g} {w.unit} from {deadline:.6f} s "
-                       f"(start {start:g} s + {within_s:g} s): first violation at t = {w.time_s[i]:.6f} s, "
+        _fail(what, w, f"not within {target:.9g} ± {band:.9g} {w.unit} from {deadline:.6f} s "
+                       f"(start {start:.9g} s + {within_s:.9g} s): first violation at t = {w.time_s[i]:.6f} s, "
                        f"value {_v(w.values[i], w.unit)} (off by {w.values[i] - target:+.6g}); {when}",
               float(w.time_s[i]), float(w.values[i]), band=(lo, hi), marks=marks)
     return settled_at - start
@@ -115,29 +119,30 @@ def assert_within(signal, low, high, start_s=None, end_s=None):
     low = _number(what, "low", low)
     high = _number(what, "high", high)
     if high < low:
-        raise BenchUsageError(f"{what}: high {high:g} is below low {low:g}")
+        raise BenchUsageError(f"{what}: high {high:.9g} is below low {low:.9g}")
     w = signal.window(start_s, end_s, what)
     _nan_check(what, w, band=(low, high))
-    slack = _slack(low, high)
+    slack = _slack(low, high, *w.values)
     bad = np.flatnonzero((w.values < low - slack) | (w.values > high + slack))
     if bad.size:
         i = int(bad[0])
-        _fail(what, w, f"leaves [{low:g}, {high:g}] {w.unit} at t = {w.time_s[i]:.6f} s, value "
-                       f"{_v(w.values[i], w.unit)} (window {w.time_s[0]:g}..{w.time_s[-1]:g} s; "
+        _fail(what, w, f"leaves [{low:.9g}, {high:.9g}] {w.unit} at t = {w.time_s[i]:.6f} s, value "
+                       f"{_v(w.values[i], w.unit)} (window {w.time_s[0]:.9g}..{w.time_s[-1]:.9g} s; "
                        f"{bad.size} of {len(w)} samples outside)",
               float(w.time_s[i]), float(w.values[i]), band=(low, high))
     return float(np.max(np.abs(w.values - 0.5 * (low + high))))
 
 
 def _step(what, w, target, initial):
-    initial = float(w.values[0]) if initial is None else _number(what, "initial", initial)
-    if not math.isfinite(initial):
-        raise BenchUsageError(f"{what}: the first sample of {w.name} (the step's initial value) is not a number; "
-                              "pass initial=")
+    if initial is None:
+        _nan_check(what, w.window(None, w.time_s[0], what))  # a NaN first sample fails at its time
+        initial = float(w.values[0])
+    else:
+        initial = _number(what, "initial", initial)
     step = target - initial
     if step == 0:
-        raise BenchUsageError(f"{what}: the step is empty: target {target:g} equals the initial value "
-                              f"{initial:g}")
+        raise BenchUsageError(f"{what}: the step is empty: target {target:.9g} equals the initial value "
+                              f"{initial:.9g}")
     return initial, step
 
 
@@ -156,10 +161,11 @@ def assert_overshoot(signal, target, max_percent, start_s=None, end_s=None, init
     over = (w.values - target) / step * 100.0
     peak = int(np.argmax(over))
     worst = max(0.0, float(over[peak]))
-    bad = np.flatnonzero(over > max_percent + _slack(max_percent) * 100)
+    beyond = (w.values - limit) * np.sign(step)  # > 0: past the allowed overshoot
+    bad = np.flatnonzero(beyond > _slack(limit, initial, target, *w.values))
     if bad.size:
         i = int(bad[0])
-        _fail(what, w, f"overshoot {worst:.4g} % > {max_percent:g} % of the step {initial:g} -> {target:g} "
+        _fail(what, w, f"overshoot {worst:.4g} % > {max_percent:.9g} % of the step {initial:.9g} -> {target:.9g} "
                        f"{w.unit}: first beyond at t = {w.time_s[i]:.6f} s, value {_v(w.values[i], w.unit)}; "
                        f"peak {_v(w.values[peak], w.unit)} at t = {w.time_s[peak]:.6f} s",
               float(w.time_s[i]), float(w.values[i]), band=band)
@@ -176,32 +182,32 @@ def assert_rise_time(signal, target, max_s, start_s=None, end_s=None, initial=No
     low = _number(what, "low", low, minimum=0)
     high = _number(what, "high", high)
     if not low < high <= 1:
-        raise BenchUsageError(f"{what}: need 0 <= low < high <= 1, got low {low:g}, high {high:g}")
+        raise BenchUsageError(f"{what}: need 0 <= low < high <= 1, got low {low:.9g}, high {high:.9g}")
     w = signal.window(start_s, end_s, what)
     initial, step = _step(what, w, target, initial)
     level_lo, level_hi = initial + low * step, initial + high * step
     _nan_check(what, w, band=(min(level_lo, level_hi), max(level_lo, level_hi)))
     progress = (w.values - initial) / step
-    slack = _slack(high)
-    hits_lo = np.flatnonzero(progress >= low - slack)
-    hits_hi = np.flatnonzero(progress >= high - slack)
+    slack = _slack(initial, target, *w.values)
+    hits_lo = np.flatnonzero((w.values - level_lo) * np.sign(step) >= -slack)
+    hits_hi = np.flatnonzero((w.values - level_hi) * np.sign(step) >= -slack)
     band = (min(level_lo, level_hi), max(level_lo, level_hi))
     if hits_hi.size == 0:
         best = int(np.argmax(progress))
-        _fail(what, w, f"never reaches {high * 100:g} % of the step {initial:g} -> {target:g} ({level_hi:g} "
+        _fail(what, w, f"never reaches {high * 100:.9g} % of the step {initial:.9g} -> {target:.9g} ({level_hi:.9g} "
                        f"{w.unit}) by {w.time_s[-1]:.6f} s: closest {_v(w.values[best], w.unit)} at "
                        f"t = {w.time_s[best]:.6f} s", float(w.time_s[best]), float(w.values[best]), band=band)
     t_lo = float(w.time_s[hits_lo[0]])
     t_hi = float(w.time_s[hits_hi[0]])
     rise = t_hi - t_lo
-    if rise > max_s + _slack(max_s):
+    if rise > max_s + TIME_SLACK_S:
         late = t_lo + max_s
-        i = min(int(np.searchsorted(w.time_s, late, side="right")), len(w) - 1)
-        _fail(what, w, f"rise time {rise:.6f} s > {max_s:g} s ({low * 100:g} % at {t_lo:.6f} s, "
-                       f"{high * 100:g} % = {level_hi:g} {w.unit} only at {t_hi:.6f} s); at t = "
+        i = max(int(np.searchsorted(w.time_s, late + TIME_SLACK_S, side="right")) - 1, 0)
+        _fail(what, w, f"rise time {rise:.6f} s > {max_s:.9g} s ({low * 100:.9g} % at {t_lo:.6f} s, "
+                       f"{high * 100:.9g} % = {level_hi:.9g} {w.unit} only at {t_hi:.6f} s); at t = "
                        f"{w.time_s[i]:.6f} s the value is {_v(w.values[i], w.unit)}",
               float(w.time_s[i]), float(w.values[i]), band=band,
-              marks=[(t_lo, f"{low * 100:g} %"), (late, "limit")])
+              marks=[(t_lo, f"{low * 100:.9g} %"), (late, "limit")])
     return rise
 
 
@@ -215,25 +221,25 @@ def assert_reaches(signal, threshold, before_s, start_s=None, direction="above")
     if direction not in ("above", "below"):
         raise BenchUsageError(f"{what}: direction must be 'above' or 'below', not {direction!r}")
     w = signal.window(start_s, None, what)
-    if before_s < w.time_s[0]:
-        raise BenchUsageError(f"{what}: before_s {before_s:g} s is before the window's start {w.time_s[0]:g} s")
+    if before_s < w.time_s[0] - TIME_SLACK_S:
+        raise BenchUsageError(f"{what}: before_s {before_s:.9g} s is before the window's start {w.time_s[0]:.9g} s")
     relation = ">=" if direction == "above" else "<="
     marks = [(before_s, "deadline")]
-    upto = w.window(None, before_s, what)
+    upto = w.window(None, before_s + TIME_SLACK_S, what)
     _nan_check(what, upto, marks=marks)
-    slack = _slack(threshold)
+    slack = _slack(threshold, *w.values)
     reached = w.values >= threshold - slack if direction == "above" else w.values <= threshold + slack
     hits = np.flatnonzero(reached)
-    if hits.size and w.time_s[hits[0]] <= before_s:
+    if hits.size and w.time_s[hits[0]] <= before_s + TIME_SLACK_S:
         return float(w.time_s[hits[0]])
-    if w.time_s[-1] < before_s:
-        raise BenchUsageError(f"{what}: {w.name} ends at {w.time_s[-1]:g} s, before before_s {before_s:g} s, "
-                              f"without reaching {relation} {threshold:g}: step the bench further")
+    if w.time_s[-1] < before_s - TIME_SLACK_S:
+        raise BenchUsageError(f"{what}: {w.name} ends at {w.time_s[-1]:.9g} s, before before_s {before_s:.9g} s, "
+                              f"without reaching {relation} {threshold:.9g}: step the bench further")
     band = (threshold, np.nanmax(w.values)) if direction == "above" else (np.nanmin(w.values), threshold)
-    i = int(np.searchsorted(w.time_s, before_s, side="right")) - 1
+    i = int(np.searchsorted(w.time_s, before_s + TIME_SLACK_S, side="right")) - 1
     when = (f"it does so only at {w.time_s[hits[0]]:.6f} s" if hits.size
             else f"it never does by {w.time_s[-1]:.6f} s")
-    _fail(what, w, f"not {relation} {threshold:g} {w.unit} by {before_s:.6f} s: at t = {w.time_s[i]:.6f} s "
+    _fail(what, w, f"not {relation} {threshold:.9g} {w.unit} by {before_s:.6f} s: at t = {w.time_s[i]:.6f} s "
                    f"the value is {_v(w.values[i], w.unit)}; {when}",
           float(w.time_s[i]), float(w.values[i]), band=band, marks=marks)
 
@@ -243,15 +249,15 @@ def _reference_values(what, reference, w):
         if len(reference) == 0:
             raise BenchUsageError(f"{what}: the reference {reference.name} is empty")
         if w.time_s[0] < reference.time_s[0] or w.time_s[-1] > reference.time_s[-1]:
-            raise BenchUsageError(f"{what}: the reference {reference.name} spans {reference.time_s[0]:g}.."
-                                  f"{reference.time_s[-1]:g} s, not the whole window {w.time_s[0]:g}.."
-                                  f"{w.time_s[-1]:g} s")
+            raise BenchUsageError(f"{what}: the reference {reference.name} spans {reference.time_s[0]:.9g}.."
+                                  f"{reference.time_s[-1]:.9g} s, not the whole window {w.time_s[0]:.9g}.."
+                                  f"{w.time_s[-1]:.9g} s")
         return np.interp(w.time_s, reference.time_s, reference.values), reference.name
     if callable(reference):
         values = np.asarray([float(reference(float(t))) for t in w.time_s])
         return values, getattr(reference, "__name__", "reference")
     value = _number(what, "reference", reference)
-    return np.full(w.time_s.shape, value), f"{value:g}"
+    return np.full(w.time_s.shape, value), f"{value:.9g}"
 
 
 def assert_follows(signal, reference, band, start_s=None, end_s=None):
@@ -266,13 +272,14 @@ def assert_follows(signal, reference, band, start_s=None, end_s=None):
     nan_ref = np.flatnonzero(~np.isfinite(ref))
     if nan_ref.size:
         raise BenchUsageError(f"{what}: the reference {ref_name} is not a finite number at "
-                              f"t = {w.time_s[nan_ref[0]]:g} s")
+                              f"t = {w.time_s[nan_ref[0]]:.9g} s")
     error = w.values - ref
-    bad = np.flatnonzero(np.abs(error) > band + _slack(band, *ref[:1]))
+    slack = 1e-12 * np.maximum(np.maximum(np.abs(ref), np.abs(w.values)), max(1.0, band))
+    bad = np.flatnonzero(np.abs(error) > band + slack)
     if bad.size:
         i = int(bad[0])
-        _fail(what, w, f"off the reference {ref_name} by more than {band:g} {w.unit} at t = "
-                       f"{w.time_s[i]:.6f} s: value {_v(w.values[i], w.unit)}, reference {ref[i]:.6g} "
+        _fail(what, w, f"off the reference {ref_name} by more than {band:.9g} {w.unit} at t = "
+                       f"{w.time_s[i]:.6f} s: value {_v(w.values[i], w.unit)}, reference {ref[i]:.9g} "
                        f"(error {error[i]:+.6g}); {bad.size} of {len(w)} samples outside",
               float(w.time_s[i]), float(w.values[i]), band=(ref - band, ref + band), reference=ref)
     return float(np.max(np.abs(error)))
@@ -290,18 +297,18 @@ def assert_fault_within(fault_code, code, injected_at_s, within_s):
     w = fault_code.window(injected_at_s, None, what)
     deadline = injected_at_s + within_s
     marks = [(injected_at_s, "injection"), (deadline, "deadline")]
-    upto = w.window(None, deadline, what) if w.time_s[0] <= deadline else None
+    upto = w.window(None, deadline + TIME_SLACK_S, what) if w.time_s[0] <= deadline + TIME_SLACK_S else None
     if upto is not None:
         _nan_check(what, upto, marks=marks)
     hits = np.flatnonzero(w.values == code)
-    if hits.size and w.time_s[hits[0]] <= deadline:
+    if hits.size and w.time_s[hits[0]] <= deadline + TIME_SLACK_S:
         return float(w.time_s[hits[0]]) - injected_at_s
-    if w.time_s[-1] < deadline:
-        raise BenchUsageError(f"{what}: {w.name} ends at {w.time_s[-1]:g} s, before the deadline {deadline:g} s, "
+    if w.time_s[-1] < deadline - TIME_SLACK_S:
+        raise BenchUsageError(f"{what}: {w.name} ends at {w.time_s[-1]:.9g} s, before the deadline {deadline:.9g} s, "
                               f"without code {code}: step the bench further")
-    i = max(0, int(np.searchsorted(w.time_s, deadline, side="right")) - 1)
+    i = max(0, int(np.searchsorted(w.time_s, deadline + TIME_SLACK_S, side="right")) - 1)
     seen = sorted({int(v) for v in w.values[: i + 1] if np.isfinite(v)})
     when = f"it appears only at {w.time_s[hits[0]]:.6f} s" if hits.size else f"it never appears by {w.time_s[-1]:.6f} s"
-    _fail(what, w, f"fault code {code} not within {within_s:g} s of the injection at {injected_at_s:g} s: at "
-                   f"t = {w.time_s[i]:.6f} s the code is {w.values[i]:g} (codes seen: {seen}); {when}",
+    _fail(what, w, f"fault code {code} not within {within_s:.9g} s of the injection at {injected_at_s:.9g} s: at "
+                   f"t = {w.time_s[i]:.6f} s the code is {w.values[i]:.9g} (codes seen: {seen}); {when}",
           float(w.time_s[i]), float(w.values[i]), band=(code, code), marks=marks)

@@ -7,6 +7,7 @@ exact emulated time whatever the machine's load."""
 import math
 import os
 import queue
+import re
 import subprocess
 
 from . import telemetry
@@ -53,12 +54,14 @@ def _bare(value):
 
 class Bench:
     def __init__(self, emu_binary, source_dir, artifacts, transport="modbus", config=None, cycle_s=0.001,
-                 tick_hz=10000, watchdog_ms=100, emu_args=(), can_interface="vcan0", node=1):
+                 tick_hz=10000, watchdog_ms=100, emu_args=(), can_interface="vcan0", controller_can_interface="vcan1",
+                 node=1):
         if transport not in ("modbus", "can"):
             raise BenchUsageError(f"transport must be 'modbus' or 'can', not {transport!r}")
-        if not (isinstance(tick_hz, int) and tick_hz > 0):
+        if isinstance(tick_hz, bool) or not isinstance(tick_hz, int) or tick_hz <= 0:
             raise BenchUsageError(f"tick_hz must be a positive integer, not {tick_hz!r}")
-        ticks = cycle_s * tick_hz if isinstance(cycle_s, (int, float)) and math.isfinite(cycle_s) else float("nan")
+        ticks = (cycle_s * tick_hz if not isinstance(cycle_s, bool) and isinstance(cycle_s, (int, float))
+                 and math.isfinite(cycle_s) else float("nan"))
         if not (ticks >= 1 and abs(ticks - round(ticks)) < 1e-9 and round(ticks) <= 65535):
             raise BenchUsageError(f"cycle_s {cycle_s!r} must be a whole number of ticks (1..65535) at {tick_hz} Hz")
         self.emu_binary = emu_binary
@@ -72,6 +75,7 @@ class Bench:
         self.watchdog_ms = watchdog_ms
         self.emu_args = list(emu_args)
         self.can_interface = can_interface
+        self.controller_can_interface = controller_can_interface
         self.node = node
         self.load_n = 0.0
         self.injections = []
@@ -99,8 +103,11 @@ class Bench:
         """A scenario event at emulated time at_s (docs/scenarios.md: load_step, phase_open,
         over_temperature, ...). Returns it; its at_s is what assert_fault_within wants."""
         self._not_started("inject")
-        if not isinstance(kind, str) or not kind:
-            raise BenchUsageError(f"inject: the event type must be a name, not {kind!r}")
+        if not isinstance(kind, str) or not re.fullmatch(r"[a-z][a-z_]*", kind):
+            raise BenchUsageError(f"inject: the event type must be a name such as load_step, not {kind!r}")
+        for key in keys:
+            if not re.fullmatch(r"[a-z][a-z_]*", key):
+                raise BenchUsageError(f"inject {kind}: key {key!r} is not a key name")
         if isinstance(at_s, bool) or not isinstance(at_s, (int, float)) or not math.isfinite(at_s) or at_s < 0:
             raise BenchUsageError(f"inject {kind}: at_s must be a finite number of seconds >= 0, not {at_s!r}")
         event = Injection(kind, at_s, keys)
@@ -122,9 +129,8 @@ class Bench:
         if controller is not None and not isinstance(controller, ExternalController) \
                 and not callable(getattr(controller, "cycle", None)):
             raise BenchUsageError(f"use: {controller!r} has no cycle(sample) method and is not an ExternalController")
-        if isinstance(controller, ExternalController) and self.transport != "modbus":
-            raise BenchUsageError("use: an external controller process is gated over Modbus TCP; "
-                                  f"this bench runs over {self.transport}")
+        if isinstance(controller, ExternalController):
+            controller.check_transport(self.transport)
         self.controller = controller
         self._command = Command()
 
@@ -135,10 +141,11 @@ class Bench:
             raise BenchUsageError("command: a controller is in the loop; it sends the commands")
         base = getattr(self, "_command", Command())
         try:
-            self._command = Command(action=action, **{**base.__dict__, "action": action, **setpoints})
+            command = Command(**{**base.__dict__, **setpoints, "action": action})
         except TypeError as e:
             raise BenchUsageError(f"command: {e}") from e
-        holding_values(self._command, self.load_n, 0)
+        holding_values(command, self.load_n, 0)  # checks the action and the values now
+        self._command = command
 
     # ---- running --------------------------------------------------------------------------
     def start(self):
@@ -162,18 +169,29 @@ class Bench:
         args += self.emu_args
         self.emulator = Emulator(self.emu_binary, args, os.path.join(self.artifacts, "swum-emu.log"))
         self.map = ModbusMap(os.path.join(self.source_dir, "config", "modbus_registers.json"))
+        external = isinstance(self.controller, ExternalController)
         if self.transport == "modbus":
             host, port = self.emulator.modbus_endpoint()
             self._link = ModbusLink(host, port, self.map, timeout_s=HANG_GUARD_S)
             holding = self._read_holding()
             self._capture(self._link.read_inputs(), holding)
+            if external:
+                self._gate = ModbusGate((host, port), self._external_cycle)
+                self._gate.holding = dict(enumerate(self.map.encode_holding(holding)))
+        elif external:
+            # The controller's own first SYNC gives the first sample (the state at t = 0).
+            from .can_gate import CanGate
+            self._gate = CanGate(self.controller_can_interface, self.can_interface, self.node, self.source_dir,
+                                 self._external_can_cycle, timeout_s=HANG_GUARD_S)
         else:
-            from .can_link import CanLink
-            self._link = CanLink(self.can_interface, self.node, self.source_dir, timeout_s=HANG_GUARD_S)
-            holding = holding_values(self._command, self.load_n, 0)
-            self._capture_can(self._link.sync(), holding)
-        if isinstance(self.controller, ExternalController):
-            self._start_external(host, port, holding)
+            self._open_can_link()
+            self._capture_can(self._link.sync(), holding_values(self._command, self.load_n, 0))
+        if external:
+            self._start_process()
+
+    def _open_can_link(self):
+        from .can_link import CanLink
+        self._link = CanLink(self.can_interface, self.node, self.source_dir, timeout_s=HANG_GUARD_S)
 
     def _read_holding(self):
         rr = self._link.client.read_holding_registers(0, self.map.holding_count, slave=1)
@@ -181,11 +199,8 @@ class Bench:
             raise BenchError(f"Modbus: read of holding registers 0..{self.map.holding_count - 1}: {rr}")
         return self.map.decode_holding(rr.registers)
 
-    def _start_external(self, host, port, holding):
-        words = self.map.encode_holding(holding)
-        self._gate = ModbusGate((host, port), self._external_cycle)
-        self._gate.holding = dict(enumerate(words))
-        argv = self.controller.command_line(self._gate.endpoint, self.artifacts)
+    def _start_process(self):
+        argv = self.controller.command_line(self.transport, self._gate.endpoint, self.artifacts)
         log_path = os.path.join(self.artifacts, "controller.log")
         self._process_log = open(log_path, "w")
         self._process_log.write("$ " + " ".join(argv) + "\n")
@@ -200,6 +215,9 @@ class Bench:
         holding = self.map.decode_holding([words.get(i, 0) for i in range(self.map.holding_count)])
         self._capture(self._link.read_inputs(), holding)
         self._gate.events.put(("cycle", None))
+
+    def _external_can_cycle(self, values, command):
+        self._capture_can(values, command)
 
     def _capture(self, inputs, holding):
         sample, sim_time = telemetry.from_modbus(inputs, self.tick_hz)
@@ -227,6 +245,12 @@ class Bench:
             command = self.controller.cycle(dict(self._last))
         holding = holding_values(command, self.load_n, self.cycle_ticks)
         if self.transport == "modbus":
+            try:
+                words = self.map.encode_holding(holding)
+            except ValueError as e:  # NaN, or beyond what the register holds: the controller's fault
+                raise AssertionError(f"controller at t = {self.time_s:.6f} s sent a command the protocol cannot "
+                                     f"carry: {e}") from e
+            del words
             self._capture(self._link.exchange(holding), holding)
         else:
             self._link.send_command(holding, enabled=self._last["state"] == 1)
@@ -236,10 +260,21 @@ class Bench:
         if self.controller_exit is not None:
             return self._bare_step()
         self._gate.release()
+        waited = 0.0
         while True:
             try:
-                kind, detail = self._gate.events.get(timeout=HANG_GUARD_S)
+                kind, detail = self._gate.events.get(timeout=0.2)
             except queue.Empty:
+                waited += 0.2
+                status = self._process.poll()
+                if status is not None and self.transport == "can":
+                    # No connection closes on CAN: the exit is the sign. Frames it sent before
+                    # exiting are still crossing: wait for the gate to go quiet first.
+                    if self._gate.quiet_after_exit():
+                        return self._controller_gone(status)
+                    continue
+                if waited < HANG_GUARD_S:
+                    continue
                 kind, detail = "error", f"no cycle from the controller in {HANG_GUARD_S:g} s of wall time"
             if kind == "cycle":
                 return None
@@ -248,25 +283,40 @@ class Bench:
                     status = self._process.wait(5)
                 except subprocess.TimeoutExpired:
                     continue
-                # The controller stopped (its run ended, or it gave up on a fault): time still
-                # belongs to the bench, which steps on with bare advances (no command, no
-                # watchdog feed), as a motor runs on when its controller dies.
-                self.controller_exit = (self.time_s, status)
-                return self._bare_step()
+                return self._controller_gone(status)
             status = self._process.poll()
             exited = f"; it exited with status {status}" if status is not None else ""
             raise BenchError(f"controller {self.controller.name} at t = {self.time_s:g} s: {detail}{exited} "
                              f"(log {self._process_log.name})")
 
+    def _controller_gone(self, status):
+        """The controller stopped (its run ended, or it gave up on a fault): time still belongs
+        to the bench, which steps on with bare cycles (no command, no watchdog feed), as a motor
+        runs on when its controller dies."""
+        self.controller_exit = (self.time_s, status)
+        if self.transport == "can":
+            self._gate.close()
+            self._gate = None
+            self._open_can_link()
+        return self._bare_step()
+
     def _bare_step(self):
-        """One cycle with no command: FC06 of `advance` alone (docs/protocols.md)."""
+        """One cycle with no command: FC06 of `advance` alone, or a SYNC alone on CAN."""
+        if self.transport == "can":
+            self._capture_can(self._link.sync(), self._last_command_registers())
+            return
         try:
             wr = self._link.client.write_register(self.map.holding["advance"].address, self.cycle_ticks, slave=1)
         except Exception as e:
             raise BenchError(f"Modbus: write of advance: {e}") from e
         if wr.isError():
             raise BenchError(f"Modbus: write of advance refused: {wr}")
-        self._capture(self._link.read_inputs(), self._read_holding())
+        self._capture(self._link.read_inputs(), self._last_command_registers())
+
+    def _last_command_registers(self):
+        last = self._last
+        return {"command": last["command"], "frequency_setpoint": last["command_frequency_hz"],
+                "amplitude_setpoint": last["command_vpp"], "phase_setpoint": last["command_phase_deg"]}
 
     @property
     def time_s(self):
@@ -284,10 +334,10 @@ class Bench:
         if isinstance(seconds, bool) or not isinstance(seconds, (int, float)) or not math.isfinite(seconds) \
                 or seconds < 0:
             raise BenchUsageError(f"step: seconds must be a finite number >= 0, not {seconds!r}")
-        self.start()
         cycles = int(round(seconds / self.cycle_s))
         if abs(cycles * self.cycle_s - seconds) > 1e-9:
             raise BenchUsageError(f"step: {seconds:g} s is not a whole number of {self.cycle_s:g} s cycles")
+        self.start()
         for _ in range(cycles):
             self._one_cycle()
         return self.time_s
@@ -326,9 +376,10 @@ class Bench:
         return {name: self.signal(name) for name in telemetry.NAMES[1:]}
 
     def save_capture(self, path=None):
-        """Every captured signal as CSV (default: capture.csv in the artifact folder)."""
+        """Every captured sample as CSV (default: capture.csv in the artifact folder), one column
+        per signal with its unit, numbers in repr() so equal captures give equal bytes."""
         path = path or os.path.join(self.artifacts, "capture.csv")
-        write_csv(path, self.signals())
+        write_csv(path, self.samples, telemetry.UNITS)
         return path
 
     def close(self):

@@ -3,6 +3,7 @@ canmatrix): one control cycle is a Command frame (plus AuxCommand when the load 
 changes) and a CANopen SYNC; the eight telemetry frames that answer the SYNC were sampled at
 it (docs/protocols.md, "Lockstep over CAN"). The CRC and the alive counter are written here
 from the protocol text, apart from the C++ codec."""
+import decimal
 import os
 import time
 
@@ -72,7 +73,8 @@ class CanLink:
             raise BenchError(f"CAN {self.where}: send of {name}: {e}") from e
 
     def _raw(self, frame_name, signal_name, value):
-        return int(self.frames[frame_name].signal_by_name(signal_name).phys2raw(value))
+        # canmatrix computes in Decimal; repr() keeps the float's shortest exact text.
+        return int(self.frames[frame_name].signal_by_name(signal_name).phys2raw(decimal.Decimal(repr(float(value)))))
 
     def send_command(self, command, enabled):
         """One Command frame (every set-point), and an AuxCommand when load or slews changed."""

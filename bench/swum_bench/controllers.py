@@ -40,34 +40,50 @@ def holding_values(command, load_n, advance_ticks):
 
 
 class ExternalController:
-    """A controller process. argv: its command line, with "{modbus}" where the Modbus endpoint
-    (tcp://127.0.0.1:PORT) goes. It must step the emulator in lockstep (write `advance`) and wait
-    for replies without a short timeout: the bench holds a cycle while the test is not stepping."""
+    """A controller process. argv: its command line, with "{modbus}" (tcp://127.0.0.1:PORT) or
+    "{can}" (IFACE:NODE, the controller's bus) where the bench's endpoint goes, and optionally
+    "{artifacts}" (the test's artifact folder). It must step the emulator in lockstep (write
+    `advance` / send SYNC) and wait for replies without a short timeout: the bench holds a cycle
+    while the test is not stepping."""
 
     def __init__(self, argv, name=None):
-        if not argv or not any("{modbus}" in a for a in argv):
-            raise BenchUsageError("ExternalController: the command line must contain '{modbus}' "
+        self.argv = [str(a) for a in argv or []]
+        if not any("{modbus}" in a or "{can}" in a for a in self.argv):
+            raise BenchUsageError("ExternalController: the command line must contain '{modbus}' or '{can}' "
                                   "(where the bench's endpoint goes)")
-        self.argv = [str(a) for a in argv]
         self.name = name or self.argv[0].rsplit("/", 1)[-1]
 
-    def command_line(self, endpoint, artifacts):
-        """argv with "{modbus}" -> the endpoint and "{artifacts}" -> the test's artifact folder."""
-        return [a.replace("{modbus}", endpoint).replace("{artifacts}", artifacts) for a in self.argv]
+    def check_transport(self, transport):
+        if not any("{" + transport + "}" in a for a in self.argv):
+            raise BenchUsageError(f"{self.name}: its command line has no '{{{transport}}}', and the bench runs "
+                                  f"over {transport}")
+
+    def command_line(self, transport, endpoint, artifacts):
+        """argv with the transport's placeholder -> the endpoint, "{artifacts}" -> the folder."""
+        return [a.replace("{" + transport + "}", endpoint).replace("{artifacts}", artifacts) for a in self.argv]
 
 
 class ReferenceController(ExternalController):
-    """`swum control`: PI speed control by the drive amplitude at a fixed frequency (docs/host.md).
-    Keyword arguments become its options (speed_mm_s=300 -> --speed-mm-s 300)."""
+    """`swum control`: PI speed control by the drive amplitude at a fixed frequency (docs/host.md),
+    over whichever transport the bench runs. Keyword arguments become its options
+    (frequency_hz=40000 -> --frequency-hz 40000)."""
 
     def __init__(self, swum_binary, speed_mm_s, duration_s=1000.0, cycle_ms=1, out="{artifacts}/swum_control.csv",
                  **options):
-        argv = [swum_binary, "control", "--modbus", "{modbus}", "--speed-mm-s", repr(float(speed_mm_s)),
+        argv = [swum_binary, "control", "{device}", "--speed-mm-s", repr(float(speed_mm_s)),
                 "--duration-s", repr(float(duration_s)), "--cycle-ms", str(cycle_ms),
                 # The gate holds a cycle while the test is not stepping: no response timeout.
-                "--timeout-ms", "600000"]
-        argv += ["--out", out]
+                "--timeout-ms", "600000", "--out", out]
         for key, value in options.items():
             argv += ["--" + key.replace("_", "-"), str(value)]
-        super().__init__(argv, name="swum control")
-        self.cycle_ms = cycle_ms
+        self.argv = argv
+        self.name = "swum control"
+
+    def check_transport(self, transport):
+        pass  # swum control speaks both
+
+    def command_line(self, transport, endpoint, artifacts):
+        argv = []
+        for a in self.argv:
+            argv += [f"--{transport}", endpoint] if a == "{device}" else [a.replace("{artifacts}", artifacts)]
+        return argv

@@ -2,6 +2,7 @@
 and decoding of docs/protocols.md, written apart from the C++ codec so that it checks the
 emulator's side (32-bit values high word first, each register big-endian; raw * scale)."""
 import json
+import math
 import os
 
 _TYPES = {"uint16": (1, False), "int16": (1, True), "uint32": (2, False), "int32": (2, True)}
@@ -20,6 +21,8 @@ class Register:
 
     def decode(self, words):
         """Physical value of the register's words (a list of 16-bit values at self.address...)."""
+        if len(words) < self.words:
+            raise ValueError(f"{self.name}: {len(words)} word(s) given, the register has {self.words}")
         raw = 0
         for w in words[: self.words]:
             raw = (raw << 16) | (int(w) & 0xFFFF)
@@ -31,6 +34,8 @@ class Register:
     def encode(self, value):
         """The words of a physical value, rounded to the nearest count; out of the type's range is
         an error (the bench never writes a wrapped value)."""
+        if not math.isfinite(value):
+            raise ValueError(f"{self.name}: {value!r} is not a finite number")
         raw = int(round(value / self.scale))
         bits = 16 * self.words
         lo, hi = (-(1 << (bits - 1)), (1 << (bits - 1)) - 1) if self.signed else (0, (1 << bits) - 1)
@@ -70,6 +75,9 @@ class ModbusMap:
         missing = set(self.holding) - set(values)
         if missing:
             raise ValueError(f"holding registers not given: {sorted(missing)}")
+        unknown = set(values) - set(self.holding)
+        if unknown:
+            raise ValueError(f"no such holding registers: {sorted(unknown)}")
         for name, value in values.items():
             r = self.holding[name]
             words[r.address: r.address + r.words] = r.encode(value)

@@ -26,7 +26,9 @@ def pytest_addoption(parser):
                     help="swum-hil source tree (config/ is read from it)")
     group.addoption("--swum-transport", default=os.environ.get("SWUM_BENCH_TRANSPORT", "modbus"),
                     choices=("modbus", "can"), help="the bench's link to swum-emu (can: vcan0, lockstep by SYNC)")
-    group.addoption("--swum-can-interface", default="vcan0", help="CAN interface for --swum-transport can")
+    group.addoption("--swum-can-interface", default="vcan0", help="swum-emu's CAN interface for --swum-transport can")
+    group.addoption("--swum-controller-can-interface", default="vcan1",
+                    help="the CAN bus an external controller talks on; the bench bridges it to swum-emu's")
     group.addoption("--swum-artifacts", default=None,
                     help="folder for each test's capture.csv, logs and plots (default: under pytest's tmp_path)")
 
@@ -61,11 +63,16 @@ class BenchFactory:
         return ReferenceController(self.swum_binary, speed_mm_s, **options)
 
     def __call__(self, controller=None, **options):
+        transport = options.pop("transport", self._config.getoption("--swum-transport"))
+        if transport == "can" and int(os.environ.get("PYTEST_XDIST_WORKER_COUNT", "1")) > 1:
+            raise BenchUsageError("CAN benches cannot run in parallel on one bus: a CANopen SYNC steps every "
+                                  "node on it (run without -n, or give each worker its own bus)")
         index = len(self.benches)
         folder = self.folder if index == 0 else os.path.join(self.folder, f"bench{index + 1}")
         bench = Bench(self._config.getoption("--swum-emu"), self._config.getoption("--swum-source"), folder,
-                      transport=options.pop("transport", self._config.getoption("--swum-transport")),
-                      can_interface=self._config.getoption("--swum-can-interface"), **options)
+                      transport=transport,
+                      can_interface=self._config.getoption("--swum-can-interface"),
+                      controller_can_interface=self._config.getoption("--swum-controller-can-interface"), **options)
         if controller is not None:
             bench.use(controller)
         self.benches.append(bench)

@@ -43,9 +43,12 @@ class Signal:
         lo = self.time_s[0] if start_s is None and len(self) else start_s
         hi = self.time_s[-1] if end_s is None and len(self) else end_s
         for name, value in (("start_s", lo), ("end_s", hi)):
-            if value is not None and not (isinstance(value, (int, float)) and math.isfinite(value)):
+            if value is not None and not _finite_number(value):
                 raise BenchUsageError(f"{what}: {name} must be a finite number of seconds, not {value!r}")
         if lo is not None and hi is not None and hi < lo:
+            if end_s is None:
+                raise BenchUsageError(f"{what}: no samples of {self.name} from {lo:g} s on: the signal ends at "
+                                      f"{hi:g} s (step the bench further)")
             raise BenchUsageError(f"{what}: empty window: end {hi:g} s is before start {lo:g} s")
         mask = np.ones(self.time_s.shape, dtype=bool)
         if lo is not None:
@@ -60,25 +63,32 @@ class Signal:
 
     def at(self, time_s):
         """The value of the last sample at or before time_s (signals are sampled, not continuous)."""
+        if not _finite_number(time_s):
+            raise BenchUsageError(f"{self.name}.at: time_s must be a finite number of seconds, not {time_s!r}")
         i = int(np.searchsorted(self.time_s, time_s, side="right")) - 1
         if i < 0:
             raise BenchUsageError(f"{self.name}: no sample at or before {time_s:g} s")
         return float(self.values[i])
 
 
+def _finite_number(value):
+    return (not isinstance(value, (bool, np.bool_)) and isinstance(value, (int, float, np.integer, np.floating))
+            and math.isfinite(value))
+
+
 def _fmt(value):
     return "-" if value is None else f"{value:g}"
 
 
-def write_csv(path, signals):
-    """Every signal of a capture, one column each (they share their time stamps), with repr()
-    numbers so that equal captures give equal bytes."""
-    names = list(signals)
-    if not names:
+def write_csv(path, samples, units=None):
+    """Samples ({name: value} per cycle, the same names in each) as CSV: a header of
+    "name [unit]" and repr() numbers, so that equal captures give equal bytes."""
+    if not samples:
         raise BenchUsageError("write_csv: nothing captured")
-    time_s = signals[names[0]].time_s
+    names = sorted(samples[0], key=lambda n: n != "time_s")  # time first, then as captured
+    units = units or {}
     with open(path, "w", newline="") as f:
         w = csv.writer(f)
-        w.writerow(["time_s"] + [signals[n].label() for n in names])
-        for i, t in enumerate(time_s):
-            w.writerow([repr(float(t))] + [repr(float(signals[n].values[i])) for n in names])
+        w.writerow([f"{n} [{units[n]}]" if units.get(n) else n for n in names])
+        for sample in samples:
+            w.writerow([repr(float(sample[n])) for n in names])
