@@ -13,6 +13,7 @@ Common rules:
   time and the values there; inside pytest it also attaches a PNG of the signal with its band.
 Each assertion returns what it measured (a settling time, an overshoot, a rise time...)."""
 import math
+import reprlib
 
 import numpy as np
 
@@ -33,12 +34,19 @@ class WaveformAssertionError(AssertionError):
 def _number(what, name, value, minimum=None, strict=False):
     if isinstance(value, bool) or not isinstance(value, (int, float, np.floating, np.integer)) \
             or not math.isfinite(value):
-        raise BenchUsageError(f"{what}: {name} must be a finite number, not {value!r}")
+        raise BenchUsageError(f"{what}: {name} must be a finite number, not {_describe(value)}")
     value = float(value)
     if minimum is not None and (value < minimum or (strict and value == minimum)):
         relation = ">" if strict else ">="
         raise BenchUsageError(f"{what}: {name} must be {relation} {minimum:.9g}, got {value:.9g}")
     return value
+
+
+def _describe(value):
+    """A one-line description of a value for an error message (no multi-line numpy repr)."""
+    if isinstance(value, np.ndarray):
+        return f"an array of shape {value.shape}"
+    return reprlib.repr(value).replace("\n", " ")
 
 
 def _signal(what, signal):
@@ -52,6 +60,10 @@ def _slack(*scales):
 
 
 TIME_SLACK_S = 1e-9  # emulated times are whole ticks (>= 1 us); sums like 0.1 + 0.2 miss by ~1e-17
+
+
+def _u(unit):
+    return f" {unit}" if unit else ""
 
 
 def _v(value, unit):
@@ -105,7 +117,7 @@ def assert_settles(signal, target, band, within_s, start_s=None, end_s=None):
         i = int(late[0])
         when = ("it never settles (the last sample is outside)" if settled_at is None
                 else f"it settles only at {settled_at:.6f} s")
-        _fail(what, w, f"not within {target:.9g} ± {band:.9g} {w.unit} from {deadline:.6f} s "
+        _fail(what, w, f"not within {target:.9g} ± {band:.9g}{_u(w.unit)} from {deadline:.6f} s "
                        f"(start {start:.9g} s + {within_s:.9g} s): first violation at t = {w.time_s[i]:.6f} s, "
                        f"value {_v(w.values[i], w.unit)} (off by {w.values[i] - target:+.6g}); {when}",
               float(w.time_s[i]), float(w.values[i]), band=(lo, hi), marks=marks)
@@ -126,7 +138,7 @@ def assert_within(signal, low, high, start_s=None, end_s=None):
     bad = np.flatnonzero((w.values < low - slack) | (w.values > high + slack))
     if bad.size:
         i = int(bad[0])
-        _fail(what, w, f"leaves [{low:.9g}, {high:.9g}] {w.unit} at t = {w.time_s[i]:.6f} s, value "
+        _fail(what, w, f"leaves [{low:.9g}, {high:.9g}]{_u(w.unit)} at t = {w.time_s[i]:.6f} s, value "
                        f"{_v(w.values[i], w.unit)} (window {w.time_s[0]:.9g}..{w.time_s[-1]:.9g} s; "
                        f"{bad.size} of {len(w)} samples outside)",
               float(w.time_s[i]), float(w.values[i]), band=(low, high))
@@ -204,7 +216,7 @@ def assert_rise_time(signal, target, max_s, start_s=None, end_s=None, initial=No
         late = t_lo + max_s
         i = max(int(np.searchsorted(w.time_s, late + TIME_SLACK_S, side="right")) - 1, 0)
         _fail(what, w, f"rise time {rise:.6f} s > {max_s:.9g} s ({low * 100:.9g} % at {t_lo:.6f} s, "
-                       f"{high * 100:.9g} % = {level_hi:.9g} {w.unit} only at {t_hi:.6f} s); at t = "
+                       f"{high * 100:.9g} % = {level_hi:.9g}{_u(w.unit)} only at {t_hi:.6f} s); at t = "
                        f"{w.time_s[i]:.6f} s the value is {_v(w.values[i], w.unit)}",
               float(w.time_s[i]), float(w.values[i]), band=band,
               marks=[(t_lo, f"{low * 100:.9g} %"), (late, "limit")])
@@ -239,7 +251,7 @@ def assert_reaches(signal, threshold, before_s, start_s=None, direction="above")
     i = int(np.searchsorted(w.time_s, before_s + TIME_SLACK_S, side="right")) - 1
     when = (f"it does so only at {w.time_s[hits[0]]:.6f} s" if hits.size
             else f"it never does by {w.time_s[-1]:.6f} s")
-    _fail(what, w, f"not {relation} {threshold:.9g} {w.unit} by {before_s:.6f} s: at t = {w.time_s[i]:.6f} s "
+    _fail(what, w, f"not {relation} {threshold:.9g}{_u(w.unit)} by {before_s:.6f} s: at t = {w.time_s[i]:.6f} s "
                    f"the value is {_v(w.values[i], w.unit)}; {when}",
           float(w.time_s[i]), float(w.values[i]), band=band, marks=marks)
 
@@ -254,8 +266,12 @@ def _reference_values(what, reference, w):
                                   f"{w.time_s[-1]:.9g} s")
         return np.interp(w.time_s, reference.time_s, reference.values), reference.name
     if callable(reference):
-        values = np.asarray([float(reference(float(t))) for t in w.time_s])
-        return values, getattr(reference, "__name__", "reference")
+        name = getattr(reference, "__name__", "reference")
+        try:
+            values = np.asarray([float(reference(float(t))) for t in w.time_s])
+        except (TypeError, ValueError) as e:
+            raise BenchUsageError(f"{what}: the reference {name}(t) must return a number: {e}") from e
+        return values, name
     value = _number(what, "reference", reference)
     return np.full(w.time_s.shape, value), f"{value:.9g}"
 
@@ -278,7 +294,7 @@ def assert_follows(signal, reference, band, start_s=None, end_s=None):
     bad = np.flatnonzero(np.abs(error) > band + slack)
     if bad.size:
         i = int(bad[0])
-        _fail(what, w, f"off the reference {ref_name} by more than {band:.9g} {w.unit} at t = "
+        _fail(what, w, f"off the reference {ref_name} by more than {band:.9g}{_u(w.unit)} at t = "
                        f"{w.time_s[i]:.6f} s: value {_v(w.values[i], w.unit)}, reference {ref[i]:.9g} "
                        f"(error {error[i]:+.6g}); {bad.size} of {len(w)} samples outside",
               float(w.time_s[i]), float(w.values[i]), band=(ref - band, ref + band), reference=ref)
@@ -297,6 +313,12 @@ def assert_fault_within(fault_code, code, injected_at_s, within_s):
     w = fault_code.window(injected_at_s, None, what)
     deadline = injected_at_s + within_s
     marks = [(injected_at_s, "injection"), (deadline, "deadline")]
+    before = np.flatnonzero(fault_code.time_s < injected_at_s - TIME_SLACK_S)
+    if before.size and fault_code.values[before[-1]] == code:
+        t = float(fault_code.time_s[before[-1]])
+        _fail(what, fault_code, f"fault code {code} was already present at t = {t:.6f} s, before the injection at "
+                                f"{injected_at_s:.9g} s: the injection did not cause it", t, float(code),
+              band=(code, code), marks=marks)
     upto = w.window(None, deadline + TIME_SLACK_S, what) if w.time_s[0] <= deadline + TIME_SLACK_S else None
     if upto is not None:
         _nan_check(what, upto, marks=marks)

@@ -8,13 +8,14 @@ import math
 import os
 import queue
 import re
+import signal
 import subprocess
 
 from . import telemetry
 from .controllers import Command, ExternalController, holding_values
 from .emulator import BenchError, Emulator
 from .modbus_gate import ModbusGate
-from .modbus_link import ModbusLink
+from .modbus_link import CommandRefused, ModbusLink
 from .modbus_map import ModbusMap
 from .signals import BenchUsageError, Signal, write_csv
 
@@ -91,6 +92,10 @@ class Bench:
         self._closed = False
         # (emulated time, exit status) once an external controller has stopped, else None
         self.controller_exit = None
+        # (emulated time, what) of each step of an external controller that swum-emu refused
+        self.refusals = []
+        self.emulator_log = None
+        self._start_error = None
         os.makedirs(artifacts, exist_ok=True)
 
     # ---- set-up (before the emulator starts) ------------------------------------------------
@@ -149,16 +154,26 @@ class Bench:
 
     # ---- running --------------------------------------------------------------------------
     def start(self):
+        """Starts swum-emu (and an external controller); the first step does it by itself."""
+        if self._start_error is not None:
+            raise BenchUsageError(f"this bench failed to start ({self._start_error}); make a new one")
         if self.emulator is not None:
             return
         if self._closed:
             raise BenchUsageError("start: this bench is closed")
         if not hasattr(self, "_command"):
             self._command = Command()
+        map_path = os.path.join(self.source_dir, "config", "modbus_registers.json")
+        try:
+            self.map = ModbusMap(map_path)
+        except (OSError, ValueError, KeyError) as e:
+            raise BenchUsageError(f"the register map {map_path} cannot be read (--swum-source): {e}") from e
         args = ["--config", self.config, "--clock", "external", "--tick-hz", str(self.tick_hz),
                 "--watchdog-ms", str(self.watchdog_ms)]
         if self.transport == "modbus":
-            args += ["--modbus", "tcp://127.0.0.1:0"]
+            # No idle deadline: wall time between two steps (a debugger, a slow plot, a loaded
+            # machine) must not close the bench's connection; time here is emulated.
+            args += ["--modbus", "tcp://127.0.0.1:0", "--modbus-idle-timeout-ms", "0"]
         else:
             args += ["--modbus", "none", "--can", self.can_interface, "--node", str(self.node),
                      "--sync-ticks", str(self.cycle_ticks)]
@@ -167,8 +182,16 @@ class Bench:
         for event in self.injections:
             args += ["--inject", event.option()]
         args += self.emu_args
-        self.emulator = Emulator(self.emu_binary, args, os.path.join(self.artifacts, "swum-emu.log"))
-        self.map = ModbusMap(os.path.join(self.source_dir, "config", "modbus_registers.json"))
+        self.emulator_log = os.path.join(self.artifacts, "swum-emu.log")
+        try:
+            self.emulator = Emulator(self.emu_binary, args, self.emulator_log)
+            self._connect()
+        except BaseException as e:
+            self._start_error = str(e).splitlines()[0] if str(e) else type(e).__name__
+            self.close()
+            raise
+
+    def _connect(self):
         external = isinstance(self.controller, ExternalController)
         if self.transport == "modbus":
             host, port = self.emulator.modbus_endpoint()
@@ -185,7 +208,7 @@ class Bench:
                                  self._external_can_cycle, timeout_s=HANG_GUARD_S)
         else:
             self._open_can_link()
-            self._capture_can(self._link.sync(), holding_values(self._command, self.load_n, 0))
+            self._capture_can(self._link.sync(), self._link.command_registers(holding_values(Command(), 0.0, 0)))
         if external:
             self._start_process()
 
@@ -206,10 +229,11 @@ class Bench:
         self._process_log.write("$ " + " ".join(argv) + "\n")
         self._process_log.flush()
         try:
+            # Its own session: close() stops the controller and whatever it started (by group).
             self._process = subprocess.Popen(argv, stdin=subprocess.DEVNULL, stdout=self._process_log,
-                                             stderr=subprocess.STDOUT)
+                                             stderr=subprocess.STDOUT, start_new_session=True)
         except OSError as e:
-            raise BenchError(f"cannot start the controller {argv[0]}: {e}") from e
+            raise BenchUsageError(f"cannot start the controller {argv[0]}: {e.strerror}") from e
 
     def _external_cycle(self, words):
         holding = self.map.decode_holding([words.get(i, 0) for i in range(self.map.holding_count)])
@@ -244,17 +268,20 @@ class Bench:
         else:
             command = self.controller.cycle(dict(self._last))
         holding = holding_values(command, self.load_n, self.cycle_ticks)
-        if self.transport == "modbus":
-            try:
-                words = self.map.encode_holding(holding)
-            except ValueError as e:  # NaN, or beyond what the register holds: the controller's fault
-                raise AssertionError(f"controller at t = {self.time_s:.6f} s sent a command the protocol cannot "
-                                     f"carry: {e}") from e
-            del words
-            self._capture(self._link.exchange(holding), holding)
-        else:
-            self._link.send_command(holding, enabled=self._last["state"] == 1)
-            self._capture_can(self._link.sync(), holding)
+        try:
+            if self.transport == "modbus":
+                self.map.encode_holding(holding)  # NaN, or beyond what a register holds
+                self._capture(self._link.exchange(holding), holding)
+            else:
+                sent = self._link.send_command(holding, self._last)
+                self._capture_can(self._link.sync(), sent)
+        except (ValueError, CommandRefused) as e:  # the controller's fault, at a time
+            raise AssertionError(f"controller at t = {self.time_s:.6f} s: {e}") from e
+
+    def _check_emulator(self):
+        if self.emulator is not None and not self.emulator.running():
+            raise BenchError(f"swum-emu exited with status {self.emulator.process.returncode} at "
+                             f"t = {self.time_s:g} s (log {self.emulator.log_path})")
 
     def _external_step(self):
         if self.controller_exit is not None:
@@ -266,24 +293,22 @@ class Bench:
                 kind, detail = self._gate.events.get(timeout=0.2)
             except queue.Empty:
                 waited += 0.2
+                self._check_emulator()
                 status = self._process.poll()
-                if status is not None and self.transport == "can":
-                    # No connection closes on CAN: the exit is the sign. Frames it sent before
-                    # exiting are still crossing: wait for the gate to go quiet first.
-                    if self._gate.quiet_after_exit():
-                        return self._controller_gone(status)
-                    continue
+                if status is not None and self._gate.quiet_after_exit():
+                    # Gone: what it sent before exiting has crossed the gate by now.
+                    return self._controller_gone(status)
                 if waited < HANG_GUARD_S:
                     continue
                 kind, detail = "error", f"no cycle from the controller in {HANG_GUARD_S:g} s of wall time"
             if kind == "cycle":
                 return None
             if kind == "closed":
-                try:  # gone for good, or reconnecting (then its next advance takes the permit)
-                    status = self._process.wait(5)
-                except subprocess.TimeoutExpired:
-                    continue
-                return self._controller_gone(status)
+                continue  # exiting (seen above once the gate is quiet) or reconnecting
+            if kind == "refused":  # the emulator refused the controller's step: no cycle ran
+                self.refusals.append((self.time_s, detail))
+                self._gate.release()
+                continue
             status = self._process.poll()
             exited = f"; it exited with status {status}" if status is not None else ""
             raise BenchError(f"controller {self.controller.name} at t = {self.time_s:g} s: {detail}{exited} "
@@ -315,8 +340,15 @@ class Bench:
 
     def _last_command_registers(self):
         last = self._last
+        if last is None:  # the controller left before its first cycle
+            return {"command": 0, "frequency_setpoint": 0.0, "amplitude_setpoint": 0.0, "phase_setpoint": 0.0}
         return {"command": last["command"], "frequency_setpoint": last["command_frequency_hz"],
                 "amplitude_setpoint": last["command_vpp"], "phase_setpoint": last["command_phase_deg"]}
+
+    def _first_sample(self):
+        self.start()
+        if self._last is None:  # an external controller over CAN: its first SYNC is the first sample
+            self._one_cycle()
 
     @property
     def time_s(self):
@@ -326,19 +358,22 @@ class Bench:
     @property
     def last(self):
         """The last captured sample ({signal name: value})."""
-        self.start()
+        self._first_sample()
         return dict(self._last)
 
     def step(self, seconds):
-        """Runs control cycles until `seconds` of emulated time have passed (whole cycles)."""
+        """Runs control cycles until `seconds` of emulated time have passed: afterwards the last
+        sample is at (start + seconds). An external controller's own cycle decides how many
+        cycles that takes."""
         if isinstance(seconds, bool) or not isinstance(seconds, (int, float)) or not math.isfinite(seconds) \
                 or seconds < 0:
             raise BenchUsageError(f"step: seconds must be a finite number >= 0, not {seconds!r}")
         cycles = int(round(seconds / self.cycle_s))
         if abs(cycles * self.cycle_s - seconds) > 1e-9:
             raise BenchUsageError(f"step: {seconds:g} s is not a whole number of {self.cycle_s:g} s cycles")
-        self.start()
-        for _ in range(cycles):
+        self._first_sample()
+        target = self.time_s + seconds
+        while self.time_s < target - 1e-9:
             self._one_cycle()
         return self.time_s
 
@@ -350,7 +385,7 @@ class Bench:
         if isinstance(timeout_s, bool) or not isinstance(timeout_s, (int, float)) or not math.isfinite(timeout_s) \
                 or timeout_s <= 0:
             raise BenchUsageError(f"run_until: timeout_s must be a finite number > 0, not {timeout_s!r}")
-        self.start()
+        self._first_sample()
         start = self.time_s
         if condition(dict(self._last)):
             return self.time_s
@@ -383,22 +418,44 @@ class Bench:
         return path
 
     def close(self):
-        """Stops the controller and the emulator (by their pids) and closes the links."""
+        """Stops the controller and the emulator (by their pids) and closes the links; every
+        step runs even if an earlier one fails, and the first error is raised at the end."""
         if self._closed:
             return
         self._closed = True
-        if self._gate is not None:  # first: a controller's last cycle must not wait on a permit
-            self._gate.close()
-        if self._process is not None and self._process.poll() is None:
-            self._process.terminate()
+        errors = []
+
+        def attempt(action):
             try:
+                action()
+            except Exception as e:  # keep closing the rest
+                errors.append(e)
+
+        if self._gate is not None:  # the controller's last cycles (its drive-off) pass unheld
+            attempt(self._gate.open)
+        if self._process is not None:
+            attempt(self._stop_process)
+        if self._gate is not None:
+            attempt(self._gate.close)
+        if self._link is not None:
+            attempt(self._link.close)
+        if self.emulator is not None:
+            attempt(self.emulator.stop)
+        if self._process_log is not None:
+            attempt(self._process_log.close)
+        if errors:
+            raise errors[0]
+
+    def _stop_process(self):
+        """SIGTERM to the controller's process group, SIGKILL after 10 s."""
+        if self._process.poll() is None:
+            try:
+                os.killpg(self._process.pid, signal.SIGTERM)
                 self._process.wait(10)
             except subprocess.TimeoutExpired:
-                self._process.kill()
+                os.killpg(self._process.pid, signal.SIGKILL)
                 self._process.wait()
-        if self._link is not None:
-            self._link.close()
-        if self.emulator is not None:
-            self.emulator.stop()
-        if self._process_log is not None:
-            self._process_log.close()
+        try:  # what it started and left behind
+            os.killpg(self._process.pid, signal.SIGKILL)
+        except ProcessLookupError:
+            pass

@@ -8,13 +8,10 @@ recorded it. So the bench owns emulated time over CAN as over Modbus (modbus_gat
 telemetry it records is exactly what the controller received."""
 import queue
 import threading
+import time
 
-from .can_link import SYNC_ID, TELEMETRY, load_dbc
+from .can_link import MODE_ACTION, SYNC_ID, TELEMETRY, load_dbc
 from .emulator import BenchError
-
-# CAN Command frame Mode -> the action code of the Modbus command register, so the `command`
-# signal means the same on both transports (Mode 1 is enable and keep-alive alike).
-MODE_ACTION = {0: 2, 1: 1, 2: 3}
 
 
 class CanGate:
@@ -28,6 +25,7 @@ class CanGate:
         self.command = {}
         self._permits = threading.Semaphore(0)
         self._stop = threading.Event()
+        self._opened = threading.Event()  # closing: SYNCs pass unheld and unrecorded
         self._idle = 0           # receive timeouts without a frame from the controller's bus
         self._exit_mark = None
         dbc = load_dbc(source_dir)
@@ -41,7 +39,7 @@ class CanGate:
         except (OSError, can.CanError) as e:
             raise BenchError(f"CAN gate {controller_interface} <-> {emulator_interface}: cannot open: {e}") from e
         self._ctrl.set_filters([{"can_id": i, "can_mask": 0x7FF} for i in [SYNC_ID, *self._command_ids]])
-        self._emu.set_filters([{"can_id": i, "can_mask": 0x7FF} for i in [*self._telemetry_ids, ids["Heartbeat"]]])
+        self._emu.set_filters([{"can_id": i, "can_mask": 0x7FF} for i in self._telemetry_ids])
         self._thread = threading.Thread(target=self._run, daemon=True)
         self._thread.start()
 
@@ -54,6 +52,10 @@ class CanGate:
 
     def release(self):
         self._permits.release()
+
+    def open(self):
+        """From now on SYNCs pass without waiting and without being recorded (closing)."""
+        self._opened.set()
 
     def close(self):
         self._stop.set()
@@ -77,29 +79,44 @@ class CanGate:
                     if name == "Command" and len(msg.data) == 8:
                         self.command = self._decode(name, msg.data)
                     continue
-                while not self._permits.acquire(timeout=0.2):
+                if not self._valid_sync(msg):  # refused by the emulator, never answered: not a cycle
+                    self._emu.send(msg)
+                    continue
+                while not (self._opened.is_set() or self._permits.acquire(timeout=0.2)):
                     if self._stop.is_set():
                         return
                 self._emu.send(msg)
-                self._answer()
+                self._answer(record=not self._opened.is_set())
         except BenchError as e:
             self.events.put(("error", str(e)))
         except Exception as e:  # python-can raises CanError / OSError; the bench must hear of it
             if not self._stop.is_set():
                 self.events.put(("error", f"CAN gate: {type(e).__name__}: {e}"))
 
-    def _answer(self):
+    @staticmethod
+    def _valid_sync(msg):
+        """DLC 0, or 1 with a counter 1..240 (docs/protocols.md); anything else is refused."""
+        return len(msg.data) == 0 or (len(msg.data) == 1 and 1 <= msg.data[0] <= 240)
+
+    def _answer(self, record=True):
         values = {}
+        deadline = time.monotonic() + self.timeout_s  # a hang guard, not a measurement
         while True:
-            msg = self._emu.recv(timeout=self.timeout_s)
+            left = deadline - time.monotonic()
+            msg = self._emu.recv(timeout=min(left, 0.2)) if left > 0 and not self._stop.is_set() else None
+            if msg is None and left > 0 and not self._stop.is_set():
+                continue
             if msg is None:
                 raise BenchError(f"CAN gate: no telemetry set answered the SYNC within {self.timeout_s:g} s "
                                  f"(got {sorted(values)})")
             name = self._telemetry_ids.get(msg.arbitration_id)
             if name is not None:
                 values.update(self._decode(name, msg.data))
+            if name == "Output" and not record:
+                self._ctrl.send(msg)
+                return
             if name == "Output":
-                command = {"command": MODE_ACTION.get(int(self.command.get("Mode", 0)), 0),
+                command = {"command": MODE_ACTION.get(int(self.command.get("Mode", 0)), -1),  # -1: Mode 3
                            "frequency_setpoint": self.command.get("Frequency", 0.0),
                            "amplitude_setpoint": self.command.get("Amplitude", 0.0),
                            "phase_setpoint": self.command.get("Phase", 0.0)}

@@ -4,6 +4,7 @@ changes) and a CANopen SYNC; the eight telemetry frames that answer the SYNC wer
 it (docs/protocols.md, "Lockstep over CAN"). The CRC and the alive counter are written here
 from the protocol text, apart from the C++ codec."""
 import decimal
+import math
 import os
 import time
 
@@ -11,7 +12,9 @@ from .emulator import BenchError
 
 SYNC_ID = 0x080
 # Mode bits of the Command frame; a keep-alive repeats the mode that holds the drive as it is.
-MODES = {"disable": 0, "enable": 1, "reset_fault": 2}
+# CAN Command frame Mode -> the action code of the Modbus command register, so the `command`
+# signal means the same on both transports (Mode 1 is enable and keep-alive alike).
+MODE_ACTION = {0: 2, 1: 1, 2: 3}
 TELEMETRY = ("Status", "Motion", "Drive", "LoopStats", "Clock", "ElectricalA", "ElectricalB", "Output")
 
 
@@ -51,6 +54,8 @@ class CanLink:
         self._can = can
         self._alive = {"Command": 0, "AuxCommand": 0}
         self._aux = None
+        self._rejects = None
+        self._mode = 0  # the mode the bench last commanded (not the delayed telemetry's state)
 
     def close(self):
         self.bus.shutdown()
@@ -73,24 +78,48 @@ class CanLink:
             raise BenchError(f"CAN {self.where}: send of {name}: {e}") from e
 
     def _raw(self, frame_name, signal_name, value):
+        """The raw count of a physical value; one that the signal's bits cannot hold (or NaN) is
+        a ValueError naming the signal (canmatrix would wrap it silently)."""
+        signal = self.frames[frame_name].signal_by_name(signal_name)
+        if not math.isfinite(value):
+            raise ValueError(f"{frame_name}.{signal_name}: {value!r} is not a finite number")
         # canmatrix computes in Decimal; repr() keeps the float's shortest exact text.
-        return int(self.frames[frame_name].signal_by_name(signal_name).phys2raw(decimal.Decimal(repr(float(value)))))
+        raw = int(signal.phys2raw(decimal.Decimal(repr(float(value)))))
+        bits = int(signal.size)
+        lo, hi = (-(1 << (bits - 1)), (1 << (bits - 1)) - 1) if signal.is_signed else (0, (1 << bits) - 1)
+        if not lo <= raw <= hi:
+            raise ValueError(f"{frame_name}.{signal_name}: {value!r} does not fit the signal ({bits} bits)")
+        return raw
 
-    def send_command(self, command, enabled):
-        """One Command frame (every set-point), and an AuxCommand when load or slews changed."""
+    def send_command(self, command, last_sample):
+        """One Command frame (every set-point), and an AuxCommand when load or slews changed or
+        a command was rejected since the last cycle (it may have been the AuxCommand). Returns
+        the command registers as sent, `command` as the Modbus code of the Mode sent."""
         action = command["command"]
-        mode = {0: 1 if enabled else 0, 1: 1, 2: 0, 3: 2}[action]
-        self._send("Command", {"Mode": mode, "Reserved1": 0, "Reserved2": 0,
-                               "Frequency": self._raw("Command", "Frequency", command["frequency_setpoint"]),
-                               "Phase": self._raw("Command", "Phase", command["phase_setpoint"]),
-                               "Amplitude": self._raw("Command", "Amplitude", command["amplitude_setpoint"])})
-        aux = (command["load_force"], command["frequency_slew"], command["amplitude_slew"])
-        if aux != self._aux:
-            self._send("AuxCommand", {"Reserved1": 0,
-                                      "Load": self._raw("AuxCommand", "Load", aux[0]),
-                                      "FrequencySlew": self._raw("AuxCommand", "FrequencySlew", aux[1]),
-                                      "AmplitudeSlew": self._raw("AuxCommand", "AmplitudeSlew", aux[2])})
+        if action == 0:  # keep-alive: repeat the mode that holds the drive as it is
+            mode = 0 if last_sample is not None and last_sample["state"] == 2 else self._mode
+        else:
+            mode = {1: 1, 2: 0, 3: 2}[action]
+        self._mode = 1 if mode == 1 else 0  # after a reset the drive is disabled
+        raws = {"Frequency": self._raw("Command", "Frequency", command["frequency_setpoint"]),
+                "Phase": self._raw("Command", "Phase", command["phase_setpoint"]),
+                "Amplitude": self._raw("Command", "Amplitude", command["amplitude_setpoint"])}
+        aux = {"Load": self._raw("AuxCommand", "Load", command["load_force"]),
+               "FrequencySlew": self._raw("AuxCommand", "FrequencySlew", command["frequency_slew"]),
+               "AmplitudeSlew": self._raw("AuxCommand", "AmplitudeSlew", command["amplitude_slew"])}
+        self._send("Command", {"Mode": mode, "Reserved1": 0, "Reserved2": 0, **raws})
+        rejects = None if last_sample is None else last_sample["reject_count"]
+        if aux != self._aux or rejects != self._rejects:
+            self._send("AuxCommand", {"Reserved1": 0, **aux})
             self._aux = aux
+        self._rejects = rejects
+        return {"command": MODE_ACTION[mode], "frequency_setpoint": command["frequency_setpoint"],
+                "amplitude_setpoint": command["amplitude_setpoint"], "phase_setpoint": command["phase_setpoint"]}
+
+    @staticmethod
+    def command_registers(holding):
+        """The command registers of the bench's first SYNC (nothing sent yet: Mode 0)."""
+        return {**holding, "command": MODE_ACTION[0]}
 
     def sync(self):
         """One SYNC, and the telemetry set that answers it: {frame signal name: physical value}."""

@@ -33,6 +33,10 @@ def holding_values(command, load_n, advance_ticks):
         raise BenchUsageError(f"a controller's cycle() must return a swum_bench.Command, not {command!r}")
     if command.action not in ACTIONS:
         raise BenchUsageError(f"Command.action must be one of {sorted(ACTIONS)}, not {command.action!r}")
+    for field in ("frequency_hz", "vpp", "phase_deg", "frequency_slew_hz_s", "amplitude_slew_vpp_s"):
+        value = getattr(command, field)
+        if isinstance(value, bool) or not isinstance(value, (int, float)):
+            raise BenchUsageError(f"Command.{field} must be a number, not {value!r}")
     return {"command": ACTIONS[command.action], "frequency_setpoint": command.frequency_hz,
             "amplitude_setpoint": command.vpp, "phase_setpoint": command.phase_deg, "load_force": load_n,
             "frequency_slew": command.frequency_slew_hz_s, "amplitude_slew": command.amplitude_slew_vpp_s,

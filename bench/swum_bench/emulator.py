@@ -19,7 +19,7 @@ _READY = re.compile(r"^swum-emu ready (.*)$")
 
 class Emulator:
     def __init__(self, binary, args, log_path, ready_timeout_s=30.0):
-        if not binary or not os.access(binary, os.X_OK):
+        if not binary or not os.path.isfile(binary) or not os.access(binary, os.X_OK):
             raise BenchUsageError(f"swum-emu binary {binary!r} is not an executable file "
                                   "(--swum-emu or SWUM_EMU)")
         self.log_path = log_path
@@ -30,16 +30,31 @@ class Emulator:
         self._log.flush()
         self._ready = threading.Event()
         self._lock = threading.Lock()
-        self.process = subprocess.Popen(self.command, stdin=subprocess.DEVNULL, stdout=subprocess.PIPE,
-                                        stderr=subprocess.STDOUT, text=True, bufsize=1)
+        try:
+            self.process = subprocess.Popen(self.command, stdin=subprocess.DEVNULL, stdout=subprocess.PIPE,
+                                            stderr=subprocess.STDOUT, text=True, bufsize=1)
+        except OSError as e:
+            self._log.close()
+            raise BenchUsageError(f"cannot start swum-emu {binary}: {e.strerror}") from e
         self._reader = threading.Thread(target=self._drain, daemon=True)
         self._reader.start()
         if not self._ready.wait(ready_timeout_s) or not self.fields:
-            status = self.process.poll()
+            try:  # end of output: the process is exiting; take its status before reading why
+                status = self.process.wait(5)
+            except subprocess.TimeoutExpired:
+                status = None
+            self._reader.join(5)
+            lines = [line for line in self.log_tail(20).splitlines()
+                     if line.strip() and not line.startswith(("$ ", "[bench]"))]
+            why = lines[-1].strip() if lines else "no output"
             self.stop()
-            tail = self.log_tail(5)
-            raise BenchError(f"swum-emu did not become ready ({'exited ' + str(status) if status is not None else f'no ready line in {ready_timeout_s:g} s'}): "
-                             f"{tail.strip().splitlines()[-1] if tail.strip() else 'no output'} (log {log_path})")
+            if status is None:
+                raise BenchError(f"swum-emu did not become ready: no ready line in {ready_timeout_s:g} s "
+                                 f"(last output: {why}; log {log_path})")
+            # Exit 1 before the ready line is swum-emu refusing its options, parameter file or
+            # scenario: a mistake in the test (an inject value out of range, a bad config).
+            error = BenchUsageError if status in (1, 2) else BenchError
+            raise error(f"swum-emu exited with status {status} before it was ready: {why} (log {log_path})")
 
     def _drain(self):
         for line in self.process.stdout:

@@ -71,6 +71,9 @@ class ModbusGate:
         self.events = queue.Queue()
         self._permits = threading.Semaphore(0)
         self._stop = threading.Event()
+        self._opened = threading.Event()  # closing: cycles pass unheld and unrecorded
+        self._open_connections = 0
+        self._count_lock = threading.Lock()
         self._listener = socket.create_server(("127.0.0.1", 0))
         self._listener.settimeout(0.2)
         self.port = self._listener.getsockname()[1]
@@ -85,6 +88,17 @@ class ModbusGate:
     def release(self):
         """Lets one more advance through."""
         self._permits.release()
+
+    def open(self):
+        """From now on advances pass without waiting and without being recorded (the bench is
+        closing: a controller's last cycles, e.g. its drive-off, must not hang)."""
+        self._opened.set()
+
+    def quiet_after_exit(self):
+        """After the controller exited: True once none of its connections is still being
+        served (their end of stream comes after every request they carried)."""
+        with self._count_lock:
+            return self._open_connections == 0
 
     def close(self):
         self._stop.set()
@@ -112,11 +126,20 @@ class ModbusGate:
 
     def _wait_permit(self):
         while not self._stop.is_set():
-            if self._permits.acquire(timeout=0.2):
+            if self._opened.is_set() or self._permits.acquire(timeout=0.2):
                 return True
         return False
 
     def _serve(self, client):
+        with self._count_lock:
+            self._open_connections += 1
+        try:
+            self._serve_connection(client)
+        finally:
+            with self._count_lock:
+                self._open_connections -= 1
+
+    def _serve_connection(self, client):
         self._connections.append(client)
         try:
             upstream = socket.create_connection(self.upstream, timeout=None)
@@ -140,15 +163,16 @@ class ModbusGate:
                 upstream.sendall(request)
                 reply = read_frame(upstream)
                 if reply is None:
-                    self.events.put(("error", "swum-emu closed the connection (did it exit?)"))
+                    self.events.put(("error", "swum-emu closed the connection: it exited, or the controller's "
+                                              "request was malformed or incomplete (see swum-emu.log)"))
                     return
                 if len(reply) > 7 and reply[7] & 0x80:
-                    if advance:
-                        self.events.put(("error", f"swum-emu refused the controller's advance of {advance} ticks "
-                                                  f"with exception {reply[8] if len(reply) > 8 else '?'}"))
+                    if advance and not self._opened.is_set():  # no tick ran: the bench is told
+                        self.events.put(("refused", f"its write with an advance of {advance} ticks got exception "
+                                                    f"{reply[8] if len(reply) > 8 else '?'}"))
                 else:
                     self.holding.update(writes)
-                    if advance:
+                    if advance and not self._opened.is_set():
                         self.on_cycle(dict(self.holding))
                 client.sendall(reply)
         except BenchError as e:

@@ -13,7 +13,11 @@ from pymodbus.client import ModbusTcpClient  # noqa: E402
 
 from .emulator import BenchError  # noqa: E402
 
-ACTIONS = {"keep_alive": 0, "enable": 1, "disable": 2, "reset_fault": 3}
+
+
+class CommandRefused(BenchError):
+    """swum-emu answered a cycle's write with an exception: the command (a set-point out of
+    range, an unknown action...) was refused and no tick ran."""
 
 
 class ModbusLink:
@@ -29,38 +33,33 @@ class ModbusLink:
     def close(self):
         self.client.close()
 
-    def _error(self, what, response):
-        code = getattr(response, "exception_code", None)
-        detail = f"exception {code:02d}" if code is not None else str(response)
-        reason = ""
-        if code is not None:
-            try:
-                inputs = self.read_inputs()
-                r = int(inputs["last_reject_reason"])
-                reason = f", reject reason {r} {self.map.reasons.get(r, '?')}"
-            except BenchError:
-                pass
-        return BenchError(f"Modbus {self.where}: {what}: {detail}{reason}")
-
     def read_inputs(self):
         """{register name: physical value} of one FC04 read of the whole input table."""
+        what = f"read of input registers 0..{self.map.input_count - 1}"
         try:
             rr = self.client.read_input_registers(0, self.map.input_count, slave=self.unit)
         except Exception as e:  # pymodbus raises its own ConnectionException / ModbusIOException
-            raise BenchError(f"Modbus {self.where}: read of input registers 0..{self.map.input_count - 1}: {e}") from e
+            raise BenchError(f"Modbus {self.where}: {what}: {e}") from e
         if rr.isError() or len(getattr(rr, "registers", [])) != self.map.input_count:
-            raise self._error(f"read of input registers 0..{self.map.input_count - 1}", rr)
+            code = getattr(rr, "exception_code", None)
+            raise BenchError(f"Modbus {self.where}: {what}: " + (f"exception {code:02d}" if code else str(rr)))
         return self.map.decode_inputs(rr.registers)
 
     def write_cycle(self, holding_values):
         """One FC16 of holding registers 0..10 ({name: physical value}, 'advance' in ticks)."""
         words = self.map.encode_holding(holding_values)
+        what = f"write of holding registers 0..{len(words) - 1}"
         try:
             wr = self.client.write_registers(0, words, slave=self.unit)
         except Exception as e:
-            raise BenchError(f"Modbus {self.where}: write of holding registers 0..{len(words) - 1}: {e}") from e
+            raise BenchError(f"Modbus {self.where}: {what}: {e}") from e
         if wr.isError():
-            raise self._error(f"write of holding registers 0..{len(words) - 1}", wr)
+            code = getattr(wr, "exception_code", None)
+            if code is None:
+                raise BenchError(f"Modbus {self.where}: {what}: {wr}")
+            reason = int(self.read_inputs()["last_reject_reason"])  # why (input register 3)
+            raise CommandRefused(f"swum-emu refused the command ({', '.join(f'{k}={v:g}' for k, v in holding_values.items())}) "
+                                 f"with exception {code:02d}, reject reason {reason} {self.map.reasons.get(reason, '?')}")
 
     def exchange(self, holding_values):
         """Set-points + advance, then the state after the ticks: two round trips."""

@@ -2,6 +2,7 @@
 conftest.py): the `swum_bench` fixture, command-line options, and the artifacts of a failing
 test (the plot of the failed assertion and the emulator's log) in its report and in the JUnit
 XML (`--junitxml`) as properties swum_plot / swum_emulator_log / swum_capture."""
+import hashlib
 import os
 import re
 import shutil
@@ -34,13 +35,24 @@ def pytest_addoption(parser):
 
 
 def _test_folder(config, item, tmp_path_factory):
+    """The test's own folder: its readable id, made unique by a hash of the whole node id (two
+    ids that read alike, "drive off" and "drive_off", never share one)."""
     root = config.getoption("--swum-artifacts")
-    name = re.sub(r"[^A-Za-z0-9_.-]+", "_", item.nodeid)[-120:]
+    digest = hashlib.sha1(item.nodeid.encode()).hexdigest()[:8]
+    name = re.sub(r"[^A-Za-z0-9_.-]+", "_", item.nodeid)[-100:] + "-" + digest
     if root is None:
-        return str(tmp_path_factory.mktemp(name[-40:], numbered=True))
+        return str(tmp_path_factory.mktemp(name[-50:], numbered=True))
     folder = os.path.join(root, name)
-    shutil.rmtree(folder, ignore_errors=True)
+    shutil.rmtree(folder, ignore_errors=True)  # this test's own, from an earlier run
     return folder
+
+
+def _log_tail(path, lines=40):
+    try:
+        with open(path) as f:
+            return "".join(f.readlines()[-lines:])
+    except OSError:
+        return ""
 
 
 class BenchFactory:
@@ -88,13 +100,20 @@ def swum_bench(request, tmp_path_factory):
     factory = BenchFactory(request.config, folder)
     request.node._swum_factory = factory
     yield factory
-    for bench in factory.benches:
+    errors = []
+    for bench in factory.benches:  # every bench is closed, whatever fails first
         try:
             if bench.samples:
                 path = bench.save_capture()
                 request.node.user_properties.append(("swum_capture", path))
-        finally:
+        except Exception as e:
+            errors.append(e)
+        try:
             bench.close()
+        except Exception as e:
+            errors.append(e)
+    if errors:
+        raise errors[0]
 
 
 @pytest.hookimpl(hookwrapper=True)
@@ -116,12 +135,12 @@ def pytest_runtest_makereport(item, call):
             for path in getattr(item, "_swum_plots", []):
                 item.user_properties.append(("swum_plot", path))
             for bench in factory.benches if factory else []:
-                if bench.emulator is not None:
-                    item.user_properties.append(("swum_emulator_log", bench.emulator.log_path))
+                if bench.emulator_log is not None:
+                    item.user_properties.append(("swum_emulator_log", bench.emulator_log))
     outcome = yield
     report = outcome.get_result()
     if call.when == "call" and call.excinfo is not None:
         factory = getattr(item, "_swum_factory", None)
         for bench in factory.benches if factory else []:
-            if bench.emulator is not None:
-                report.sections.append((f"swum-emu log ({bench.emulator.log_path})", bench.emulator.log_tail()))
+            if bench.emulator_log is not None:
+                report.sections.append((f"swum-emu log ({bench.emulator_log})", _log_tail(bench.emulator_log)))

@@ -23,6 +23,7 @@ TABLE = [
     ("state", "", "state", 1.0, "State", 1.0),
     ("fault_code", "", "fault_code", 1.0, "FaultCode", 1.0),
     ("last_reject", "", "last_reject_reason", 1.0, "LastReject", 1.0),
+    ("reject_count", "", "reject_count", 1.0, "RejectCount", 1.0),  # CAN: modulo 256
     ("tick", "", "tick", 1.0, "Tick", 1.0),
 ]
 # What the controller sent in the cycle (from the holding registers it wrote).

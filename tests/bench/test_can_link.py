@@ -1,0 +1,99 @@
+"""The bench's CAN client without a bus: what it encodes (config/swum.dbc through canmatrix, the
+CRC written from docs/protocols.md), the mode it sends for a keep-alive, and set-points that do
+not fit their signals."""
+import os
+
+import pytest
+
+from swum_bench import can_link
+from swum_bench.can_link import CanLink, crc8_sae_j1850
+
+REPO = os.path.normpath(os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", ".."))
+
+
+class Recorder(CanLink):
+    """A CanLink whose frames go to a list instead of a socket."""
+
+    def __init__(self):  # noqa: the bus is the list
+        self.dbc = can_link.load_dbc(REPO)
+        self.frames = {f.name: f for f in self.dbc.frames}
+        self.ids = {name: f.arbitration_id.id for name, f in self.frames.items() if name != "Sync"}
+        self._alive = {"Command": 0, "AuxCommand": 0}
+        self._aux = None
+        self._rejects = None
+        self._mode = 0
+        self.sent = []
+
+    def _send(self, name, raw):
+        self.sent.append((name, dict(raw)))
+
+
+def command(action, vpp=100.0, frequency_hz=40000.0, phase_deg=90.0, load_n=0.0):
+    return {"command": action, "frequency_setpoint": frequency_hz, "amplitude_setpoint": vpp,
+            "phase_setpoint": phase_deg, "load_force": load_n, "frequency_slew": 1e6, "amplitude_slew": 1e5}
+
+
+def sample(state, rejects=0):
+    return {"state": state, "reject_count": rejects}
+
+
+def modes(link):
+    return [raw["Mode"] for name, raw in link.sent if name == "Command"]
+
+
+def test_crc_check_value():
+    # CRC-8/SAE-J1850's check value over "123456789" is 0x4B; the identifier 0x3231 sent
+    # little-endian is "12", so this covers the identifier bytes and their order too.
+    assert crc8_sae_j1850(0x3231, b"3456789") == 0x4B
+
+
+def test_keep_alive_repeats_the_commanded_mode_not_the_delayed_state():
+    link = Recorder()
+    link.send_command(command(1), sample(0))          # enable
+    link.send_command(command(0), sample(0))          # the SYNC's state still says disabled
+    link.send_command(command(0), sample(1))
+    link.send_command(command(2), sample(1))          # disable
+    link.send_command(command(0), sample(1))          # the state still says enabled
+    assert modes(link) == [1, 1, 1, 0, 0]
+
+
+def test_keep_alive_in_fault_and_after_a_reset_is_mode_0():
+    link = Recorder()
+    link.send_command(command(1), sample(0))
+    link.send_command(command(0), sample(2))          # fault: the drive is off
+    link.send_command(command(3), sample(2))          # reset fault (Mode 2)
+    link.send_command(command(0), sample(0))          # after a reset: disabled
+    assert modes(link) == [1, 0, 2, 0]
+
+
+def test_command_signal_is_the_mode_sent():
+    link = Recorder()
+    assert link.send_command(command(1), None)["command"] == 1
+    assert link.send_command(command(0), sample(1))["command"] == 1
+    assert link.send_command(command(2), sample(1))["command"] == 2
+    assert link.send_command(command(3), sample(2))["command"] == 3
+
+
+def test_aux_command_when_changed_or_after_a_reject():
+    link = Recorder()
+    link.send_command(command(1), sample(0, rejects=0))
+    link.send_command(command(0), sample(1, rejects=0))
+    link.send_command(command(0, load_n=1.0), sample(1, rejects=0))
+    link.send_command(command(0, load_n=1.0), sample(1, rejects=1))  # something was rejected: resend
+    link.send_command(command(0, load_n=1.0), sample(1, rejects=1))
+    assert [name for name, _ in link.sent].count("AuxCommand") == 3
+
+
+@pytest.mark.parametrize("fields, pattern", [
+    (dict(vpp=-5.0), r"Command.Amplitude: -5.0 does not fit the signal \(12 bits\)"),
+    (dict(vpp=2000.0), r"Command.Amplitude: 2000.0 does not fit"),
+    (dict(frequency_hz=200000.0), r"Command.Frequency: 200000.0 does not fit the signal \(20 bits\)"),
+    (dict(phase_deg=-300.0), r"Command.Phase: -300.0 does not fit"),
+    (dict(frequency_hz=float("nan")), r"Command.Frequency: nan is not a finite number"),
+    (dict(load_n=40.0), r"AuxCommand.Load: 40.0 does not fit"),
+])
+def test_set_points_that_do_not_fit_are_refused_not_wrapped(fields, pattern):
+    link = Recorder()
+    with pytest.raises(ValueError, match=pattern):
+        link.send_command(command(1, **fields), None)
+    assert link.sent == []
