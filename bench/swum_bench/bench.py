@@ -10,6 +10,7 @@ import queue
 import re
 import signal
 import subprocess
+import time
 
 from . import telemetry
 from .controllers import Command, ExternalController, holding_values
@@ -22,6 +23,12 @@ from .signals import BenchUsageError, Signal, write_csv
 # A hang guard only (wall time): how long the bench waits for one cycle of an external
 # controller, or for the emulator's answer, before calling the bench broken. Never a measure.
 HANG_GUARD_S = 120.0
+# Scenario events that act on the bench's own link (docs/scenarios.md): a dropped request or a
+# silent bus stalls a lockstep bench instead of testing the controller.
+LINK_EVENTS = ("modbus_drop", "telemetry_silence", "can_bus_off")
+# An external controller whose steps swum-emu refuses this many times in a row makes no
+# progress: the bench stops waiting for it.
+MAX_REFUSALS_IN_A_ROW = 100
 
 
 class Injection:
@@ -96,6 +103,7 @@ class Bench:
         self.refusals = []
         self.emulator_log = None
         self._start_error = None
+        self._requested_s = 0.0  # emulated time the steps so far asked for
         os.makedirs(artifacts, exist_ok=True)
 
     # ---- set-up (before the emulator starts) ------------------------------------------------
@@ -115,6 +123,10 @@ class Bench:
                 raise BenchUsageError(f"inject {kind}: key {key!r} is not a key name")
         if isinstance(at_s, bool) or not isinstance(at_s, (int, float)) or not math.isfinite(at_s) or at_s < 0:
             raise BenchUsageError(f"inject {kind}: at_s must be a finite number of seconds >= 0, not {at_s!r}")
+        if kind in LINK_EVENTS:
+            raise BenchUsageError(f"inject {kind}: it acts on the link the bench steps the emulator through, so "
+                                  "in lockstep it would stall the bench, not test the controller (use it on a "
+                                  "wall-clock swum-emu; docs/testing-controllers.md, Limits)")
         event = Injection(kind, at_s, keys)
         event.option()  # checks the values now, not at start-up
         self.injections.append(event)
@@ -273,8 +285,12 @@ class Bench:
                 self.map.encode_holding(holding)  # NaN, or beyond what a register holds
                 self._capture(self._link.exchange(holding), holding)
             else:
+                before = self._last["reject_count"]
                 sent = self._link.send_command(holding, self._last)
                 self._capture_can(self._link.sync(), sent)
+                if self._last["reject_count"] != before:  # CAN has no reply to refuse with
+                    self.refusals.append((self.time_s, f"reject reason {self._last['last_reject']:g} "
+                                                       f"{self.map.reasons.get(int(self._last['last_reject']), '?')}"))
         except (ValueError, CommandRefused) as e:  # the controller's fault, at a time
             raise AssertionError(f"controller at t = {self.time_s:.6f} s: {e}") from e
 
@@ -287,26 +303,30 @@ class Bench:
         if self.controller_exit is not None:
             return self._bare_step()
         self._gate.release()
-        waited = 0.0
+        deadline = time.monotonic() + HANG_GUARD_S  # a hang guard over every event, not a measure
+        refused = 0
         while True:
             try:
                 kind, detail = self._gate.events.get(timeout=0.2)
             except queue.Empty:
-                waited += 0.2
                 self._check_emulator()
                 status = self._process.poll()
                 if status is not None and self._gate.quiet_after_exit():
                     # Gone: what it sent before exiting has crossed the gate by now.
                     return self._controller_gone(status)
-                if waited < HANG_GUARD_S:
-                    continue
-                kind, detail = "error", f"no cycle from the controller in {HANG_GUARD_S:g} s of wall time"
+                kind, detail = "waiting", None
             if kind == "cycle":
                 return None
-            if kind == "closed":
-                continue  # exiting (seen above once the gate is quiet) or reconnecting
+            if time.monotonic() > deadline:
+                kind, detail = "error", f"no cycle from the controller in {HANG_GUARD_S:g} s of wall time"
+            if kind in ("waiting", "closed"):
+                continue  # closed: exiting (seen above once the gate is quiet) or reconnecting
             if kind == "refused":  # the emulator refused the controller's step: no cycle ran
                 self.refusals.append((self.time_s, detail))
+                refused += 1
+                if refused >= MAX_REFUSALS_IN_A_ROW:
+                    raise AssertionError(f"controller {self.controller.name} at t = {self.time_s:.6f} s: "
+                                         f"{refused} steps in a row refused by swum-emu, none run; the last: {detail}")
                 self._gate.release()
                 continue
             status = self._process.poll()
@@ -319,9 +339,9 @@ class Bench:
         to the bench, which steps on with bare cycles (no command, no watchdog feed), as a motor
         runs on when its controller dies."""
         self.controller_exit = (self.time_s, status)
+        self._gate.close()  # nothing may step the emulator beside the bench's bare cycles now
+        self._gate = None
         if self.transport == "can":
-            self._gate.close()
-            self._gate = None
             self._open_can_link()
         return self._bare_step()
 
@@ -372,8 +392,9 @@ class Bench:
         if abs(cycles * self.cycle_s - seconds) > 1e-9:
             raise BenchUsageError(f"step: {seconds:g} s is not a whole number of {self.cycle_s:g} s cycles")
         self._first_sample()
-        target = self.time_s + seconds
-        while self.time_s < target - 1e-9:
+        # Targets add up from what was asked, not from where a long external cycle overshot.
+        self._requested_s = max(self._requested_s, 0.0) + seconds
+        while self.time_s < self._requested_s - 1e-9:
             self._one_cycle()
         return self.time_s
 
@@ -391,6 +412,7 @@ class Bench:
             return self.time_s
         while self.time_s < start + timeout_s - 1e-9:
             self._one_cycle()
+            self._requested_s = self.time_s
             if condition(dict(self._last)):
                 return self.time_s
         name = getattr(condition, "__name__", "condition")

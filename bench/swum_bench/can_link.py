@@ -83,8 +83,12 @@ class CanLink:
         signal = self.frames[frame_name].signal_by_name(signal_name)
         if not math.isfinite(value):
             raise ValueError(f"{frame_name}.{signal_name}: {value!r} is not a finite number")
-        # canmatrix computes in Decimal; repr() keeps the float's shortest exact text.
-        raw = int(signal.phys2raw(decimal.Decimal(repr(float(value)))))
+        # Rounded to the nearest count as the Modbus encoding does (canmatrix's phys2raw
+        # truncates); Decimal from repr() keeps the float's shortest exact text.
+        scaled = (decimal.Decimal(repr(float(value))) - decimal.Decimal(signal.offset)) / decimal.Decimal(signal.factor)
+        raw = int(scaled.to_integral_value(rounding=decimal.ROUND_HALF_EVEN))
+        if raw == 0 and value != 0 and signal_name.endswith("Slew"):
+            raise ValueError(f"{frame_name}.{signal_name}: {value!r} rounds to 0, which means unlimited")
         bits = int(signal.size)
         lo, hi = (-(1 << (bits - 1)), (1 << (bits - 1)) - 1) if signal.is_signed else (0, (1 << bits) - 1)
         if not lo <= raw <= hi:
@@ -100,7 +104,6 @@ class CanLink:
             mode = 0 if last_sample is not None and last_sample["state"] == 2 else self._mode
         else:
             mode = {1: 1, 2: 0, 3: 2}[action]
-        self._mode = 1 if mode == 1 else 0  # after a reset the drive is disabled
         raws = {"Frequency": self._raw("Command", "Frequency", command["frequency_setpoint"]),
                 "Phase": self._raw("Command", "Phase", command["phase_setpoint"]),
                 "Amplitude": self._raw("Command", "Amplitude", command["amplitude_setpoint"])}
@@ -108,6 +111,7 @@ class CanLink:
                "FrequencySlew": self._raw("AuxCommand", "FrequencySlew", command["frequency_slew"]),
                "AmplitudeSlew": self._raw("AuxCommand", "AmplitudeSlew", command["amplitude_slew"])}
         self._send("Command", {"Mode": mode, "Reserved1": 0, "Reserved2": 0, **raws})
+        self._mode = 1 if mode == 1 else 0  # after a reset the drive is disabled
         rejects = None if last_sample is None else last_sample["reject_count"]
         if aux != self._aux or rejects != self._rejects:
             self._send("AuxCommand", {"Reserved1": 0, **aux})

@@ -17,44 +17,61 @@ class BenchError(RuntimeError):
 _READY = re.compile(r"^swum-emu ready (.*)$")
 
 
+_ENVIRONMENT = re.compile(r"^(swum-emu: )?(Modbus TCP|Modbus RTU|CAN|GPIO|socket|bind|listen)\b", re.I)
+
+
+def _start_error(status):
+    """Which error a start-up exit is. CLI11 refusing an option exits with 100 or more; swum-emu
+    refusing a value, its parameter file or a scenario exits 1: a mistake in the test. A
+    transport that cannot open (a port in use, no CAN interface) also exits 1, but says so."""
+    return BenchUsageError if status >= 100 or status in (1, 2) else BenchError
+
+
 class Emulator:
     def __init__(self, binary, args, log_path, ready_timeout_s=30.0):
         if not binary or not os.path.isfile(binary) or not os.access(binary, os.X_OK):
             raise BenchUsageError(f"swum-emu binary {binary!r} is not an executable file "
                                   "(--swum-emu or SWUM_EMU)")
         self.log_path = log_path
-        self.command = [binary, *args]
+        self.command = [binary, *[str(a) for a in args]]
         self.fields = {}
-        self._log = open(log_path, "w")
-        self._log.write("$ " + " ".join(self.command) + "\n")
-        self._log.flush()
         self._ready = threading.Event()
         self._lock = threading.Lock()
+        self._log = open(log_path, "w")
         try:
+            self._log.write("$ " + " ".join(self.command) + "\n")
+            self._log.flush()
             self.process = subprocess.Popen(self.command, stdin=subprocess.DEVNULL, stdout=subprocess.PIPE,
                                             stderr=subprocess.STDOUT, text=True, bufsize=1)
-        except OSError as e:
+        except (OSError, ValueError) as e:  # ValueError: a NUL byte in an argument
             self._log.close()
-            raise BenchUsageError(f"cannot start swum-emu {binary}: {e.strerror}") from e
+            raise BenchUsageError(f"cannot start swum-emu {binary}: {getattr(e, 'strerror', None) or e}") from e
         self._reader = threading.Thread(target=self._drain, daemon=True)
         self._reader.start()
+        try:
+            self._wait_ready(ready_timeout_s)
+        except BaseException:  # also Ctrl-C while waiting: never leave swum-emu running
+            self.stop()
+            raise
+
+    def _wait_ready(self, ready_timeout_s):
+        log_path = self.log_path
         if not self._ready.wait(ready_timeout_s) or not self.fields:
             try:  # end of output: the process is exiting; take its status before reading why
                 status = self.process.wait(5)
             except subprocess.TimeoutExpired:
                 status = None
             self._reader.join(5)
-            lines = [line for line in self.log_tail(20).splitlines()
-                     if line.strip() and not line.startswith(("$ ", "[bench]"))]
-            why = lines[-1].strip() if lines else "no output"
+            lines = [line.strip() for line in self.log_tail(20).splitlines()
+                     if line.strip() and not line.startswith(("$ ", "[bench]", "Run with --help"))]
+            why = lines[-1] if lines else "no output"
             self.stop()
             if status is None:
                 raise BenchError(f"swum-emu did not become ready: no ready line in {ready_timeout_s:g} s "
                                  f"(last output: {why}; log {log_path})")
-            # Exit 1 before the ready line is swum-emu refusing its options, parameter file or
-            # scenario: a mistake in the test (an inject value out of range, a bad config).
-            error = BenchUsageError if status in (1, 2) else BenchError
-            raise error(f"swum-emu exited with status {status} before it was ready: {why} (log {log_path})")
+            error = BenchError if _ENVIRONMENT.match(why) else _start_error(status)
+            raise error(f"swum-emu exited with status {status} before it was ready: {why} "
+                                       f"(log {log_path})")
 
     def _drain(self):
         for line in self.process.stdout:

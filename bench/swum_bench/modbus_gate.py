@@ -120,6 +120,8 @@ class ModbusGate:
                 continue
             except OSError:
                 return
+            with self._count_lock:  # counted from the accept on: quiet_after_exit sees it at once
+                self._open_connections += 1
             t = threading.Thread(target=self._serve, args=(client,), daemon=True)
             self._threads.append(t)
             t.start()
@@ -130,9 +132,16 @@ class ModbusGate:
                 return True
         return False
 
+    @staticmethod
+    def _peer_closed(sock):
+        try:
+            return sock.recv(1, socket.MSG_PEEK | socket.MSG_DONTWAIT) == b""
+        except BlockingIOError:
+            return False
+        except OSError:
+            return True
+
     def _serve(self, client):
-        with self._count_lock:
-            self._open_connections += 1
         try:
             self._serve_connection(client)
         finally:
@@ -159,6 +168,9 @@ class ModbusGate:
                 writes = written_registers(request[7:])
                 advance = writes.get(ADVANCE, 0)
                 if advance and not self._wait_permit():
+                    return
+                if advance and self._peer_closed(client):  # held while its controller exited: void
+                    self.events.put(("closed", "the controller closed its Modbus connection"))
                     return
                 upstream.sendall(request)
                 reply = read_frame(upstream)

@@ -55,8 +55,8 @@ class ModbusLink:
             raise BenchError(f"Modbus {self.where}: {what}: {e}") from e
         if wr.isError():
             code = getattr(wr, "exception_code", None)
-            if code is None:
-                raise BenchError(f"Modbus {self.where}: {what}: {wr}")
+            if code != 3:  # 04 the emulator is stopping, 06 its queue is full: not the command's fault
+                raise BenchError(f"Modbus {self.where}: {what}: " + (f"exception {code:02d}" if code else str(wr)))
             reason = int(self.read_inputs()["last_reject_reason"])  # why (input register 3)
             raise CommandRefused(f"swum-emu refused the command ({', '.join(f'{k}={v:g}' for k, v in holding_values.items())}) "
                                  f"with exception {code:02d}, reject reason {reason} {self.map.reasons.get(reason, '?')}")

@@ -41,6 +41,8 @@ class Register:
         lo, hi = (-(1 << (bits - 1)), (1 << (bits - 1)) - 1) if self.signed else (0, (1 << bits) - 1)
         if not lo <= raw <= hi:
             raise ValueError(f"{self.name}: {value!r} {self.unit} is outside the register's range")
+        if raw == 0 and value != 0 and self.name.endswith("_slew"):
+            raise ValueError(f"{self.name}: {value!r} {self.unit} rounds to 0, which means unlimited")
         raw &= (1 << bits) - 1
         return [(raw >> (16 * (self.words - 1 - i))) & 0xFFFF for i in range(self.words)]
 

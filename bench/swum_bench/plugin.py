@@ -135,12 +135,12 @@ def pytest_runtest_makereport(item, call):
             for path in getattr(item, "_swum_plots", []):
                 item.user_properties.append(("swum_plot", path))
             for bench in factory.benches if factory else []:
-                if bench.emulator_log is not None:
+                if bench.emulator_log is not None and os.path.exists(bench.emulator_log):
                     item.user_properties.append(("swum_emulator_log", bench.emulator_log))
     outcome = yield
     report = outcome.get_result()
     if call.when == "call" and call.excinfo is not None:
         factory = getattr(item, "_swum_factory", None)
         for bench in factory.benches if factory else []:
-            if bench.emulator_log is not None:
+            if bench.emulator_log is not None and os.path.exists(bench.emulator_log):
                 report.sections.append((f"swum-emu log ({bench.emulator_log})", _log_tail(bench.emulator_log)))

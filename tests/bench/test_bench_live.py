@@ -120,3 +120,28 @@ def test_fault_already_latched_is_not_caused_by_the_injection(swum_bench):
     bench.step(0.02)
     with pytest.raises(WaveformAssertionError, match="was already present at t = "):
         assert_fault_within(bench.signal("fault_code"), 4, injected_at_s=0.01, within_s=0.005)
+
+
+def test_controller_whose_every_step_is_refused_fails_instead_of_hanging(swum_bench):
+    bench = swum_bench(ExternalController([sys.executable, os.path.join(HERE, "tiny_controller.py"), "{modbus}", "10",
+                                           "1000", "1000"]))
+    with pytest.raises(AssertionError, match=r"100 steps in a row refused by swum-emu, none run"):
+        bench.step(0.01)
+    assert bench.time_s == 0.0
+
+
+def test_start_refusal_by_the_option_parser_names_the_option(swum_bench):
+    bench = swum_bench(emu_args=["--bogus"])
+    with pytest.raises(BenchUsageError, match=r"before it was ready: .*--bogus"):
+        bench.step(0.001)
+
+
+def test_steps_add_up_from_what_was_asked_with_a_longer_controller_cycle(swum_bench):
+    bench = swum_bench(swum_bench.reference_controller(300, frequency_hz=40000, cycle_ms=2))
+    assert [bench.step(0.001) for _ in range(4)] == pytest.approx([0.002, 0.002, 0.004, 0.004])
+
+
+@pytest.mark.parametrize("kind", ["modbus_drop", "telemetry_silence", "can_bus_off"])
+def test_events_on_the_benchs_own_link_are_refused(swum_bench, kind):
+    with pytest.raises(BenchUsageError, match=rf"inject {kind}: it acts on the link the bench steps"):
+        swum_bench().inject(kind, at_s=0.1)

@@ -97,3 +97,25 @@ def test_set_points_that_do_not_fit_are_refused_not_wrapped(fields, pattern):
     with pytest.raises(ValueError, match=pattern):
         link.send_command(command(1, **fields), None)
     assert link.sent == []
+
+
+def test_set_points_round_to_the_nearest_count_like_modbus():
+    link = Recorder()
+    link.send_command(command(1, vpp=100.2), None)  # 400.8 counts of 0.25 Vpp
+    assert link.sent[0][1]["Amplitude"] == 401
+
+
+def test_a_slew_that_rounds_to_unlimited_is_refused():
+    link = Recorder()
+    cmd = command(1)
+    cmd["frequency_slew"] = 40.0  # 0.4 counts of 100 Hz/s: 0 would mean unlimited
+    with pytest.raises(ValueError, match=r"AuxCommand.FrequencySlew: 40.0 rounds to 0, which means unlimited"):
+        link.send_command(cmd, None)
+
+
+def test_a_refused_enable_does_not_turn_later_keep_alives_into_enables():
+    link = Recorder()
+    with pytest.raises(ValueError):
+        link.send_command(command(1, vpp=5000.0), None)
+    link.send_command(command(0), sample(0))
+    assert modes(link) == [0]

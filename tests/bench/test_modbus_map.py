@@ -211,3 +211,9 @@ def test_table_file_is_valid_json():
         table = json.load(f)
     addresses = [r["address"] for r in table["holding_registers"]]
     assert addresses == sorted(addresses)
+
+
+def test_a_slew_that_rounds_to_unlimited_is_refused():
+    from swum_bench.modbus_map import ModbusMap, default_path
+    with pytest.raises(ValueError, match=r"frequency_slew: 0.4 Hz/s rounds to 0, which means unlimited"):
+        ModbusMap(default_path()).holding["frequency_slew"].encode(0.4)
