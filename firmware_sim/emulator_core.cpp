@@ -68,10 +68,21 @@ const Telemetry& EmulatorCore::tick() {
     if (reason != Reason::none) shared_.rejects.record(reason, command.source);
     telemetry_.last_sequence = command.sequence;
   }
+  // Run-time faults (the HTTP API) join the scenario's timeline at this boundary.
+  // At most what the player holds for one tick: the rest stays queued for the next.
+  RuntimeEvent event;
+  for (std::size_t n = 0; n < kRuntimeEventCapacity && shared_.runtime_events.try_pop(event); ++n) {
+    if (scenario_) scenario_->queue_runtime(event);
+  }
   // Scenario: the conditions of this tick (faults that trip the amplifier trip it before its tick).
   if (scenario_) scenario_->set_commanded_load_n(amplifier_.setpoints().load_n);
   conditions_ = scenario_ ? &scenario_->at_tick(tick_) : nullptr;
   if (conditions_ != nullptr) apply_scenario(*conditions_);
+  if (scenario_ && scenario_->generation() != published_faults_generation_) {  // rare: a fault starts or ends
+    scenario_->active_faults(active_faults_);
+    shared_.active_faults.store(active_faults_);
+    published_faults_generation_ = scenario_->generation();
+  }
 
   // 2. Amplifier: enable line, watchdog, slew -> drive for this tick.
   const bool enable_line = shared_.enable_line.load(std::memory_order_relaxed);
@@ -161,6 +172,9 @@ const Telemetry& EmulatorCore::tick() {
   if (conditions_ != nullptr) report_speed(*conditions_);
   shared_.telemetry.store(telemetry_);
   if (observer_ != nullptr) observer_->on_telemetry(telemetry_);
+  if (shared_.recording != nullptr && shared_.recording->on.load(std::memory_order_acquire) &&
+      !shared_.recording->ring.try_push(telemetry_))
+    shared_.recording->dropped.fetch_add(1, std::memory_order_relaxed);
   return telemetry_;
 }
 

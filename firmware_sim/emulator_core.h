@@ -104,6 +104,8 @@ class EmulatorCore {
   void report_sensors(const ScenarioConditions& c, double& position_m);
   void report_speed(const ScenarioConditions& c);
   std::optional<ScenarioPlayer> scenario_;
+  ActiveFaults active_faults_;  // what was last published (shared_.active_faults)
+  std::uint64_t published_faults_generation_ = 0;
   std::FILE* scenario_log_ = nullptr;
   const ScenarioConditions* conditions_ = nullptr;
   ModelFaults faults_;

@@ -450,6 +450,61 @@ ScenarioEvent parse_injection(std::string_view text) {
   return event;
 }
 
+std::vector<EventKey> event_keys(EventType type) {
+  std::vector<EventKey> keys;
+  for (const KeySpec& k : spec_of(type).keys) {
+    EventKey key;
+    key.name = std::string(k.name);
+    key.min = k.min;
+    key.max = k.max;
+    key.min_open = k.min_open;
+    key.required = k.required;
+    switch (k.kind) {
+      case ValueKind::number:
+      case ValueKind::optional_number: key.kind = "number"; break;
+      case ValueKind::integer: key.kind = "integer"; break;
+      case ValueKind::phase: key.kind = "phase"; break;
+      case ValueKind::fault: key.kind = "fault"; break;
+    }
+    keys.push_back(std::move(key));
+  }
+  return keys;
+}
+
+ScenarioEvent make_event(EventType type, const std::vector<std::pair<std::string, EventValue>>& values, double at_s,
+                         const std::string& origin) {
+  const std::string prefix = std::string(to_string(type)) + ": ";
+  ScenarioEvent event;
+  event.type = type;
+  event.origin = origin;
+  RawValue at;
+  at.kind = RawValue::Kind::floating;
+  at.floating = at_s;
+  if (auto problem = read_number(kAtSpec, at, event.at_s); !problem.empty()) throw ScenarioError(prefix + problem);
+  EventBuilder builder(type);
+  for (const auto& [key, value] : values) {
+    RawValue raw;
+    switch (value.kind) {
+      case EventValue::Kind::integer:
+        raw.kind = RawValue::Kind::integer;
+        raw.integer = value.integer;
+        break;
+      case EventValue::Kind::floating:
+        raw.kind = RawValue::Kind::floating;
+        raw.floating = value.floating;
+        break;
+      case EventValue::Kind::name:
+        raw.kind = RawValue::Kind::string;
+        raw.text = value.name;
+        break;
+    }
+    if (auto problem = builder.set(key, raw); !problem.empty()) throw ScenarioError(prefix + problem);
+  }
+  if (auto problem = builder.finish(); !problem.empty()) throw ScenarioError(prefix + problem);
+  event.parameters = builder.parameters();
+  return event;
+}
+
 std::string format_event(const ScenarioEvent& event) {
   std::string text = std::string(to_string(event.type)) + "@" + format_number(event.at_s);
   const EventParameters& p = event.parameters;

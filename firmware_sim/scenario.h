@@ -98,6 +98,31 @@ class ScenarioError : public std::runtime_error {
 // with the keys, ranges and defaults of the file. Throws ScenarioError naming "--inject 'TEXT'".
 [[nodiscard]] ScenarioEvent parse_injection(std::string_view text);
 
+// One key of an event type as the API lists it (docs/scenarios.md has the same table): its
+// name, kind ("number", "integer", "phase", "fault"), range and whether it must be given.
+struct EventKey {
+  std::string name;
+  std::string kind;
+  double min = 0.0;
+  double max = 0.0;
+  bool min_open = false;  // (min, max] instead of [min, max]
+  bool required = true;
+};
+[[nodiscard]] std::vector<EventKey> event_keys(EventType type);
+
+// A key's value given by a program (the HTTP API's JSON): a number or a name ("B", "jam").
+struct EventValue {
+  enum class Kind : std::uint8_t { integer, floating, name } kind = Kind::floating;
+  std::int64_t integer = 0;
+  double floating = 0.0;
+  std::string name;
+};
+
+// An event of `type` at `at_s` from key/value pairs, with the keys, ranges, defaults and
+// messages of a scenario file. Throws ScenarioError "TYPE: what is wrong".
+[[nodiscard]] ScenarioEvent make_event(EventType type, const std::vector<std::pair<std::string, EventValue>>& values,
+                                       double at_s, const std::string& origin);
+
 // One line in the --inject form with every key the type has (optional ones with their value),
 // numbers in their shortest exact form: parse_injection(format_event(e)) equals e except origin.
 [[nodiscard]] std::string format_event(const ScenarioEvent& event);

@@ -8,8 +8,34 @@ namespace swum::emu {
 
 ScenarioPlayer::ScenarioPlayer(Scenario scenario, double tick_hz)
     : scenario_(std::move(scenario)), tick_hz_(tick_hz), rng_state_(scenario_.seed ^ 0x9E3779B97F4A7C15ULL) {
-  active_.reserve(scenario_.events.size());
-  now_.started.reserve(scenario_.events.size());
+  active_.reserve(scenario_.events.size() + kMaxActiveFaults);
+  now_.started.reserve(scenario_.events.size() + kRuntimeEventCapacity);
+  for (ScenarioEvent& e : runtime_waiting_) e.origin = "http";  // short: no allocation when copied
+  for (ScenarioEvent& e : runtime_started_) e.origin = "http";
+}
+
+bool ScenarioPlayer::queue_runtime(const RuntimeEvent& event) {
+  // Faults and clears only: a load profile keeps a pointer to its event.
+  if ((!is_fault(event.type) && event.type != EventType::clear) || runtime_waiting_count_ == runtime_waiting_.size()) {
+    ++refused_;
+    ++generation_;  // the refusal count is published with the set
+    return false;
+  }
+  ScenarioEvent& e = runtime_waiting_[runtime_waiting_count_++];
+  e.type = event.type;
+  e.parameters = event.parameters;
+  return true;
+}
+
+void ScenarioPlayer::active_faults(ActiveFaults& out) const {
+  out.generation = generation_;
+  out.refused = refused_;
+  out.total = static_cast<std::uint32_t>(active_.size());
+  out.count = 0;
+  for (const Active& a : active_) {
+    if (out.count == out.items.size()) break;
+    out.items[out.count++] = {a.type, a.start_tick, a.end_tick, a.parameters};
+  }
 }
 
 std::uint64_t ScenarioPlayer::to_tick(double seconds) const {
@@ -48,7 +74,7 @@ double ScenarioPlayer::load_at(std::uint64_t tick) const {
   }
 }
 
-void ScenarioPlayer::start(const ScenarioEvent& e, std::uint64_t tick) {
+bool ScenarioPlayer::start(const ScenarioEvent& e, std::uint64_t tick, bool runtime) {
   const EventParameters& p = e.parameters;
   switch (e.type) {
     case EventType::load_step:
@@ -60,27 +86,59 @@ void ScenarioPlayer::start(const ScenarioEvent& e, std::uint64_t tick) {
       load_from_n_ = load_event_ != nullptr ? load_at(tick) : commanded_load_n_;
       load_event_ = &e;
       load_start_tick_ = tick;
-      return;
-    case EventType::ambient: now_.ambient_c = p.temperature_c; return;
-    case EventType::modbus_drop: now_.modbus_drops_started += p.count; return;
-    case EventType::clear: std::erase_if(active_, [&](const Active& a) { return a.type == p.fault; }); return;
+      return true;
+    case EventType::ambient: now_.ambient_c = p.temperature_c; return true;
+    case EventType::modbus_drop: now_.modbus_drops_started += p.count; return true;
+    case EventType::clear:  // fault == clear: every fault (run time only; a file's clear names one)
+      std::erase_if(active_, [&](const Active& a) {
+        const bool cleared = p.fault == EventType::clear || a.type == p.fault;
+        if (cleared && a.runtime) --runtime_active_;
+        return cleared;
+      });
+      ++generation_;
+      return true;
     default: break;
   }
   // A fault that lasts (until its duration ends or a clear); phase_short and over_temperature
   // have no duration: they hold until cleared.
   const std::uint64_t end = p.duration_s > 0.0 ? tick + std::max<std::uint64_t>(1, to_tick(p.duration_s)) : 0;
+  if (runtime) {
+    if (runtime_active_ == kMaxActiveFaults) {
+      ++refused_;
+      ++generation_;  // the refusal count is published with the set
+      return false;
+    }
+    ++runtime_active_;
+  }
   if (e.type == EventType::jam) ++now_.jam_generation;
-  active_.push_back({e.type, end, &e});
+  active_.push_back({e.type, tick, end, p, runtime});
+  ++generation_;
+  return true;
 }
 
 const ScenarioConditions& ScenarioPlayer::at_tick(std::uint64_t tick) {
   now_.started.clear();
   now_.modbus_drops_started = 0;
-  std::erase_if(active_, [&](const Active& a) { return a.end_tick != 0 && tick >= a.end_tick; });
+  const std::size_t before = active_.size();
+  std::erase_if(active_, [&](const Active& a) {
+    const bool ended = a.end_tick != 0 && tick >= a.end_tick;
+    if (ended && a.runtime) --runtime_active_;
+    return ended;
+  });
+  if (active_.size() != before) ++generation_;
   for (; next_ < scenario_.events.size() && to_tick(scenario_.events[next_].at_s) <= tick; ++next_) {
     start(scenario_.events[next_], tick);
     now_.started.push_back(&scenario_.events[next_]);
   }
+  // Run-time events after the file's of this tick, in the order they came.
+  for (std::size_t i = 0; i < runtime_waiting_count_; ++i) {
+    ScenarioEvent& e = runtime_started_[i];
+    e.type = runtime_waiting_[i].type;
+    e.parameters = runtime_waiting_[i].parameters;
+    e.at_s = static_cast<double>(tick) / tick_hz_;
+    if (start(e, tick, true)) now_.started.push_back(&e);  // a refused one is counted, not logged
+  }
+  runtime_waiting_count_ = 0;
   if (load_event_ != nullptr) now_.load_n = load_at(tick);
 
   // Faults in force: the last started of each kind wins where they set the same value.
@@ -92,7 +150,7 @@ const ScenarioConditions& ScenarioPlayer::at_tick(std::uint64_t tick) {
   c.encoder_stuck = c.speed_frozen = c.telemetry_silent = c.can_bus_off = false;
   c.encoder_sigma_um = c.speed_bias_mm_s = c.speed_sigma_mm_s = c.modbus_delay_ms = 0.0;
   for (const Active& a : active_) {
-    const EventParameters& p = a.event->parameters;
+    const EventParameters& p = a.parameters;
     switch (a.type) {
       case EventType::phase_open: (p.phase == Phase::A ? open_a : open_b) = true; break;
       case EventType::phase_short: c.over_current = true; break;

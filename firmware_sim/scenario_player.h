@@ -4,11 +4,13 @@
 // the reported telemetry and (through SharedState) the transports.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <optional>
 #include <vector>
 
 #include "scenario.h"
+#include "shared_state.h"
 
 namespace swum::emu {
 
@@ -50,6 +52,15 @@ class ScenarioPlayer {
   // Ticks must be asked for in increasing order (each at most once). Allocation-free after the
   // first call except `started`, which reuses its capacity.
   const ScenarioConditions& at_tick(std::uint64_t tick);
+  // A fault (or a clear) given at run time, started at the next at_tick() after the file's
+  // events of that tick. False (and counted in `refused`) for a load or ambient event, or with
+  // kRuntimeEventCapacity already waiting; a fault that finds kMaxActiveFaults run-time faults
+  // in force at that tick is refused and counted then.
+  bool queue_runtime(const RuntimeEvent& event);
+  // Changes with every change of the faults in force (start, end, clear).
+  [[nodiscard]] std::uint64_t generation() const { return generation_; }
+  // The faults in force now (after the last at_tick()).
+  void active_faults(ActiveFaults& out) const;
   // The load the host commands (where the first load profile starts from); default 0.
   void set_commanded_load_n(double load_n) { commanded_load_n_ = load_n; }
   [[nodiscard]] const Scenario& scenario() const { return scenario_; }
@@ -61,10 +72,13 @@ class ScenarioPlayer {
  private:
   struct Active {  // a fault that lasts
     EventType type;
+    std::uint64_t start_tick;
     std::uint64_t end_tick;  // 0: until cleared
-    const ScenarioEvent* event;
+    EventParameters parameters;
+    bool runtime;
   };
-  void start(const ScenarioEvent& e, std::uint64_t tick);
+  // False when a run-time fault is refused (kMaxActiveFaults run-time faults in force).
+  bool start(const ScenarioEvent& e, std::uint64_t tick, bool runtime = false);
   double load_at(std::uint64_t tick) const;
   std::uint64_t to_tick(double seconds) const;
 
@@ -78,6 +92,13 @@ class ScenarioPlayer {
   std::uint64_t load_start_tick_ = 0;
   double load_from_n_ = 0.0;
   double commanded_load_n_ = 0.0;
+  // Run-time events: waiting for the next tick, and the ones started (kept for `started`).
+  std::array<ScenarioEvent, kRuntimeEventCapacity> runtime_waiting_;
+  std::size_t runtime_waiting_count_ = 0;
+  std::array<ScenarioEvent, kRuntimeEventCapacity> runtime_started_;
+  std::size_t runtime_active_ = 0;  // run-time faults in active_
+  std::uint64_t generation_ = 0;
+  std::uint64_t refused_ = 0;
   std::uint64_t rng_state_;
   std::optional<double> spare_normal_;
 };

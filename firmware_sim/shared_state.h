@@ -2,11 +2,13 @@
 // protocol's Telemetry), the command queue and the reject log.
 #pragma once
 
+#include <array>
 #include <atomic>
 #include <cstdint>
 
 #include "amplifier.h"
 #include "lockfree.h"
+#include "scenario.h"
 #include "telemetry.h"
 
 namespace swum::emu {
@@ -31,6 +33,43 @@ struct RejectLog {
 inline constexpr std::size_t kCommandQueueCapacity = 1024;
 using CommandQueue = BoundedQueue<Command, kCommandQueueCapacity>;
 
+// A fault started or cleared at run time (the HTTP API, docs/http-api.md): queued by the API's
+// threads, started by the loop at the next tick boundary exactly like a scenario's event.
+// `clear` with parameters.fault == EventType::clear ends every fault in force.
+struct RuntimeEvent {
+  EventType type = EventType::clear;
+  EventParameters parameters;
+};
+inline constexpr std::size_t kRuntimeEventCapacity = 64;
+using RuntimeEventQueue = BoundedQueue<RuntimeEvent, kRuntimeEventCapacity>;
+
+// The faults in force (scenario and run time), published by the loop when they change.
+inline constexpr std::size_t kMaxActiveFaults = 32;
+struct ActiveFault {
+  EventType type = EventType::clear;
+  std::uint64_t since_tick = 0;
+  std::uint64_t until_tick = 0;  // 0: until cleared
+  EventParameters parameters;
+};
+struct ActiveFaults {
+  std::uint64_t generation = 0;  // changes with every change of the set
+  std::uint32_t count = 0;       // listed in items (the first kMaxActiveFaults)
+  std::uint32_t total = 0;       // in force (a scenario's faults may be more than items holds)
+  // Run-time events refused by the loop: not faults, more than kRuntimeEventCapacity in one
+  // tick, or kMaxActiveFaults run-time faults already in force.
+  std::uint64_t refused = 0;
+  std::array<ActiveFault, kMaxActiveFaults> items{};
+};
+
+// The telemetry of every tick while a recording runs (the HTTP API's recording): the loop
+// pushes, the API's writer thread drains into a file. A full ring drops the tick and counts it.
+inline constexpr std::size_t kRecordingRingCapacity = 16384;  // 1.6 s at 10 kHz
+struct TelemetryRecording {
+  std::atomic<bool> on{false};
+  BoundedQueue<Telemetry, kRecordingRingCapacity> ring;
+  std::atomic<std::uint64_t> dropped{0};
+};
+
 // Everything the loop and the transports share. Lives for the whole process.
 class LockstepClock;
 
@@ -49,6 +88,10 @@ struct SharedState {
   std::atomic<std::uint64_t> modbus_drops{0};  // Modbus requests still to leave unanswered
   std::atomic<double> modbus_delay_ms{0.0};    // every Modbus reply this late (emulated ms)
   std::atomic<bool> can_bus_off{false};        // the CAN node neither sends nor receives
+  // The HTTP API (off unless --http): run-time faults in, the faults in force out, the recording.
+  RuntimeEventQueue runtime_events;
+  Seqlock<ActiveFaults> active_faults;
+  TelemetryRecording* recording = nullptr;  // owned by the API; nullptr: no recording possible
   double speedup = 1.0;    // emulated per wall second (wall-time delays); set before the transports start
   double tick_hz = 1.0e4;  // ticks per emulated second (lockstep delays); set before the transports start
 

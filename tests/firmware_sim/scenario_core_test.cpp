@@ -603,5 +603,182 @@ TEST(ScenarioCan, SyncWithTheInternalClockIsRejected) {
   EXPECT_EQ(can.stats().rejected.load(), 1U);
 }
 
+// --- Run-time faults (the HTTP API) and the recording ring ---------------------------------------
+
+// A Bench with an empty scenario (what swum-emu --http plays): faults come only at run time.
+struct RuntimeBench : Bench {
+  RuntimeBench() { core.set_scenario(Scenario{}, nullptr); }
+  void push(const RuntimeEvent& e) { ASSERT_TRUE(shared.runtime_events.try_push(e)); }
+  void push(EventType type) {
+    RuntimeEvent e;
+    e.type = type;
+    push(e);
+  }
+  void clear(EventType fault) {  // DELETE /faults/{fault}; EventType::clear: DELETE /faults
+    RuntimeEvent e;
+    e.type = EventType::clear;
+    e.parameters.fault = fault;
+    push(e);
+  }
+};
+
+RuntimeEvent phase_open_b() {
+  RuntimeEvent e;
+  e.type = EventType::phase_open;
+  e.parameters.phase = Phase::B;
+  return e;
+}
+
+TEST(ScenarioCoreRuntime, OverTemperatureTripsTheEnabledAmplifierAtTheNextTick) {
+  RuntimeBench b;
+  EXPECT_EQ(b.run_through(99).state, AmpState::enabled);
+  b.push(EventType::over_temperature);
+  const Telemetry& tripped = b.run_through(100);
+  EXPECT_EQ(tripped.state, AmpState::fault);
+  EXPECT_EQ(tripped.fault, FaultCode::over_temperature);
+  EXPECT_EQ(tripped.output.vpp, 0.0);
+  RuntimeEvent left;
+  EXPECT_FALSE(b.shared.runtime_events.try_pop(left));  // drained by the tick
+}
+
+TEST(ScenarioCoreRuntime, ClearOfOverTemperatureLetsAResetAndEnableRunAgain) {
+  RuntimeBench b;
+  b.run_through(99);
+  b.push(EventType::over_temperature);
+  b.run_through(199);
+  b.submit(command(Action::reset_fault));
+  b.submit(enable_drive());
+  EXPECT_EQ(b.run_through(200).state, AmpState::fault);  // still holding: trips again
+  b.clear(EventType::over_temperature);
+  b.run_through(201);
+  EXPECT_EQ(b.core.telemetry().state, AmpState::fault);  // latched until a reset
+  b.submit(command(Action::reset_fault));
+  b.submit(enable_drive());
+  const Telemetry& running = b.run_through(800);
+  EXPECT_EQ(running.state, AmpState::enabled);
+  EXPECT_EQ(running.fault, FaultCode::none);
+  EXPECT_GT(running.speed_m_s, 0.05);
+}
+
+// phase_open drives the phase at 0 V (docs/scenarios.md: "that phase's drive amplitude is 0"):
+// its drive current and power vanish. What stays is the motional current of an electrode held
+// at 0 V (measured: 75.5 mA of 886 mA, all motional, no power); a truly open phase would read 0 A.
+TEST(ScenarioCoreRuntime, PhaseOpenBRemovesThePhaseBDriveCurrentAndPowerUntilCleared) {
+  RuntimeBench b;
+  const Telemetry nominal = b.run_through(299);    // a copy: the core's telemetry moves on
+  ASSERT_GT(nominal.electrical.current_b_a, 0.5);  // measured 0.886 A at 400 Vpp, 40 kHz
+  ASSERT_GT(nominal.electrical.power_b_w, 5.0);    // measured 12 W
+  b.push(phase_open_b());
+  const Telemetry open = b.run_through(kSteadyTick);  // 30 ms later: settled
+  EXPECT_EQ(open.state, AmpState::enabled);
+  EXPECT_LT(open.electrical.current_b_a, 0.15 * nominal.electrical.current_b_a);
+  EXPECT_NEAR(open.electrical.power_b_w, 0.0, 1e-9);
+  EXPECT_NEAR(open.electrical.current_a_a, nominal.electrical.current_a_a,
+              0.1 * nominal.electrical.current_a_a);  // phase A still driven
+  b.clear(EventType::phase_open);
+  const Telemetry restored = b.run_through(kSteadyTick + 300);
+  EXPECT_NEAR(restored.electrical.current_b_a, nominal.electrical.current_b_a, 0.05 * nominal.electrical.current_b_a);
+  EXPECT_GT(restored.electrical.power_b_w, 0.5 * nominal.electrical.power_b_w);
+}
+
+TEST(ScenarioCoreRuntime, PhaseOpenBSlowsTheMoverLikeTheFileEvent) {
+  RuntimeBench runtime;
+  Bench file({"phase_open@0:phase=B"});
+  runtime.push(phase_open_b());  // at tick 0, as the file's
+  const double runtime_speed = runtime.run_through(kSteadyTick).speed_m_s;
+  EXPECT_EQ(runtime_speed, file.run_through(kSteadyTick).speed_m_s);  // the same timeline, bit for bit
+  EXPECT_LT(runtime_speed, 0.35 * nominal_speed_m_s(kSteadyTick));
+}
+
+TEST(ScenarioCoreRuntime, ActiveFaultsArePublishedWhenTheyChange) {
+  RuntimeBench b;
+  b.run_through(49);
+  const ActiveFaults none = b.shared.active_faults.load();
+  EXPECT_EQ(none.count, 0U);
+  b.push(phase_open_b());
+  b.run_through(50);
+  const ActiveFaults open = b.shared.active_faults.load();
+  ASSERT_EQ(open.count, 1U);
+  EXPECT_EQ(open.items[0].type, EventType::phase_open);
+  EXPECT_EQ(open.items[0].parameters.phase, Phase::B);
+  EXPECT_EQ(open.items[0].since_tick, 50U);
+  EXPECT_EQ(open.items[0].until_tick, 0U);
+  EXPECT_NE(open.generation, none.generation);
+  const std::uint64_t version = b.shared.active_faults.version();
+  b.run_through(80);
+  EXPECT_EQ(b.shared.active_faults.version(), version);  // not republished while nothing changes
+  b.push(EventType::over_temperature);
+  b.run_through(81);
+  EXPECT_EQ(b.shared.active_faults.load().count, 2U);
+  b.clear(EventType::clear);  // DELETE /faults: every fault
+  b.run_through(82);
+  const ActiveFaults cleared = b.shared.active_faults.load();
+  EXPECT_EQ(cleared.count, 0U);
+  EXPECT_NE(cleared.generation, open.generation);
+}
+
+TEST(ScenarioCoreRuntime, FaultWithADurationEndsByItselfAndIsUnpublished) {
+  RuntimeBench b;
+  b.run_through(9);
+  RuntimeEvent stuck;
+  stuck.type = EventType::encoder_stuck;
+  stuck.parameters.duration_s = 0.002;  // 20 ticks: 10..29
+  b.push(stuck);
+  const double held_m = b.run_through(10).position_m;
+  EXPECT_EQ(b.shared.active_faults.load().items[0].until_tick, 30U);
+  EXPECT_EQ(b.run_through(29).position_m, held_m);
+  EXPECT_NE(b.run_through(30).position_m, held_m);  // the mover runs at ~0.1 m/s by then
+  EXPECT_EQ(b.shared.active_faults.load().count, 0U);
+}
+
+TEST(ScenarioCoreRuntime, WithoutAScenarioRuntimeEventsAreDrainedAndIgnored) {
+  Bench b;  // no scenario at all (swum-emu without --http or --scenario)
+  b.run_through(99);
+  RuntimeEvent e;
+  e.type = EventType::over_temperature;
+  ASSERT_TRUE(b.shared.runtime_events.try_push(e));
+  EXPECT_EQ(b.run_through(100).state, AmpState::enabled);
+  RuntimeEvent left;
+  EXPECT_FALSE(b.shared.runtime_events.try_pop(left));  // drained: the queue never fills
+  EXPECT_EQ(b.shared.active_faults.load().count, 0U);
+}
+
+TEST(ScenarioCoreRuntime, RecordingRingGetsEveryTickWhileOnAndNoneWhileOff) {
+  RuntimeBench b;
+  auto recording = std::make_unique<TelemetryRecording>();  // megabytes: on the heap
+  b.shared.recording = recording.get();
+  b.run_through(9);  // ticks 0..9: off
+  Telemetry early;
+  EXPECT_FALSE(recording->ring.try_pop(early));
+  recording->on.store(true);
+  b.run_through(109);  // ticks 10..109: on
+  recording->on.store(false);
+  b.run_through(149);  // off again
+  std::vector<Telemetry> got;
+  Telemetry t;
+  while (recording->ring.try_pop(t)) got.push_back(t);
+  ASSERT_EQ(got.size(), 100U);
+  for (std::size_t i = 0; i < got.size(); ++i) ASSERT_EQ(got[i].tick, 11 + i) << i;  // telemetry tick = ticks run
+  EXPECT_EQ(recording->dropped.load(), 0U);
+  b.shared.recording = nullptr;
+}
+
+TEST(ScenarioCoreRuntime, RecordedTelemetryIsWhatTheCorePublished) {
+  RuntimeBench b;
+  auto recording = std::make_unique<TelemetryRecording>();
+  b.shared.recording = recording.get();
+  recording->on.store(true);
+  const Telemetry published = b.run_through(299);
+  Telemetry last;
+  std::size_t n = 0;
+  for (Telemetry t; recording->ring.try_pop(t); ++n) last = t;
+  EXPECT_EQ(n, 300U);
+  EXPECT_EQ(last.tick, published.tick);
+  EXPECT_EQ(last.speed_m_s, published.speed_m_s);
+  EXPECT_EQ(last.position_m, published.position_m);
+  EXPECT_EQ(last.electrical.current_b_a, published.electrical.current_b_a);
+  b.shared.recording = nullptr;
+}
+
 }  // namespace
 }  // namespace swum::emu

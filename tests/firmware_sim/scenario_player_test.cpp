@@ -246,5 +246,237 @@ TEST(ScenarioPlayer, NormalDrawsAreSeededAndStandard) {
   EXPECT_GT(beyond_3_sd, 20);
 }
 
+// --- Run-time faults (the HTTP API): queue_runtime, generation, active_faults --------------------
+
+RuntimeEvent runtime(EventType type) {
+  RuntimeEvent e;
+  e.type = type;
+  return e;
+}
+RuntimeEvent runtime_phase_open(Phase phase, double duration_s = 0.0) {
+  RuntimeEvent e = runtime(EventType::phase_open);
+  e.parameters.phase = phase;
+  e.parameters.duration_s = duration_s;
+  return e;
+}
+RuntimeEvent runtime_clear(EventType fault) {
+  RuntimeEvent e = runtime(EventType::clear);
+  e.parameters.fault = fault;
+  return e;
+}
+ActiveFaults active_faults_of(const ScenarioPlayer& player) {
+  ActiveFaults out;
+  player.active_faults(out);
+  return out;
+}
+
+TEST(ScenarioPlayerRuntime, QueuedFaultStartsAtTheNextTick) {
+  Timeline t(scenario_of({}));
+  EXPECT_FALSE(t.at(9).over_temperature);
+  EXPECT_TRUE(t.player().queue_runtime(runtime(EventType::over_temperature)));
+  EXPECT_FALSE(t.at(9).over_temperature);  // tick 9's conditions stay what they were
+  EXPECT_TRUE(t.at(10).over_temperature);
+  EXPECT_TRUE(t.at(100000).over_temperature);  // no duration: until cleared
+}
+
+TEST(ScenarioPlayerRuntime, QueuedFaultLastsItsDurationInTicks) {
+  Timeline t(scenario_of({}));
+  t.at(9);
+  ASSERT_TRUE(t.player().queue_runtime(runtime_phase_open(Phase::B, 0.0025)));  // 25 ticks
+  EXPECT_EQ(t.at(10).phase_b_gain, 0.0);
+  EXPECT_EQ(t.at(10).phase_a_gain, 1.0);
+  EXPECT_EQ(t.at(34).phase_b_gain, 0.0);
+  EXPECT_EQ(t.at(35).phase_b_gain, 1.0);
+}
+
+TEST(ScenarioPlayerRuntime, ClearByTypeEndsThatTypeOnly) {
+  Timeline t(scenario_of({}));
+  t.at(0);
+  RuntimeEvent sag = runtime(EventType::voltage_sag);
+  sag.parameters.factor = 0.5;
+  ASSERT_TRUE(t.player().queue_runtime(runtime_phase_open(Phase::A)));
+  ASSERT_TRUE(t.player().queue_runtime(sag));
+  EXPECT_EQ(t.at(1).phase_a_gain, 0.0);
+  EXPECT_EQ(t.at(1).phase_b_gain, 0.5);
+  ASSERT_TRUE(t.player().queue_runtime(runtime_clear(EventType::phase_open)));
+  const ScenarioConditions& c = t.at(2);
+  EXPECT_EQ(c.phase_a_gain, 0.5);  // the open ended; the sag holds
+  EXPECT_EQ(c.phase_b_gain, 0.5);
+  EXPECT_EQ(active_faults_of(t.player()).count, 1U);
+}
+
+TEST(ScenarioPlayerRuntime, ClearAllEndsEveryFaultTheFilesToo) {
+  Timeline t(scenario_of({"voltage_sag@0:factor=0.5", "speed_frozen@0", "load_step@0:load_n=2"}));
+  t.at(0);
+  ASSERT_TRUE(t.player().queue_runtime(runtime(EventType::over_temperature)));
+  const ScenarioConditions& before = t.at(1);
+  EXPECT_EQ(before.phase_a_gain, 0.5);
+  EXPECT_TRUE(before.speed_frozen);
+  EXPECT_TRUE(before.over_temperature);
+  ASSERT_TRUE(t.player().queue_runtime(runtime_clear(EventType::clear)));
+  const ScenarioConditions& after = t.at(2);
+  EXPECT_EQ(after.phase_a_gain, 1.0);
+  EXPECT_FALSE(after.speed_frozen);
+  EXPECT_FALSE(after.over_temperature);
+  EXPECT_EQ(after.load_n, 2.0);  // a load is not a fault: it stays
+  EXPECT_EQ(active_faults_of(t.player()).count, 0U);
+}
+
+TEST(ScenarioPlayerRuntime, GenerationChangesWhenAFaultStartsEndsOrIsCleared) {
+  Timeline t(scenario_of({}));
+  t.at(0);
+  const std::uint64_t g0 = t.player().generation();
+  ASSERT_TRUE(t.player().queue_runtime(runtime_phase_open(Phase::A, 0.001)));  // ticks 1..10
+  t.at(1);
+  const std::uint64_t started = t.player().generation();
+  EXPECT_NE(started, g0);
+  t.at(10);
+  EXPECT_EQ(t.player().generation(), started);  // nothing changed in between
+  t.at(11);
+  const std::uint64_t ended = t.player().generation();
+  EXPECT_NE(ended, started);
+  ASSERT_TRUE(t.player().queue_runtime(runtime(EventType::encoder_stuck)));
+  t.at(12);
+  const std::uint64_t second = t.player().generation();
+  EXPECT_NE(second, ended);
+  ASSERT_TRUE(t.player().queue_runtime(runtime_clear(EventType::encoder_stuck)));
+  t.at(13);
+  EXPECT_NE(t.player().generation(), second);
+  EXPECT_EQ(active_faults_of(t.player()).generation, t.player().generation());
+}
+
+TEST(ScenarioPlayerRuntime, FileFaultsChangeTheGenerationToo) {
+  Timeline t(scenario_of({"speed_frozen@0.001:duration_s=0.001"}));
+  EXPECT_FALSE(t.at(9).speed_frozen);
+  const std::uint64_t before = t.player().generation();
+  EXPECT_TRUE(t.at(10).speed_frozen);
+  const std::uint64_t started = t.player().generation();
+  EXPECT_NE(started, before);
+  EXPECT_FALSE(t.at(20).speed_frozen);
+  EXPECT_NE(t.player().generation(), started);
+}
+
+TEST(ScenarioPlayerRuntime, ActiveFaultsListTypeTicksAndParametersOfFileAndRuntimeFaults) {
+  Timeline t(scenario_of({"voltage_sag@0.001:factor=0.7,duration_s=0.002"}));
+  t.at(14);
+  ASSERT_TRUE(t.player().queue_runtime(runtime_phase_open(Phase::B, 0.1)));
+  t.at(15);
+  const ActiveFaults f = active_faults_of(t.player());
+  ASSERT_EQ(f.count, 2U);
+  EXPECT_EQ(f.items[0].type, EventType::voltage_sag);  // in the order they started
+  EXPECT_EQ(f.items[0].since_tick, 10U);
+  EXPECT_EQ(f.items[0].until_tick, 30U);
+  EXPECT_EQ(f.items[0].parameters.factor, 0.7);
+  EXPECT_EQ(f.items[1].type, EventType::phase_open);
+  EXPECT_EQ(f.items[1].since_tick, 15U);
+  EXPECT_EQ(f.items[1].until_tick, 1015U);
+  EXPECT_EQ(f.items[1].parameters.phase, Phase::B);
+  EXPECT_EQ(f.items[1].parameters.duration_s, 0.1);
+  EXPECT_EQ(f.refused, 0U);
+  t.at(30);  // the sag ended
+  const ActiveFaults later = active_faults_of(t.player());
+  ASSERT_EQ(later.count, 1U);
+  EXPECT_EQ(later.items[0].type, EventType::phase_open);
+}
+
+TEST(ScenarioPlayerRuntime, FaultWithoutDurationHoldsUntilClearedInActiveFaults) {
+  Timeline t(scenario_of({}));
+  t.at(0);
+  ASSERT_TRUE(t.player().queue_runtime(runtime(EventType::jam)));
+  t.at(1);
+  const ActiveFaults f = active_faults_of(t.player());
+  ASSERT_EQ(f.count, 1U);
+  EXPECT_EQ(f.items[0].until_tick, 0U);
+  EXPECT_FALSE(f.items[0].parameters.position_um.has_value());
+}
+
+TEST(ScenarioPlayerRuntime, LoadAndAmbientAreRefusedAndCounted) {
+  Timeline t(scenario_of({}));
+  t.at(0);
+  RuntimeEvent step = runtime(EventType::load_step);
+  step.parameters.load_n = 2.0;
+  EXPECT_FALSE(t.player().queue_runtime(step));
+  EXPECT_FALSE(t.player().queue_runtime(runtime(EventType::load_ramp)));
+  EXPECT_FALSE(t.player().queue_runtime(runtime(EventType::load_sine)));
+  EXPECT_FALSE(t.player().queue_runtime(runtime(EventType::ambient)));
+  const ScenarioConditions& c = t.at(1);
+  EXPECT_FALSE(c.load_n.has_value());
+  EXPECT_FALSE(c.ambient_c.has_value());
+  EXPECT_TRUE(c.started.empty());
+  EXPECT_EQ(active_faults_of(t.player()).refused, 4U);
+  EXPECT_EQ(active_faults_of(t.player()).count, 0U);
+}
+
+TEST(ScenarioPlayerRuntime, MoreThanTheMaximumOfRuntimeFaultsAreRefusedAndCounted) {
+  Timeline t(scenario_of({}));
+  t.at(0);
+  for (std::size_t i = 0; i < kMaxActiveFaults + 3; ++i)
+    ASSERT_TRUE(t.player().queue_runtime(runtime(EventType::encoder_stuck))) << i;
+  t.at(1);
+  ActiveFaults f = active_faults_of(t.player());
+  EXPECT_EQ(f.count, kMaxActiveFaults);
+  EXPECT_EQ(f.refused, 3U);
+  // A clear makes room again.
+  ASSERT_TRUE(t.player().queue_runtime(runtime_clear(EventType::encoder_stuck)));
+  ASSERT_TRUE(t.player().queue_runtime(runtime(EventType::speed_frozen)));
+  t.at(2);
+  f = active_faults_of(t.player());
+  ASSERT_EQ(f.count, 1U);
+  EXPECT_EQ(f.items[0].type, EventType::speed_frozen);
+  EXPECT_EQ(f.refused, 3U);
+}
+
+TEST(ScenarioPlayerRuntime, MoreEventsWaitingThanTheQueueHoldsAreRefusedAndCounted) {
+  Timeline t(scenario_of({}));
+  t.at(0);
+  for (std::size_t i = 0; i < kRuntimeEventCapacity; ++i)
+    ASSERT_TRUE(t.player().queue_runtime(runtime_clear(EventType::jam))) << i;
+  EXPECT_FALSE(t.player().queue_runtime(runtime(EventType::jam)));
+  t.at(1);
+  EXPECT_EQ(active_faults_of(t.player()).refused, 1U);
+  EXPECT_FALSE(t.at(1).jammed);
+  EXPECT_TRUE(t.player().queue_runtime(runtime(EventType::jam)));  // the queue is empty again
+  EXPECT_TRUE(t.at(2).jammed);
+}
+
+TEST(ScenarioPlayerRuntime, FileEventsOfTheSameTickComeFirst) {
+  // The file opens phase A at tick 10; a run-time clear queued for tick 10 comes after it.
+  Timeline t(scenario_of({"phase_open@0.001:phase=A"}));
+  t.at(9);
+  ASSERT_TRUE(t.player().queue_runtime(runtime_clear(EventType::phase_open)));
+  const ScenarioConditions& c = t.at(10);
+  EXPECT_EQ(c.phase_a_gain, 1.0);
+  ASSERT_EQ(c.started.size(), 2U);
+  EXPECT_EQ(c.started[0], &t.player().scenario().events[0]);
+  EXPECT_EQ(c.started[1]->type, EventType::clear);
+  EXPECT_EQ(c.started[1]->origin, "http");
+  EXPECT_EQ(c.started[1]->at_s, 0.001);
+}
+
+TEST(ScenarioPlayerRuntime, RuntimeEventsOfATickStartInTheOrderTheyCame) {
+  Timeline t(scenario_of({}));
+  t.at(0);
+  ASSERT_TRUE(t.player().queue_runtime(runtime_clear(EventType::speed_frozen)));
+  ASSERT_TRUE(t.player().queue_runtime(runtime(EventType::speed_frozen)));
+  ASSERT_TRUE(t.player().queue_runtime(runtime(EventType::encoder_stuck)));
+  ASSERT_TRUE(t.player().queue_runtime(runtime_clear(EventType::encoder_stuck)));
+  const ScenarioConditions& c = t.at(1);
+  EXPECT_TRUE(c.speed_frozen);    // cleared before it started
+  EXPECT_FALSE(c.encoder_stuck);  // cleared after
+  ASSERT_EQ(c.started.size(), 4U);
+  EXPECT_EQ(c.started[1]->type, EventType::speed_frozen);
+}
+
+TEST(ScenarioPlayerRuntime, RuntimeModbusDropCountsAtItsStartTickOnly) {
+  Timeline t(scenario_of({}));
+  t.at(0);
+  RuntimeEvent drop = runtime(EventType::modbus_drop);
+  drop.parameters.count = 4;
+  ASSERT_TRUE(t.player().queue_runtime(drop));
+  EXPECT_EQ(t.at(1).modbus_drops_started, 4U);
+  EXPECT_EQ(t.at(2).modbus_drops_started, 0U);
+  EXPECT_EQ(active_faults_of(t.player()).count, 0U);  // not a fault that lasts
+}
+
 }  // namespace
 }  // namespace swum::emu

@@ -5,9 +5,12 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <cstdint>
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace swum::emu {
@@ -467,6 +470,213 @@ TEST(Scenario, DocsExamplesParse) {
     start = end + 3;
   }
   EXPECT_EQ(blocks, 2U);
+}
+
+// --- make_event and event_keys (the HTTP API's way in) -----------------------------------------
+
+using Values = std::vector<std::pair<std::string, EventValue>>;
+
+EventValue integer_value(std::int64_t v) {
+  EventValue e;
+  e.kind = EventValue::Kind::integer;
+  e.integer = v;
+  return e;
+}
+EventValue floating_value(double v) {
+  EventValue e;
+  e.kind = EventValue::Kind::floating;
+  e.floating = v;
+  return e;
+}
+EventValue name_value(const std::string& v) {
+  EventValue e;
+  e.kind = EventValue::Kind::name;
+  e.name = v;
+  return e;
+}
+
+std::string make_event_message(EventType type, const Values& values, double at_s = 0.0) {
+  try {
+    (void)make_event(type, values, at_s, "http");
+  } catch (const ScenarioError& e) {
+    return e.what();
+  }
+  return "(accepted)";
+}
+
+// The values of an --inject text's key=value pairs as a program gives them: a name, a whole
+// number as an integer, any other number as a floating one.
+Values values_of_injection(const std::string& text) {
+  Values values;
+  const auto colon = text.find(':');
+  if (colon == std::string::npos) return values;
+  std::stringstream pairs(text.substr(colon + 1));
+  for (std::string pair; std::getline(pairs, pair, ',');) {
+    const auto equals = pair.find('=');
+    const std::string key = pair.substr(0, equals);
+    const std::string value = pair.substr(equals + 1);
+    if (value.find_first_not_of("-0123456789") == std::string::npos) {
+      values.emplace_back(key, integer_value(std::stoll(value)));
+    } else if (value.find_first_not_of("-0123456789.e") == std::string::npos) {
+      values.emplace_back(key, floating_value(std::stod(value)));
+    } else {
+      values.emplace_back(key, name_value(value));
+    }
+  }
+  return values;
+}
+
+TEST(ScenarioMakeEvent, EveryTypeGivesTheEventTheInjectionGives) {
+  for (const std::string& text : every_type_injected()) {
+    SCOPED_TRACE(text);
+    ScenarioEvent expected = parse_injection(text);
+    expected.origin = "http";
+    EXPECT_EQ(make_event(expected.type, values_of_injection(text), expected.at_s, "http"), expected);
+  }
+}
+
+TEST(ScenarioMakeEvent, OptionalKeysTakeTheirDefaults) {
+  const ScenarioEvent open = make_event(EventType::phase_open, {{"phase", name_value("B")}}, 0.0, "http");
+  EXPECT_EQ(open.parameters.phase, Phase::B);
+  EXPECT_EQ(open.parameters.duration_s, 0.0);
+  EXPECT_EQ(make_event(EventType::modbus_drop, {}, 0.0, "http").parameters.count, 1U);
+  EXPECT_FALSE(make_event(EventType::jam, {}, 2.5, "http").parameters.position_um.has_value());
+  EXPECT_EQ(make_event(EventType::jam, {}, 2.5, "http").at_s, 2.5);
+  EXPECT_EQ(make_event(EventType::jam, {}, 2.5, "origin").origin, "origin");
+}
+
+TEST(ScenarioMakeEvent, PhaseMustBeAOrB) {
+  EXPECT_EQ(make_event_message(EventType::phase_open, {{"phase", name_value("C")}}),
+            "phase_open: phase must be \"A\" or \"B\", not \"C\"");
+  EXPECT_EQ(make_event_message(EventType::phase_short, {{"phase", name_value("a")}}),
+            "phase_short: phase must be \"A\" or \"B\", not \"a\"");
+  EXPECT_EQ(make_event_message(EventType::phase_short, {{"phase", integer_value(1)}}),
+            "phase_short: phase must be \"A\" or \"B\", not 1");
+}
+
+TEST(ScenarioMakeEvent, NumbersOutOfRangeGiveTheRange) {
+  EXPECT_EQ(make_event_message(EventType::voltage_sag, {{"factor", floating_value(1.01)}}),
+            "voltage_sag: factor 1.01 out of range [0, 1]");
+  EXPECT_EQ(make_event_message(EventType::load_step, {{"load_n", integer_value(40)}}),
+            "load_step: load_n 40 out of range [-30, 30]");
+  EXPECT_EQ(make_event_message(EventType::encoder_noise, {{"sigma_um", integer_value(0)}}),
+            "encoder_noise: sigma_um 0 out of range (0, 10000]");
+  EXPECT_EQ(make_event_message(EventType::modbus_drop, {{"count", integer_value(0)}}),
+            "modbus_drop: count 0 out of range [1, 1e6]");
+  EXPECT_EQ(make_event_message(EventType::speed_frozen, {{"duration_s", integer_value(-1)}}),
+            "speed_frozen: duration_s -1 out of range [0, 1e6]");
+  EXPECT_EQ(make_event_message(EventType::speed_frozen, {{"duration_s", floating_value(-1.0)}}),
+            "speed_frozen: duration_s -1.0 out of range [0, 1e6]");  // as a file's "duration_s = -1.0"
+  EXPECT_EQ(make_event_message(EventType::load_step, {{"load_n", integer_value(1)}}, -0.1),
+            "load_step: at_s -0.1 out of range [0, 1e6]");
+  EXPECT_EQ(make_event_message(EventType::load_sine, {{"offset_n", integer_value(20)},
+                                                      {"amplitude_n", integer_value(-15)},
+                                                      {"frequency_hz", integer_value(1)}}),
+            "load_sine: |offset_n| + |amplitude_n| = 35 exceeds 30");
+}
+
+TEST(ScenarioMakeEvent, WrongKindsOfValueAreRefused) {
+  EXPECT_EQ(make_event_message(EventType::load_step, {{"load_n", name_value("2")}}),
+            "load_step: load_n must be a number, not \"2\"");
+  EXPECT_EQ(make_event_message(EventType::modbus_drop, {{"count", floating_value(2.0)}}),
+            "modbus_drop: count must be an integer, not 2.0");
+  EXPECT_EQ(make_event_message(EventType::load_step, {{"load_n", floating_value(std::nan(""))}}),
+            "load_step: load_n must be finite, not nan");
+  EXPECT_EQ(make_event_message(EventType::jam, {{"position_um", floating_value(-HUGE_VAL)}}),
+            "jam: position_um must be finite, not -inf");
+  EXPECT_EQ(make_event_message(EventType::clear, {{"fault", name_value("load_step")}}),
+            std::string("clear: fault \"load_step\" is not a fault (faults: ") + kFaults + ")");
+}
+
+TEST(ScenarioMakeEvent, MissingUnknownAndRepeatedKeys) {
+  EXPECT_EQ(make_event_message(EventType::load_ramp, {{"to_n", integer_value(1)}}),
+            "load_ramp: missing key duration_s");
+  EXPECT_EQ(make_event_message(EventType::clear, {}), "clear: missing key fault");
+  EXPECT_EQ(make_event_message(EventType::jam, {{"duration", integer_value(2)}}),
+            "jam: unknown key duration (jam takes: position_um, duration_s)");
+  EXPECT_EQ(make_event_message(EventType::over_temperature, {{"duration_s", integer_value(2)}}),
+            "over_temperature: unknown key duration_s (over_temperature takes no keys)");
+  EXPECT_EQ(make_event_message(EventType::load_step, {{"load_n", integer_value(1)}, {"load_n", integer_value(2)}}),
+            "load_step: key load_n given twice");
+}
+
+// The same refusal from a file and from make_event: the file's message is "s.toml:LINE: " + it.
+TEST(ScenarioMakeEvent, MessagesAreTheFilesWithoutTheWhere) {
+  struct Case {
+    EventType type;
+    std::string toml_keys;
+    Values values;
+  };
+  const std::vector<Case> cases = {
+      {EventType::phase_open, "phase = \"C\"\n", {{"phase", name_value("C")}}},
+      {EventType::guide_friction, "factor = 11\n", {{"factor", integer_value(11)}}},
+      {EventType::modbus_delay, "delay_ms = 10000.5\n", {{"delay_ms", floating_value(10000.5)}}},
+      {EventType::telemetry_silence, "", {}},
+      {EventType::load_step, "load_n = 1\nloadn = 2\n", {{"load_n", integer_value(1)}, {"loadn", integer_value(2)}}},
+  };
+  for (const Case& c : cases) {
+    const std::string from_file = message_of("[[event]]\nat_s = 1\ntype = \"" + std::string(to_string(c.type)) +
+                                             "\"\n" + c.toml_keys);
+    const auto where_end = from_file.find(": ");
+    ASSERT_NE(where_end, std::string::npos) << from_file;
+    EXPECT_EQ(make_event_message(c.type, c.values, 1.0), from_file.substr(where_end + 2));
+  }
+}
+
+bool same_key(const EventKey& k, const std::string& name, const std::string& kind, bool required) {
+  return k.name == name && k.kind == kind && k.required == required;
+}
+
+TEST(ScenarioEventKeys, KeysOfAFaultWithTheirKindsRangesAndDefaults) {
+  const std::vector<EventKey> open = event_keys(EventType::phase_open);
+  ASSERT_EQ(open.size(), 2U);
+  EXPECT_TRUE(same_key(open[0], "phase", "phase", true));
+  EXPECT_TRUE(same_key(open[1], "duration_s", "number", false));
+  EXPECT_EQ(open[1].min, 0.0);
+  EXPECT_EQ(open[1].max, 1e6);
+  EXPECT_FALSE(open[1].min_open);
+  const std::vector<EventKey> noise = event_keys(EventType::encoder_noise);
+  ASSERT_EQ(noise.size(), 2U);
+  EXPECT_TRUE(same_key(noise[0], "sigma_um", "number", true));
+  EXPECT_TRUE(noise[0].min_open);  // (0, 1e4]
+  EXPECT_EQ(noise[0].max, 1e4);
+  const std::vector<EventKey> drop = event_keys(EventType::modbus_drop);
+  ASSERT_EQ(drop.size(), 1U);
+  EXPECT_TRUE(same_key(drop[0], "count", "integer", false));
+  EXPECT_EQ(drop[0].min, 1.0);
+  EXPECT_EQ(drop[0].max, 1e6);
+  const std::vector<EventKey> jam = event_keys(EventType::jam);
+  ASSERT_EQ(jam.size(), 2U);
+  EXPECT_TRUE(same_key(jam[0], "position_um", "number", false));
+  EXPECT_EQ(jam[0].min, -1e6);
+  EXPECT_TRUE(event_keys(EventType::over_temperature).empty());
+  const std::vector<EventKey> clear = event_keys(EventType::clear);
+  ASSERT_EQ(clear.size(), 1U);
+  EXPECT_TRUE(same_key(clear[0], "fault", "fault", true));
+}
+
+// event_keys lists what the file parser takes, in its order ("TYPE takes: ...").
+TEST(ScenarioEventKeys, NamesAreTheKeysTheFileTakes) {
+  for (int k = 0; k <= static_cast<int>(EventType::clear); ++k) {
+    const auto type = static_cast<EventType>(k);
+    std::string names;
+    for (const EventKey& key : event_keys(type)) names += (names.empty() ? "" : ", ") + key.name;
+    const std::string message = message_of("[[event]]\nat_s = 1\ntype = \"" + std::string(to_string(type)) +
+                                           "\"\nzzz = 1\n");
+    const std::string takes = names.empty() ? " takes no keys)" : " takes: " + names + ")";
+    EXPECT_NE(message.find(std::string(to_string(type)) + takes), std::string::npos) << message;
+  }
+}
+
+TEST(ScenarioEventKeys, EveryNumberRangeIsFiniteAndOrdered) {
+  for (int k = 0; k <= static_cast<int>(EventType::clear); ++k) {
+    const auto type = static_cast<EventType>(k);
+    for (const EventKey& key : event_keys(type)) {
+      if (key.kind != "number" && key.kind != "integer") continue;
+      EXPECT_TRUE(std::isfinite(key.min) && std::isfinite(key.max)) << to_string(type) << " " << key.name;
+      EXPECT_LT(key.min, key.max) << to_string(type) << " " << key.name;
+    }
+  }
 }
 
 }  // namespace
