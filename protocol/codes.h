@@ -42,6 +42,11 @@ inline constexpr std::uint8_t kMaxReason = 17;
 const char* to_string(AmpState state);
 const char* to_string(FaultCode fault);
 const char* to_string(Reason reason);
+// The codes as identifiers, for machine-read text (the HTTP API's JSON): the enumerators'
+// names ("over_temperature", "slew_out_of_range"), as config/modbus_registers.json's
+// reason_codes and docs/scenarios.md name them.
+const char* identifier(FaultCode fault);
+const char* identifier(Reason reason);
 
 // Command actions; the values are the Modbus command register's codes (holding 0).
 enum class Action : std::uint8_t { none = 0, enable = 1, disable = 2, reset_fault = 3 };

@@ -344,6 +344,8 @@ TEST(RegisterMapJson, ReasonCodesAgree) {
                                  << to_string(static_cast<Reason>(std::stoi(code))) << "'";
       ++at;
     }
+    // The identifiers (the HTTP API's JSON) are the JSON's names exactly.
+    EXPECT_EQ(identifier(static_cast<Reason>(std::stoi(code))), name.get<std::string>()) << "reason " << code;
   }
 }
 
