@@ -300,7 +300,9 @@ int run_emulator(const EmuOptions& o) {
   shared->speedup = o.speedup;
   shared->tick_hz = o.tick_hz;
   EmulatorCore core(model, core_config, *shared);
-  if (!scenario.events.empty()) core.set_scenario(scenario);
+  const std::optional<HttpConfig> http = http_config(o);
+  // The API's run-time faults join a scenario's timeline: with --http there is one, even empty.
+  if (!scenario.events.empty() || http) core.set_scenario(scenario);
   std::unique_ptr<TraceRecorder> recorder;
   if (!o.record_path.empty()) {
     recorder = std::make_unique<TraceRecorder>(o.record_path, trace_settings(o, config_text, scenario));
@@ -312,10 +314,21 @@ int run_emulator(const EmuOptions& o) {
   open_modbus(o, *shared, amp.limits, transports);
   open_can(o, *shared, amp.limits, transports);
   open_gpio(o, *shared, transports);
+  std::unique_ptr<HttpApi> api;
+  if (http) {
+    api = std::make_unique<HttpApi>(*http, *shared, model);
+    if (http->host != "127.0.0.1" && http->host != "localhost")
+      std::fprintf(stderr,
+                   "swum-emu: warning: the HTTP API is bound to %s as asked: anyone who can reach it can "
+                   "inject faults%s\n",
+                   http->host.c_str(), http->token.empty() ? " (no --http-token)" : "");
+    transports.ready += " http=http://" + http->host + ":" + std::to_string(api->port());
+  }
 
   const LoopConfig loop_options = loop_config(o);
   if (o.realtime) std::fprintf(stderr, "swum-emu: %s\n", try_realtime(loop_options.priority).c_str());
   transports.start();
+  if (api) api->start();
   announce_ready(o, transports.ready);
   if (o.cpu >= 0) pin_loop_thread(o.cpu);  // after the transports started: only the loop's thread
 
@@ -329,6 +342,7 @@ int run_emulator(const EmuOptions& o) {
   }
   core.shut_down();  // drive off, published before the transports stop
   transports.stop();
+  if (api) api->stop();
   std::string record_error = transports.close_can_log(o.record_can_path);
   if (recorder) {
     core.set_observer(nullptr);
@@ -349,6 +363,7 @@ int run_emulator(const EmuOptions& o) {
   s.commands_applied = t.applied_commands;
   s.commands_rejected = shared->rejects.count.load();
   s.queue_full = shared->queue_full.load();
+  if (api) s.http = &api->stats();
   if (transports.modbus_tcp) s.modbus_tcp = &transports.modbus_tcp->stats();
   if (transports.modbus_rtu) s.modbus_rtu = &transports.modbus_rtu->stats();
   if (transports.can) {
@@ -392,6 +407,12 @@ std::string format_exit_report(const ExitStatistics& s) {
            u(m->exceptions.load()), u(m->receive_errors.load()));
     out += format_drops("modbus rtu discarded:", m->drops,
                         {Drop::other_unit, Drop::bad_crc, Drop::bad_length, Drop::partial_frame, Drop::frame_timeout});
+  }
+  if (const HttpStats* h = s.http) {
+    append(out,
+           "  http      %llu requests, %llu refused; stream events %llu, streams refused %llu; faults queued %llu\n",
+           u(h->requests.load()), u(h->refused.load()), u(h->stream_events.load()), u(h->stream_refused.load()),
+           u(h->faults_queued.load()));
   }
   if (const CanStats* c = s.can) {
     append(out,

@@ -7,6 +7,7 @@
 #include <string>
 
 #include "emu_options.h"
+#include "http_api.h"
 #include "loop_statistics.h"
 
 namespace swum::emu {
@@ -35,6 +36,7 @@ struct ExitStatistics {
   const ModbusStats* modbus_tcp = nullptr;
   const ModbusStats* modbus_rtu = nullptr;
   const CanStats* can = nullptr;
+  const HttpStats* http = nullptr;             // --http
   const Histogram* can_receive_age = nullptr;  // with `can`: bus timestamp -> read (none: empty)
   std::uint64_t can_kernel_drops = 0;          // with `can`: SO_RXQ_OVFL of the receive socket
 };

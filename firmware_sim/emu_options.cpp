@@ -4,6 +4,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstdlib>
+#include <fstream>
 #include <sstream>
 #include <tuple>
 
@@ -76,6 +78,24 @@ EmuOptions parse_emu_options(int argc, const char* const* argv) {
       ->capture_default_str();
   app.add_option("--frequency", o.frequency_hz, "initial frequency setpoint (Hz)")->capture_default_str();
   app.add_option("--phase", o.phase_deg, "initial phase setpoint (deg)")->capture_default_str();
+  app.add_option("--http", o.http_spec,
+                 "HOST:PORT: serve the control API and the live dashboard there (port 0: any free port; "
+                 "docs/http-api.md); off when absent");
+  app.add_option("--http-token", o.http_token, "with --http: every API request must carry this token");
+  app.add_option("--http-token-file", o.http_token_file, "with --http: the token is this file's first line")
+      ->check(CLI::ExistingFile);
+  app.add_option("--http-stream-hz", o.http_stream_hz, "with --http: telemetry stream rate without ?rate_hz=")
+      ->check(CLI::Range(0.1, 100.0))
+      ->capture_default_str();
+  app.add_option("--http-stream-clients", o.http_stream_clients, "with --http: most telemetry streams at once")
+      ->check(CLI::Range(1, 32))
+      ->capture_default_str();
+  app.add_option("--http-max-body-bytes", o.http_max_body_bytes, "with --http: larger request bodies get 413")
+      ->check(CLI::Range(64, 1 << 20))
+      ->capture_default_str();
+  app.add_option("--http-recording-dir", o.http_recording_dir,
+                 "with --http: where recordings are written (default: $TMPDIR or /tmp)")
+      ->check(CLI::ExistingDirectory);
   app.add_flag("--rt", o.realtime, "try SCHED_FIFO + mlockall (a message, not a failure, when not permitted)");
   app.add_option("--cpu", o.cpu, "pin the real-time loop to this CPU (transports stay unpinned)")
       ->check(CLI::NonNegativeNumber);
@@ -138,13 +158,23 @@ EmuOptions parse_emu_options(int argc, const char* const* argv) {
                                "--rt",
                                "--cpu",
                                "--ready-fd",
-                               "--record-can"}) {
+                               "--record-can",
+                               "--http"}) {
       if (app.count(option) > 0)
         throw EmuOptionError(std::string(option) +
                              " has no effect with --replay (a replay opens no interface and runs on no clock)");
     }
   }
   if (!o.record_can_path.empty() && o.can_interface.empty()) throw EmuOptionError("--record-can: only with --can");
+  if (app.count("--http") > 0 && o.http_spec.empty())
+    throw EmuOptionError("--http: empty (expected HOST:PORT, e.g. 127.0.0.1:8080)");
+  for (const char* option : {"--http-token", "--http-token-file", "--http-stream-hz", "--http-stream-clients",
+                             "--http-max-body-bytes", "--http-recording-dir"}) {
+    if (o.http_spec.empty() && app.count(option) > 0) throw EmuOptionError(std::string(option) + ": only with --http");
+  }
+  if (app.count("--http-token") > 0 && app.count("--http-token-file") > 0)
+    throw EmuOptionError("--http-token and --http-token-file: give one");
+  if (app.count("--http-token") > 0 && o.http_token.empty()) throw EmuOptionError("--http-token: empty");
   if (app.count("--sync-ticks") > 0 && (!o.external_clock || o.can_interface.empty()))
     throw EmuOptionError("--sync-ticks: only with --clock external and --can (ticks per CAN SYNC)");
   for (const char* wall_option : {"--speedup", "--spin-us"}) {
@@ -235,6 +265,42 @@ LoopConfig loop_config(const EmuOptions& o) {
   loop.stats_every_ticks = std::max<std::uint64_t>(1, static_cast<std::uint64_t>(o.tick_hz / 10.0));
   loop.max_ticks = duration_ticks(o);
   return loop;
+}
+
+std::optional<HttpConfig> http_config(const EmuOptions& o) {
+  if (o.http_spec.empty()) return std::nullopt;
+  HttpConfig http;
+  protocol::ModbusEndpoint endpoint;  // the same HOST:PORT grammar as --modbus tcp://
+  if (o.http_spec.find("://") != std::string::npos ||
+      !protocol::parse_modbus_endpoint("tcp://" + o.http_spec, endpoint).empty() || !endpoint.tcp ||
+      endpoint.host.empty())
+    throw EmuOptionError("--http '" + o.http_spec +
+                         "': expected HOST:PORT (e.g. 127.0.0.1:8080; port 0: any free port)");
+  http.host = endpoint.host;
+  http.port = endpoint.port;
+  http.token = o.http_token;
+  if (!o.http_token_file.empty()) {
+    std::ifstream in(o.http_token_file);
+    if (!in || !std::getline(in, http.token))
+      throw EmuOptionError("--http-token-file " + o.http_token_file + ": cannot read a first line");
+    while (!http.token.empty() && (http.token.back() == '\r' || http.token.back() == ' ')) http.token.pop_back();
+    if (http.token.empty())
+      throw EmuOptionError("--http-token-file " + o.http_token_file + ": the first line is empty");
+  }
+  for (const char c : http.token) {
+    if (static_cast<unsigned char>(c) <= ' ' || c == 0x7f)
+      throw EmuOptionError("--http-token: spaces and control characters cannot be sent in a header");
+  }
+  http.stream_default_hz = o.http_stream_hz;
+  http.max_stream_clients = o.http_stream_clients;
+  http.max_body_bytes = static_cast<std::size_t>(o.http_max_body_bytes);
+  http.recording_directory = o.http_recording_dir;
+  if (http.recording_directory.empty()) {
+    const char* tmp = std::getenv("TMPDIR");
+    http.recording_directory = tmp != nullptr && *tmp != '\0' ? tmp : "/tmp";
+  }
+  http.trace_recording = !o.record_path.empty();
+  return http;
 }
 
 LockstepConfig lockstep_config(const EmuOptions& o) {

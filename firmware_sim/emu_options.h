@@ -18,6 +18,7 @@
 #include "amplifier.h"
 #include "can_transport.h"
 #include "gpio_transport.h"
+#include "http_api.h"
 #include "lockstep_clock.h"
 #include "modbus_server.h"
 #include "realtime_loop.h"
@@ -59,9 +60,16 @@ struct EmuOptions {
   std::string record_can_path;          // --record-can: CAN frames in candump's log format; empty: none
   std::string record_path;              // --record: trace of commands and per-tick telemetry; empty: none
   std::string replay_path;              // --replay: feed a trace's commands in lockstep and compare; empty: none
-  bool realtime = false;                // --rt
-  int cpu = -1;                         // --cpu; -1: loop not pinned
-  int ready_fd = -1;                    // --ready-fd; -1: stdout only
+  std::string http_spec;                // --http HOST:PORT: control API and dashboard; empty: off
+  std::string http_token;               // --http-token; empty: none
+  std::string http_token_file;          // --http-token-file: the token is this file's first line
+  double http_stream_hz = HttpConfig{}.stream_default_hz;                   // --http-stream-hz: rate without ?rate_hz=
+  int http_stream_clients = HttpConfig{}.max_stream_clients;                // --http-stream-clients
+  int http_max_body_bytes = static_cast<int>(HttpConfig{}.max_body_bytes);  // --http-max-body-bytes
+  std::string http_recording_dir;  // --http-recording-dir; empty: $TMPDIR or /tmp
+  bool realtime = false;           // --rt
+  int cpu = -1;                    // --cpu; -1: loop not pinned
+  int ready_fd = -1;               // --ready-fd; -1: stdout only
 };
 
 // A bad or conflicting option value; what() is the one line after "swum-emu: ".
@@ -105,6 +113,8 @@ CanTransportConfig can_transport_config(const EmuOptions& options);
 GpioConfig gpio_config(const EmuOptions& options);
 // --speedup, --rt, --spin-us, --duration at --tick-hz; statistics published ~10 times a second.
 LoopConfig loop_config(const EmuOptions& options);
+// --http and the --http-* options; nullopt when --http is not given. Reads --http-token-file.
+std::optional<HttpConfig> http_config(const EmuOptions& options);
 // --duration at --tick-hz (--clock external).
 LockstepConfig lockstep_config(const EmuOptions& options);
 

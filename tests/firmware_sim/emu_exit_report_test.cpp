@@ -101,6 +101,20 @@ TEST(EmuExitReport, ModbusRtuCountsAndDiscards) {
                 "  modbus rtu discarded: other unit 2, bad crc 3, bad length 1, partial frame 0, frame timeout 4\n");
 }
 
+TEST(EmuExitReport, HttpCounts) {
+  HttpStats http;
+  http.requests = 120;
+  http.refused = 7;
+  http.stream_events = 3000;
+  http.stream_refused = 1;
+  http.faults_queued = 4;
+  ExitStatistics s = loop_only();
+  s.http = &http;
+  EXPECT_EQ(format_exit_report(s),
+            kLoopLines +
+                "  http      120 requests, 7 refused; stream events 3000, streams refused 1; faults queued 4\n");
+}
+
 TEST(EmuExitReport, CanCountsAndReceiveAge) {
   CanStats can;
   can.rx_frames = 100;

@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cstdio>
 #include <string>
 #include <vector>
 
@@ -470,6 +471,84 @@ TEST(EmuOptions, LockstepRefusalsNameTheOption) {
               std::string(option) + " has no effect with --replay (a replay opens no interface and runs on no clock)");
   }
   EXPECT_EQ(cli_exit({"--config", kConfig, "--clock", "sometimes"}).exit_code(), 105);  // CLI11 ValidationError
+}
+
+// --http: off by default; HOST:PORT parsed with the --modbus grammar; the token from the option
+// or a file's first line; the --http-* options only with --http.
+TEST(EmuOptions, HttpIsOffByDefault) { EXPECT_FALSE(http_config(parse_with_config({})).has_value()); }
+
+TEST(EmuOptions, HttpTakesHostAndPortAndItsLimits) {
+  const EmuOptions o = parse_with_config({"--http", "127.0.0.1:0", "--http-stream-hz", "50", "--http-stream-clients",
+                                          "2", "--http-max-body-bytes", "1000", "--http-token", "abc-123"});
+  const std::optional<HttpConfig> http = http_config(o);
+  ASSERT_TRUE(http.has_value());
+  EXPECT_EQ(http->host, "127.0.0.1");
+  EXPECT_EQ(http->port, 0);
+  EXPECT_EQ(http->stream_default_hz, 50.0);
+  EXPECT_EQ(http->max_stream_clients, 2);
+  EXPECT_EQ(http->max_body_bytes, 1000U);
+  EXPECT_EQ(http->token, "abc-123");
+  EXPECT_FALSE(http->trace_recording);
+  EXPECT_FALSE(http->recording_directory.empty());
+}
+
+TEST(EmuOptions, HttpRefusesWhatIsNotHostAndPort) {
+  for (const char* bad : {"nonsense", "127.0.0.1", "127.0.0.1:99999", "http://127.0.0.1:80", "127.0.0.1:-1", ":0"}) {
+    const std::string e = option_error([&] { http_config(parse_with_config({"--http", bad})); });
+    EXPECT_NE(e.find("--http '"), std::string::npos) << bad << ": " << e;
+  }
+}
+
+TEST(EmuOptions, HttpOptionsNeedHttp) {
+  EXPECT_EQ(parse_error({"--http-token", "x"}), "--http-token: only with --http");
+  EXPECT_EQ(parse_error({"--http-stream-clients", "2"}), "--http-stream-clients: only with --http");
+  EXPECT_EQ(parse_error({"--http", "127.0.0.1:0", "--http-token", ""}), "--http-token: empty");
+  EXPECT_EQ(parse_error({"--http", "", "--http-token", "x"}),
+            "--http: empty (expected HOST:PORT, e.g. 127.0.0.1:8080)");
+}
+
+TEST(EmuOptions, HttpTokenComesFromTheFirstLineOfAFile) {
+  const std::string path = testing::TempDir() + "swum_emu_token.txt";
+  {
+    std::FILE* f = std::fopen(path.c_str(), "w");
+    ASSERT_NE(f, nullptr);
+    std::fputs("from-the-file\r\nsecond line\n", f);
+    std::fclose(f);
+  }
+  const auto http = http_config(parse_with_config({"--http", "127.0.0.1:0", "--http-token-file", path}));
+  ASSERT_TRUE(http.has_value());
+  EXPECT_EQ(http->token, "from-the-file");
+  EXPECT_EQ(parse_error({"--http", "127.0.0.1:0", "--http-token-file", path, "--http-token", "x"}),
+            "--http-token and --http-token-file: give one");
+  {
+    std::FILE* f = std::fopen(path.c_str(), "w");
+    ASSERT_NE(f, nullptr);
+    std::fputs("\n", f);
+    std::fclose(f);
+  }
+  const std::string e = option_error([&] {
+    http_config(parse_with_config({"--http", "127.0.0.1:0", "--http-token-file", path}));
+  });
+  EXPECT_NE(e.find("the first line is empty"), std::string::npos) << e;
+  std::remove(path.c_str());
+}
+
+TEST(EmuOptions, HttpTokenWithASpaceCannotBeSent) {
+  const std::string e = option_error([&] {
+    http_config(parse_with_config({"--http", "127.0.0.1:0", "--http-token", "a b"}));
+  });
+  EXPECT_NE(e.find("spaces and control characters"), std::string::npos) << e;
+}
+
+TEST(EmuOptions, HttpWithRecordRefusesRunTimeFaults) {
+  const auto http = http_config(parse_with_config({"--http", "127.0.0.1:0", "--record", "/tmp/x.csv"}));
+  ASSERT_TRUE(http.has_value());
+  EXPECT_TRUE(http->trace_recording);
+}
+
+TEST(EmuOptions, HttpHasNoEffectWithReplay) {
+  const std::string e = parse_error({"--replay", kConfig, "--http", "127.0.0.1:0"});
+  EXPECT_NE(e.find("--http has no effect with --replay"), std::string::npos) << e;
 }
 
 }  // namespace

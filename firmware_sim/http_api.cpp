@@ -1,0 +1,367 @@
+#include "http_api.h"
+
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <charconv>
+#include <chrono>
+#include <cmath>
+#include <cstring>
+#include <stdexcept>
+
+#include <httplib.h>
+
+#include "dashboard_assets.h"
+#include "http_json.h"
+#include "lockstep_clock.h"
+
+namespace swum::emu {
+namespace {
+
+using nlohmann::json;
+constexpr const char* kJson = "application/json";
+// Connections served at once besides the streams: 48 clients stalled mid-request (each holding
+// a thread up to the read timeout) still leave others served at once. Idle threads cost a stack.
+constexpr int kRequestThreads = 48;
+
+void send_json(httplib::Response& response, const json& body, int status = 200) {
+  response.status = status;
+  response.set_content(body.dump() + "\n", kJson);
+}
+
+void send_error(httplib::Response& response, int status, const std::string& message) {
+  response.status = status;
+  response.set_content(error_body(message), kJson);
+}
+
+// Compares without leaving the position of the first difference in the timing.
+bool same_token(const std::string& given, const std::string& expected) {
+  unsigned char difference = given.size() == expected.size() ? 0 : 1;
+  for (std::size_t i = 0; i < given.size(); ++i)
+    difference |= static_cast<unsigned char>(given[i] ^ expected[i % std::max<std::size_t>(1, expected.size())]);
+  return difference == 0;
+}
+
+// A POST body must be JSON (or absent where the endpoint takes none).
+bool json_body(const httplib::Request& request, httplib::Response& response) {
+  const std::string type = request.get_header_value("Content-Type");
+  if (!type.empty() && type.rfind("application/json", 0) != 0) {
+    send_error(response, 415, "Content-Type must be application/json, not " + type);
+    return false;
+  }
+  return true;
+}
+
+// The query's rate_hz, or the default; HttpError 400 when not a number in (0, max].
+double stream_rate(const httplib::Request& request, double default_hz, double max_hz) {
+  if (!request.has_param("rate_hz")) return default_hz;
+  const std::string text = request.get_param_value("rate_hz");
+  double value = 0.0;
+  const auto r = std::from_chars(text.data(), text.data() + text.size(), value);
+  if (r.ec != std::errc() || r.ptr != text.data() + text.size() || !std::isfinite(value))
+    throw HttpError(400, "rate_hz '" + text + "' is not a number");
+  if (!(value > 0.0) || value > max_hz)
+    throw HttpError(400, "rate_hz " + text + " out of range (0, " + json(max_hz).dump() + "]");
+  return value;
+}
+
+// One stream client's slot: held as long as any copy of its provider lives.
+struct StreamSlot {
+  explicit StreamSlot(std::atomic<std::uint64_t>& count) : count_(count) {}
+  ~StreamSlot() { count_.fetch_sub(1); }
+  StreamSlot(const StreamSlot&) = delete;
+  StreamSlot& operator=(const StreamSlot&) = delete;
+  std::atomic<std::uint64_t>& count_;
+};
+
+}  // namespace
+
+HttpApi::HttpApi(HttpConfig config, SharedState& shared, const MotorModel& model)
+    : config_(std::move(config)),
+      shared_(shared),
+      resonance_(model),
+      recorder_(shared, config_.recording_directory),
+      server_(std::make_unique<httplib::Server>()) {
+  const std::string where = "--http " + config_.host + ":" + std::to_string(config_.port);
+  // One thread per connection (cpp-httplib): the streams, plus room for requests and for clients
+  // slow to send theirs (each holds its thread up to the read timeout; docs/http-api.md "Safety").
+  server_->new_task_queue = [n = config_.max_stream_clients + kRequestThreads] { return new httplib::ThreadPool(n); };
+  server_->set_payload_max_length(config_.max_body_bytes);
+  server_->set_read_timeout(std::chrono::milliseconds(config_.read_timeout_ms));
+  server_->set_write_timeout(std::chrono::milliseconds(config_.write_timeout_ms));
+  server_->set_keep_alive_timeout(2);
+  routes();
+  port_ = config_.port == 0 ? server_->bind_to_any_port(config_.host) : config_.port;
+  if (port_ <= 0 || (config_.port != 0 && !server_->bind_to_port(config_.host, config_.port)))
+    throw std::runtime_error(where + ": cannot listen there (" + std::strerror(errno) +
+                             "; in use, or not an address of this machine)");
+}
+
+HttpApi::~HttpApi() { stop(); }
+
+void HttpApi::start() {
+  thread_ = std::thread([this] { server_->listen_after_bind(); });
+}
+
+void HttpApi::stop() {
+  if (stopping_.exchange(true)) return;
+  server_->stop();
+  if (thread_.joinable()) thread_.join();
+}
+
+bool HttpApi::authorized(const httplib::Request& request, httplib::Response& response) {
+  if (config_.token.empty()) return true;
+  std::string given;
+  const std::string header = request.get_header_value("Authorization");
+  if (header.rfind("Bearer ", 0) == 0) {
+    given = header.substr(7);
+  } else if (request.has_param("token")) {  // EventSource and download links cannot set a header
+    given = request.get_param_value("token");
+  } else {
+    response.set_header("WWW-Authenticate", "Bearer");
+    send_error(response, 401, "missing token: send 'Authorization: Bearer TOKEN' or ?token=TOKEN");
+    return false;
+  }
+  if (!same_token(given, config_.token)) {
+    response.set_header("WWW-Authenticate", "Bearer error=\"invalid_token\"");
+    send_error(response, 401, "wrong token");
+    return false;
+  }
+  return true;
+}
+
+std::string HttpApi::state_text() {
+  const Telemetry t = shared_.telemetry.load();
+  const RejectSnapshot rejects{static_cast<Reason>(shared_.rejects.last_reason.load(std::memory_order_relaxed)),
+                               shared_.rejects.count.load(std::memory_order_acquire)};
+  json body = state_json(t, rejects, resonance_.at(t.output.vpp, t.stator_temperature_c));
+  const ActiveFaults faults = shared_.active_faults.load();
+  json names = json::array();
+  for (std::uint32_t i = 0; i < faults.count && i < faults.items.size(); ++i)
+    names.push_back(to_string(faults.items[i].type));
+  body["active_faults"] = std::move(names);
+  return body.dump();
+}
+
+void HttpApi::state(const httplib::Request&, httplib::Response& response) {
+  response.set_content(state_text() + "\n", kJson);
+}
+
+void HttpApi::queue_fault(const RuntimeEvent& event, httplib::Response& response) {
+  if (config_.trace_recording) {
+    send_error(response, 409,
+               "run-time faults are off while --record writes a trace (a replay could not "
+               "play them): give them as --inject or in a --scenario");
+    return;
+  }
+  if (!shared_.runtime_events.try_push(event)) {
+    send_error(response, 503, "too many faults waiting for the next tick; try again");
+    return;
+  }
+  stats_.faults_queued.fetch_add(1);
+  // What was queued, in the --inject form without the time ("phase_open:phase=B,duration_s=0").
+  std::string queued = "clear all";
+  if (!(event.type == EventType::clear && event.parameters.fault == EventType::clear)) {
+    ScenarioEvent e;
+    e.type = event.type;
+    e.parameters = event.parameters;
+    queued = format_event(e);
+    const auto at = queued.find('@');
+    queued.erase(at, queued.find(':') == std::string::npos ? std::string::npos : queued.find(':') - at);
+  }
+  const json body = {
+      {"queued", queued}, {"applies_at", "the next tick boundary"}, {"after_tick", shared_.telemetry.load().tick}};
+  send_json(response, body, 202);
+}
+
+void HttpApi::step(const httplib::Request& request, httplib::Response& response) {
+  if (shared_.lockstep == nullptr) {
+    send_error(response, 409, "the clock is internal: steps need swum-emu --clock external");
+    return;
+  }
+  const double tick_hz = shared_.tick_hz;
+  const auto max_ticks = static_cast<std::uint64_t>(std::llround(60.0 * tick_hz));
+  const std::uint64_t ticks = parse_step_request(request.body, tick_hz, max_ticks);
+  if (!shared_.lockstep->advance(ticks)) {
+    send_error(response, 503, "the emulator stopped before the ticks ran");
+    return;
+  }
+  const Telemetry t = shared_.telemetry.load();
+  send_json(response, {{"stepped_ticks", ticks}, {"tick", t.tick}, {"sim_time_s", t.sim_time_s}});
+}
+
+void HttpApi::stream(const httplib::Request& request, httplib::Response& response) {
+  const double rate_hz = stream_rate(request, config_.stream_default_hz, config_.stream_max_hz);
+  if (stats_.stream_clients.fetch_add(1) >= static_cast<std::uint64_t>(config_.max_stream_clients)) {
+    stats_.stream_clients.fetch_sub(1);
+    stats_.stream_refused.fetch_add(1);
+    send_error(response, 503,
+               "too many stream clients (" + std::to_string(config_.max_stream_clients) + "; --http-stream-clients)");
+    return;
+  }
+  auto slot = std::make_shared<StreamSlot>(stats_.stream_clients);
+  const auto period = std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+      std::chrono::duration<double>(1.0 / rate_hz));
+  auto next = std::make_shared<std::chrono::steady_clock::time_point>(std::chrono::steady_clock::now());
+  response.set_header("Cache-Control", "no-store");
+  response.set_chunked_content_provider("text/event-stream", [this, slot, period, next](std::size_t,
+                                                                                        httplib::DataSink& sink) {
+    // Sleep to the next event in short slices, so that stop() ends the stream promptly.
+    for (;;) {
+      if (stopping_.load()) return false;
+      const auto now = std::chrono::steady_clock::now();
+      if (now >= *next) break;
+      std::this_thread::sleep_for(
+          std::min<std::chrono::steady_clock::duration>(*next - now, std::chrono::milliseconds(50)));
+    }
+    *next += period;
+    // Late (a slow write, a busy machine): the next event one period from now, not a burst.
+    if (const auto now = std::chrono::steady_clock::now(); *next < now) *next = now + period;
+    const std::string event = "event: telemetry\ndata: " + state_text() + "\n\n";
+    if (!sink.write(event.data(), event.size())) return false;  // the client left or stopped reading
+    stats_.stream_events.fetch_add(1, std::memory_order_relaxed);
+    return true;
+  });
+}
+
+void HttpApi::routes() {
+  httplib::Server& s = *server_;
+  s.set_pre_routing_handler([this](const httplib::Request& request, httplib::Response& response) {
+    stats_.requests.fetch_add(1, std::memory_order_relaxed);
+    if (request.path.rfind("/api/", 0) != 0) return httplib::Server::HandlerResponse::Unhandled;  // the page
+    return authorized(request, response) ? httplib::Server::HandlerResponse::Unhandled
+                                         : httplib::Server::HandlerResponse::Handled;
+  });
+  s.set_exception_handler([](const httplib::Request&, httplib::Response& response, std::exception_ptr error) {
+    try {
+      std::rethrow_exception(error);
+    } catch (const HttpError& e) {
+      send_error(response, e.status(), e.what());
+    } catch (const std::exception& e) {
+      send_error(response, 500, std::string("internal error: ") + e.what());
+    }
+  });
+  s.set_error_handler([this](const httplib::Request& request, httplib::Response& response) {
+    stats_.refused.fetch_add(1, std::memory_order_relaxed);
+    if (!response.body.empty()) return;  // a handler's own message
+    switch (response.status) {
+      case 404: send_error(response, 404, "no such endpoint: " + request.method + " " + request.path); break;
+      case 413:
+        send_error(response, 413, "request body over " + std::to_string(config_.max_body_bytes) + " bytes");
+        break;
+      case 400:
+        send_error(response, 400,
+                   "malformed request (request line, headers, or a body that did not arrive within " +
+                       std::to_string(config_.read_timeout_ms) + " ms)");
+        break;
+      default: send_error(response, response.status, "request refused"); break;
+    }
+  });
+
+  // The page and its files (no token: they hold no state; the page asks for one).
+  for (const DashboardAsset& asset : dashboard_assets()) {
+    const std::string path = asset.path == "index.html" ? "/" : "/" + std::string(asset.path);
+    s.Get(path, [&asset](const httplib::Request&, httplib::Response& response) {
+      response.set_header("Cache-Control", "no-cache");
+      response.set_content(asset.body.data(), asset.body.size(), std::string(asset.content_type));
+    });
+  }
+
+  s.Get("/api/v1/state", [this](const auto& q, auto& r) { state(q, r); });
+  s.Get("/api/v1/stats", [this](const httplib::Request&, httplib::Response& response) {
+    const Telemetry t = shared_.telemetry.load();
+    send_json(response, {{"tick", t.tick},
+                         {"sim_time_s", t.sim_time_s},
+                         {"tick_hz", shared_.tick_hz},
+                         {"clock", shared_.lockstep != nullptr ? "external" : "internal"},
+                         {"speedup", shared_.speedup},
+                         {"loop", loop_json(t.stats)},
+                         {"commands",
+                          {{"applied", t.applied_commands},
+                           {"rejected", shared_.rejects.count.load()},
+                           {"queue_full", shared_.queue_full.load()}}},
+                         {"http",
+                          {{"requests", stats_.requests.load()},
+                           {"refused", stats_.refused.load()},
+                           {"stream_clients", stats_.stream_clients.load()},
+                           {"stream_clients_max", config_.max_stream_clients},
+                           {"stream_refused", stats_.stream_refused.load()},
+                           {"stream_events", stats_.stream_events.load()},
+                           {"faults_queued", stats_.faults_queued.load()}}}});
+  });
+  s.Get("/api/v1/faults", [this](const httplib::Request&, httplib::Response& response) {
+    const ActiveFaults faults = shared_.active_faults.load();
+    send_json(response, {{"types", fault_types_json()},
+                         {"active", active_faults_json(faults, shared_.tick_hz)},
+                         {"active_total", faults.total},
+                         {"refused", faults.refused}});
+  });
+  s.Post("/api/v1/faults", [this](const httplib::Request& request, httplib::Response& response) {
+    if (!json_body(request, response)) return;
+    queue_fault(parse_fault_request(request.body), response);
+  });
+  s.Delete("/api/v1/faults", [this](const httplib::Request&, httplib::Response& response) {
+    RuntimeEvent all;
+    all.type = EventType::clear;
+    all.parameters.fault = EventType::clear;
+    queue_fault(all, response);
+  });
+  s.Delete(R"(/api/v1/faults/([^/]+))", [this](const httplib::Request& request, httplib::Response& response) {
+    queue_fault(clear_request(request.matches[1].str()), response);
+  });
+  s.Get("/api/v1/recording", [this](const httplib::Request&, httplib::Response& response) {
+    const RecordingStatus st = recorder_.status();
+    send_json(response, {{"recording", st.recording},
+                         {"available", st.available},
+                         {"rows", st.rows},
+                         {"dropped", st.dropped},
+                         {"first_tick", st.first_tick},
+                         {"last_tick", st.last_tick},
+                         {"error", st.error.empty() ? json(nullptr) : json(st.error)}});
+  });
+  s.Post("/api/v1/recording/start", [this](const httplib::Request&, httplib::Response& response) {
+    if (const std::string e = recorder_.start(); !e.empty()) return send_error(response, 409, e);
+    send_json(response, {{"recording", true}});
+  });
+  s.Post("/api/v1/recording/stop", [this](const httplib::Request&, httplib::Response& response) {
+    if (const std::string e = recorder_.stop(); !e.empty())
+      return send_error(response, e.rfind("no recording", 0) == 0 ? 409 : 500, e);
+    const RecordingStatus st = recorder_.status();
+    send_json(response, {{"recording", false}, {"rows", st.rows}, {"dropped", st.dropped}});
+  });
+  s.Get("/api/v1/recording.csv", [this](const httplib::Request&, httplib::Response& response) {
+    const RecordingStatus st = recorder_.status();
+    if (st.recording) return send_error(response, 409, "the recording is still running: stop it first");
+    if (!st.available) return send_error(response, 404, "no recording to download: start and stop one first");
+    const int fd = ::open(recorder_.path().c_str(), O_RDONLY | O_CLOEXEC);
+    struct stat info {};
+    if (fd < 0 || ::fstat(fd, &info) != 0) {
+      const int e = errno;
+      if (fd >= 0) ::close(fd);
+      return send_error(response, 500, "cannot read " + recorder_.path() + ": " + std::strerror(e));
+    }
+    auto file = std::shared_ptr<int>(new int(fd), [](int* f) {
+      ::close(*f);
+      delete f;
+    });
+    response.set_header("Content-Disposition", "attachment; filename=\"swum-emu-recording.csv\"");
+    response.set_content_provider(static_cast<std::size_t>(info.st_size), "text/csv",
+                                  [file](std::size_t offset, std::size_t length, httplib::DataSink& sink) {
+                                    char buffer[65536];
+                                    const ssize_t n = ::pread(*file, buffer, std::min(length, sizeof buffer),
+                                                              static_cast<off_t>(offset));
+                                    if (n <= 0) return false;  // the file shrank or failed: the transfer ends short
+                                    return sink.write(buffer, static_cast<std::size_t>(n));
+                                  });
+  });
+  s.Post("/api/v1/step", [this](const httplib::Request& request, httplib::Response& response) {
+    if (!json_body(request, response)) return;
+    step(request, response);
+  });
+  s.Get("/api/v1/stream", [this](const auto& q, auto& r) { stream(q, r); });
+}
+
+}  // namespace swum::emu

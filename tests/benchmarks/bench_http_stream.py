@@ -1,0 +1,86 @@
+#!/usr/bin/env python3
+"""Does the HTTP API disturb the real-time loop? (docs/performance.md, "The control API".)
+Runs swum-emu on wall time (10 kHz) in pairs, without and with K clients streaming the telemetry
+at R Hz from /api/v1/stream, alternating the order, and prints each run's lateness p99 and overrun
+share from its exit report, side by side. Printed, never asserted: the machine is shared.
+Usage: bench_http_stream.py [--seconds 10] [--pairs 3] [--clients 4] [--rate-hz 50]"""
+import argparse
+import http.client
+import os
+import re
+import signal
+import subprocess
+import sys
+import threading
+
+SOURCE_DIR = os.environ.get("SWUM_SOURCE_DIR", os.path.abspath(os.path.join(os.path.dirname(__file__), "../..")))
+EMU = os.environ.get("SWUM_EMU", os.path.join(SOURCE_DIR, "build/ci/firmware_sim/swum-emu"))
+CONFIG = os.path.join(SOURCE_DIR, "config/li2019.toml")
+
+
+def stream(port, rate_hz, stop, counts, index):
+    """One client reading the event stream until `stop` is set."""
+    connection = http.client.HTTPConnection("127.0.0.1", port, timeout=5)
+    connection.request("GET", f"/api/v1/stream?rate_hz={rate_hz}")
+    response = connection.getresponse()
+    if response.status != 200:
+        raise SystemExit(f"stream refused: {response.status} {response.read()!r}")
+    while not stop.is_set():
+        line = response.readline()
+        if not line:
+            break
+        if line.startswith(b"event: telemetry"):
+            counts[index] += 1
+    connection.close()
+
+
+def run(seconds, clients, rate_hz):
+    """One swum-emu run of `seconds`; returns (lateness p99 us, overrun %, events received)."""
+    proc = subprocess.Popen([EMU, "--config", CONFIG, "--modbus", "none", "--http", "127.0.0.1:0",
+                             "--duration", str(seconds), "--frequency", "40000"],
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    ready = proc.stdout.readline()
+    match = re.search(r"http=http://127\.0\.0\.1:(\d+)", ready)
+    if not match:
+        proc.kill()
+        raise SystemExit(f"swum-emu did not start: {ready!r} {proc.stderr.read()}")
+    stop, counts, threads = threading.Event(), [0] * clients, []
+    for k in range(clients):
+        threads.append(threading.Thread(target=stream, args=(int(match.group(1)), rate_hz, stop, counts, k),
+                                        daemon=True))
+        threads[-1].start()
+    try:
+        out, err = proc.communicate(timeout=seconds * 5 + 30)
+    except subprocess.TimeoutExpired:
+        os.kill(proc.pid, signal.SIGKILL)
+        raise
+    stop.set()
+    for t in threads:
+        t.join(timeout=10)
+    p99 = re.search(r"lateness\s+p50 [\d.]+ us\s+p99 ([\d.]+) us", out)
+    overruns = re.search(r"overruns\s+\d+ \(([\d.]+) % of ticks\)", out)
+    if proc.returncode != 0 or not p99 or not overruns:
+        raise SystemExit(f"swum-emu failed ({proc.returncode}): {out}{err}")
+    return float(p99.group(1)), float(overruns.group(1)), sum(counts)
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--seconds", type=float, default=10.0)
+    parser.add_argument("--pairs", type=int, default=3)
+    parser.add_argument("--clients", type=int, default=4)
+    parser.add_argument("--rate-hz", type=float, default=50.0)
+    a = parser.parse_args()
+    print(f"swum-emu 10 kHz on wall time, {a.seconds:g} s per run; 'with' = {a.clients} clients x {a.rate_hz:g} Hz")
+    print(f"{'pair':>4}  {'without: p99 us':>16} {'overruns %':>10}   {'with: p99 us':>13} {'overruns %':>10} "
+          f"{'events':>7}")
+    for pair in range(a.pairs):
+        order = [0, a.clients] if pair % 2 == 0 else [a.clients, 0]  # alternate: drift hits both alike
+        results = {k: run(a.seconds, k, a.rate_hz) for k in order}
+        (p0, o0, _), (p1, o1, events) = results[0], results[a.clients]
+        print(f"{pair + 1:>4}  {p0:>16.1f} {o0:>10.4f}   {p1:>13.1f} {o1:>10.4f} {events:>7}")
+        sys.stdout.flush()
+
+
+if __name__ == "__main__":
+    main()
