@@ -317,7 +317,7 @@ int run_emulator(const EmuOptions& o) {
   std::unique_ptr<HttpApi> api;
   if (http) {
     api = std::make_unique<HttpApi>(*http, *shared, model);
-    if (http->host != "127.0.0.1" && http->host != "localhost")
+    if (http->host != "127.0.0.1" && http->host != "localhost" && http->host != "::1")
       std::fprintf(stderr,
                    "swum-emu: warning: the HTTP API is bound to %s as asked: anyone who can reach it can "
                    "inject faults%s\n",
@@ -342,7 +342,15 @@ int run_emulator(const EmuOptions& o) {
   }
   core.shut_down();  // drive off, published before the transports stop
   transports.stop();
-  if (api) api->stop();
+  // A client still trickling a request must not keep the emulator from exiting: after 3 s the
+  // API is left to the process's end (its threads still use it: it is never destroyed).
+  bool api_abandoned = false;
+  HttpApi* const api_view = api.get();  // the exit report's counts, even when abandoned
+  if (api && !api->stop()) {
+    api_abandoned = true;
+    static_cast<void>(api.release());  // never destroyed: its threads still run on it
+    std::fprintf(stderr, "swum-emu: --http: a connection was still open 3 s after the stop; exiting without it\n");
+  }
   std::string record_error = transports.close_can_log(o.record_can_path);
   if (recorder) {
     core.set_observer(nullptr);
@@ -363,7 +371,7 @@ int run_emulator(const EmuOptions& o) {
   s.commands_applied = t.applied_commands;
   s.commands_rejected = shared->rejects.count.load();
   s.queue_full = shared->queue_full.load();
-  if (api) s.http = &api->stats();
+  if (api_view != nullptr) s.http = &api_view->stats();
   if (transports.modbus_tcp) s.modbus_tcp = &transports.modbus_tcp->stats();
   if (transports.modbus_rtu) s.modbus_rtu = &transports.modbus_rtu->stats();
   if (transports.can) {
@@ -373,11 +381,16 @@ int run_emulator(const EmuOptions& o) {
   }
   std::fputs(format_exit_report(s).c_str(), stdout);
   std::fflush(stdout);
+  int status = 0;
   if (!record_error.empty()) {  // the run itself is reported above; the trace is incomplete
     std::fprintf(stderr, "swum-emu: %s\n", record_error.c_str());
-    return 1;
+    status = 1;
   }
-  return 0;
+  if (api_abandoned) {  // its threads use this function's objects: end here, before they go
+    std::fflush(nullptr);
+    std::_Exit(status);
+  }
+  return status;
 }
 
 std::string format_exit_report(const ExitStatistics& s) {

@@ -1,19 +1,23 @@
 #include "http_api.h"
 
 #include <fcntl.h>
+#include <strings.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cerrno>
 #include <charconv>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <stdexcept>
 
 #include <httplib.h>
 
+#include "api_thread_priority.h"
 #include "dashboard_assets.h"
 #include "http_json.h"
 #include "lockstep_clock.h"
@@ -26,6 +30,10 @@ constexpr const char* kJson = "application/json";
 // Connections served at once besides the streams: 48 clients stalled mid-request (each holding
 // a thread up to the read timeout) still leave others served at once. Idle threads cost a stack.
 constexpr int kRequestThreads = 48;
+// Stream rates: at least one event per 10 s; between events a comment line every second, so a
+// client that left is found (the write fails) within about a second plus the write timeout.
+constexpr double kMinStreamHz = 0.1;
+constexpr auto kStreamHeartbeat = std::chrono::seconds(1);
 
 void send_json(httplib::Response& response, const json& body, int status = 200) {
   response.status = status;
@@ -45,16 +53,6 @@ bool same_token(const std::string& given, const std::string& expected) {
   return difference == 0;
 }
 
-// A POST body must be JSON (or absent where the endpoint takes none).
-bool json_body(const httplib::Request& request, httplib::Response& response) {
-  const std::string type = request.get_header_value("Content-Type");
-  if (!type.empty() && type.rfind("application/json", 0) != 0) {
-    send_error(response, 415, "Content-Type must be application/json, not " + type);
-    return false;
-  }
-  return true;
-}
-
 // The query's rate_hz, or the default; HttpError 400 when not a number in (0, max].
 double stream_rate(const httplib::Request& request, double default_hz, double max_hz) {
   if (!request.has_param("rate_hz")) return default_hz;
@@ -63,10 +61,27 @@ double stream_rate(const httplib::Request& request, double default_hz, double ma
   const auto r = std::from_chars(text.data(), text.data() + text.size(), value);
   if (r.ec != std::errc() || r.ptr != text.data() + text.size() || !std::isfinite(value))
     throw HttpError(400, "rate_hz '" + text + "' is not a number");
-  if (!(value > 0.0) || value > max_hz)
-    throw HttpError(400, "rate_hz " + text + " out of range (0, " + json(max_hz).dump() + "]");
+  if (!(value >= kMinStreamHz) || value > max_hz)
+    throw HttpError(400, "rate_hz " + text + " out of range [" + json(kMinStreamHz).dump() + ", " +
+                             json(max_hz).dump() + "]");
   return value;
 }
+
+// cpp-httplib's pool, its threads lowered before their first task.
+class ApiThreadPool final : public httplib::TaskQueue {
+ public:
+  explicit ApiThreadPool(std::size_t threads) : pool_(threads) {}
+  void enqueue(std::function<void()> task) override {
+    pool_.enqueue([task = std::move(task)] {
+      lower_api_thread_priority();
+      task();
+    });
+  }
+  void shutdown() override { pool_.shutdown(); }
+
+ private:
+  httplib::ThreadPool pool_;
+};
 
 // One stream client's slot: held as long as any copy of its provider lives.
 struct StreamSlot {
@@ -88,35 +103,66 @@ HttpApi::HttpApi(HttpConfig config, SharedState& shared, const MotorModel& model
   const std::string where = "--http " + config_.host + ":" + std::to_string(config_.port);
   // One thread per connection (cpp-httplib): the streams, plus room for requests and for clients
   // slow to send theirs (each holds its thread up to the read timeout; docs/http-api.md "Safety").
-  server_->new_task_queue = [n = config_.max_stream_clients + kRequestThreads] { return new httplib::ThreadPool(n); };
+  server_->new_task_queue = [n = config_.max_stream_clients + kRequestThreads] { return new ApiThreadPool(n); };
   server_->set_payload_max_length(config_.max_body_bytes);
   server_->set_read_timeout(std::chrono::milliseconds(config_.read_timeout_ms));
   server_->set_write_timeout(std::chrono::milliseconds(config_.write_timeout_ms));
   server_->set_keep_alive_timeout(2);
   routes();
+  endpoints();
+  loopback_ = config_.host == "127.0.0.1" || config_.host == "localhost" || config_.host == "::1";
   port_ = config_.port == 0 ? server_->bind_to_any_port(config_.host) : config_.port;
   if (port_ <= 0 || (config_.port != 0 && !server_->bind_to_port(config_.host, config_.port)))
     throw std::runtime_error(where + ": cannot listen there (" + std::strerror(errno) +
                              "; in use, or not an address of this machine)");
 }
 
-HttpApi::~HttpApi() { stop(); }
-
-void HttpApi::start() {
-  thread_ = std::thread([this] { server_->listen_after_bind(); });
+HttpApi::~HttpApi() {
+  if (!stop(std::chrono::milliseconds(3000))) std::abort();  // the caller must not destroy an abandoned API
 }
 
-void HttpApi::stop() {
-  if (stopping_.exchange(true)) return;
+void HttpApi::start() {
+  thread_ = std::thread([this] {
+    lower_api_thread_priority();
+    server_->listen_after_bind();
+    const std::lock_guard lock(listen_mutex_);
+    listen_ended_ = true;
+    listen_ended_cv_.notify_all();
+  });
+  // Server::stop() does nothing before the server runs: wait, so that a stop right after the
+  // start (a short --duration, an early SIGTERM) is not lost.
+  for (int i = 0; i < 5000 && !server_->is_running(); ++i) {
+    {
+      const std::lock_guard lock(listen_mutex_);
+      if (listen_ended_) break;  // listen failed at once
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  }
+}
+
+bool HttpApi::stop(std::chrono::milliseconds wait) {
+  if (stopping_.exchange(true)) return !abandoned_;
+  recorder_.stop();  // the writer thread, if a recording runs: its rows are flushed
   server_->stop();
-  if (thread_.joinable()) thread_.join();
+  if (!thread_.joinable()) return true;
+  // The listening thread ends when the pool has finished every connection; a client still
+  // sending its request (a byte now and then) holds its thread. Wait a little, not forever.
+  std::unique_lock lock(listen_mutex_);
+  if (listen_ended_cv_.wait_for(lock, wait, [this] { return listen_ended_; })) {
+    lock.unlock();
+    thread_.join();
+    return true;
+  }
+  thread_.detach();
+  abandoned_ = true;
+  return false;
 }
 
 bool HttpApi::authorized(const httplib::Request& request, httplib::Response& response) {
   if (config_.token.empty()) return true;
   std::string given;
   const std::string header = request.get_header_value("Authorization");
-  if (header.rfind("Bearer ", 0) == 0) {
+  if (header.size() > 7 && strncasecmp(header.c_str(), "Bearer ", 7) == 0) {  // the scheme is case-insensitive
     given = header.substr(7);
   } else if (request.has_param("token")) {  // EventSource and download links cannot set a header
     given = request.get_param_value("token");
@@ -134,6 +180,12 @@ bool HttpApi::authorized(const httplib::Request& request, httplib::Response& res
 }
 
 std::string HttpApi::state_text() {
+  // Requests within a millisecond of each other (streams on the same grid) share one text.
+  const auto now = std::chrono::steady_clock::now();
+  {
+    const std::lock_guard lock(state_cache_mutex_);
+    if (!state_cache_.empty() && now - state_cache_at_ < std::chrono::milliseconds(1)) return state_cache_;
+  }
   const Telemetry t = shared_.telemetry.load();
   const RejectSnapshot rejects{static_cast<Reason>(shared_.rejects.last_reason.load(std::memory_order_relaxed)),
                                shared_.rejects.count.load(std::memory_order_acquire)};
@@ -143,7 +195,11 @@ std::string HttpApi::state_text() {
   for (std::uint32_t i = 0; i < faults.count && i < faults.items.size(); ++i)
     names.push_back(to_string(faults.items[i].type));
   body["active_faults"] = std::move(names);
-  return body.dump();
+  std::string text = body.dump();
+  const std::lock_guard lock(state_cache_mutex_);
+  state_cache_ = text;
+  state_cache_at_ = now;
+  return text;
 }
 
 void HttpApi::state(const httplib::Request&, httplib::Response& response) {
@@ -172,8 +228,10 @@ void HttpApi::queue_fault(const RuntimeEvent& event, httplib::Response& response
     const auto at = queued.find('@');
     queued.erase(at, queued.find(':') == std::string::npos ? std::string::npos : queued.find(':') - at);
   }
-  const json body = {
-      {"queued", queued}, {"applies_at", "the next tick boundary"}, {"after_tick", shared_.telemetry.load().tick}};
+  const std::uint64_t after_tick = shared_.telemetry.load().tick;
+  std::fprintf(stderr, "swum-emu: http: queued %s after tick %llu\n", queued.c_str(),
+               static_cast<unsigned long long>(after_tick));
+  const json body = {{"queued", queued}, {"applies_at", "the next tick boundary"}, {"after_tick", after_tick}};
   send_json(response, body, 202);
 }
 
@@ -205,23 +263,34 @@ void HttpApi::stream(const httplib::Request& request, httplib::Response& respons
   auto slot = std::make_shared<StreamSlot>(stats_.stream_clients);
   const auto period = std::chrono::duration_cast<std::chrono::steady_clock::duration>(
       std::chrono::duration<double>(1.0 / rate_hz));
-  auto next = std::make_shared<std::chrono::steady_clock::time_point>(std::chrono::steady_clock::now());
+  // Events on a grid of whole periods of the steady clock: streams at the same rate fire together
+  // and share one snapshot text (state_text's cache), whatever the number of clients.
+  const auto now = std::chrono::steady_clock::now().time_since_epoch();
+  auto next = std::make_shared<std::chrono::steady_clock::time_point>((now / period + 1) * period);
   response.set_header("Cache-Control", "no-store");
-  response.set_chunked_content_provider("text/event-stream", [this, slot, period, next](std::size_t,
-                                                                                        httplib::DataSink& sink) {
+  auto last_write = std::make_shared<std::chrono::steady_clock::time_point>(std::chrono::steady_clock::now());
+  response.set_chunked_content_provider("text/event-stream", [this, slot, period, next,
+                                                              last_write](std::size_t, httplib::DataSink& sink) {
     // Sleep to the next event in short slices, so that stop() ends the stream promptly.
     for (;;) {
       if (stopping_.load()) return false;
       const auto now = std::chrono::steady_clock::now();
       if (now >= *next) break;
+      if (now - *last_write >= kStreamHeartbeat) {
+        static constexpr char kComment[] = ": keep-alive\n\n";
+        if (!sink.write(kComment, sizeof kComment - 1)) return false;  // the client left
+        *last_write = now;
+      }
       std::this_thread::sleep_for(
           std::min<std::chrono::steady_clock::duration>(*next - now, std::chrono::milliseconds(50)));
     }
     *next += period;
-    // Late (a slow write, a busy machine): the next event one period from now, not a burst.
-    if (const auto now = std::chrono::steady_clock::now(); *next < now) *next = now + period;
+    // Late (a slow write, a busy machine): the next grid point from now, not a burst.
+    if (const auto now = std::chrono::steady_clock::now(); *next < now)
+      *next = std::chrono::steady_clock::time_point((now.time_since_epoch() / period + 1) * period);
     const std::string event = "event: telemetry\ndata: " + state_text() + "\n\n";
     if (!sink.write(event.data(), event.size())) return false;  // the client left or stopped reading
+    *last_write = std::chrono::steady_clock::now();
     stats_.stream_events.fetch_add(1, std::memory_order_relaxed);
     return true;
   });
@@ -231,35 +300,96 @@ void HttpApi::routes() {
   httplib::Server& s = *server_;
   s.set_pre_routing_handler([this](const httplib::Request& request, httplib::Response& response) {
     stats_.requests.fetch_add(1, std::memory_order_relaxed);
+    int status = 0;
+    if (const std::string why = refusal(request, status); !why.empty()) {
+      send_error(response, status, why);
+      return httplib::Server::HandlerResponse::Handled;
+    }
     if (request.path.rfind("/api/", 0) != 0) return httplib::Server::HandlerResponse::Unhandled;  // the page
     return authorized(request, response) ? httplib::Server::HandlerResponse::Unhandled
                                          : httplib::Server::HandlerResponse::Handled;
   });
+  // Neither handler may throw: cpp-httplib calls them outside its own try, and a throw there
+  // would end the process.
   s.set_exception_handler([](const httplib::Request&, httplib::Response& response, std::exception_ptr error) {
     try {
-      std::rethrow_exception(error);
-    } catch (const HttpError& e) {
-      send_error(response, e.status(), e.what());
-    } catch (const std::exception& e) {
-      send_error(response, 500, std::string("internal error: ") + e.what());
+      try {
+        std::rethrow_exception(error);
+      } catch (const HttpError& e) {
+        send_error(response, e.status(), e.what());
+      } catch (const std::exception& e) {
+        send_error(response, 500, std::string("internal error: ") + e.what());
+      }
+    } catch (...) {
+      response.status = 500;
+      response.set_content("{\"error\": \"internal error\"}\n", kJson);
     }
   });
   s.set_error_handler([this](const httplib::Request& request, httplib::Response& response) {
     stats_.refused.fetch_add(1, std::memory_order_relaxed);
     if (!response.body.empty()) return;  // a handler's own message
-    switch (response.status) {
-      case 404: send_error(response, 404, "no such endpoint: " + request.method + " " + request.path); break;
-      case 413:
-        send_error(response, 413, "request body over " + std::to_string(config_.max_body_bytes) + " bytes");
-        break;
-      case 400:
-        send_error(response, 400,
-                   "malformed request (request line, headers, or a body that did not arrive within " +
-                       std::to_string(config_.read_timeout_ms) + " ms)");
-        break;
-      default: send_error(response, response.status, "request refused"); break;
+    try {
+      error_text(request, response);
+    } catch (...) {
+      response.set_content("{\"error\": \"request refused\"}\n", kJson);
     }
   });
+}
+
+void HttpApi::error_text(const httplib::Request& request, httplib::Response& response) {
+  switch (response.status) {
+    case 404: send_error(response, 404, "no such endpoint: " + request.method + " " + request.path); break;
+    case 413:
+      send_error(response, 413, "request body over " + std::to_string(config_.max_body_bytes) + " bytes");
+      break;
+    case 400:
+      send_error(response, 400,
+                 "malformed request (request line, headers, or a body that stopped arriving for " +
+                     std::to_string(config_.read_timeout_ms) + " ms)");
+      break;
+    case 416: send_error(response, 416, "byte range not satisfiable"); break;
+    default: send_error(response, response.status, "request refused"); break;
+  }
+}
+
+std::string HttpApi::refusal(const httplib::Request& request, int& status) const {
+  // A page elsewhere must not drive the motor through the user's browser: with a loopback bind,
+  // the Host must name this server (DNS rebinding), and an Origin must be this server's (CSRF).
+  const std::string host = request.get_header_value("Host");
+  if (loopback_ && !host.empty()) {
+    const std::string port = ":" + std::to_string(port_);
+    if (host != "127.0.0.1" + port && host != "localhost" + port && host != "[::1]" + port) {
+      status = 403;
+      return "Host '" + host + "' is not this server (127.0.0.1" + port + ")";
+    }
+  }
+  if (const std::string origin = request.get_header_value("Origin"); !origin.empty() && origin != "http://" + host) {
+    status = 403;
+    return "cross-origin request refused (Origin " + origin + ")";
+  }
+  const bool api = request.path.rfind("/api/", 0) == 0;
+  if (api && request.has_header("Range") && request.path != "/api/v1/recording.csv") {
+    status = 400;
+    return "the API does not serve byte ranges (Range is for /api/v1/recording.csv)";
+  }
+  // A POST is JSON, declared: a form or a text/plain body (which a page elsewhere may send
+  // without asking) is refused before anything runs.
+  if (request.method == "POST") {
+    const std::string type = request.get_header_value("Content-Type");
+    std::string media = type.substr(0, type.find(';'));
+    while (!media.empty() && media.back() == ' ') media.pop_back();
+    for (char& c : media) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    if (media != "application/json") {
+      status = 415;
+      return type.empty() ? "Content-Type: application/json is required (even with an empty body)"
+                          : "Content-Type must be application/json, not " + type;
+    }
+  }
+  return {};
+}
+
+void HttpApi::endpoints() {
+  httplib::Server& s = *server_;
 
   // The page and its files (no token: they hold no state; the page asks for one).
   for (const DashboardAsset& asset : dashboard_assets()) {
@@ -300,7 +430,6 @@ void HttpApi::routes() {
                          {"refused", faults.refused}});
   });
   s.Post("/api/v1/faults", [this](const httplib::Request& request, httplib::Response& response) {
-    if (!json_body(request, response)) return;
     queue_fault(parse_fault_request(request.body), response);
   });
   s.Delete("/api/v1/faults", [this](const httplib::Request&, httplib::Response& response) {
@@ -357,10 +486,8 @@ void HttpApi::routes() {
                                     return sink.write(buffer, static_cast<std::size_t>(n));
                                   });
   });
-  s.Post("/api/v1/step", [this](const httplib::Request& request, httplib::Response& response) {
-    if (!json_body(request, response)) return;
-    step(request, response);
-  });
+  s.Post("/api/v1/step",
+         [this](const httplib::Request& request, httplib::Response& response) { step(request, response); });
   s.Get("/api/v1/stream", [this](const auto& q, auto& r) { stream(q, r); });
 }
 

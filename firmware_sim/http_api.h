@@ -6,9 +6,12 @@
 #pragma once
 
 #include <atomic>
+#include <chrono>
+#include <condition_variable>
 #include <cstddef>
 #include <cstdint>
 #include <memory>
+#include <mutex>
 #include <string>
 #include <thread>
 
@@ -59,13 +62,21 @@ class HttpApi {
   HttpApi& operator=(const HttpApi&) = delete;
 
   void start();
-  // Ends streams and the listening thread; joins. Idempotent.
-  void stop();
+  // Stops the recording, ends the streams and the listening thread and waits for them up to
+  // `wait`. False when a connection still holds its thread then (a client sending its request a
+  // byte at a time): the threads are left running on this object, which must then never be
+  // destroyed (the caller exits the process). Idempotent.
+  bool stop(std::chrono::milliseconds wait = std::chrono::milliseconds(3000));
   [[nodiscard]] int port() const { return port_; }
   [[nodiscard]] const HttpStats& stats() const { return stats_; }
 
  private:
-  void routes();
+  void routes();     // the handlers of every request: token, errors
+  void endpoints();  // the page and /api/v1
+  void error_text(const httplib::Request& request, httplib::Response& response);
+  // Why a request is refused before routing (foreign Host or Origin, Range on the API, a POST
+  // not declared JSON), with its status; empty when it may go on.
+  std::string refusal(const httplib::Request& request, int& status) const;
   bool authorized(const httplib::Request& request, httplib::Response& response);
   void state(const httplib::Request& request, httplib::Response& response);
   void stream(const httplib::Request& request, httplib::Response& response);
@@ -79,9 +90,17 @@ class HttpApi {
   TelemetryRecorder recorder_;
   std::unique_ptr<httplib::Server> server_;
   int port_ = 0;
+  bool loopback_ = true;  // bound to 127.0.0.1, localhost or ::1: Host must name this server
   std::thread thread_;
+  std::mutex listen_mutex_;
+  std::condition_variable listen_ended_cv_;
+  bool listen_ended_ = false;
+  bool abandoned_ = false;
   std::atomic<bool> stopping_{false};
   HttpStats stats_;
+  std::mutex state_cache_mutex_;  // the last state text, shared by requests within 1 ms
+  std::string state_cache_;
+  std::chrono::steady_clock::time_point state_cache_at_;
 };
 
 }  // namespace swum::emu

@@ -268,7 +268,9 @@ std::string error_body(std::string_view message) {
   std::string line(message);
   for (char& c : line)
     if (c == '\n' || c == '\r') c = ' ';
-  return json{{"error", line}}.dump() + "\n";
+  // The message may quote the request (a path, a value) in bytes that are not UTF-8: replaced
+  // (U+FFFD), never a throw from the error path.
+  return json{{"error", line}}.dump(-1, ' ', false, json::error_handler_t::replace) + "\n";
 }
 
 }  // namespace swum::emu

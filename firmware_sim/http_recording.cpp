@@ -1,5 +1,7 @@
 #include "http_recording.h"
 
+#include "api_thread_priority.h"
+
 #include <unistd.h>
 
 #include <cerrno>
@@ -40,7 +42,7 @@ std::string recording_row(const Telemetry& t) {
   add(row, t.tick);
   add(row, t.sim_time_s);
   add(row, to_string(t.state));
-  add(row, to_string(t.fault));
+  add(row, identifier(t.fault));
   add(row, std::uint64_t{t.enable_line});
   add(row, std::uint64_t{t.at_setpoint});
   for (const double v : {t.setpoints.frequency_hz,
@@ -81,14 +83,30 @@ TelemetryRecorder::~TelemetryRecorder() {
   stop();
   shared_.recording = nullptr;
   if (file_ != nullptr) std::fclose(file_);
+  // The recording is the API's to hand out, not a file for later: gone with the process.
+  if (!part_path_.empty()) ::unlink(part_path_.c_str());
+  ::unlink(path_.c_str());
 }
 
 std::string TelemetryRecorder::start() {
   const std::lock_guard lock(mutex_);
   if (writing_.load()) return "a recording is already running (stop it first)";
   if (file_ != nullptr) std::fclose(file_);
-  file_ = std::fopen(path_.c_str(), "w");
-  if (file_ == nullptr) return "cannot open " + path_ + ": " + std::strerror(errno);
+  file_ = nullptr;
+  // A new file of its own (O_EXCL: no symlink or older file is followed), renamed over the last
+  // recording at the stop: a download still reading the last one keeps reading it whole.
+  const std::string pattern = path_ + ".XXXXXX";
+  std::string part = pattern;
+  const int fd = ::mkstemp(part.data());
+  if (fd < 0) return "cannot create " + pattern + ": " + std::strerror(errno);
+  file_ = ::fdopen(fd, "w");
+  if (file_ == nullptr) {
+    const int e = errno;
+    ::close(fd);
+    ::unlink(part.c_str());
+    return "cannot open " + part + ": " + std::strerror(e);
+  }
+  part_path_ = part;
   Telemetry stale;
   while (ring_.ring.try_pop(stale)) {
   }
@@ -107,6 +125,7 @@ std::string TelemetryRecorder::start() {
 }
 
 void TelemetryRecorder::drain() {
+  lower_api_thread_priority();
   Telemetry t;
   const auto write_all = [&] {  // what the ring holds now; true when there was any
     bool any = false;
@@ -145,7 +164,13 @@ std::string TelemetryRecorder::stop() {
   if (std::fflush(file_) != 0 && write_errno_ == 0) write_errno_ = errno;
   if (std::fclose(file_) != 0 && write_errno_ == 0) write_errno_ = errno;
   file_ = nullptr;
-  if (write_errno_ != 0) error_ = "writing " + path_ + ": " + std::strerror(write_errno_);
+  if (write_errno_ != 0) {
+    error_ = "writing " + part_path_ + ": " + std::strerror(write_errno_);
+  } else if (::rename(part_path_.c_str(), path_.c_str()) != 0) {
+    error_ = "renaming " + part_path_ + " to " + path_ + ": " + std::strerror(errno);
+  }
+  if (!error_.empty()) ::unlink(part_path_.c_str());
+  part_path_.clear();
   available_ = error_.empty();
   return error_;
 }

@@ -30,8 +30,10 @@ struct RecordingStatus {
 
 class TelemetryRecorder {
  public:
-  // `shared.recording` is set to this recorder's ring for its lifetime. Recordings are written
-  // to DIRECTORY/swum-emu-recording-PID.csv (replaced by the next start).
+  // `shared.recording` is set to this recorder's ring for its lifetime. A recording is written
+  // to a new file of its own (DIRECTORY/swum-emu-recording-PID.csv.XXXXXX) and renamed to
+  // DIRECTORY/swum-emu-recording-PID.csv when it stops (replacing the last one); both are
+  // removed when the recorder is destroyed (the download is the way to keep one).
   TelemetryRecorder(SharedState& shared, std::string directory);
   ~TelemetryRecorder();
   TelemetryRecorder(const TelemetryRecorder&) = delete;
@@ -49,6 +51,7 @@ class TelemetryRecorder {
   SharedState& shared_;
   TelemetryRecording ring_;
   std::string path_;
+  std::string part_path_;     // the recording under way
   mutable std::mutex mutex_;  // start/stop/status against each other
   std::FILE* file_ = nullptr;
   std::thread writer_;

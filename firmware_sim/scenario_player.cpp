@@ -9,7 +9,7 @@ namespace swum::emu {
 ScenarioPlayer::ScenarioPlayer(Scenario scenario, double tick_hz)
     : scenario_(std::move(scenario)), tick_hz_(tick_hz), rng_state_(scenario_.seed ^ 0x9E3779B97F4A7C15ULL) {
   active_.reserve(scenario_.events.size() + kMaxActiveFaults);
-  now_.started.reserve(scenario_.events.size() + kRuntimeEventCapacity);
+  now_.started.reserve(scenario_.events.size());
   for (ScenarioEvent& e : runtime_waiting_) e.origin = "http";  // short: no allocation when copied
   for (ScenarioEvent& e : runtime_started_) e.origin = "http";
 }
@@ -136,7 +136,9 @@ const ScenarioConditions& ScenarioPlayer::at_tick(std::uint64_t tick) {
     e.type = runtime_waiting_[i].type;
     e.parameters = runtime_waiting_[i].parameters;
     e.at_s = static_cast<double>(tick) / tick_hz_;
-    if (start(e, tick, true)) now_.started.push_back(&e);  // a refused one is counted, not logged
+    // Not in `started`: the loop does not log them (a client may send many; the API logs them
+    // as it queues them), and a refused one is counted.
+    start(e, tick, true);
   }
   runtime_waiting_count_ = 0;
   if (load_event_ != nullptr) now_.load_n = load_at(tick);

@@ -42,7 +42,8 @@ struct ScenarioConditions {
   std::uint32_t modbus_drops_started = 0;  // modbus_drop events starting at this tick (their counts, summed)
   double modbus_delay_ms = 0.0;
   bool can_bus_off = false;
-  // Events that took effect at this tick's boundary, for the log ("format_event" text).
+  // The scenario's events that took effect at this tick's boundary, for the log ("format_event"
+  // text); run-time events are logged by the API that queued them, not by the loop.
   std::vector<const ScenarioEvent*> started;
 };
 

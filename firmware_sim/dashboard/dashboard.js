@@ -14,6 +14,7 @@ function withToken(path) {
 }
 
 async function api(path, options = {}) {
+  const sent = token;  // a 401 to a token already replaced (a request still on its way) is old news
   const headers = Object.assign({}, options.headers || {});
   if (token) headers["Authorization"] = "Bearer " + token;
   if (options.body !== undefined) headers["Content-Type"] = "application/json";
@@ -21,7 +22,7 @@ async function api(path, options = {}) {
   const text = await response.text();
   let body = null;
   try { body = text ? JSON.parse(text) : null; } catch (e) { body = { error: text }; }
-  if (response.status === 401) askForToken(body && body.error);
+  if (response.status === 401 && sent === token) askForToken(body && body.error);
   if (!response.ok) throw new Error((body && body.error) || response.status + " " + response.statusText);
   return body;
 }
@@ -99,13 +100,15 @@ let lastTick = -1;
 let updates = 0;
 const khz = (hz) => (hz / 1000).toFixed(3);
 
+const fixed = (value, digits) => (value === null || value === undefined ? "–" : value.toFixed(digits));
+
 function showOperatingPoint(s) {
   const drive = s.output.frequency_hz, normal = s.resonance.normal_peak_hz, tangential = s.resonance.tangential_peak_hz;
-  document.getElementById("op-frequency").textContent = khz(drive);
-  document.getElementById("op-vpp").textContent = s.output.vpp.toFixed(0);
+  document.getElementById("op-frequency").textContent = drive === null ? "–" : khz(drive);
+  document.getElementById("op-vpp").textContent = fixed(s.output.vpp, 0);
   document.getElementById("op-normal").textContent = normal ? khz(normal) : "–";
   document.getElementById("op-tangential").textContent = tangential ? khz(tangential) : "–";
-  if (!normal || !tangential) return;
+  if (!normal || !tangential || drive === null) return;
   const side = (peak, label) => label + (drive >= peak ? " +" : " ") + khz(drive - peak) + " kHz";
   document.getElementById("op-side").textContent =
     "drive − peak: " + side(normal, "L1") + ", " + side(tangential, "B2") +
@@ -124,7 +127,7 @@ function show(s) {
   document.getElementById("state").textContent = s.state;
   document.getElementById("fault").textContent = s.fault;
   document.getElementById("fault-code").textContent = String(s.fault_code);
-  document.getElementById("sim-time").textContent = s.sim_time_s.toFixed(3);
+  document.getElementById("sim-time").textContent = fixed(s.sim_time_s, 3);
   document.getElementById("clock").textContent = s.external_clock ? "external (lockstep)" : "internal";
   document.getElementById("step-box").hidden = !s.external_clock;
   document.getElementById("active-faults").textContent = s.active_faults.length ? s.active_faults.join(", ") : "none";
@@ -133,7 +136,8 @@ function show(s) {
   lastTick = s.tick;
   const t = s.sim_time_s, e = s.electrical;
   push("speed", t, [s.speed_m_s === null ? null : s.speed_m_s * 1000]);
-  push("frequency", t, [s.output.frequency_hz / 1000, s.resonance.normal_peak_hz / 1000, s.resonance.tangential_peak_hz / 1000]);
+  const kilo = (hz) => (hz === null ? null : hz / 1000);
+  push("frequency", t, [kilo(s.output.frequency_hz), kilo(s.resonance.normal_peak_hz), kilo(s.resonance.tangential_peak_hz)]);
   push("current", t, [e.current_a_a, e.current_b_a]);
   push("phase", t, [e.phase_a_deg, e.phase_b_deg]);
   push("temperature", t, [s.stator_temperature_c]);
@@ -237,7 +241,7 @@ async function refreshRecording() {
 
 for (const [id, path] of [["record-start", "start"], ["record-stop", "stop"]]) {
   document.getElementById(id).addEventListener("click", async () => {
-    try { await api("/api/v1/recording/" + path, { method: "POST" }); } catch (e) {
+    try { await api("/api/v1/recording/" + path, { method: "POST", body: "{}" }); } catch (e) {
       document.getElementById("record-status").textContent = e.message;
       return;
     }

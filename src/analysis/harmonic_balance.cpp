@@ -90,6 +90,10 @@ FreeStatorHarmonicBalance::FreeStatorHarmonicBalance(const ModalConstants& c, co
   b2.electrical = c.b;
   b2.cubic_shape = c.beta2_per_m;
   b2.quadratic_shape = 0.0;
+  for (Mode& mode : modes_) {  // the thermal effect, as MotorSimulator applies it (motor.h set_modal_factors)
+    mode.force.k *= options.stiffness_factor;
+    mode.damping_n_s_m *= options.damping_factor;
+  }
   const double phase = options.phase_deg * std::numbers::pi / 180.0;
   cos_phase_ = std::cos(phase);
   sin_phase_ = std::sin(phase);

@@ -29,6 +29,10 @@ struct HarmonicBalanceOptions {
   double phase_deg = 90.0;  // V_B ahead of V_A (DriveInput::phase_deg)
   int max_newton_iterations = 40;
   double tolerance_um = 1e-9;  // Newton step (scaled unknowns, micrometres)
+  // The thermal effect's factors (model/effects.h thermal_factors) on the modal stiffness K_i
+  // and damping C_i of both modes, as the simulator applies them: 1 = the parameter file's.
+  double stiffness_factor = 1.0;
+  double damping_factor = 1.0;
 };
 
 // q(t) = offset + cos_m cos(wt) + sin_m sin(wt) of one modal coordinate (m).

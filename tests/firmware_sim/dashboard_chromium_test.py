@@ -5,9 +5,15 @@ driven by selenium against the real binary (--http 127.0.0.1:0).
 Wall clock: the page goes live, its charts fill (six uPlot canvases with their lines drawn), the
 amplifier enabled over Modbus TCP shows as "enabled" with a non-zero speed and currents; a click on
 the over_temperature fault button trips the amplifier, seen both on the page (#fault, #fault-code)
-and in the Modbus input register fault_code. Lockstep (--clock external): the step box shows and
-its button advances the emulated time by the ticks asked for. On both pages: every request went to
-the emulator's own origin, and the browser console holds no error.
+and in the Modbus input register fault_code. Around that click the page records (#record-start,
+#record-stop): its status counts N rows, its download link appears, and the CSV fetched from that
+link has the recording's header, N rows, one per tick, running from "enabled" into the trip.
+Lockstep (--clock external): the step box shows and its button advances the emulated time by the
+ticks asked for. Token (--http-token): without it the page shows the token box (the API said 401)
+and opens no stream; a wrong token is refused in the box, the right one makes the page go live;
+a fresh load of /#token=T goes live without the box. On every page: every request went to the
+emulator's own origin, and the browser console holds no error (on the page without a token, only
+the browser's own lines for the API's 401 answers).
 
 Usage: dashboard_chromium_test.py [--screenshot PATH]   (SWUM_EMU = binary, SWUM_SOURCE_DIR = repo)
 Exit 0 on pass; otherwise one line "FAIL: reason" on stderr and exit 1. No fixed sleeps: every
@@ -43,6 +49,12 @@ CHARTS = ("speed", "frequency", "current", "phase", "temperature", "lateness")
 # The operating point: 300 Vpp at 39.8 kHz, reached by slew-limited ramps from 0 Vpp / 40 kHz
 # (above both softening peaks of config/li2019.toml: the motor runs at about 0.5 m/s).
 DRIVE_HZ, DRIVE_VPP = 39800.0, 300.0
+TOKEN = "some-token-123"
+RECORDING_HEADER = "tick,sim_time_s,state,fault,"
+# What Chromium itself writes to the console for each API request answered 401 (the page without
+# its token): the browser's line, not the page's; let through on that page only.
+REFUSED_LINE = re.compile(r"http://127\.0\.0\.1:\d+/api/v1/\S+ - Failed to load resource: "
+                          r"the server responded with a status of 401 \(Unauthorized\)")
 
 
 class Failure(Exception):
@@ -175,10 +187,7 @@ def console_errors(driver):
         entries = driver.get_log("browser")
     except (WebDriverException, AttributeError):
         return None
-    # Chromium asks for /favicon.ico by itself; the page names no icon and the server has none
-    # (404): that one is the browser's, not the page's, and is let through.
-    return [e.get("message", "") for e in entries if e.get("level") == "SEVERE"
-            and not re.match(r"\S+/favicon\.ico - Failed to load resource: .* 404", e.get("message", ""))]
+    return [e.get("message", "") for e in entries if e.get("level") == "SEVERE"]
 
 
 def fresh_page(driver):
@@ -187,6 +196,83 @@ def fresh_page(driver):
     driver.get("about:blank")
     network_requests(driver)
     console_errors(driver)
+
+
+def displayed(driver, element_id):
+    return driver.find_element(By.ID, element_id).is_displayed()
+
+
+# The recording the page's download link points at, fetched by the page itself (its origin, its
+# token if any) and summed up here rather than handed whole to Python (about 300 bytes a tick).
+CSV_SCRIPT = """
+const [href, done] = arguments;
+fetch(href).then(async (r) => {
+  const body = await r.text();
+  const lines = body.split('\\n');
+  const last = lines.pop();  // '' after the final newline
+  const columns = lines.length ? lines[0].split(',') : [];
+  const at = (name) => columns.indexOf(name);
+  const out = {status: r.status, type: r.headers.get('content-type'), bytes: body.length, unterminated: last,
+               header: lines[0] || '', rows: lines.length - 1, columns: columns.length, ragged: 0, gaps: 0,
+               first_gap: null, first_tick: null, last_tick: null, states: [], faults: [], last: null};
+  let previous = null;
+  for (let i = 1; i < lines.length; ++i) {
+    const f = lines[i].split(',');
+    if (f.length !== columns.length) out.ragged += 1;
+    const tick = Number(f[at('tick')]);
+    if (previous !== null && tick !== previous + 1) {
+      out.gaps += 1;
+      if (out.first_gap === null) out.first_gap = {row: i, after: previous, tick: tick};
+    }
+    if (out.first_tick === null) out.first_tick = tick;
+    out.last_tick = previous = tick;
+    const state = f[at('state')], fault = f[at('fault')];
+    if (out.states[out.states.length - 1] !== state) out.states.push(state);  // the runs, in order
+    if (out.faults[out.faults.length - 1] !== fault) out.faults.push(fault);
+  }
+  done(out);
+}).catch((e) => done({error: String(e)}));
+"""
+
+
+def start_recording(driver):
+    """#record-start, then the status says it records (the page asked GET recording after the
+    POST); the download link is hidden while no recording is available."""
+    if displayed(driver, "record-download"):
+        raise Failure(f"the download link shows before any recording (status {text(driver, 'record-status')!r})")
+    driver.find_element(By.ID, "record-start").click()
+    wait_for(driver, "#record-status 'recording'",
+             lambda d: (text(d, "record-status").startswith("recording"), text(d, "record-status")))
+
+
+def stop_recording(driver, origin):
+    """#record-stop, then 'N rows' (N > 0) and the download link; the CSV behind the link, fetched
+    by the page: the recording's header, N rows of as many columns, ticks one apart."""
+    driver.find_element(By.ID, "record-stop").click()
+
+    def stopped(d):
+        status = text(d, "record-status")
+        m = re.match(r"(\d+) rows", status)
+        return bool(m and int(m.group(1)) > 0 and displayed(d, "record-download")), status
+    status = wait_for(driver, "#record-status 'N rows' (N > 0) and the download link", stopped)
+    rows = int(re.match(r"(\d+) rows", status).group(1))
+    if status != f"{rows} rows":
+        raise Failure(f"the recording's status: {status!r} (ticks dropped or an error)")
+    href = driver.find_element(By.ID, "record-download").get_attribute("href")
+    if href != origin + "/api/v1/recording.csv":
+        raise Failure(f"the download link is {href!r}")
+    csv = driver.execute_async_script(CSV_SCRIPT, href)
+    if csv.get("error") or csv["status"] != 200:
+        raise Failure(f"fetching {href} from the page: {csv}")
+    if not csv["header"].startswith(RECORDING_HEADER):
+        raise Failure(f"the CSV's header: {csv['header'][:80]!r}")
+    if csv["rows"] != rows or csv["ragged"] or csv["unterminated"]:
+        raise Failure(f"the CSV has {csv['rows']} rows ({csv['ragged']} not {csv['columns']} columns wide, "
+                      f"{csv['unterminated'][:40]!r} after the last newline); the page said {rows}")
+    if csv["gaps"] or csv["last_tick"] - csv["first_tick"] != rows - 1:
+        raise Failure(f"the CSV's ticks are not one apart: {csv['gaps']} gaps, the first {csv['first_gap']}, "
+                      f"ticks {csv['first_tick']}..{csv['last_tick']} in {rows} rows")
+    return csv
 
 
 def modbus_client(emu):
@@ -276,6 +362,7 @@ def wall_clock_page(driver, emu, screenshot, timings):
         timings["enabled and moving"] = time.monotonic() - t1
 
         t2 = time.monotonic()
+        start_recording(driver)  # the fault below trips the amplifier within the recording
         before = modbus_fault_code(client)
         if before != 0:
             raise Failure(f"Modbus fault_code is {before} before the click")
@@ -292,6 +379,15 @@ def wall_clock_page(driver, emu, screenshot, timings):
         timings["fault on page and Modbus"] = time.monotonic() - t2
     finally:
         client.close()
+    t3 = time.monotonic()
+    csv = stop_recording(driver, origin)
+    # The recording ran from the moving motor into the trip: it starts enabled with no fault and
+    # ends in the fault state with over_temperature.
+    if csv["states"][0] != "enabled" or csv["states"][-1] != "fault" or csv["faults"][0] != "none" \
+            or csv["faults"][-1] != "over_temperature":
+        raise Failure(f"the recording's states {csv['states']} and faults {csv['faults']}: "
+                      "not from enabled/none to fault/over_temperature")
+    timings["recording"] = time.monotonic() - t3
     wait_for(driver, "state 'fault' and over_temperature in force",
              lambda d: (text(d, "state") == "fault" and "over_temperature" in text(d, "active-faults"),
                         (text(d, "state"), text(d, "active-faults"))))
@@ -314,7 +410,7 @@ def wall_clock_page(driver, emu, screenshot, timings):
         js(driver, "window.scrollTo(0, 0);")
         if not driver.save_screenshot(screenshot):
             raise Failure(f"cannot save the screenshot to {screenshot}")
-    return {"moving": moving, "line_pixels": lines, "requests": requests, "console": errors}
+    return {"moving": moving, "line_pixels": lines, "requests": requests, "console": errors, "csv": csv}
 
 
 def lockstep_page(driver, emu, timings):
@@ -356,6 +452,80 @@ def lockstep_page(driver, emu, timings):
     return {"tick": (tick0, tick1), "step_ticks": ticks, "console": errors, "widths": widths}
 
 
+def token_page(driver, emu, timings):
+    """(a) No token: the token box (the API answered 401), no stream and no plot; a wrong token is
+    refused in the box; the right one makes the page go live. (b) A fresh load of /#token=T (the
+    token the page stored in (a) dropped first) goes live without ever showing the box."""
+    origin = http_origin(emu)
+    t0 = time.monotonic()
+    fresh_page(driver)
+    driver.get(origin + "/")
+    wait_for(driver, "the token box (the API answered 401)",
+             lambda d: (displayed(d, "token-box") and "token" in text(d, "token-error"), text(d, "token-error")))
+    # The page asks GET recording every 2 s: once that too shows the 401, the page has had 2 s in
+    # which it must not have opened the stream nor plotted anything.
+    wait_for(driver, "the periodic recording refresh refused as well",
+             lambda d: ("missing token" in text(d, "record-status"), text(d, "record-status")))
+    sent = network_requests(driver) or []
+    before = {"dataset": dataset(driver), "connection": text(driver, "connection"),
+              "buttons": len(driver.find_elements(By.CSS_SELECTOR, "button[data-fault]")),
+              "download": displayed(driver, "record-download"),
+              "stream": [u for u in sent if "/api/v1/stream" in u]}
+    if ("updates" in before["dataset"] or "points" in before["dataset"] or before["connection"] != "connecting…"
+            or before["buttons"] or before["download"] or before["stream"]):
+        raise Failure(f"the page without its token did more than ask for it: {before}")
+    foreign = [u for u in sent if not u.startswith(origin + "/")]
+    if foreign:
+        raise Failure(f"the page requested other origins than {origin}: {foreign[:3]}")
+    refused = console_errors(driver) or []
+
+    field = driver.find_element(By.ID, "token")
+    field.send_keys("not-" + TOKEN)
+    driver.find_element(By.ID, "token-apply").click()
+    wait_for(driver, "the token box again, saying 'wrong token'",
+             lambda d: (displayed(d, "token-box") and text(d, "token-error") == "wrong token", text(d, "token-error")))
+    field.clear()
+    field.send_keys(TOKEN)
+    driver.find_element(By.ID, "token-apply").click()
+    wait_for(driver, "the page live with the token: badge, 10 updates, fault buttons, the box gone",
+             lambda d: (text(d, "connection") == "live" and (number(d, "updates") or 0) >= 10
+                        and len(d.find_elements(By.CSS_SELECTOR, "button[data-fault]")) > 0
+                        and not displayed(d, "token-box"),
+                        (text(d, "connection"), dataset(d), text(d, "token-error"))))
+    wait_for(driver, "the recording status without the 401",
+             lambda d: (text(d, "record-status") == "0 rows", text(d, "record-status")))
+    check_same_origin(driver, origin)
+    refused += console_errors(driver) or []
+    errors = [e for e in refused if not REFUSED_LINE.fullmatch(e)]
+    if errors:
+        raise Failure(f"browser console errors (token page, typed token): {errors[:3]}")
+    timings["token typed"] = time.monotonic() - t0
+
+    t1 = time.monotonic()
+    js(driver, "sessionStorage.clear();")  # else the page would find the token stored, not in its address
+    fresh_page(driver)
+    driver.get(origin + "/#token=" + TOKEN)
+    seen_box = []
+
+    def live_without_box(d):
+        if displayed(d, "token-box"):
+            seen_box.append(text(d, "token-error"))
+        return (text(d, "connection") == "live" and (number(d, "updates") or 0) >= 10
+                and len(d.find_elements(By.CSS_SELECTOR, "button[data-fault]")) > 0), (text(d, "connection"), dataset(d))
+    wait_for(driver, "the page live from /#token=", live_without_box)
+    if seen_box or displayed(driver, "token-box"):
+        raise Failure(f"the token box showed with #token= in the address: {seen_box[:1]}")
+    stored = js(driver, "return sessionStorage.getItem('swum-token');")
+    if stored is not None:
+        raise Failure(f"a token stored in the session ({stored!r}): the page did not need its address")
+    check_same_origin(driver, origin)
+    errors = console_errors(driver)
+    if errors:
+        raise Failure(f"browser console errors (token page, #token=): {errors[:3]}")
+    timings["token in address"] = time.monotonic() - t1
+    return {"refused": len(refused)}
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--screenshot", metavar="PATH", help="save the dashboard after the fault as a PNG")
@@ -370,6 +540,8 @@ def main():
                             "--http", "127.0.0.1:0", "--watchdog-ms", "0", what="wall clock")
         lock = run_emulator(lambda emu: lockstep_page(driver, emu, timings),
                             "--clock", "external", "--http", "127.0.0.1:0", "--watchdog-ms", "0", what="lockstep")
+        tok = run_emulator(lambda emu: token_page(driver, emu, timings),
+                           "--http", "127.0.0.1:0", "--http-token", TOKEN, "--watchdog-ms", "0", what="token")
     except Failure as e:
         print(f"FAIL: {e}", file=sys.stderr)
         return 1
@@ -384,9 +556,15 @@ def main():
           f"6 charts drawn (line pixels {wall['line_pixels']}); over_temperature on the page and in Modbus "
           f"fault_code 4; requests all same-origin ({wall['requests'][0]} in resource timing, "
           f"{wall['requests'][1]} in the network log)")
+    c = wall["csv"]
+    print(f"recording from the page: {c['rows']} rows, ticks {c['first_tick']}..{c['last_tick']} one apart, "
+          f"{c['columns']} columns, {c['bytes']} bytes ({c['type']}), states {' -> '.join(c['states'])}, "
+          f"faults {' -> '.join(c['faults'])}")
     print(f"lockstep: step of {lock['step_ticks']} ticks: tick {lock['tick'][0]} -> {lock['tick'][1]}, "
           f"standing still otherwise; chart width {lock['widths'][0]} px in a 900 px window, "
           f"{lock['widths'][1]} px in 1400 px")
+    print(f"token: box shown on 401 ({tok['refused']} console lines of the browser's for the 401s), no stream; "
+          "wrong token refused; typed token live; /#token= live without the box")
     print("console: " + ("not available from this chromedriver/selenium (check skipped)" if wall["console"] is None
                          else "no errors"))
     print("timings: " + ", ".join(f"{k} {v:.1f} s" for k, v in timings.items())

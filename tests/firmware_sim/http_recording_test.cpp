@@ -145,7 +145,7 @@ TEST(HttpRecording, RowValuesAreInTheirColumnsAndReadBackExactly) {
   EXPECT_EQ(field("tick"), "123456789");
   EXPECT_EQ(to_double(field("sim_time_s")), 0.1 + 0.2);
   EXPECT_EQ(field("state"), to_string(AmpState::fault));
-  EXPECT_EQ(field("fault"), to_string(FaultCode::over_current));
+  EXPECT_EQ(field("fault"), "over_current");  // the identifier, as the API names it
   EXPECT_EQ(field("enable_line"), "0");
   EXPECT_EQ(field("at_setpoint"), "1");
   EXPECT_EQ(to_double(field("setpoint_frequency_hz")), 40123.5);
@@ -257,7 +257,8 @@ TEST(HttpRecording, DirectoryThatCannotBeWrittenIsRefusedOnStart) {
   SharedState shared;
   auto recorder = std::make_unique<TelemetryRecorder>(shared, "/nonexistent-swum-directory");
   const std::string error = recorder->start();
-  EXPECT_EQ(error.rfind("cannot open /nonexistent-swum-directory/swum-emu-recording-", 0), 0U) << error;
+  EXPECT_EQ(error.rfind("cannot create /nonexistent-swum-directory/swum-emu-recording-", 0), 0U) << error;
+  EXPECT_NE(error.find(".csv.XXXXXX: No such file or directory"), std::string::npos) << error;
   EXPECT_FALSE(recorder->status().recording);
   EXPECT_FALSE(shared.recording->on.load());  // the loop pushes nothing
   EXPECT_EQ(recorder->stop(), "no recording is running");
@@ -289,6 +290,44 @@ TEST(HttpRecording, EmulatorCoreTicksAreRecordedWhileOnAndOnlyThen) {
   // sim_time_s of each row is its tick's end: tick / 10 kHz.
   const std::vector<std::string> last = split(lines.back(), ',');
   EXPECT_NEAR(to_double(last.at(1)), 260.0 / 10000.0, 1e-9);
+}
+
+// A download holds the last recording's file open: a new recording is written beside it and
+// renamed over it at its stop, so the open file still reads whole; both go with the recorder.
+TEST(HttpRecording, AnOpenDownloadKeepsTheLastRecordingWholeAndTheFilesGoWithTheRecorder) {
+  char directory[] = "/tmp/swum_recording_rename_XXXXXX";
+  ASSERT_NE(::mkdtemp(directory), nullptr);
+  SharedState shared;
+  std::string path;
+  {
+    TelemetryRecorder recorder(shared, directory);
+    path = recorder.path();
+    Telemetry t;
+    ASSERT_EQ(recorder.start(), "");
+    for (std::uint64_t k = 1; k <= 10; ++k) {
+      t.tick = k;
+      ASSERT_TRUE(shared.recording->ring.try_push(t));
+    }
+    ASSERT_EQ(recorder.stop(), "");
+    std::ifstream download(path);  // the first recording, opened as a download opens it
+    ASSERT_TRUE(download.good());
+    ASSERT_EQ(recorder.start(), "");
+    for (std::uint64_t k = 100; k < 103; ++k) {
+      t.tick = k;
+      ASSERT_TRUE(shared.recording->ring.try_push(t));
+    }
+    ASSERT_EQ(recorder.stop(), "");
+    std::string line;
+    std::size_t rows = 0;
+    while (std::getline(download, line)) ++rows;
+    EXPECT_EQ(rows, 11U);  // header + 10: the first recording, untouched
+    std::ifstream latest(path);
+    rows = 0;
+    while (std::getline(latest, line)) ++rows;
+    EXPECT_EQ(rows, 4U);  // header + 3
+  }
+  EXPECT_NE(::access(path.c_str(), F_OK), 0);  // removed with the recorder
+  EXPECT_EQ(::rmdir(directory), 0) << "files left in " << directory;
 }
 
 }  // namespace
