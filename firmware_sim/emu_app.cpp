@@ -317,7 +317,7 @@ int run_emulator(const EmuOptions& o) {
   std::unique_ptr<HttpApi> api;
   if (http) {
     api = std::make_unique<HttpApi>(*http, *shared, model);
-    if (http->host != "127.0.0.1" && http->host != "localhost" && http->host != "::1")
+    if (!is_loopback_host(http->host))
       std::fprintf(stderr,
                    "swum-emu: warning: the HTTP API is bound to %s as asked: anyone who can reach it can "
                    "inject faults%s\n",

@@ -1,5 +1,6 @@
 #include "http_api.h"
 
+#include <arpa/inet.h>
 #include <fcntl.h>
 #include <strings.h>
 #include <sys/stat.h>
@@ -20,6 +21,7 @@
 #include "api_thread_priority.h"
 #include "dashboard_assets.h"
 #include "http_json.h"
+#include "http_range.h"
 #include "lockstep_clock.h"
 
 namespace swum::emu {
@@ -33,7 +35,21 @@ constexpr int kRequestThreads = 48;
 // Stream rates: at least one event per 10 s; between events a comment line every second, so a
 // client that left is found (the write fails) within about a second plus the write timeout.
 constexpr double kMinStreamHz = 0.1;
+constexpr std::size_t kMaxPathBytes = 256;
 constexpr auto kStreamHeartbeat = std::chrono::seconds(1);
+
+// cpp-httplib calls a content provider outside its try: a throw there (an allocation in the
+// state's JSON, say) would end the process. One that throws ends its transfer instead.
+template <typename Provider>
+auto no_throw(Provider provider) {
+  return [provider = std::move(provider)](auto&&... args) mutable noexcept {
+    try {
+      return provider(std::forward<decltype(args)>(args)...);
+    } catch (...) {
+      return false;
+    }
+  };
+}
 
 void send_json(httplib::Response& response, const json& body, int status = 200) {
   response.status = status;
@@ -94,6 +110,14 @@ struct StreamSlot {
 
 }  // namespace
 
+bool is_loopback_host(const std::string& host) {
+  if (host == "localhost") return true;
+  in_addr v4{};
+  if (inet_pton(AF_INET, host.c_str(), &v4) == 1) return (ntohl(v4.s_addr) >> 24) == 127;
+  in6_addr v6{};
+  return inet_pton(AF_INET6, host.c_str(), &v6) == 1 && IN6_IS_ADDR_LOOPBACK(&v6);
+}
+
 HttpApi::HttpApi(HttpConfig config, SharedState& shared, const MotorModel& model)
     : config_(std::move(config)),
       shared_(shared),
@@ -107,10 +131,14 @@ HttpApi::HttpApi(HttpConfig config, SharedState& shared, const MotorModel& model
   server_->set_payload_max_length(config_.max_body_bytes);
   server_->set_read_timeout(std::chrono::milliseconds(config_.read_timeout_ms));
   server_->set_write_timeout(std::chrono::milliseconds(config_.write_timeout_ms));
-  server_->set_keep_alive_timeout(2);
+  // One request per connection. A request refused before routing (a foreign Origin, a POST not
+  // declared JSON) leaves its body unread; on a kept-alive connection that body would be read as
+  // the next request, and a page elsewhere could smuggle a fault past the refusal. Closing after
+  // each answer discards it; on the loopback a new connection costs microseconds.
+  server_->set_keep_alive_max_count(1);
   routes();
   endpoints();
-  loopback_ = config_.host == "127.0.0.1" || config_.host == "localhost" || config_.host == "::1";
+  loopback_ = is_loopback_host(config_.host);
   port_ = config_.port == 0 ? server_->bind_to_any_port(config_.host) : config_.port;
   if (port_ <= 0 || (config_.port != 0 && !server_->bind_to_port(config_.host, config_.port)))
     throw std::runtime_error(where + ": cannot listen there (" + std::strerror(errno) +
@@ -142,20 +170,24 @@ void HttpApi::start() {
 
 bool HttpApi::stop(std::chrono::milliseconds wait) {
   if (stopping_.exchange(true)) return !abandoned_;
-  recorder_.stop();  // the writer thread, if a recording runs: its rows are flushed
-  server_->stop();
-  if (!thread_.joinable()) return true;
-  // The listening thread ends when the pool has finished every connection; a client still
-  // sending its request (a byte now and then) holds its thread. Wait a little, not forever.
-  std::unique_lock lock(listen_mutex_);
-  if (listen_ended_cv_.wait_for(lock, wait, [this] { return listen_ended_; })) {
-    lock.unlock();
-    thread_.join();
-    return true;
+  server_->stop();  // first: no request that arrives from now on starts a recording
+  if (thread_.joinable()) {
+    // The listening thread ends when the pool has finished every connection; a client still
+    // sending its request (a byte now and then) holds its thread. Wait a little, not forever.
+    std::unique_lock lock(listen_mutex_);
+    if (listen_ended_cv_.wait_for(lock, wait, [this] { return listen_ended_; })) {
+      lock.unlock();
+      thread_.join();
+    } else {
+      thread_.detach();
+      abandoned_ = true;
+    }
   }
-  thread_.detach();
-  abandoned_ = true;
-  return false;
+  // A recording under way is stopped and its files removed, also when a connection is left
+  // running (the process then ends without destructors): a request it still completes cannot
+  // start another.
+  recorder_.close();
+  return !abandoned_;
 }
 
 bool HttpApi::authorized(const httplib::Request& request, httplib::Response& response) {
@@ -213,6 +245,8 @@ void HttpApi::queue_fault(const RuntimeEvent& event, httplib::Response& response
                "play them): give them as --inject or in a --scenario");
     return;
   }
+  // The tick before the push: once queued, the loop may apply the fault before a later read.
+  const std::uint64_t after_tick = shared_.telemetry.load().tick;
   if (!shared_.runtime_events.try_push(event)) {
     send_error(response, 503, "too many faults waiting for the next tick; try again");
     return;
@@ -228,7 +262,6 @@ void HttpApi::queue_fault(const RuntimeEvent& event, httplib::Response& response
     const auto at = queued.find('@');
     queued.erase(at, queued.find(':') == std::string::npos ? std::string::npos : queued.find(':') - at);
   }
-  const std::uint64_t after_tick = shared_.telemetry.load().tick;
   std::fprintf(stderr, "swum-emu: http: queued %s after tick %llu\n", queued.c_str(),
                static_cast<unsigned long long>(after_tick));
   const json body = {{"queued", queued}, {"applies_at", "the next tick boundary"}, {"after_tick", after_tick}};
@@ -269,37 +302,40 @@ void HttpApi::stream(const httplib::Request& request, httplib::Response& respons
   auto next = std::make_shared<std::chrono::steady_clock::time_point>((now / period + 1) * period);
   response.set_header("Cache-Control", "no-store");
   auto last_write = std::make_shared<std::chrono::steady_clock::time_point>(std::chrono::steady_clock::now());
-  response.set_chunked_content_provider("text/event-stream", [this, slot, period, next,
-                                                              last_write](std::size_t, httplib::DataSink& sink) {
-    // Sleep to the next event in short slices, so that stop() ends the stream promptly.
-    for (;;) {
-      if (stopping_.load()) return false;
-      const auto now = std::chrono::steady_clock::now();
-      if (now >= *next) break;
-      if (now - *last_write >= kStreamHeartbeat) {
-        static constexpr char kComment[] = ": keep-alive\n\n";
-        if (!sink.write(kComment, sizeof kComment - 1)) return false;  // the client left
-        *last_write = now;
-      }
-      std::this_thread::sleep_for(
-          std::min<std::chrono::steady_clock::duration>(*next - now, std::chrono::milliseconds(50)));
-    }
-    *next += period;
-    // Late (a slow write, a busy machine): the next grid point from now, not a burst.
-    if (const auto now = std::chrono::steady_clock::now(); *next < now)
-      *next = std::chrono::steady_clock::time_point((now.time_since_epoch() / period + 1) * period);
-    const std::string event = "event: telemetry\ndata: " + state_text() + "\n\n";
-    if (!sink.write(event.data(), event.size())) return false;  // the client left or stopped reading
-    *last_write = std::chrono::steady_clock::now();
-    stats_.stream_events.fetch_add(1, std::memory_order_relaxed);
-    return true;
-  });
+  response.set_chunked_content_provider(
+      "text/event-stream", no_throw([this, slot, period, next, last_write](std::size_t, httplib::DataSink& sink) {
+        // Sleep to the next event in short slices, so that stop() ends the stream promptly.
+        for (;;) {
+          if (stopping_.load()) return false;
+          const auto now = std::chrono::steady_clock::now();
+          if (now >= *next) break;
+          if (now - *last_write >= kStreamHeartbeat) {
+            static constexpr char kComment[] = ": keep-alive\n\n";
+            if (!sink.write(kComment, sizeof kComment - 1)) return false;  // the client left
+            *last_write = now;
+          }
+          std::this_thread::sleep_for(
+              std::min<std::chrono::steady_clock::duration>(*next - now, std::chrono::milliseconds(50)));
+        }
+        *next += period;
+        // Late (a slow write, a busy machine): the next grid point from now, not a burst.
+        if (const auto now = std::chrono::steady_clock::now(); *next < now)
+          *next = std::chrono::steady_clock::time_point((now.time_since_epoch() / period + 1) * period);
+        const std::string event = "event: telemetry\ndata: " + state_text() + "\n\n";
+        if (!sink.write(event.data(), event.size())) return false;  // the client left or stopped reading
+        *last_write = std::chrono::steady_clock::now();
+        stats_.stream_events.fetch_add(1, std::memory_order_relaxed);
+        return true;
+      }));
 }
 
 void HttpApi::routes() {
   httplib::Server& s = *server_;
   s.set_pre_routing_handler([this](const httplib::Request& request, httplib::Response& response) {
     stats_.requests.fetch_add(1, std::memory_order_relaxed);
+    // Byte ranges are the download's own (http_range.h): cpp-httplib would apply them to every
+    // reply, error bodies included. The request is the server's (non-const) object.
+    const_cast<httplib::Request&>(request).ranges.clear();
     int status = 0;
     if (const std::string why = refusal(request, status); !why.empty()) {
       send_error(response, status, why);
@@ -347,18 +383,28 @@ void HttpApi::error_text(const httplib::Request& request, httplib::Response& res
                  "malformed request (request line, headers, or a body that stopped arriving for " +
                      std::to_string(config_.read_timeout_ms) + " ms)");
       break;
-    case 416: send_error(response, 416, "byte range not satisfiable"); break;
+    case 416:  // cpp-httplib's own, before routing: a Range header it cannot parse
+      send_error(response, 416,
+                 "byte range not satisfiable: malformed Range header '" + request.get_header_value("Range") + "'");
+      break;
     default: send_error(response, response.status, "request refused"); break;
   }
 }
 
 std::string HttpApi::refusal(const httplib::Request& request, int& status) const {
+  // cpp-httplib matches routes with std::regex, whose matcher recurses once per character: a
+  // path of thousands of bytes takes megabytes of stack. No path of this server is near this.
+  if (request.path.size() > kMaxPathBytes) {
+    status = 414;
+    return "path over " + std::to_string(kMaxPathBytes) + " bytes";
+  }
   // A page elsewhere must not drive the motor through the user's browser: with a loopback bind,
   // the Host must name this server (DNS rebinding), and an Origin must be this server's (CSRF).
   const std::string host = request.get_header_value("Host");
   if (loopback_ && !host.empty()) {
     const std::string port = ":" + std::to_string(port_);
-    if (host != "127.0.0.1" + port && host != "localhost" + port && host != "[::1]" + port) {
+    const std::string bound = config_.host.find(':') == std::string::npos ? config_.host : "[" + config_.host + "]";
+    if (host != "127.0.0.1" + port && host != "localhost" + port && host != "[::1]" + port && host != bound + port) {
       status = 403;
       return "Host '" + host + "' is not this server (127.0.0.1" + port + ")";
     }
@@ -461,7 +507,7 @@ void HttpApi::endpoints() {
     const RecordingStatus st = recorder_.status();
     send_json(response, {{"recording", false}, {"rows", st.rows}, {"dropped", st.dropped}});
   });
-  s.Get("/api/v1/recording.csv", [this](const httplib::Request&, httplib::Response& response) {
+  s.Get("/api/v1/recording.csv", [this](const httplib::Request& request, httplib::Response& response) {
     const RecordingStatus st = recorder_.status();
     if (st.recording) return send_error(response, 409, "the recording is still running: stop it first");
     if (!st.available) return send_error(response, 404, "no recording to download: start and stop one first");
@@ -476,15 +522,31 @@ void HttpApi::endpoints() {
       ::close(*f);
       delete f;
     });
+    const auto size = static_cast<std::uint64_t>(info.st_size);
+    const ByteRange range = resolve_byte_range(request.get_header_value("Range"), size);
+    if (range.kind == ByteRange::Kind::unsatisfiable) {
+      response.set_header("Content-Range", "bytes */" + std::to_string(size));
+      return send_error(response, 416,
+                        "byte range not satisfiable: the recording has " + std::to_string(size) + " bytes");
+    }
+    std::uint64_t first = 0, length = size;
+    if (range.kind == ByteRange::Kind::partial) {
+      first = range.first;
+      length = range.last - range.first + 1;
+      response.status = 206;
+      response.set_header("Content-Range", "bytes " + std::to_string(range.first) + "-" + std::to_string(range.last) +
+                                               "/" + std::to_string(size));
+    }
+    response.set_header("Accept-Ranges", "bytes");
     response.set_header("Content-Disposition", "attachment; filename=\"swum-emu-recording.csv\"");
-    response.set_content_provider(static_cast<std::size_t>(info.st_size), "text/csv",
-                                  [file](std::size_t offset, std::size_t length, httplib::DataSink& sink) {
-                                    char buffer[65536];
-                                    const ssize_t n = ::pread(*file, buffer, std::min(length, sizeof buffer),
-                                                              static_cast<off_t>(offset));
-                                    if (n <= 0) return false;  // the file shrank or failed: the transfer ends short
-                                    return sink.write(buffer, static_cast<std::size_t>(n));
-                                  });
+    response.set_content_provider(
+        static_cast<std::size_t>(length), "text/csv",
+        no_throw([file, first](std::size_t offset, std::size_t length, httplib::DataSink& sink) {
+          char buffer[65536];
+          const ssize_t n = ::pread(*file, buffer, std::min(length, sizeof buffer), static_cast<off_t>(first + offset));
+          if (n <= 0) return false;  // the file shrank or failed: the transfer ends short
+          return sink.write(buffer, static_cast<std::size_t>(n));
+        }));
   });
   s.Post("/api/v1/step",
          [this](const httplib::Request& request, httplib::Response& response) { step(request, response); });

@@ -52,6 +52,10 @@ struct HttpStats {
   std::atomic<std::uint64_t> faults_queued{0};
 };
 
+// True for the names of this machine's loopback: "localhost", 127.0.0.0/8 and ::1. Bound there,
+// the API is reachable only from here, and a request's Host must name it (DNS rebinding).
+bool is_loopback_host(const std::string& host);
+
 class HttpApi {
  public:
   // Binds HOST:PORT now (throws std::runtime_error "--http HOST:PORT: why" when it cannot);

@@ -8,6 +8,7 @@
 #include <charconv>
 #include <chrono>
 #include <cstring>
+#include <system_error>
 
 namespace swum::emu {
 namespace {
@@ -80,9 +81,15 @@ TelemetryRecorder::TelemetryRecorder(SharedState& shared, std::string directory)
 }
 
 TelemetryRecorder::~TelemetryRecorder() {
-  stop();
+  close();
   shared_.recording = nullptr;
-  if (file_ != nullptr) std::fclose(file_);
+}
+
+void TelemetryRecorder::close() {
+  const std::lock_guard lock(mutex_);
+  if (writing_.load()) static_cast<void>(stop_locked());
+  closed_ = true;
+  available_ = false;
   // The recording is the API's to hand out, not a file for later: gone with the process.
   if (!part_path_.empty()) ::unlink(part_path_.c_str());
   ::unlink(path_.c_str());
@@ -90,9 +97,8 @@ TelemetryRecorder::~TelemetryRecorder() {
 
 std::string TelemetryRecorder::start() {
   const std::lock_guard lock(mutex_);
+  if (closed_) return "the emulator is stopping: no new recording";
   if (writing_.load()) return "a recording is already running (stop it first)";
-  if (file_ != nullptr) std::fclose(file_);
-  file_ = nullptr;
   // A new file of its own (O_EXCL: no symlink or older file is followed), renamed over the last
   // recording at the stop: a download still reading the last one keeps reading it whole.
   const std::string pattern = path_ + ".XXXXXX";
@@ -119,8 +125,17 @@ std::string TelemetryRecorder::start() {
   available_ = false;
   if (std::fputs(kRecordingHeader, file_) < 0 || std::fputc('\n', file_) < 0) write_errno_ = errno;
   writing_ = true;
+  try {
+    writer_ = std::thread([this] { drain(); });
+  } catch (const std::system_error& e) {  // no thread: nothing started, nothing left behind
+    writing_ = false;
+    std::fclose(file_);
+    file_ = nullptr;
+    ::unlink(part_path_.c_str());
+    part_path_.clear();
+    return std::string("cannot start the recording's writer thread: ") + e.what();
+  }
   ring_.on.store(true, std::memory_order_release);
-  writer_ = std::thread([this] { drain(); });
   return {};
 }
 
@@ -151,6 +166,10 @@ void TelemetryRecorder::drain() {
 
 std::string TelemetryRecorder::stop() {
   const std::lock_guard lock(mutex_);
+  return stop_locked();
+}
+
+std::string TelemetryRecorder::stop_locked() {
   if (!writing_.load()) return "no recording is running";
   ring_.on.store(false, std::memory_order_seq_cst);
   // A tick that read `on` before the store may still push: wait until two more ticks have been

@@ -39,15 +39,20 @@ class TelemetryRecorder {
   TelemetryRecorder(const TelemetryRecorder&) = delete;
   TelemetryRecorder& operator=(const TelemetryRecorder&) = delete;
 
-  // Empty when started; else why not (already recording, the file cannot be opened).
+  // Empty when started; else why not (already recording, closed, the file cannot be created, no
+  // writer thread).
   std::string start();
   // Stops at the next tick boundary and writes what the ring holds. Empty when stopped; else why not.
   std::string stop();
+  // For good (the emulator is stopping): stops a recording under way, removes both files, and
+  // refuses every later start. Idempotent; the destructor calls it.
+  void close();
   [[nodiscard]] RecordingStatus status() const;
   [[nodiscard]] const std::string& path() const { return path_; }
 
  private:
   void drain();
+  std::string stop_locked();
   SharedState& shared_;
   TelemetryRecording ring_;
   std::string path_;
@@ -61,6 +66,7 @@ class TelemetryRecorder {
   std::uint64_t dropped_at_start_ = 0;
   std::uint64_t dropped_ = 0;
   bool available_ = false;
+  bool closed_ = false;
   std::string error_;
   int write_errno_ = 0;
 };

@@ -6,10 +6,6 @@ undocumented path must be a 404 with an Error body). test_openapi_every_operatio
 exercises every documented (path, method) and fails when the document and the server's routes
 drift apart.
 
-Known disagreements between the server and the behaviour these tests expect are marked
-xfail(strict=True) with the reason (SERVER_ISSUE_*): they pass once the server is fixed, and the
-strict marker then fails the run so that the marker is removed.
-
 Run: SWUM_EMU=build/ci/firmware_sim/swum-emu SWUM_SOURCE_DIR=. /usr/bin/python3 -m pytest -q \
      tests/firmware_sim/http_api_test.py -p no:cacheprovider
 Only the standard library speaks HTTP here (http.client, socket); pymodbus plays the controller.
@@ -50,24 +46,6 @@ TOKEN = "s3cret-token"
 TICK_HZ = 10000.0  # swum-emu's default --tick-hz
 FAULT_CODE_OVER_TEMPERATURE = 4
 FOREIGN_HOST = "evil.example"
-
-# Server behaviour that disagrees with what these tests expect (see the xfail markers).
-SERVER_ISSUE_RANGE_SLICES_ERRORS = (
-    "cpp-httplib 0.11.4 applies a request's byte range to the error body too: a refusal of a request "
-    "with 'Range: bytes=0-10' comes back as 11 bytes of the JSON with a Content-Range header")
-SERVER_ISSUE_MALFORMED_RANGE_416 = (
-    "a malformed Range header is answered 416 by cpp-httplib before routing, on any path and ahead of "
-    "the Host and token checks, not 400 'the API does not serve byte ranges'")
-SERVER_ISSUE_MULTIPART_RANGES = (
-    "cpp-httplib 0.11.4 resolves several ranges against the response's in-memory body (empty for a "
-    "content provider): each part of the multipart/byteranges reply says 'Content-Range: bytes A-B/0', "
-    "and a suffix range (bytes=-5) becomes 'bytes 0-18446744073709551615/0' with no data")
-SERVER_ISSUE_RANGE_PAST_THE_END = (
-    "cpp-httplib 0.11.4 does not check a range against the file's size: a range starting at or past "
-    "the end of recording.csv (SIZE bytes) is answered 206, not 416: bytes=SIZE- with 'Content-Range: "
-    "bytes SIZE-(SIZE-1)/SIZE', bytes=SIZE-(SIZE+10) with Content-Length 11 and no body, bytes=999999- "
-    "with a wrapped-around Content-Length (18446744073708554177)")
-
 
 # ---------------------------------------------------------------------------------------------
 # The contract: docs/openapi.yaml
@@ -180,7 +158,9 @@ def assert_error_body(reply):
     """A refusal: {"error": "one line"}, ending in a newline, JSON (UTF-8: bytes of the request
     that were not are replaced by U+FFFD)."""
     assert reply.media_type == "application/json", reply
-    assert reply.headers.get("Content-Range") is None, f"a refusal cut to a byte range: {reply}"
+    content_range = reply.headers.get("Content-Range")  # only a 416's "bytes */SIZE" (RFC 9110)
+    assert content_range is None or (reply.status == 416 and re.fullmatch(r"bytes \*/\d+", content_range)), \
+        f"a refusal cut to a byte range: {reply} {content_range}"
     text = reply.body.decode()  # strict: the body is UTF-8
     assert text.endswith("\n") and text.count("\n") == 1, f"error body not one line: {text!r}"
     body = json.loads(text)
@@ -222,7 +202,8 @@ class Api:
         """(status, headers, body) as a Reply. json_body: a value sent as JSON; body: raw bytes.
         content_type is sent with any body and with every POST (the server wants it even on an
         empty one); None: no Content-Type. headers may replace Host. check=False: the reply is not
-        checked against the document (only for the known server issues, SERVER_ISSUE_*)."""
+        checked against the document (only for cpp-httplib's 416 to a malformed Range, which it
+        sends before routing, on any path: docs/http-api.md "Safety")."""
         h = self._headers(headers, token)
         if json_body is not _NO_JSON:
             body = json.dumps(json_body).encode()
@@ -588,10 +569,9 @@ def test_every_operation_refuses_before_routing(emulator_factory):
             assert message == "Content-Type must be application/json, not text/plain"
             refusals += 2
         if template.startswith("/api/") and template != "/api/v1/recording.csv":
-            # The status only: the body is cut to the range (SERVER_ISSUE_RANGE_SLICES_ERRORS,
-            # test_range_refusals_are_whole_error_bodies).
-            reply = api.request(method, path, body=body, headers={"Range": "bytes=0-10"}, check=False)
+            reply = api.request(method, path, body=body, headers={"Range": "bytes=0-10"})
             assert reply.status == 400, f"{method} {path} with a Range: {reply}"
+            assert assert_error_body(reply) == "the API does not serve byte ranges (Range is for /api/v1/recording.csv)"
             CONTRACT.response_spec(template, method, 400)  # documented
             refusals += 1
     assert api.state()["tick"] == tick  # no step ran
@@ -617,6 +597,89 @@ def test_loopback_names_of_this_server_are_accepted(shared_api, host):
     headers["Origin"] = "http://" + headers["Host"]
     assert api.get("/api/v1/state", headers=headers).status == 200
     assert api.get("/", headers=headers).status == 200
+
+
+def test_another_loopback_address_is_a_loopback_bind():
+    """Bound to 127.0.0.2 (any of 127/8): no warning that others can reach it, its own name is
+    accepted as Host, and a foreign Host is refused (the DNS-rebinding check applies)."""
+    emu = Emulator("--http", "127.0.0.2:0")
+    with emu:
+        api = Api(emu)
+        assert api.host == "127.0.0.2"
+        assert api.get("/api/v1/state").status == 200  # Host: 127.0.0.2:PORT
+        foreign = api.get("/api/v1/state", headers={"Host": f"{FOREIGN_HOST}:{api.port}"})
+        assert foreign.status == 403, foreign
+        stop_emulator(emu)
+    assert "warning" not in emu.stderr, emu.stderr
+
+
+@pytest.mark.parametrize("refusal", ["origin", "content-type", "host"])
+def test_refused_request_body_is_never_read_as_a_request(emulator_factory, refusal):
+    """A request refused before routing leaves its body unread. That body must not be served as
+    the next request on the connection: a page elsewhere would smuggle a fault past the refusal."""
+    emu, api = emulator_factory()
+    inner = b'{"type": "over_temperature"}'
+    smuggled = (b"POST /api/v1/faults HTTP/1.1\r\nHost: 127.0.0.1:PORT\r\nContent-Type: application/json\r\n"
+                b"Content-Length: %d\r\n\r\n" % len(inner)) + inner
+    smuggled = smuggled.replace(b"PORT", str(api.port).encode())
+    host, extra, content_type = b"127.0.0.1:PORT", b"", b"application/json"
+    if refusal == "origin":
+        extra = b"Origin: http://evil.example\r\n"
+    elif refusal == "content-type":
+        content_type = b"text/plain;charset=UTF-8"
+    else:
+        host = FOREIGN_HOST.encode()
+    head = (b"POST /api/v1/faults HTTP/1.1\r\nHost: " + host + b"\r\n" + extra + b"Content-Type: " + content_type +
+            b"\r\nContent-Length: %d\r\n\r\n" % len(smuggled))
+    reply = raw_exchange(api, head + smuggled)  # reads until the server closes
+    assert reply.status in (403, 415), reply
+    assert b"HTTP/1.1 202" not in reply.body, reply.body  # no second answer on the connection
+    assert reply.headers.get("Connection") == "close"
+    assert api.faults()["active"] == [] and api.stats()["http"]["faults_queued"] == 0
+    assert api.state()["fault_code"] == 0
+
+
+@pytest.mark.parametrize("what", ["path", "range-list", "range-spaced", "range-long-numbers"])
+def test_longest_request_parts_are_refused_not_fatal(emulator_factory, what):
+    """cpp-httplib matches paths and parses Range with std::regex, which recurses per character:
+    a path or a Range header near the 8 KiB limits must not exhaust a server thread's stack. A
+    long path is refused (414); a long Range is answered; the emulator serves on."""
+    emu, api = emulator_factory()
+    if what == "path":
+        request = b"DELETE /api/v1/faults/" + b"a" * 8100 + b" HTTP/1.1\r\nHost: 127.0.0.1:PORT\r\n\r\n"
+    else:
+        unit = {"range-list": b"0-1,", "range-spaced": b"0-1, ", "range-long-numbers": b"0123456789-,"}[what]
+        value = (unit * 4000)[:8150].rstrip(b", ")
+        request = b"GET /api/v1/recording.csv HTTP/1.1\r\nHost: 127.0.0.1:PORT\r\nRange: bytes=" + value + b"\r\n\r\n"
+    reply = raw_exchange(api, request)
+    assert 400 <= reply.status < 500, reply
+    if what == "path":
+        assert reply.status == 414 and assert_error_body(reply) == "path over 256 bytes"
+    assert emu.proc.poll() is None, f"swum-emu died (exit status {emu.proc.returncode})"
+    assert api.state()["tick"] >= 0
+
+
+def test_every_operation_needs_the_token(emulator_factory):
+    """With --http-token, every documented operation (the page and its files apart) answers 401
+    without the token and with a wrong one, before anything runs; with it, it is served."""
+    emu, api = emulator_factory("--http-token", TOKEN, "--clock", "external", token=TOKEN)
+    tick = api.state()["tick"]
+    checked = 0
+    for template, method in sorted(CONTRACT.operations()):
+        if not template.startswith("/api/"):
+            continue
+        path, body = example_path(template), example_body(template, method)
+        for token, www in (("", "Bearer"), ("wrong-token", 'Bearer error="invalid_token"')):
+            reply = api.request(method, path, body=body, token=token)
+            assert reply.status == 401, f"{method} {path} with token {token!r}: {reply}"
+            assert reply.headers.get("WWW-Authenticate") == www, (method, path, dict(reply.headers))
+            assert_error_body(reply)
+            checked += 1
+    assert checked >= 2 * 10
+    assert api.state()["tick"] == tick  # no step ran
+    assert api.faults()["active"] == [] and api.stats()["http"]["faults_queued"] == 0
+    assert not api.recording()["recording"] and not api.recording()["available"]
+    assert api.stats()["http"]["stream_events"] == 0
 
 
 @pytest.mark.parametrize("host", [FOREIGN_HOST, f"{FOREIGN_HOST}:{{port}}", "127.0.0.1", "localhost",
@@ -712,7 +775,7 @@ def test_recording_download_unsatisfiable_range(recorded, spec):
     api, whole = recorded
     reply = api.get("/api/v1/recording.csv", headers={"Range": spec})
     assert reply.status == 416, reply
-    assert assert_error_body(reply) == "byte range not satisfiable"
+    assert assert_error_body(reply) == f"byte range not satisfiable: malformed Range header '{spec}'"
 
 
 def multipart_parts(reply):
@@ -727,58 +790,77 @@ def multipart_parts(reply):
     return parts
 
 
-@pytest.mark.xfail(strict=True, reason=SERVER_ISSUE_MULTIPART_RANGES)
-def test_recording_download_serves_several_ranges(recorded):
+def test_recording_download_with_several_ranges_is_the_whole_file(recorded):
+    """Several ranges are not served as multipart: the whole file, 200 (RFC 9110 lets a server
+    ignore Range), never a part with a wrong Content-Range."""
     api, whole = recorded
-    n = len(whole)
-    reply = api.get("/api/v1/recording.csv", headers={"Range": "bytes=0-3,10-19,-5"})
-    assert reply.status == 206 and reply.media_type == "multipart/byteranges", reply
-    parts = multipart_parts(reply)
-    assert [body for _, body in parts] == [whole[0:4], whole[10:20], whole[-5:]]
-    assert [h["Content-Range"] for h, _ in parts] == [f"bytes 0-3/{n}", f"bytes 10-19/{n}", f"bytes {n - 5}-{n - 1}/{n}"]
+    for spec in ("bytes=0-3,10-19,-5", "bytes=0-3, 10-19"):
+        reply = api.get("/api/v1/recording.csv", headers={"Range": spec})
+        assert reply.status == 200 and reply.media_type == "text/csv", (spec, reply)
+        assert "Content-Range" not in reply.headers
+        assert reply.body == whole
 
 
-@pytest.mark.xfail(strict=True, reason=SERVER_ISSUE_RANGE_PAST_THE_END)
-@pytest.mark.parametrize("past", ["bytes={n}-", "bytes={n}-{m}", "bytes=999999-"])
+@pytest.mark.parametrize("past", ["bytes={n}-", "bytes={n}-{m}", "bytes=999999-", "bytes=999999-9999999"])
 def test_recording_download_range_past_the_end(recorded, past):
     api, whole = recorded
     spec = past.format(n=len(whole), m=len(whole) + 10)
     reply = raw_exchange(api, b"GET /api/v1/recording.csv HTTP/1.1\r\nHost: 127.0.0.1:PORT\r\nRange: " +
                          spec.encode() + b"\r\nConnection: close\r\n\r\n")
     assert reply.status == 416, (spec, reply.status, dict(reply.headers))
-    assert assert_error_body(reply) == "byte range not satisfiable"
+    assert reply.headers.get("Content-Range") == f"bytes */{len(whole)}"
+    assert int(reply.headers["Content-Length"]) == len(reply.body)
+    assert assert_error_body(reply) == f"byte range not satisfiable: the recording has {len(whole)} bytes"
+
+
+def test_recording_download_range_reaching_past_the_end_is_cut_at_the_end(recorded):
+    api, whole = recorded
+    n = len(whole)
+    reply = api.get("/api/v1/recording.csv", headers={"Range": f"bytes={n - 7}-{n + 100}"})
+    assert reply.status == 206, reply
+    assert reply.headers.get("Content-Range") == f"bytes {n - 7}-{n - 1}/{n}"
+    assert reply.body == whole[-7:]
+    longer = api.get("/api/v1/recording.csv", headers={"Range": f"bytes=-{n + 100}"})  # more than the file
+    assert longer.status == 206 and longer.body == whole
+    assert longer.headers.get("Content-Range") == f"bytes 0-{n - 1}/{n}"
 
 
 def test_range_on_the_api_is_refused(shared_api):
-    """400 on any /api/ path but recording.csv (the status; the body: the xfail below)."""
+    """400 on any /api/ path but recording.csv."""
     api = shared_api
     before = snapshot(api)
     for method, path, body in (("GET", "/api/v1/state", None), ("GET", "/api/v1/stats", None),
                                ("GET", "/api/v1/nothing", None), ("GET", "/api/v1/stream?rate_hz=50", None),
                                ("POST", "/api/v1/faults", b'{"type": "phase_open", "phase": "B"}'),
                                ("DELETE", "/api/v1/faults/phase_open", None)):
-        reply = api.request(method, path, body=body, headers={"Range": "bytes=0-10"}, check=False)
+        reply = api.request(method, path, body=body, headers={"Range": "bytes=0-10"})
         assert reply.status == 400, f"{method} {path}: {reply}"
     assert snapshot(api) == before
 
 
-@pytest.mark.xfail(strict=True, reason=SERVER_ISSUE_RANGE_SLICES_ERRORS)
 @pytest.mark.parametrize("path,headers,status,message", [
     ("/api/v1/state", {}, 400, "the API does not serve byte ranges (Range is for /api/v1/recording.csv)"),
     ("/api/v1/recording.csv", {}, 404, "no recording to download: start and stop one first"),
     ("/", {"Host": FOREIGN_HOST}, 403, f"Host '{FOREIGN_HOST}' is not this server"),
 ], ids=["api-range", "download-refusal", "foreign-host"])
 def test_range_refusals_are_whole_error_bodies(shared_api, path, headers, status, message):
-    reply = shared_api.request("GET", path, headers={"Range": "bytes=0-10", **headers}, check=False)
+    reply = shared_api.request("GET", path, headers={"Range": "bytes=0-10", **headers})
     assert reply.status == status, reply
     assert assert_error_body(reply).startswith(message)
 
 
-@pytest.mark.xfail(strict=True, reason=SERVER_ISSUE_MALFORMED_RANGE_416)
-def test_malformed_range_on_the_api_is_a_400(shared_api):
-    reply = shared_api.request("GET", "/api/v1/state", headers={"Range": "foo"}, check=False)
-    assert reply.status == 400, reply
-    assert "byte ranges" in assert_error_body(reply)
+def test_malformed_range_is_a_416_on_any_path(shared_api):
+    """A Range header cpp-httplib cannot parse is answered 416 before routing, on any path (and
+    so before the Host and token checks): a whole one-line error, nothing changed."""
+    api = shared_api
+    before = snapshot(api)
+    for method, path in (("GET", "/api/v1/state"), ("GET", "/api/v1/recording.csv"),
+                         ("POST", "/api/v1/faults"), ("GET", "/")):
+        body = b'{"type": "phase_open", "phase": "B"}' if method == "POST" else None
+        reply = api.request(method, path, body=body, headers={"Range": "foo"}, check=False)
+        assert reply.status == 416, (path, reply)
+        assert assert_error_body(reply) == "byte range not satisfiable: malformed Range header 'foo'"
+    assert snapshot(api) == before
 
 
 # ---------------------------------------------------------------------------------------------
@@ -1144,7 +1226,7 @@ def test_refusals_before_routing_come_before_the_token(emulator_factory):
         not_json = api.post("/api/v1/faults", body=fault, token=token, content_type="text/plain")
         assert not_json.status == 415, not_json
         assert api.post("/api/v1/recording/start", token=token, content_type=None).status == 415
-        ranged = api.request("GET", "/api/v1/state", token=token, headers={"Range": "bytes=0-10"}, check=False)
+        ranged = api.request("GET", "/api/v1/state", token=token, headers={"Range": "bytes=0-10"})
         assert ranged.status == 400, ranged
         assert api.get("/", token=token, headers={"Host": FOREIGN_HOST}).status == 403
         # All of them passed: the token is the next check.

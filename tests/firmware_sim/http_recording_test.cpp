@@ -330,5 +330,31 @@ TEST(HttpRecording, AnOpenDownloadKeepsTheLastRecordingWholeAndTheFilesGoWithThe
   EXPECT_EQ(::rmdir(directory), 0) << "files left in " << directory;
 }
 
+TEST(HttpRecording, CloseStopsTheRecordingUnderWayRemovesItsFilesAndRefusesLaterStarts) {
+  char directory[] = "/tmp/swum_recording_close_XXXXXX";
+  ASSERT_NE(::mkdtemp(directory), nullptr);
+  SharedState shared;
+  {
+    TelemetryRecorder recorder(shared, directory);
+    ASSERT_EQ(recorder.start(), "");
+    ASSERT_EQ(recorder.stop(), "");  // a finished recording
+    ASSERT_EQ(::access(recorder.path().c_str(), F_OK), 0);
+    ASSERT_EQ(recorder.start(), "");  // and one under way, in a file of its own
+    Telemetry t;
+    t.tick = 7;
+    ASSERT_TRUE(shared.recording->ring.try_push(t));
+    recorder.close();
+    const RecordingStatus st = recorder.status();
+    EXPECT_FALSE(st.recording);
+    EXPECT_FALSE(st.available);
+    EXPECT_FALSE(shared.recording->on.load());  // the loop pushes no more
+    EXPECT_NE(::access(recorder.path().c_str(), F_OK), 0);
+    EXPECT_EQ(::rmdir(directory), 0) << "files left in " << directory;  // nothing in it any more
+    EXPECT_EQ(recorder.start(), "the emulator is stopping: no new recording");
+    EXPECT_EQ(recorder.stop(), "no recording is running");
+    recorder.close();  // idempotent
+  }
+}
+
 }  // namespace
 }  // namespace swum::emu
