@@ -1,4 +1,4 @@
-// The byte range a recording's download serves (RFC 9110 §14.1.2): one range, "bytes=A-B",
+// The byte range a recording's download serves (RFC 9110, section 14.1.2): one range, "bytes=A-B",
 // "bytes=A-" or "bytes=-N", resolved against the file's size. The API parses Range itself and
 // hides it from cpp-httplib, whose 0.11 slices error bodies with it, answers several ranges with
 // "Content-Range: .../0" and checks no range against the size (docs/http-api.md, "Recording").

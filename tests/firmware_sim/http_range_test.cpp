@@ -1,4 +1,4 @@
-// firmware_sim/http_range.h: the one byte range a recording's download serves (RFC 9110 §14),
+// firmware_sim/http_range.h: the one byte range a recording's download serves (RFC 9110, section 14),
 // resolved against the file's size; several ranges and other units are the whole file.
 #include "http_range.h"
 
