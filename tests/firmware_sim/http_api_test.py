@@ -1074,8 +1074,26 @@ def test_slow_client_is_answered_or_closed_and_blocks_nobody(api):
     assert api.stats()["http"]["faults_queued"] == 0
 
 
+def test_more_slow_clients_than_threads_delay_but_never_lock_out(api):
+    """64 half-sent requests, more than the 52 server threads (4 stream + 48): a normal request
+    waits for a thread, which the read timeout (2 s) frees, and is then served."""
+    idle = [socket.create_connection((api.host, api.port), timeout=10) for _ in range(64)]
+    try:
+        for s in idle:
+            s.sendall(f"GET /api/v1/state HTTP/1.1\r\nHost: {api.authority}\r\n".encode())  # never finished
+        try:
+            reply = api.get("/api/v1/state", timeout=10)  # 2 s read timeout, with room for a busy machine
+        except (socket.timeout, TimeoutError):
+            pytest.fail("/api/v1/state not answered within 10 s behind 64 slow clients")
+        assert reply.status == 200
+    finally:
+        for s in idle:
+            s.close()
+
+
 def test_many_slow_clients_do_not_starve_the_api(api):
-    """More half-sent requests than server threads: a normal request is still served promptly."""
+    """40 half-sent requests (fewer than the 52 server threads): a normal request is still served
+    at once. (More than the threads: test_more_slow_clients_than_threads_delay_but_never_lock_out.)"""
     idle = [socket.create_connection((api.host, api.port), timeout=10) for _ in range(40)]
     try:
         for s in idle:
