@@ -32,6 +32,16 @@ inline const MotorModel& li2019_model() {
 }
 
 // A scenario of --inject events, given in time order (as a parsed file keeps them).
+// The same motor with the thermal effect on at the defaults of [effects.thermal].
+inline const MotorModel& thermal_li2019_model() {
+  static const MotorModel model = [] {
+    MotorParameters p = li2019_parameters();
+    p.effects.thermal.enabled = true;
+    return MotorModel(p);
+  }();
+  return model;
+}
+
 inline Scenario scenario_of(std::initializer_list<std::string_view> injections, std::uint64_t seed = 0) {
   Scenario s;
   s.seed = seed;

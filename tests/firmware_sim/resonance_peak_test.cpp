@@ -17,15 +17,6 @@ namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
-const MotorModel& thermal_li2019_model() {
-  static const MotorModel model = [] {
-    MotorParameters p = test::li2019_parameters();
-    p.effects.thermal.enabled = true;  // the defaults of [effects.thermal]
-    return MotorModel(p);
-  }();
-  return model;
-}
-
 TEST(ResonancePeak, PeaksAreFiniteAndBetween30And50Khz) {
   ResonancePeak peak(test::li2019_model());
   for (const double vpp : {1.0, 50.0, 200.0, 400.0}) {
@@ -96,7 +87,7 @@ TEST(ResonancePeak, Li2019HasNoThermalEffectSoTheTemperatureDoesNotMoveThePeaks)
 }
 
 TEST(ResonancePeak, WithTheThermalEffectTheReferenceTemperatureIsUnshifted) {
-  const MotorModel& model = thermal_li2019_model();
+  const MotorModel& model = test::thermal_li2019_model();
   ResonancePeak peak(model);
   const BackbonePoint unshifted = FreeStatorHarmonicBalance(model).backbone(400.0);
   const ResonanceEstimate room = peak.at(400.0, kReferenceAmbientC);
@@ -111,7 +102,7 @@ TEST(ResonancePeak, WithTheThermalEffectTheReferenceTemperatureIsUnshifted) {
 // the temperature (x ~ F / (c w): less amplitude, less softening), so a hot peak moves less
 // than sqrt(stiffness) alone would say. The value is the balance with the simulator's factors.
 TEST(ResonancePeak, WithTheThermalEffectAHotterStatorMovesItsPeaksByStiffnessAndDamping) {
-  const MotorModel& model = thermal_li2019_model();
+  const MotorModel& model = test::thermal_li2019_model();
   const EffectCoefficients& e = model.coefficients().effects;
   ASSERT_LT(e.stiffness_per_k, 0.0);  // [effects.thermal]'s defaults: softer and more damped when hot
   ASSERT_GT(e.damping_per_k, 0.0);

@@ -114,15 +114,6 @@ TEST(ScenarioCore, LoadRampAndSineAreWhatTheTelemetryReports) {
   EXPECT_NEAR(b.run_through(450).output.load_n, -1.0, 1e-12);
 }
 
-const MotorModel& thermal_li2019_model() {
-  static const MotorModel model = [] {
-    MotorParameters p = test::li2019_parameters();
-    p.effects.thermal.enabled = true;  // the defaults of [effects.thermal]
-    return MotorModel(p);
-  }();
-  return model;
-}
-
 TEST(ScenarioCore, AmbientIsRefusedWithoutTheThermalEffectNamingTheEvent) {
   SharedState shared;
   EmulatorCore core(test::li2019_model(), Bench::config(), shared);
@@ -140,8 +131,8 @@ TEST(ScenarioCore, AmbientIsRefusedWithoutTheThermalEffectNamingTheEvent) {
 }
 
 TEST(ScenarioCore, AmbientChangesTheSpeedWithTheThermalEffect) {
-  Bench room({"ambient@0:temperature_c=20"}, 0, thermal_li2019_model());
-  Bench hot({"ambient@0:temperature_c=80"}, 0, thermal_li2019_model());
+  Bench room({"ambient@0:temperature_c=20"}, 0, test::thermal_li2019_model());
+  Bench hot({"ambient@0:temperature_c=80"}, 0, test::thermal_li2019_model());
   const double room_speed = room.run_through(kSteadyTick).speed_m_s;
   const double hot_speed = hot.run_through(kSteadyTick).speed_m_s;
   // Measured: 0.610 m/s at 20 C, 0.472 m/s at 80 C (softer stator, more damping: off resonance).
