@@ -136,6 +136,9 @@ HttpApi::HttpApi(HttpConfig config, SharedState& shared, const MotorModel& model
   // the next request, and a page elsewhere could smuggle a fault past the refusal. Closing after
   // each answer discards it; on the loopback a new connection costs microseconds.
   server_->set_keep_alive_max_count(1);
+  // A connection that sends nothing is closed after 2 s (cpp-httplib's default is 5 s, longer
+  // than the 3 s stop() waits for connections to end).
+  server_->set_keep_alive_timeout(2);
   routes();
   endpoints();
   loopback_ = is_loopback_host(config_.host);
@@ -362,6 +365,9 @@ void HttpApi::routes() {
     }
   });
   s.set_error_handler([this](const httplib::Request& request, httplib::Response& response) {
+    // cpp-httplib's own refusals (a malformed Range among them) come before the pre-routing
+    // handler: ranges it parsed part of would cut this error body.
+    const_cast<httplib::Request&>(request).ranges.clear();
     stats_.refused.fetch_add(1, std::memory_order_relaxed);
     if (!response.body.empty()) return;  // a handler's own message
     try {
@@ -406,7 +412,7 @@ std::string HttpApi::refusal(const httplib::Request& request, int& status) const
     const std::string bound = config_.host.find(':') == std::string::npos ? config_.host : "[" + config_.host + "]";
     if (host != "127.0.0.1" + port && host != "localhost" + port && host != "[::1]" + port && host != bound + port) {
       status = 403;
-      return "Host '" + host + "' is not this server (127.0.0.1" + port + ")";
+      return "Host '" + host + "' is not this server (" + bound + port + ")";
     }
   }
   if (const std::string origin = request.get_header_value("Origin"); !origin.empty() && origin != "http://" + host) {
@@ -523,7 +529,14 @@ void HttpApi::endpoints() {
       delete f;
     });
     const auto size = static_cast<std::uint64_t>(info.st_size);
-    const ByteRange range = resolve_byte_range(request.get_header_value("Range"), size);
+    // Each recording is a new file renamed over the last: its inode, time and size name it. A
+    // resumed download sends it back (If-Range); when it names an older recording the whole new
+    // file comes, never its bytes joined to the old one's (RFC 9110, section 13.1.5).
+    const std::string etag = "\"" + std::to_string(info.st_ino) + "-" + std::to_string(info.st_mtim.tv_sec) + "." +
+                             std::to_string(info.st_mtim.tv_nsec) + "-" + std::to_string(size) + "\"";
+    response.set_header("ETag", etag);
+    const bool same_recording = !request.has_header("If-Range") || request.get_header_value("If-Range") == etag;
+    const ByteRange range = same_recording ? resolve_byte_range(request.get_header_value("Range"), size) : ByteRange{};
     if (range.kind == ByteRange::Kind::unsatisfiable) {
       response.set_header("Content-Range", "bytes */" + std::to_string(size));
       return send_error(response, 416,

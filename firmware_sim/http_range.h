@@ -2,6 +2,9 @@
 // "bytes=A-" or "bytes=-N", resolved against the file's size. The API parses Range itself and
 // hides it from cpp-httplib, whose 0.11 slices error bodies with it, answers several ranges with
 // "Content-Range: .../0" and checks no range against the size (docs/http-api.md, "Recording").
+// cpp-httplib still checks the header's form first: it answers 416 itself, before any handler,
+// to anything but "bytes=" and digits (another unit, "Bytes=", spaces). This resolves those
+// too (another unit: whole; spaces: ignored), as the RFC would, for a server that lets them by.
 #pragma once
 
 #include <cstdint>
@@ -11,7 +14,7 @@ namespace swum::emu {
 
 struct ByteRange {
   enum class Kind {
-    whole,          // serve the whole file, 200: no Range, several ranges or another unit (RFC 9110 allows ignoring)
+    whole,          // serve the whole file, 200: no Range, or several ranges (RFC 9110 allows ignoring)
     partial,        // serve [first, last], 206 with Content-Range "bytes first-last/size"
     unsatisfiable,  // 416 with Content-Range "bytes */size": no byte of the file in the range
   };

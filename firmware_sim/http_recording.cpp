@@ -8,7 +8,7 @@
 #include <charconv>
 #include <chrono>
 #include <cstring>
-#include <system_error>
+#include <exception>
 
 namespace swum::emu {
 namespace {
@@ -99,6 +99,12 @@ std::string TelemetryRecorder::start() {
   const std::lock_guard lock(mutex_);
   if (closed_) return "the emulator is stopping: no new recording";
   if (writing_.load()) return "a recording is already running (stop it first)";
+  // The last recording's status, put back when no writer thread can start: its file is still
+  // there to download.
+  const std::uint64_t last_rows = rows_, last_first = first_tick_, last_last = last_tick_;
+  const std::uint64_t last_dropped_at_start = dropped_at_start_, last_dropped = dropped_;
+  const bool last_available = available_;
+  std::string last_error = error_;
   // A new file of its own (O_EXCL: no symlink or older file is followed), renamed over the last
   // recording at the stop: a download still reading the last one keeps reading it whole.
   const std::string pattern = path_ + ".XXXXXX";
@@ -125,15 +131,28 @@ std::string TelemetryRecorder::start() {
   available_ = false;
   if (std::fputs(kRecordingHeader, file_) < 0 || std::fputc('\n', file_) < 0) write_errno_ = errno;
   writing_ = true;
-  try {
-    writer_ = std::thread([this] { drain(); });
-  } catch (const std::system_error& e) {  // no thread: nothing started, nothing left behind
+  const auto roll_back = [&] {  // no thread: nothing started, nothing left behind
     writing_ = false;
     std::fclose(file_);
     file_ = nullptr;
     ::unlink(part_path_.c_str());
     part_path_.clear();
+    rows_ = last_rows;
+    first_tick_ = last_first;
+    last_tick_ = last_last;
+    dropped_at_start_ = last_dropped_at_start;
+    dropped_ = last_dropped;
+    available_ = last_available;
+    error_ = std::move(last_error);
+  };
+  try {
+    writer_ = std::thread([this] { drain(); });
+  } catch (const std::exception& e) {
+    roll_back();
     return std::string("cannot start the recording's writer thread: ") + e.what();
+  } catch (...) {
+    roll_back();
+    return "cannot start the recording's writer thread";
   }
   ring_.on.store(true, std::memory_order_release);
   return {};
@@ -178,7 +197,7 @@ std::string TelemetryRecorder::stop_locked() {
   for (int i = 0; i < 50 && shared_.telemetry.version() < version + 2; ++i)
     std::this_thread::sleep_for(std::chrono::milliseconds(1));
   writing_.store(false, std::memory_order_release);
-  writer_.join();
+  if (writer_.joinable()) writer_.join();
   dropped_ = ring_.dropped.load() - dropped_at_start_;
   if (std::fflush(file_) != 0 && write_errno_ == 0) write_errno_ = errno;
   if (std::fclose(file_) != 0 && write_errno_ == 0) write_errno_ = errno;

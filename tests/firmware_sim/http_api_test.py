@@ -609,6 +609,7 @@ def test_another_loopback_address_is_a_loopback_bind():
         assert api.get("/api/v1/state").status == 200  # Host: 127.0.0.2:PORT
         foreign = api.get("/api/v1/state", headers={"Host": f"{FOREIGN_HOST}:{api.port}"})
         assert foreign.status == 403, foreign
+        assert assert_error_body(foreign) == f"Host '{FOREIGN_HOST}:{api.port}' is not this server (127.0.0.2:{api.port})"
         stop_emulator(emu)
     assert "warning" not in emu.stderr, emu.stderr
 
@@ -790,6 +791,36 @@ def multipart_parts(reply):
     return parts
 
 
+def test_resumed_download_of_another_recording_gets_the_whole_new_file(lockstep_api):
+    """The download names its recording (ETag). A resume (Range + If-Range) of the same one gets
+    the rest; after another recording replaced it, the whole new file, not its bytes joined to
+    the old ones."""
+    api = lockstep_api
+
+    def record(ticks):
+        api.ok("POST", "/api/v1/recording/start")
+        api.ok("POST", "/api/v1/step", {"ticks": ticks})
+        api.ok("POST", "/api/v1/recording/stop")
+        whole = api.get("/api/v1/recording.csv")
+        assert whole.status == 200 and whole.headers.get("ETag"), whole
+        return whole
+
+    first = record(20)
+    etag = first.headers["ETag"]
+    again = api.get("/api/v1/recording.csv")
+    assert again.headers["ETag"] == etag  # the same recording, the same name
+    rest = api.get("/api/v1/recording.csv", headers={"Range": "bytes=100-", "If-Range": etag})
+    assert rest.status == 206 and rest.body == first.body[100:], rest
+    second = record(30)
+    assert second.headers["ETag"] != etag
+    stale = api.get("/api/v1/recording.csv", headers={"Range": "bytes=100-", "If-Range": etag})
+    assert stale.status == 200 and "Content-Range" not in stale.headers, stale
+    assert stale.body == second.body
+    dated = api.get("/api/v1/recording.csv",  # a date is no name of a recording: the whole file
+                    headers={"Range": "bytes=100-", "If-Range": "Sat, 28 Nov 2026 05:00:00 GMT"})
+    assert dated.status == 200 and dated.body == second.body
+
+
 def test_recording_download_with_several_ranges_is_the_whole_file(recorded):
     """Several ranges are not served as multipart: the whole file, 200 (RFC 9110 lets a server
     ignore Range), never a part with a wrong Content-Range."""
@@ -854,12 +885,16 @@ def test_malformed_range_is_a_416_on_any_path(shared_api):
     so before the Host and token checks): a whole one-line error, nothing changed."""
     api = shared_api
     before = snapshot(api)
-    for method, path in (("GET", "/api/v1/state"), ("GET", "/api/v1/recording.csv"),
-                         ("POST", "/api/v1/faults"), ("GET", "/")):
-        body = b'{"type": "phase_open", "phase": "B"}' if method == "POST" else None
-        reply = api.request(method, path, body=body, headers={"Range": "foo"}, check=False)
-        assert reply.status == 416, (path, reply)
-        assert assert_error_body(reply) == "byte range not satisfiable: malformed Range header 'foo'"
+    # "bytes=0-5,9-3": cpp-httplib keeps the first range it parsed before it refuses the second,
+    # which must not cut the error body to bytes 0-5.
+    for spec in ("foo", "items=0-5", "Bytes=0-5", "bytes=0-5,9-3", "bytes=99999999999999999999-"):
+        for method, path in (("GET", "/api/v1/state"), ("GET", "/api/v1/recording.csv"),
+                             ("POST", "/api/v1/faults"), ("GET", "/")):
+            body = b'{"type": "phase_open", "phase": "B"}' if method == "POST" else None
+            reply = api.request(method, path, body=body, headers={"Range": spec}, check=False)
+            assert reply.status == 416, (spec, path, reply)
+            assert assert_error_body(reply) == f"byte range not satisfiable: malformed Range header '{spec}'"
+            assert "Content-Range" not in reply.headers, (spec, path, dict(reply.headers))
     assert snapshot(api) == before
 
 
@@ -1154,6 +1189,19 @@ def test_trickling_client_does_not_keep_the_emulator_alive(emulator_factory):
     assert ABANDONED_CONNECTION in emu.stderr.splitlines(), emu.stderr
     report = emu.output.splitlines()
     assert report[0].startswith("swum-emu ready") and report[1].startswith("swum-emu stopped: signal"), emu.output
+
+
+def test_idle_connection_does_not_hold_the_stop(emulator_factory):
+    """A connection that sends nothing (a browser's preconnect, a port probe) is closed after
+    2 s: open at SIGTERM, it ends within the 3 s the stop waits for, so nothing is abandoned."""
+    emu, api = emulator_factory()
+    idle = socket.create_connection((api.host, api.port), timeout=10)
+    try:
+        api.state()  # the idle connection was accepted before this one was served
+        stop_emulator(emu)
+    finally:
+        idle.close()
+    assert ABANDONED_CONNECTION not in emu.stderr, emu.stderr
 
 
 def test_stop_without_open_connections_says_nothing_of_them(emulator_factory):
