@@ -149,6 +149,16 @@ def check_canvases(driver, lines=True):
     return True, {n: info[n]["line"] for n in CHARTS}
 
 
+def check_clean_page(driver, origin, page):
+    """The page stayed on its origin (check_same_origin) and logged no console error; returns
+    (requests seen, the console errors: none)."""
+    requests = check_same_origin(driver, origin)
+    errors = console_errors(driver)
+    if errors:
+        raise Failure(f"browser console errors ({page}): {errors[:3]}")
+    return requests, errors
+
+
 def check_same_origin(driver, origin):
     """Every request of the page went to origin: the page's own resource timing (finished
     requests: the open telemetry stream is not there yet) and chromedriver's network log (every
@@ -401,10 +411,7 @@ def wall_clock_page(driver, emu, screenshot, timings):
     wait_for(driver, "the speed back to zero after the trip", lambda d: js_pair(d, """
         const v = data.speed[1].filter((x) => x !== null).slice(-1)[0];
         return [Math.abs(v) < 1, v];"""))
-    requests = check_same_origin(driver, origin)
-    errors = console_errors(driver)
-    if errors:
-        raise Failure(f"browser console errors (wall clock page): {errors[:3]}")
+    requests, errors = check_clean_page(driver, origin, "wall clock page")
     if screenshot:
         os.makedirs(os.path.dirname(os.path.abspath(screenshot)), exist_ok=True)
         js(driver, "window.scrollTo(0, 0);")
@@ -444,10 +451,7 @@ def lockstep_page(driver, emu, timings):
         widths.append(round(js(driver, "return document.querySelector('#chart-speed canvas').getBoundingClientRect().width;")))
     if not widths[0] > widths[1] + 100:
         raise Failure(f"chart widths at 900 and 1400 px windows: {widths}")
-    check_same_origin(driver, origin)
-    errors = console_errors(driver)
-    if errors:
-        raise Failure(f"browser console errors (lockstep page): {errors[:3]}")
+    _, errors = check_clean_page(driver, origin, "lockstep page")
     timings["lockstep step"] = time.monotonic() - t0
     return {"tick": (tick0, tick1), "step_ticks": ticks, "console": errors, "widths": widths}
 
@@ -518,10 +522,7 @@ def token_page(driver, emu, timings):
     stored = js(driver, "return sessionStorage.getItem('swum-token');")
     if stored is not None:
         raise Failure(f"a token stored in the session ({stored!r}): the page did not need its address")
-    check_same_origin(driver, origin)
-    errors = console_errors(driver)
-    if errors:
-        raise Failure(f"browser console errors (token page, #token=): {errors[:3]}")
+    _, errors = check_clean_page(driver, origin, "token page, #token=")
     timings["token in address"] = time.monotonic() - t1
     return {"refused": len(refused)}
 
