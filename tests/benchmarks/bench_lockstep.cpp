@@ -23,6 +23,7 @@
 #include "lockstep_clock.h"
 #include "modbus_codec.h"
 #include "modbus_server.h"
+#include "test_paths.h"
 
 namespace {
 
@@ -32,7 +33,7 @@ constexpr std::uint32_t kTicksPerCycle = 10;  // 1 ms at 10 kHz
 
 const MotorModel& model() {
   static const MotorModel m = [] {
-    std::ifstream in(SWUM_SOURCE_DIR "/config/li2019.toml");
+    std::ifstream in(swum::test::source_path("config/li2019.toml"));
     std::stringstream text;
     text << in.rdbuf();
     return MotorModel(parse_motor_parameters(text.str(), "li2019.toml"));

@@ -16,11 +16,12 @@
 
 #include "config/parameter_file.h"
 #include "model/simulator.h"
+#include "test_paths.h"
 
 namespace {
 
 swum::MotorParameters calibrated() {
-  std::ifstream in(SWUM_SOURCE_DIR "/config/li2019.toml");
+  std::ifstream in(swum::test::source_path("config/li2019.toml"));
   std::stringstream text;
   text << in.rdbuf();
   return swum::parse_motor_parameters(text.str(), "li2019.toml");

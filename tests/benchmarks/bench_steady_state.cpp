@@ -20,11 +20,12 @@
 
 #include "analysis/steady_state.h"
 #include "config/parameter_file.h"
+#include "test_paths.h"
 
 namespace {
 
 swum::MotorParameters calibrated(double steps_per_40khz_period) {
-  std::ifstream in(SWUM_SOURCE_DIR "/config/li2019.toml");
+  std::ifstream in(swum::test::source_path("config/li2019.toml"));
   std::stringstream text;
   text << in.rdbuf();
   swum::MotorParameters p = swum::parse_motor_parameters(text.str(), "li2019.toml");

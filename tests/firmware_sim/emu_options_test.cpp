@@ -7,11 +7,12 @@
 #include <cstdio>
 #include <string>
 #include <vector>
+#include "test_paths.h"
 
 namespace swum::emu {
 namespace {
 
-const std::string kConfig = std::string(SWUM_SOURCE_DIR) + "/config/li2019.toml";
+const std::string kConfig = swum::test::source_path("config/li2019.toml");
 
 EmuOptions parse(std::vector<std::string> args) {
   args.insert(args.begin(), "swum-emu");

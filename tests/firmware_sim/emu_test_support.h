@@ -14,12 +14,13 @@
 #include "config/parameter_file.h"
 #include "model/motor_model.h"
 #include "scenario.h"
+#include "test_paths.h"
 
 namespace swum::emu::test {
 
 // config/li2019.toml's parameters (to change some before building a model).
 inline MotorParameters li2019_parameters() {
-  const std::string path = std::string(SWUM_SOURCE_DIR) + "/config/li2019.toml";
+  const std::string path = swum::test::source_path("config/li2019.toml");
   std::ifstream in(path);
   std::stringstream text;
   text << in.rdbuf();

@@ -12,6 +12,7 @@
 #include <string>
 #include <utility>
 #include <vector>
+#include "test_paths.h"
 
 namespace swum::emu {
 namespace {
@@ -447,9 +448,8 @@ TEST(Scenario, FormatEventWritesDefaultsAndShortestNumbers) {
 }
 
 TEST(Scenario, CommittedExampleParses) {
-  const auto example = parse_scenario(
-      read_text(std::string(SWUM_SOURCE_DIR) + "/config/scenarios/load_step_and_faults.toml"),
-      "load_step_and_faults.toml");
+  const auto example = parse_scenario(read_text(swum::test::source_path("config/scenarios/load_step_and_faults.toml")),
+                                      "load_step_and_faults.toml");
   EXPECT_EQ(example.name, "load step and faults");
   EXPECT_EQ(example.seed, 7U);
   ASSERT_GE(example.events.size(), 5U);
@@ -458,7 +458,7 @@ TEST(Scenario, CommittedExampleParses) {
 
 // Every ```toml block of docs/scenarios.md is a valid scenario file.
 TEST(Scenario, DocsExamplesParse) {
-  const std::string docs = read_text(std::string(SWUM_SOURCE_DIR) + "/docs/scenarios.md");
+  const std::string docs = read_text(swum::test::source_path("docs/scenarios.md"));
   std::size_t blocks = 0;
   for (auto start = docs.find("```toml\n"); start != std::string::npos; start = docs.find("```toml\n", start)) {
     start += 8;

@@ -16,6 +16,7 @@
 #include <string>
 
 #include "codec_golden.h"
+#include "test_paths.h"
 
 namespace {
 
@@ -25,8 +26,8 @@ constexpr double kRelative = 1e-12;
 
 const json& vectors() {
   static const json document = [] {
-    std::ifstream in(std::string(SWUM_GOLDEN_DIR) + "/codec_vectors.json");
-    if (!in) throw std::runtime_error("cannot read " + std::string(SWUM_GOLDEN_DIR) + "/codec_vectors.json");
+    std::ifstream in(swum::test::source_path("tests/golden/codec_vectors.json"));
+    if (!in) throw std::runtime_error("cannot read " + swum::test::source_path("tests/golden/codec_vectors.json"));
     return json::parse(in);
   }();
   return document;

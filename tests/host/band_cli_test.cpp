@@ -7,12 +7,13 @@
 #include <string>
 
 #include "swum_cli_runner.h"
+#include "test_paths.h"
 
 namespace {
 
 using swum::test::run_swum;
-const std::string kConfig = std::string(SWUM_SOURCE_DIR) + "/config/li2019.toml";
-const std::string kThermalConfig = std::string(SWUM_SOURCE_DIR) + "/config/li2019_thermal.toml";
+const std::string kConfig = swum::test::source_path("config/li2019.toml");
+const std::string kThermalConfig = swum::test::source_path("config/li2019_thermal.toml");
 
 TEST(SwumBand, WritesTheRowsAndPrintsTheBand) {
   const auto out = swum::test::scratch_path("band", "band.csv");

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "swum_cli_runner.h"
+#include "test_paths.h"
 
 namespace {
 
@@ -20,8 +21,8 @@ namespace fs = std::filesystem;
 using swum::test::CliRun;
 using swum::test::run_swum;
 
-const std::string kConfig = std::string(SWUM_SOURCE_DIR) + "/config/li2019.toml";
-const std::string kLiteralConfig = std::string(SWUM_SOURCE_DIR) + "/config/li2019_literal.toml";
+const std::string kConfig = swum::test::source_path("config/li2019.toml");
+const std::string kLiteralConfig = swum::test::source_path("config/li2019_literal.toml");
 
 fs::path scratch(const std::string& name) { return swum::test::scratch_path("swum_calibrate_cli_test", name); }
 

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "swum_cli_runner.h"
+#include "test_paths.h"
 
 namespace {
 
@@ -21,7 +22,7 @@ using swum::test::CliRun;
 
 CliRun swum(const std::vector<std::string>& args) { return swum::test::run_swum(args); }
 
-const std::string kConfig = std::string(SWUM_SOURCE_DIR) + "/config/li2019.toml";
+const std::string kConfig = swum::test::source_path("config/li2019.toml");
 
 fs::path scratch(const std::string& name) { return swum::test::scratch_path("swum_cli_test", name); }
 

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "swum_cli_runner.h"
+#include "test_paths.h"
 
 namespace {
 
@@ -16,7 +17,7 @@ namespace fs = std::filesystem;
 using swum::test::CliRun;
 using swum::test::run_swum;
 
-const std::string kConfig = std::string(SWUM_SOURCE_DIR) + "/config/li2019.toml";
+const std::string kConfig = swum::test::source_path("config/li2019.toml");
 
 fs::path scratch(const std::string& name) { return swum::test::scratch_path("swum_discrepancy_cli_test", name); }
 

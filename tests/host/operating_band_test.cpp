@@ -14,12 +14,13 @@
 
 #include "config/parameter_file.h"
 #include "output/value_lists.h"
+#include "test_paths.h"
 
 namespace swum::host {
 namespace {
 
 MotorParameters li2019() {
-  const std::string path = std::string(SWUM_SOURCE_DIR) + "/config/li2019.toml";
+  const std::string path = swum::test::source_path("config/li2019.toml");
   std::ifstream in(path);
   std::stringstream text;
   text << in.rdbuf();

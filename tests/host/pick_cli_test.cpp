@@ -6,11 +6,12 @@
 #include <string>
 
 #include "swum_cli_runner.h"
+#include "test_paths.h"
 
 namespace {
 
 using swum::test::run_swum;
-const std::string kConfig = std::string(SWUM_SOURCE_DIR) + "/config/li2019.toml";
+const std::string kConfig = swum::test::source_path("config/li2019.toml");
 
 TEST(SwumPick, PicksLowerFrequencyAtHigherVoltageWithAGainOverNaive) {
   const auto sweep = swum::test::scratch_path("pick", "sweep.csv");

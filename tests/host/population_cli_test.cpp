@@ -11,11 +11,12 @@
 #include <vector>
 
 #include "swum_cli_runner.h"
+#include "test_paths.h"
 
 namespace {
 
 using swum::test::run_swum;
-const std::string kConfig = std::string(SWUM_SOURCE_DIR) + "/config/li2019.toml";
+const std::string kConfig = swum::test::source_path("config/li2019.toml");
 const std::string kGrid = "39300:40600:50";
 
 std::string write_scratch(const std::string& name, const std::string& text) {
@@ -130,7 +131,7 @@ TEST(SwumPopulation, RejectedDrawsAreRecordedAndCountAgainstTheYield) {
 }
 
 TEST(SwumPopulation, BadInputIsAOneLineErrorNamingWhatAndWhere) {
-  const std::string good = std::string(SWUM_SOURCE_DIR) + "/config/population.toml";
+  const std::string good = swum::test::source_path("config/population.toml");
   const std::string bad = write_scratch(
       "bad.toml", "[contact]\n# a comment\npreload_n = { distribution = \"normal\", sigma = -2 }\n");
   const std::string out = swum::test::scratch_path("population", "never.csv").string();

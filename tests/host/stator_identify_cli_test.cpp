@@ -13,6 +13,7 @@
 #include "config/parameter_file.h"
 #include "output/amplitude_csv.h"
 #include "swum_cli_runner.h"
+#include "test_paths.h"
 
 namespace {
 
@@ -23,7 +24,7 @@ using swum::test::CliRun;
 
 CliRun swum_run(const std::vector<std::string>& args) { return swum::test::run_swum(args); }
 
-const std::string kLiteral = std::string(SWUM_SOURCE_DIR) + "/config/li2019_literal.toml";
+const std::string kLiteral = swum::test::source_path("config/li2019_literal.toml");
 
 fs::path scratch(const std::string& name) { return swum::test::scratch_path("swum_hb_cli_test", name); }
 

@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "child_process.h"
+#include "test_paths.h"
 
 namespace swum::test {
 namespace {
@@ -19,7 +20,7 @@ std::string shell_quote(const std::string& word) {
 
 CliRun run_swum(const std::vector<std::string>& args) {
   using namespace std::chrono_literals;
-  std::string command = shell_quote(SWUM_BINARY);
+  std::string command = shell_quote(swum::test::swum_binary());
   for (const auto& a : args) command += " " + shell_quote(a);
   command += " 2>&1";
   ChildProcess child({"/bin/sh", "-c", command}, true);

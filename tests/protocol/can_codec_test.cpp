@@ -7,6 +7,7 @@
 #include <map>
 #include <regex>
 #include <sstream>
+#include "test_paths.h"
 
 namespace swum::protocol::can {
 namespace {
@@ -25,7 +26,7 @@ struct DbcMessage {
   std::map<std::string, DbcSignal> signals;
 };
 std::map<std::string, DbcMessage> load_dbc() {
-  std::ifstream in(std::string(SWUM_SOURCE_DIR) + "/config/swum.dbc");
+  std::ifstream in(swum::test::source_path("config/swum.dbc"));
   EXPECT_TRUE(in.good());
   std::map<std::string, DbcMessage> messages;
   const std::regex bo(R"(^BO_ (\d+) (\w+): (\d+) \w+)");

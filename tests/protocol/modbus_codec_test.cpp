@@ -7,6 +7,7 @@
 #include <map>
 #include <nlohmann/json.hpp>
 #include <vector>
+#include "test_paths.h"
 
 namespace swum::protocol::modbus {
 namespace {
@@ -166,7 +167,7 @@ double decode(const nlohmann::json& entry, std::span<const std::uint16_t> regs) 
 }
 
 nlohmann::json load_map() {
-  std::ifstream in(std::string(SWUM_SOURCE_DIR) + "/config/modbus_registers.json");
+  std::ifstream in(swum::test::source_path("config/modbus_registers.json"));
   EXPECT_TRUE(in.good());
   return nlohmann::json::parse(in);
 }

@@ -12,12 +12,13 @@
 #include "analysis/paper_facts.h"
 #include "config/parameter_file.h"
 #include "model/motor_model.h"
+#include "test_paths.h"
 
 namespace swum {
 namespace {
 
 MotorParameters load(const std::string& name) {
-  const std::string path = std::string(SWUM_SOURCE_DIR) + "/config/" + name;
+  const std::string path = swum::test::source_path("config/") + name;
   std::ifstream in(path);
   std::stringstream text;
   text << in.rdbuf();

@@ -9,6 +9,7 @@
 
 #include "analysis/discrepancy.h"
 #include "config/parameter_file.h"
+#include "test_paths.h"
 
 namespace swum::test {
 
@@ -23,7 +24,7 @@ inline Measurement measurement_at(double vpp, double frequency_hz, double time_s
 }
 
 inline MotorParameters calibrated_motor() {
-  std::ifstream in(SWUM_SOURCE_DIR "/config/li2019.toml");
+  std::ifstream in(swum::test::source_path("config/li2019.toml"));
   std::stringstream text;
   text << in.rdbuf();
   return parse_motor_parameters(text.str(), "config/li2019.toml");

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "config/parameter_file.h"
+#include "test_paths.h"
 
 namespace swum {
 namespace {
@@ -21,7 +22,7 @@ const MotorModel& reference_model() {
 
 const MotorModel& calibrated_model() {
   static const MotorModel model{[] {
-    std::ifstream in(SWUM_SOURCE_DIR "/config/li2019.toml");
+    std::ifstream in(swum::test::source_path("config/li2019.toml"));
     std::stringstream text;
     text << in.rdbuf();
     return parse_motor_parameters(text.str(), "li2019.toml");

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "model/parameters.h"
+#include "test_paths.h"
 
 namespace swum {
 namespace {
@@ -44,7 +45,7 @@ std::string error_of(const std::string& text) {
 }
 
 TEST(FactsFile, ThePapersFactsLoad) {
-  const std::string path = std::string(SWUM_SOURCE_DIR) + "/config/li2019_facts.toml";
+  const std::string path = swum::test::source_path("config/li2019_facts.toml");
   const std::string text = read(path);
   ASSERT_FALSE(text.empty()) << path;
   const std::vector<Fact> facts = parse_facts(text, path);

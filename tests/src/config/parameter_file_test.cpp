@@ -7,6 +7,7 @@
 #include <string>
 
 #include "model/motor_model.h"
+#include "test_paths.h"
 
 namespace swum {
 namespace {
@@ -34,7 +35,7 @@ TEST(ParameterFile, EmptyTextGivesDefaults) {
 }
 
 TEST(ParameterFile, CalibratedConfigIsReferencePlusTheCalibration) {
-  auto p = parse_motor_parameters(read_text(SWUM_SOURCE_DIR "/config/li2019.toml"), "li2019.toml");
+  auto p = parse_motor_parameters(read_text(swum::test::source_path("config/li2019.toml")), "li2019.toml");
   EXPECT_EQ(p.options.voltage_convention, VoltageConvention::amplitude);
   EXPECT_EQ(p.contact.preload_application, PreloadApplication::back_end_constant);
   EXPECT_GT(p.contact.tangential_stiffness_n_m, 0.0);
@@ -51,13 +52,14 @@ TEST(ParameterFile, CalibratedConfigIsReferencePlusTheCalibration) {
               1e-9);  // the accuracy contract's fewest steps, docs/performance.md
   p.numerics.time_step_ns = d.numerics.time_step_ns;
   EXPECT_EQ(format_motor_parameters(p), format_motor_parameters(d));
-  const MotorModel model(parse_motor_parameters(read_text(SWUM_SOURCE_DIR "/config/li2019.toml"), "li2019.toml"));
+  const MotorModel model(
+      parse_motor_parameters(read_text(swum::test::source_path("config/li2019.toml")), "li2019.toml"));
   EXPECT_NEAR(model.constants().f_l1_hz, 39516.0, 0.002 * 39516.0);  // paper natural frequencies
   EXPECT_NEAR(model.constants().f_b2_hz, 39469.0, 0.002 * 39469.0);
 }
 
 TEST(ParameterFile, LiteralConfigHasLiteralLever) {
-  const auto p = parse_motor_parameters(read_text(SWUM_SOURCE_DIR "/config/li2019_literal.toml"),
+  const auto p = parse_motor_parameters(read_text(swum::test::source_path("config/li2019_literal.toml")),
                                         "li2019_literal.toml");
   const MotorModel model(p);
   EXPECT_NEAR(model.constants().g_t, 4.07, 0.01);
@@ -72,8 +74,9 @@ TEST(ParameterFile, LiteralConfigHasLiteralLever) {
 // The long-run configuration is the calibrated motor with the stator temperature on: nothing
 // else may drift away from li2019.toml.
 TEST(ParameterFile, ThermalConfigIsTheCalibratedMotorWithTemperature) {
-  const auto calibrated = parse_motor_parameters(read_text(SWUM_SOURCE_DIR "/config/li2019.toml"), "li2019.toml");
-  auto thermal = parse_motor_parameters(read_text(SWUM_SOURCE_DIR "/config/li2019_thermal.toml"),
+  const auto calibrated = parse_motor_parameters(read_text(swum::test::source_path("config/li2019.toml")),
+                                                 "li2019.toml");
+  auto thermal = parse_motor_parameters(read_text(swum::test::source_path("config/li2019_thermal.toml")),
                                         "li2019_thermal.toml");
   EXPECT_TRUE(thermal.effects.thermal.enabled);
   EXPECT_EQ(thermal.effects.thermal.time_constant_s, 30.0);

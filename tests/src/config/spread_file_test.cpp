@@ -9,6 +9,7 @@
 #include <string>
 
 #include "config/parameter_file.h"
+#include "test_paths.h"
 
 namespace swum {
 namespace {
@@ -21,7 +22,7 @@ std::string read(const std::string& path) {
 }
 
 MotorParameters nominal() {
-  const std::string path = std::string(SWUM_SOURCE_DIR) + "/config/li2019.toml";
+  const std::string path = swum::test::source_path("config/li2019.toml");
   return parse_motor_parameters(read(path), path);
 }
 
@@ -36,7 +37,7 @@ std::string error_of(const std::string& text) {
 }
 
 TEST(SpreadFile, TheExampleLoadsInParameterTableOrderWithRangesInsideTheDocumentedOnes) {
-  const std::string path = std::string(SWUM_SOURCE_DIR) + "/config/population.toml";
+  const std::string path = swum::test::source_path("config/population.toml");
   const auto spreads = parse_parameter_spreads(read(path), path, nominal());
   ASSERT_GE(spreads.size(), 8u);
   std::size_t previous = 0;

@@ -5,11 +5,12 @@
 #include <sstream>
 
 #include "config/parameter_file.h"
+#include "test_paths.h"
 
 namespace swum::test {
 
 inline MotorParameters calibrated_parameters() {
-  std::ifstream in(SWUM_SOURCE_DIR "/config/li2019.toml");
+  std::ifstream in(swum::test::source_path("config/li2019.toml"));
   std::stringstream text;
   text << in.rdbuf();
   return parse_motor_parameters(text.str(), "li2019.toml");

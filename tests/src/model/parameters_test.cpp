@@ -8,6 +8,7 @@
 #include <set>
 #include <sstream>
 #include <string>
+#include "test_paths.h"
 
 namespace swum {
 namespace {
@@ -54,7 +55,7 @@ TEST(ValidateParameters, RejectsNanAndOutOfRangeNamingTheKey) {
 }
 
 TEST(ParametersDoc, DocsFileMatchesTheTable) {
-  std::ifstream in(SWUM_SOURCE_DIR "/docs/parameters.md");
+  std::ifstream in(swum::test::source_path("docs/parameters.md"));
   ASSERT_TRUE(in.good()) << "docs/parameters.md missing";
   std::stringstream text;
   text << in.rdbuf();
