@@ -219,14 +219,20 @@ class Emulator:
 
 def case_live_modbus(run):
     """`swum log` and `swum sweep --modbus` against swum-emu: file layouts only (the values are
-    live and timed); and swum-emu's ready line, which harnesses parse."""
+    live and timed); and swum-emu's ready line, which harnesses parse.
+
+    Every wait is on a condition: the ready line, the exit of each command. The link's wall-time
+    limits are hang guards only (in no output): under CPU load swum-emu, whose loop wants more
+    than a core at --speedup 4, stalls for longer than swum's defaults (1 s to connect, 0.5 s
+    per answer), and a run failed on such a stall, not on anything it checks."""
+    link = ["--connect-timeout-ms", "60000", "--timeout-ms", "60000"]
     with Emulator("--speedup", "4", "--watchdog-ms", "5000") as emu:
         ready = re.sub(r"modbus=tcp://127\.0\.0\.1:\d+", "modbus=tcp://127.0.0.1:PORT", emu.ready)
         ready = re.sub(r"pid=\d+", "pid=PID", ready)
         log = run.path("log.csv")
-        run.swum("log", "--modbus", emu.endpoint, "--duration", "0.2", "--out", log)
+        run.swum("log", "--modbus", emu.endpoint, *link, "--duration", "0.2", "--out", log)
         sweep = run.path("live_sweep.csv")
-        r = run.swum("sweep", "--modbus", emu.endpoint, "--vpp", "100,150", "--frequency", "40000:40200:100",
+        r = run.swum("sweep", "--modbus", emu.endpoint, *link, "--vpp", "100,150", "--frequency", "40000:40200:100",
                      "--settle-ms", "5", "--dwell-ms", "5", "--out", sweep)
         log_text, sweep_text = read(log), read(sweep)
     cells = {len(l.split(",")) for l in log_text.splitlines()}

@@ -25,6 +25,10 @@ SOURCE = os.environ["SWUM_SOURCE_DIR"]
 CONFIG = "config/li2019.toml"  # relative: the commands run in SWUM_SOURCE_DIR
 OUT = tempfile.mkdtemp(prefix="swum-killsafe-")
 EMU_ARGS = ["--watchdog-ms", "5000"]  # generous: a shared CI machine can stall the client
+# The Modbus link's wall-time limits for swum, generous: under CPU load swum-emu stalls for longer
+# than swum's defaults (1 s to connect, 0.5 s per answer) and the run fails on the stall. Hang
+# guards only: no wait below ends on them.
+LINK = ["--connect-timeout-ms", "60000", "--timeout-ms", "60000"]
 MODEL_HEADER = "vpp,frequency_hz,load_n,speed_mm_s,tip_normal_um,tip_tangential_um,status\n"
 DEVICE_HEADER = ("vpp,frequency_hz,load_n,time_s,sweep,speed_mm_s,tip_normal_um,tip_tangential_um,"
                  "speed_spread_mm_s,status,current_a_a,current_b_a,phase_a_deg,phase_b_deg,motional_phase_a_deg,"
@@ -33,6 +37,15 @@ DEVICE_HEADER = ("vpp,frequency_hz,load_n,time_s,sweep,speed_mm_s,tip_normal_um,
 # path, ~0.5 ms in the SIMD lanes of a batch, issue 16), so the kill lands after the first row
 # and well before the last.
 MODEL_GRID = ["--vpp", "100,150,200,250,300,350,400", "--frequency", "39000:41000:25", "--load", "0,1", "--jobs", "2"]
+# The same voltages and loads every 200 Hz (154 points instead of 1134): where a point costs
+# far more (the sanitizer build: MODEL_GRID takes ~15 s there, and the test runs it about three
+# times), this grid alone already takes the second the race needs. The uninterrupted run
+# decides: this grid if it took at least MIN_RUN_S of wall time, else MODEL_GRID (in the Release
+# build, where this one takes ~0.3 s: a third of a second more than before). Either way the kill
+# and the interrupt land in a run of about a second or more.
+SMALL_MODEL_GRID = ["--vpp", "100,150,200,250,300,350,400", "--frequency", "39000:41000:200", "--load", "0,1",
+                    "--jobs", "2"]
+MIN_RUN_S = 1.0
 
 
 def check(condition, message):
@@ -87,6 +100,39 @@ def kill(proc, sig):
     return proc.returncode, out, err
 
 
+def kill_between(args, out, first, total, attempts=5):
+    """Runs `swum *args` (writing `out`) and SIGKILLs it once OUT.partial holds `first` whole rows,
+    `total` being the rows of a whole run; returns the partial's text, with first..total-1 rows.
+    Seeing the rows and the kill cannot be one step: a test process stalled for the rest of the
+    run (about a second) finds it finished, or all rows written. Such an attempt says nothing about
+    swum: it is made again from scratch, at most `attempts` times."""
+    partial = out + ".partial"
+    for attempt in range(1, attempts + 1):
+        proc = start(*args)
+        deadline = time.monotonic() + 300  # a hang guard only
+        while proc.poll() is None:
+            if os.path.exists(partial) and len(whole_rows(read(partial), 1)) >= first:
+                break
+            check(time.monotonic() < deadline, f"{partial}: fewer than {first} rows after 300 s")
+            time.sleep(0.005)
+        if proc.returncode is None:  # not reaped, so its pid is still its own (a zombie at worst)
+            status, _, err = kill(proc, signal.SIGKILL)
+        else:
+            status, (_, err) = proc.returncode, proc.communicate()
+        if status == -signal.SIGKILL:
+            check(not os.path.exists(out), "the final file exists after a kill")
+            text = read(partial)
+            if len(whole_rows(text, 1)) < total:
+                return text
+        else:
+            check(status == 0, f"the run failed (exit {status}) before {first} rows were in {partial}: {err}")
+        print(f"attempt {attempt}: the run ended before the kill (the test process stalled); again")
+        for name in (out, partial):
+            if os.path.exists(name):
+                os.remove(name)
+    raise AssertionError(f"{attempts} runs ended before the kill")
+
+
 def check_prefix(partial_text, final_text, header_lines, what):
     """`partial_text` is a valid prefix of `final_text`: the same header lines, then whole rows,
     each equal to the final file's row at the same place. Returns the number of rows."""
@@ -112,18 +158,28 @@ def one_line_error(status, err, words, what):
 
 def model_kill_resume():
     reference = path("reference.csv")
+    grid = SMALL_MODEL_GRID
     t0 = time.monotonic()
-    status, _, err = swum("sweep", "--config", CONFIG, *MODEL_GRID, "--out", reference)
+    status, _, err = swum("sweep", "--config", CONFIG, *grid, "--out", reference)
     check(status == 0, f"uninterrupted sweep: exit {status}: {err}")
+    elapsed = time.monotonic() - t0
+    if elapsed < MIN_RUN_S:  # too quick to kill in the middle reliably: the full grid
+        print(f"uninterrupted: {len(whole_rows(read(reference), 1))} points in {elapsed:.1f} s, "
+              f"under {MIN_RUN_S} s: the larger grid")
+        grid = MODEL_GRID
+        t0 = time.monotonic()
+        status, _, err = swum("sweep", "--config", CONFIG, *grid, "--out", reference)
+        check(status == 0, f"uninterrupted sweep: exit {status}: {err}")
+        elapsed = time.monotonic() - t0
     expected = read(reference)
     total = len(whole_rows(expected, 1))
-    print(f"uninterrupted: {total} points in {time.monotonic() - t0:.1f} s")
+    print(f"uninterrupted: {total} points in {elapsed:.1f} s")
     check(expected.startswith(MODEL_HEADER), "model header")
 
     # SIGKILL after the first whole row: a valid prefix, no final file.
     out = path("killed.csv")
     partial = out + ".partial"
-    proc = start("sweep", "--config", CONFIG, *MODEL_GRID, "--out", out)
+    proc = start("sweep", "--config", CONFIG, *grid, "--out", out)
     wait_for_rows(partial, 1, proc)
     status, _, _ = kill(proc, signal.SIGKILL)
     check(status == -signal.SIGKILL, f"exit {status} after SIGKILL")
@@ -133,7 +189,7 @@ def model_kill_resume():
     print(f"SIGKILL: {killed} of {total} rows kept, each equal to the uninterrupted run's")
 
     # --resume, interrupted by SIGINT: exit 130, a message naming --resume, a longer prefix.
-    proc = start("sweep", "--config", CONFIG, *MODEL_GRID, "--resume", "--out", out)
+    proc = start("sweep", "--config", CONFIG, *grid, "--resume", "--out", out)
     wait_for_rows(partial, killed + 1, proc)
     status, _, err = kill(proc, signal.SIGINT)
     check(status == 130, f"exit {status} after SIGINT: {err}")
@@ -153,7 +209,7 @@ def model_kill_resume():
     with open(partial, "w") as f:
         f.write("\n".join(lines))
     # --resume to the end: the uninterrupted file byte for byte (but the marked row), the partial gone.
-    status, _, err = swum("sweep", "--config", CONFIG, *MODEL_GRID, "--resume", "--out", out)
+    status, _, err = swum("sweep", "--config", CONFIG, *grid, "--resume", "--out", out)
     check(status == 0, f"resume: exit {status}: {err}")
     final = read(out).split("\n")
     check(final[1] == marked, f"a kept row was computed again: {final[1]!r}, kept {marked!r}")
@@ -249,7 +305,7 @@ def log_kill_modbus():
         device = f"tcp://{emu.host}:{emu.port}"
         for sig in (signal.SIGKILL, signal.SIGINT):
             out = path(f"log_{sig.name}.csv")
-            proc = start("log", "--modbus", device, "--duration", "120", "--rate-hz", "200", "--out", out)
+            proc = start("log", "--modbus", device, *LINK, "--duration", "120", "--rate-hz", "200", "--out", out)
             wait_for_rows(out + ".partial", 5, proc, seconds=60)
             status, stdout, err = kill(proc, sig)
             if sig == signal.SIGKILL:
@@ -275,16 +331,12 @@ def device_resume_modbus():
     grid = ["--vpp", "150,300", "--frequency", "39600:40600:100", "--settle-ms", "60", "--dwell-ms", "30"]
     curve = 11
     with Emulator("--speedup", "1", *EMU_ARGS) as emu:
-        device = ["--modbus", f"tcp://{emu.host}:{emu.port}"]
+        device = ["--modbus", f"tcp://{emu.host}:{emu.port}", *LINK]
         out = path("device.csv")
         partial = out + ".partial"
         # Killed during the second curve (300 Vpp): the first curve is kept as it is, the second
         # is measured again from its top frequency.
-        proc = start("sweep", *device, *grid, "--out", out)
-        wait_for_rows(partial, curve + 2, proc, seconds=120)
-        status, _, _ = kill(proc, signal.SIGKILL)
-        check(status == -signal.SIGKILL and not os.path.exists(out), f"exit {status}; final file written")
-        before = read(partial)
+        before = kill_between(["sweep", *device, *grid, "--out", out], out, curve + 2, 2 * curve)
         check(before.startswith(DEVICE_HEADER) and before.endswith("\n"), "device partial: header or cut row")
         kept = whole_rows(before, 1)
         check(curve + 2 <= len(kept) < 2 * curve, f"{len(kept)} rows at the kill")
