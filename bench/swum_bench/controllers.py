@@ -77,7 +77,7 @@ class ReferenceController(ExternalController):
         argv = [swum_binary, "control", "{device}", "--speed-mm-s", repr(float(speed_mm_s)),
                 "--duration-s", repr(float(duration_s)), "--cycle-ms", str(cycle_ms),
                 # The gate holds a cycle while the test is not stepping: no response timeout.
-                "--timeout-ms", "600000", "--out", out]
+                "--connect-timeout-ms", "600000", "--timeout-ms", "600000", "--out", out]
         for key, value in options.items():
             argv += ["--" + key.replace("_", "-"), str(value)]
         self.argv = argv

@@ -2,13 +2,18 @@
 first violating sample, against emulated time."""
 import textwrap
 
-import matplotlib
+import numpy as np
 
-matplotlib.use("Agg")  # files only: no display on a CI machine
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
+from . import attachments
 
-from . import attachments  # noqa: E402
+
+def _pyplot():
+    """matplotlib only when a plot is drawn (a failure): importing it costs every run that
+    passes (seconds in the TCG guest)."""
+    import matplotlib
+    matplotlib.use("Agg")  # files only: no display on a CI machine
+    import matplotlib.pyplot as plt
+    return plt
 
 
 def failure_plot(assertion, signal, message, band=None, reference=None, marks=(), violation=None):
@@ -19,6 +24,7 @@ def failure_plot(assertion, signal, message, band=None, reference=None, marks=()
     path = attachments.new_path(f"{assertion}_{signal.name}")
     if path is None:
         return None
+    plt = _pyplot()
     fig, ax = plt.subplots(figsize=(9, 4.8), dpi=100)
     try:
         t = signal.time_s
