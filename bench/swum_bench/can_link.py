@@ -4,7 +4,6 @@ changes) and a CANopen SYNC; the eight telemetry frames that answer the SYNC wer
 it (docs/protocols.md, "Lockstep over CAN"). The CRC and the alive counter are written here
 from the protocol text, apart from the C++ codec."""
 import decimal
-import functools
 import math
 import os
 import time
@@ -30,10 +29,7 @@ def crc8_sae_j1850(can_id, data7):
     return crc ^ 0xFF
 
 
-@functools.lru_cache(maxsize=None)
 def load_dbc(source_dir):
-    """config/swum.dbc of source_dir, parsed once per process (the bench and the gate only
-    encode and decode with it; parsing took 1.6 s per bench in the TCG guest)."""
     import canmatrix.formats  # Debian's python3-canmatrix; imported here so Modbus-only runs need none
     return canmatrix.formats.loadp_flat(os.path.join(source_dir, "config", "swum.dbc"))
 
