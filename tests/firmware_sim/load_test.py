@@ -12,7 +12,8 @@ the loop statistics and the overrun share. With --assert-rt it also fails when o
 
 All clients load the emulator together for the same DURATION s: the CAN modules (python-can,
 the DBC through can_vcan) are imported once in this process before the clients fork, and the
-clients start their DURATION together, once every one of them is connected. (Imported in each
+clients start their DURATION together, once every one of them has started (then each
+connects). (Imported in each
 child, the CAN modules took longer than the run itself in the TCG guest: the Modbus clients,
 the flood and the valid commands ran one after another instead of together, and the test took
 three times DURATION.)
@@ -21,6 +22,7 @@ usage: load_test.py [DURATION_S] [--rt] [--assert-rt]
 """
 import multiprocessing
 import os
+import queue
 import re
 import sys
 import time
@@ -38,15 +40,18 @@ MAP = RegisterMap()
 
 
 def start_together(start, duration):
-    """Waits until every client is connected, then returns the end of their common run."""
+    """Waits until every client has started, then returns the end of their common run."""
     start.wait(timeout=120)
     return time.monotonic() + duration
 
 
 def poller(port, start, duration, writer, result):
+    # Connected after the start barrier: a connection idle at the barrier longer than swum-emu's
+    # --modbus-idle-timeout-ms (10 s; the TCG guest's clients can take that long to start) is
+    # closed by the emulator, as it should be.
+    end = start_together(start, duration)
     c = ModbusTcpClient("127.0.0.1", port=port, timeout=5)
     assert c.connect()
-    end = start_together(start, duration)
     reads = accepted = refused = 0
     k = 0
     while time.monotonic() < end:
@@ -106,6 +111,21 @@ def can_commander(start, duration, result):
     result.put(("can_valid", sent, retries))
 
 
+def collect(procs, result, timeout):
+    """Every client's outcome; a client that failed (its traceback is above) fails the test at
+    once, not after the timeout."""
+    outcomes = []
+    deadline = time.monotonic() + timeout
+    while len(outcomes) < len(procs):
+        try:
+            outcomes.append(result.get(timeout=1))
+        except queue.Empty:
+            failed = [p.exitcode for p in procs if p.exitcode not in (None, 0)]
+            assert not failed, f"{len(failed)} client(s) failed (exit {failed[0]}); the traceback is above"
+            assert time.monotonic() < deadline, f"only {len(outcomes)} of {len(procs)} clients finished in {timeout:g} s"
+    return outcomes
+
+
 def main():
     args = [a for a in sys.argv[1:] if not a.startswith("--")]
     duration = float(args[0]) if args else 30.0
@@ -128,11 +148,12 @@ def main():
             procs.append(multiprocessing.Process(target=can_flood, args=(start, duration, 1, result)))
             procs.append(multiprocessing.Process(target=can_commander, args=(start, duration, result)))
         for p in procs:
+            p.daemon = True  # a failed run does not wait for the others at the barrier
             p.start()
-        outcomes = [result.get(timeout=duration + 180) for _ in procs]  # + the start barrier's 120 s
+        outcomes = collect(procs, result, timeout=duration + 180)  # + the start barrier's 120 s
         for p in procs:
             p.join()
-            assert p.exitcode == 0, "a client failed"
+            assert p.exitcode == 0, f"a client failed (exit {p.exitcode})"
         modbus = [o for o in outcomes if o[0] not in ("can", "can_valid")]
         reads = sum(o[0] for o in modbus)
         accepted = sum(o[1] for o in modbus)
