@@ -97,9 +97,15 @@ class TestBudget(unittest.TestCase):
             f.write("not xml")
         self.assert_one_line_error(run("--junit", garbage, "--build", self.build, "--limit", "5"), "not XML")
         self.assert_one_line_error(run("--junit", self.junit, "--build", self.tmp.name, "--limit", "5"))
-        self.assertEqual(run("--junit", self.junit, "--build", self.build, "--limit", "abc").returncode, 2)
-        self.assertEqual(run("--junit", self.junit, "--build", self.build, "--limit", "0").returncode, 2)
-        self.assertEqual(run("--junit", self.junit, "--build", self.build, "--limit", "nan").returncode, 2)
+        nowhere = os.path.join(self.tmp.name, "no-build")
+        self.assert_one_line_error(run("--junit", self.junit, "--build", nowhere, "--limit", "5"),
+                                   "no-build", "does not exist")
+        for limit in ("abc", "0", "nan"):
+            self.assert_one_line_error(run("--junit", self.junit, "--build", self.build, "--limit", limit),
+                                       "--limit", limit)
+        self.assert_one_line_error(run("--junit", self.junit, "--build", self.build, "--limit", "5", "--top", "-1"),
+                                   "--top")
+        self.assert_one_line_error(run("--junit", self.junit), "--build", "--limit")
 
 
 if __name__ == "__main__":
