@@ -100,14 +100,19 @@ def kill(proc, sig):
     return proc.returncode, out, err
 
 
-def kill_between(args, out, first, total, attempts=5):
-    """Runs `swum *args` (writing `out`) and SIGKILLs it once OUT.partial holds `first` whole rows,
-    `total` being the rows of a whole run; returns the partial's text, with first..total-1 rows.
-    Seeing the rows and the kill cannot be one step: a test process stalled for the rest of the
+def kill_between(args, out, first, total, attempts=5, sig=signal.SIGKILL, start_from=None):
+    """Runs `swum *args` (writing `out`) and sends it `sig` once OUT.partial holds `first` whole
+    rows, `total` being the rows of a whole run; returns (the partial's text, with first..total-1
+    rows, and swum's stderr). `start_from`: the partial each attempt starts from (a --resume run).
+    Seeing the rows and the signal cannot be one step: a test process stalled for the rest of the
     run (about a second) finds it finished, or all rows written. Such an attempt says nothing about
     swum: it is made again from scratch, at most `attempts` times."""
     partial = out + ".partial"
+    stopped = -signal.SIGKILL if sig == signal.SIGKILL else 130  # SIGINT: swum's own exit 130
     for attempt in range(1, attempts + 1):
+        if start_from is not None:
+            with open(partial, "w") as f:
+                f.write(start_from)
         proc = start(*args)
         deadline = time.monotonic() + 300  # a hang guard only
         while proc.poll() is None:
@@ -116,21 +121,21 @@ def kill_between(args, out, first, total, attempts=5):
             check(time.monotonic() < deadline, f"{partial}: fewer than {first} rows after 300 s")
             time.sleep(0.005)
         if proc.returncode is None:  # not reaped, so its pid is still its own (a zombie at worst)
-            status, _, err = kill(proc, signal.SIGKILL)
+            status, _, err = kill(proc, sig)
         else:
             status, (_, err) = proc.returncode, proc.communicate()
-        if status == -signal.SIGKILL:
-            check(not os.path.exists(out), "the final file exists after a kill")
+        if status == stopped:
+            check(not os.path.exists(out), f"the final file exists after signal {sig}")
             text = read(partial)
             if len(whole_rows(text, 1)) < total:
-                return text
+                return text, err
         else:
             check(status == 0, f"the run failed (exit {status}) before {first} rows were in {partial}: {err}")
-        print(f"attempt {attempt}: the run ended before the kill (the test process stalled); again")
+        print(f"attempt {attempt}: the run ended before the signal (the test process stalled); again")
         for name in (out, partial):
             if os.path.exists(name):
                 os.remove(name)
-    raise AssertionError(f"{attempts} runs ended before the kill")
+    raise AssertionError(f"{attempts} runs ended before the signal")
 
 
 def check_prefix(partial_text, final_text, header_lines, what):
@@ -179,23 +184,16 @@ def model_kill_resume():
     # SIGKILL after the first whole row: a valid prefix, no final file.
     out = path("killed.csv")
     partial = out + ".partial"
-    proc = start("sweep", "--config", CONFIG, *grid, "--out", out)
-    wait_for_rows(partial, 1, proc)
-    status, _, _ = kill(proc, signal.SIGKILL)
-    check(status == -signal.SIGKILL, f"exit {status} after SIGKILL")
-    check(not os.path.exists(out), "the final file exists after a kill")
-    killed = check_prefix(read(partial), expected, 1, "killed run")
+    text, _ = kill_between(["sweep", "--config", CONFIG, *grid, "--out", out], out, 1, total)
+    killed = check_prefix(text, expected, 1, "killed run")
     check(1 <= killed < total, f"{killed} rows after the kill")
     print(f"SIGKILL: {killed} of {total} rows kept, each equal to the uninterrupted run's")
 
     # --resume, interrupted by SIGINT: exit 130, a message naming --resume, a longer prefix.
-    proc = start("sweep", "--config", CONFIG, *grid, "--resume", "--out", out)
-    wait_for_rows(partial, killed + 1, proc)
-    status, _, err = kill(proc, signal.SIGINT)
-    check(status == 130, f"exit {status} after SIGINT: {err}")
+    text, err = kill_between(["sweep", "--config", CONFIG, *grid, "--resume", "--out", out], out, killed + 1, total,
+                             sig=signal.SIGINT, start_from=text)
     check("--resume" in err and partial in err, f"SIGINT message: {err!r}")
-    check(not os.path.exists(out), "the final file exists after an interrupt")
-    interrupted = check_prefix(read(partial), expected, 1, "interrupted resume")
+    interrupted = check_prefix(text, expected, 1, "interrupted resume")
     check(killed < interrupted < total, f"{interrupted} rows after the interrupted resume (had {killed})")
     print(f"SIGINT: {interrupted} of {total} rows kept; stderr: {err.strip()}")
 
@@ -336,7 +334,7 @@ def device_resume_modbus():
         partial = out + ".partial"
         # Killed during the second curve (300 Vpp): the first curve is kept as it is, the second
         # is measured again from its top frequency.
-        before = kill_between(["sweep", *device, *grid, "--out", out], out, curve + 2, 2 * curve)
+        before, _ = kill_between(["sweep", *device, *grid, "--out", out], out, curve + 2, 2 * curve)
         check(before.startswith(DEVICE_HEADER) and before.endswith("\n"), "device partial: header or cut row")
         kept = whole_rows(before, 1)
         check(curve + 2 <= len(kept) < 2 * curve, f"{len(kept)} rows at the kill")
