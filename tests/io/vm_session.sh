@@ -3,7 +3,8 @@
 # guest of the ctest run: each command finds the guest as a fresh boot would, whatever the one
 # before it did (files written, a process left running in a session of its own, vcan1 deleted,
 # the gpio-sim chip removed); a command's status and streams come back; one over its limit is
-# killed (124) and the guest stays up for the next; as root the guest runs at the raised share.
+# killed (124) and the guest stays up for the next; --reread sees host files changed since; as
+# root the guest runs at the raised share.
 # Usage: vm_session.sh TOOLS_VM_DIR   (SWUM_VM_SESSION: the session's folder, guest up)
 set -u
 tools_vm=$(cd "$1" && pwd)
@@ -38,6 +39,16 @@ EOF
 out=$(exec_in -- bash -c "$check" 2>&1)
 rc=$?
 [ "$rc" = 0 ] && [ -z "$out" ] && ok "the next command finds a fresh guest" || fail "fresh guest: status $rc: $out"
+
+# The guest keeps what it read of the host root; --reread reads a changed host file anew.
+probe=$(mktemp /tmp/swum-session-probe.XXXXXX)
+echo before > "$probe"
+out=$(exec_in -- cat "$probe" 2>&1)
+echo after > "$probe"
+out2=$(exec_in --reread -- cat "$probe" 2>&1)
+rm -f "$probe"
+[ "$out" = before ] && [ "$out2" = after ] && ok "--reread sees a host file changed during the session" ||
+  fail "--reread: read '$out', then '$out2' after the change"
 
 err=$(exec_in --timeout 2 -- sleep 60 2>&1 >/dev/null)
 rc=$?
