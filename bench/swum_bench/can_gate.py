@@ -5,19 +5,56 @@ bench bridges them. The controller's Command and AuxCommand frames cross at once
 order; its SYNC waits until the bench lets one cycle through, then crosses, and the telemetry
 set that answers it (up to Output) comes back to the controller's bus once the bench has
 recorded it. So the bench owns emulated time over CAN as over Modbus (modbus_gate.py), and the
-telemetry it records is exactly what the controller received."""
+telemetry it records is exactly what the controller received.
+
+The gate relays frames as they are, so it reads and writes them on Python's own SocketCAN
+sockets (socket.AF_CAN) rather than through python-can, whose Message objects, debug logging
+and select per call cost more than the relay itself: about 20 frames cross per cycle, and in
+the TCG guest the gate's Python was most of a cycle's time (docs/testing.md)."""
 import queue
+import socket
+import struct
 import threading
 import time
 
-from .can_link import MODE_ACTION, SYNC_ID, TELEMETRY, load_dbc
+from .can_link import MODE_ACTION, SYNC_ID, TELEMETRY, frame_decoder, load_dbc
 from .emulator import BenchError
+
+_FRAME = struct.Struct("=IB3x8s")  # struct can_frame (linux/can.h): can_id, len, padding, data
+_CAN_EFF_FLAG, _CAN_RTR_FLAG = 0x80000000, 0x40000000
+_POLL_S = 0.2  # how often a blocked receive looks at the stop flag
+
+
+def _open(interface, ids):
+    """A raw CAN socket on `interface` that receives only standard data frames with these ids."""
+    sock = socket.socket(socket.AF_CAN, socket.SOCK_RAW, socket.CAN_RAW)
+    try:
+        mask = 0x7FF | _CAN_EFF_FLAG | _CAN_RTR_FLAG
+        sock.setsockopt(socket.SOL_CAN_RAW, socket.CAN_RAW_FILTER,
+                        b"".join(struct.pack("=II", i, mask) for i in ids))
+        sock.bind((interface,))
+        sock.settimeout(_POLL_S)
+    except OSError:
+        sock.close()
+        raise
+    return sock
+
+
+def _receive(sock):
+    """(can_id, data, the frame's bytes), or None after _POLL_S without a frame."""
+    try:
+        frame = sock.recv(_FRAME.size)
+    except TimeoutError:
+        return None
+    if len(frame) != _FRAME.size:
+        raise BenchError(f"CAN gate: a frame of {len(frame)} bytes, not a classic CAN frame")
+    can_id, length, data = _FRAME.unpack(frame)
+    return can_id, data[:length], frame
 
 
 class CanGate:
     def __init__(self, controller_interface, emulator_interface, node, source_dir, on_cycle, timeout_s=120.0):
         """on_cycle(telemetry_values, command_values) runs on the gate's thread after each set."""
-        import can
         self.endpoint = f"{controller_interface}:{node}"
         self.on_cycle = on_cycle
         self.timeout_s = timeout_s
@@ -29,17 +66,20 @@ class CanGate:
         self._idle = 0           # receive timeouts without a frame from the controller's bus
         self._exit_mark = None
         dbc = load_dbc(source_dir)
-        self._frames = {f.name: f for f in dbc.frames}
-        ids = {name: f.arbitration_id.id - 1 + node for name, f in self._frames.items() if name != "Sync"}
+        frames = {f.name: f for f in dbc.frames}
+        self._decoders = {name: frame_decoder(f) for name, f in frames.items()}
+        ids = {name: f.arbitration_id.id - 1 + node for name, f in frames.items() if name != "Sync"}
         self._command_ids = {ids["Command"]: "Command", ids["AuxCommand"]: "AuxCommand"}
         self._telemetry_ids = {ids[name]: name for name in TELEMETRY}
+        self._ctrl = self._emu = None
         try:
-            self._ctrl = can.interface.Bus(channel=controller_interface, interface="socketcan")
-            self._emu = can.interface.Bus(channel=emulator_interface, interface="socketcan")
-        except (OSError, can.CanError) as e:
-            raise BenchError(f"CAN gate {controller_interface} <-> {emulator_interface}: cannot open: {e}") from e
-        self._ctrl.set_filters([{"can_id": i, "can_mask": 0x7FF} for i in [SYNC_ID, *self._command_ids]])
-        self._emu.set_filters([{"can_id": i, "can_mask": 0x7FF} for i in self._telemetry_ids])
+            self._ctrl = _open(controller_interface, [SYNC_ID, *self._command_ids])
+            self._emu = _open(emulator_interface, list(self._telemetry_ids))
+        except OSError as e:
+            if self._ctrl is not None:
+                self._ctrl.close()
+            raise BenchError(f"CAN gate {controller_interface} <-> {emulator_interface}: cannot open: "
+                             f"{e.strerror or e}") from e
         self._thread = threading.Thread(target=self._run, daemon=True)
         self._thread.start()
 
@@ -60,60 +100,70 @@ class CanGate:
     def close(self):
         self._stop.set()
         self._thread.join(5)
-        self._ctrl.shutdown()
-        self._emu.shutdown()
+        self._ctrl.close()
+        self._emu.close()
 
-    def _decode(self, name, data):
-        return {k: float(v.phys_value) for k, v in self._frames[name].decode(bytearray(data)).items()}
+    def _send(self, sock, frame, where):
+        """Sends the frame's bytes; a full queue is waited for up to the hang guard."""
+        deadline = time.monotonic() + self.timeout_s
+        while True:
+            try:
+                sock.send(frame)
+                return
+            except TimeoutError:
+                if self._stop.is_set() or time.monotonic() > deadline:
+                    raise BenchError(f"CAN gate: the {where} bus took no frame for {self.timeout_s:g} s")
 
     def _run(self):
         try:
             while not self._stop.is_set():
-                msg = self._ctrl.recv(timeout=0.2)
-                if msg is None:
+                received = _receive(self._ctrl)
+                if received is None:
                     self._idle += 1
                     continue
-                if msg.arbitration_id != SYNC_ID:
-                    self._emu.send(msg)
-                    name = self._command_ids[msg.arbitration_id]
-                    if name == "Command" and len(msg.data) == 8:
-                        self.command = self._decode(name, msg.data)
+                can_id, data, frame = received
+                if can_id != SYNC_ID:
+                    self._send(self._emu, frame, "emulator's")
+                    name = self._command_ids[can_id]
+                    if name == "Command" and len(data) == 8:
+                        self.command = self._decoders[name](data)
                     continue
-                if not self._valid_sync(msg):  # refused by the emulator, never answered: not a cycle
-                    self._emu.send(msg)
+                if not self._valid_sync(data):  # refused by the emulator, never answered: not a cycle
+                    self._send(self._emu, frame, "emulator's")
                     continue
-                while not (self._opened.is_set() or self._permits.acquire(timeout=0.2)):
+                while not (self._opened.is_set() or self._permits.acquire(timeout=_POLL_S)):
                     if self._stop.is_set():
                         return
-                self._emu.send(msg)
+                self._send(self._emu, frame, "emulator's")
                 self._answer(record=not self._opened.is_set())
         except BenchError as e:
             self.events.put(("error", str(e)))
-        except Exception as e:  # python-can raises CanError / OSError; the bench must hear of it
+        except Exception as e:  # OSError from a socket, above all; the bench must hear of it
             if not self._stop.is_set():
                 self.events.put(("error", f"CAN gate: {type(e).__name__}: {e}"))
 
     @staticmethod
-    def _valid_sync(msg):
+    def _valid_sync(data):
         """DLC 0, or 1 with a counter 1..240 (docs/protocols.md); anything else is refused."""
-        return len(msg.data) == 0 or (len(msg.data) == 1 and 1 <= msg.data[0] <= 240)
+        return len(data) == 0 or (len(data) == 1 and 1 <= data[0] <= 240)
 
     def _answer(self, record=True):
         values = {}
         deadline = time.monotonic() + self.timeout_s  # a hang guard, not a measurement
         while True:
             left = deadline - time.monotonic()
-            msg = self._emu.recv(timeout=min(left, 0.2)) if left > 0 and not self._stop.is_set() else None
-            if msg is None and left > 0 and not self._stop.is_set():
+            received = _receive(self._emu) if left > 0 and not self._stop.is_set() else None
+            if received is None and left > 0 and not self._stop.is_set():
                 continue
-            if msg is None:
+            if received is None:
                 raise BenchError(f"CAN gate: no telemetry set answered the SYNC within {self.timeout_s:g} s "
                                  f"(got {sorted(values)})")
-            name = self._telemetry_ids.get(msg.arbitration_id)
+            can_id, data, frame = received
+            name = self._telemetry_ids.get(can_id)
             if name is not None:
-                values.update(self._decode(name, msg.data))
+                values.update(self._decoders[name](data))
             if name == "Output" and not record:
-                self._ctrl.send(msg)
+                self._send(self._ctrl, frame, "controller's")
                 return
             if name == "Output":
                 command = {"command": MODE_ACTION.get(int(self.command.get("Mode", 0)), -1),  # -1: Mode 3
@@ -121,7 +171,7 @@ class CanGate:
                            "amplitude_setpoint": self.command.get("Amplitude", 0.0),
                            "phase_setpoint": self.command.get("Phase", 0.0)}
                 self.on_cycle(values, command)
-                self._ctrl.send(msg)
+                self._send(self._ctrl, frame, "controller's")
                 self.events.put(("cycle", None))
                 return
-            self._ctrl.send(msg)
+            self._send(self._ctrl, frame, "controller's")
