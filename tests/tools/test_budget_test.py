@@ -107,6 +107,25 @@ class TestBudget(unittest.TestCase):
                                    "--top")
         self.assert_one_line_error(run("--junit", self.junit), "--build", "--limit")
 
+    def test_a_long_gtest_that_no_longer_exists_is_an_error(self):
+        """A swum_long_gtest line for a renamed test would be skipped by ctest without a word."""
+        path = os.path.join(self.build, "swum_long_gtests.cmake")
+        try:
+            with open(path, "w") as f:
+                f.write("set_tests_properties([==[slow_but_long]==] PROPERTIES LABELS [==[long]==] COST 2)\n")
+            r = run("--junit", self.junit, "--build", self.build, "--limit", "60")
+            self.assertEqual(r.returncode, 0, r.stderr)
+            with open(path, "a") as f:
+                f.write("set_tests_properties([==[Renamed.Test]==] PROPERTIES LABELS [==[x;long]==] COST 2)\n")
+            self.assert_one_line_error(run("--junit", self.junit, "--build", self.build, "--limit", "60"),
+                                       "Renamed.Test", "not a test")
+            with open(path, "w") as f:
+                f.write("set_tests_properties([==[quick]==] PROPERTIES LABELS [==[x;long]==] COST 2)\n")
+            self.assert_one_line_error(run("--junit", self.junit, "--build", self.build, "--limit", "60"),
+                                       "'quick'", "lacks the label 'long'")
+        finally:
+            os.remove(path)
+
 
 if __name__ == "__main__":
     unittest.main(verbosity=2)
