@@ -111,7 +111,9 @@ class CanGate:
                 sock.send(frame)
                 return
             except TimeoutError:
-                if self._stop.is_set() or time.monotonic() > deadline:
+                if self._stop.is_set():
+                    return  # closing: the frame no longer matters
+                if time.monotonic() > deadline:
                     raise BenchError(f"CAN gate: the {where} bus took no frame for {self.timeout_s:g} s")
 
     def _run(self):
@@ -137,7 +139,8 @@ class CanGate:
                 self._send(self._emu, frame, "emulator's")
                 self._answer(record=not self._opened.is_set())
         except BenchError as e:
-            self.events.put(("error", str(e)))
+            if not self._stop.is_set():
+                self.events.put(("error", str(e)))
         except Exception as e:  # OSError from a socket, above all; the bench must hear of it
             if not self._stop.is_set():
                 self.events.put(("error", f"CAN gate: {type(e).__name__}: {e}"))

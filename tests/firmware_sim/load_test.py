@@ -139,8 +139,9 @@ def main():
         import can_vcan  # noqa: F401
     with Emulator("--watchdog-ms", "0", *extra) as emu:
         result = multiprocessing.Queue()
-        # The Modbus clients, the flood and the valid commands load the emulator together: each
-        # connects, then all start their DURATION at once.
+        # The Modbus clients, the flood and the valid commands load the emulator together: all
+        # start their DURATION at once, the Modbus clients by connecting (within the DURATION,
+        # so its reads per second are a little understated, not overstated).
         start = multiprocessing.Barrier(8 + (2 if have_can else 0))
         procs = [multiprocessing.Process(target=poller, args=(emu.port, start, duration, i == 0, result))
                  for i in range(8)]

@@ -130,7 +130,8 @@ def kill_between(args, out, first, total, attempts=5, sig=signal.SIGKILL, start_
             if len(whole_rows(text, 1)) < total:
                 return text, err
         else:
-            check(status == 0, f"the run failed (exit {status}) before {first} rows were in {partial}: {err}")
+            check(status == 0, f"the run exited {status}, neither {stopped} (stopped by signal {int(sig)}) nor 0 "
+                               f"(finished before it): {err}")
         print(f"attempt {attempt}: the run ended before the signal (the test process stalled); again")
         for name in (out, partial):
             if os.path.exists(name):
