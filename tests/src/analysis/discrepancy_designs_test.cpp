@@ -16,7 +16,6 @@
 #include <random>
 #include <sstream>
 #include <string>
-#include <thread>
 
 #include "analysis/discrepancy.h"
 #include "analysis/synthetic_measurements.h"
@@ -210,9 +209,7 @@ TEST(UsersDataNegativeControl, NamesNothingInAtLeast95PercentOfSessions) {
       conclusions[static_cast<std::size_t>(s)] = r.conclusion;
     }
   };
-  std::thread other(run_sessions);
-  run_sessions();
-  other.join();
+  test::on_two_threads([&](int) { run_sessions(); });
   int named = 0;
   std::string namings;
   std::vector<int> named_by_design(designs.size(), 0), sessions_by_design(designs.size(), 0);

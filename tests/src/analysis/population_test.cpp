@@ -6,10 +6,10 @@
 
 #include <algorithm>
 #include <cmath>
-#include <thread>
 #include <vector>
 
 #include "config/spread_file.h"
+#include "thread_pool_for.h"
 
 namespace swum {
 namespace {
@@ -33,11 +33,9 @@ TEST(PopulationDraw, AMotorsValuesDependOnSeedAndMotorOnlyNotOnOrderOrThread) {
   std::vector<std::vector<double>> backward(kMotors);
   for (std::uint64_t i = kMotors; i-- > 0;) backward[i] = draw_spread_values(s, 7, i);
   std::vector<std::vector<double>> threaded(kMotors);
-  std::thread odd([&] {
-    for (std::uint64_t i = 1; i < kMotors; i += 2) threaded[i] = draw_spread_values(s, 7, i);
+  test::on_two_threads([&](int which) {
+    for (auto i = static_cast<std::uint64_t>(which); i < kMotors; i += 2) threaded[i] = draw_spread_values(s, 7, i);
   });
-  for (std::uint64_t i = 0; i < kMotors; i += 2) threaded[i] = draw_spread_values(s, 7, i);
-  odd.join();
   EXPECT_EQ(forward, backward);
   EXPECT_EQ(forward, threaded);
   // Another seed, another motor: other values.

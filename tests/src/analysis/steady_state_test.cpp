@@ -8,11 +8,11 @@
 #include <fstream>
 #include <sstream>
 #include <string>
-#include <thread>
 #include <vector>
 
 #include "config/parameter_file.h"
 #include "test_paths.h"
+#include "thread_pool_for.h"
 
 namespace swum {
 namespace {
@@ -138,9 +138,7 @@ TEST_P(SteadyStatePeak, PeakFrequencyWithinOneGridStepOfReference) {
   const auto run_points = [&] {
     for (std::size_t k = next++; k < grid.size(); k = next++) runs[k] = run_both(calibrated_model(), {g.vpp, grid[k]});
   };
-  std::thread other(run_points);
-  run_points();
-  other.join();
+  test::on_two_threads([&](int) { run_points(); });
   double best_fixed = -1e300, best_ref = -1e300, f_fixed = 0.0, f_ref = 0.0;
   for (std::size_t k = 0; k < grid.size(); ++k) {
     const double f = grid[k];
