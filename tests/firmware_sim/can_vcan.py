@@ -119,12 +119,14 @@ def speed_close(latest, ref):
 
 
 def scenario_enable_speed():
+    # The model's steady states first, before the emulator runs beside them: each is seconds of
+    # the guest's emulated CPU.
+    refs = {frequency: reference(400, frequency) for frequency in (40000, 39700)}
     with Emulator("--can", "vcan0", "--node", str(NODE), "--speedup", "0", "--watchdog-ms", "5000",
                   "--telemetry-hz", "50", modbus="none") as emu:
         peer = Peer()
         peer.wait_for(lambda t: t["Status"]["State"] == 0, "disabled at start")
-        for frequency in (40000, 39700):
-            ref = reference(400, frequency)
+        for frequency, ref in refs.items():
             send = lambda f=frequency: peer.send_command(1, f, 400)  # noqa: E731
             t = peer.wait_for(lambda t: t["Status"]["State"] == 1 and t["Drive"]["AmplitudeOut"] == 400 and
                               abs(t["Output"]["FrequencyOut"] - frequency) < 0.01 and speed_close(t, ref),
