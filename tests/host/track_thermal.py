@@ -46,8 +46,14 @@ def emulator():
     return Emulator("--clock", "external", "--duration", "100000", config=THERMAL)
 
 
+# Lockstep: time is emulated, so the link's wall-time limits are hang guards only. At swum's
+# defaults (500 ms per answer) a step of an emulator starved by the rest of the ci stage failed
+# ("no answer within the response timeout") in a cold run.
+LINK = ["--connect-timeout-ms", "60000", "--timeout-ms", "60000"]
+
+
 def track_command(emu, method, out, duration_s=DURATION_S, *extra):
-    return [SWUM, "track", "--modbus", f"tcp://{emu.host}:{emu.port}", "--vpp", str(VPP), "--method", method,
+    return [SWUM, "track", "--modbus", f"tcp://{emu.host}:{emu.port}", *LINK, "--vpp", str(VPP), "--method", method,
             "--margin-hz", str(MARGIN_HZ), "--duration-s", str(duration_s), "--out", out, *extra]
 
 
