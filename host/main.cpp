@@ -6,7 +6,7 @@
 #include <exception>
 #include <stdexcept>
 
-#include "analysis/measurements.h"
+#include "analysis/measurements/measurements.h"
 #include "commands/command_error.h"
 #include "commands/commands.h"
 #include "model/parameters.h"

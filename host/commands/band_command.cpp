@@ -12,7 +12,7 @@
 
 #include "commands/command_error.h"
 #include "commands/commands.h"
-#include "config/number_format.h"
+#include "formats/number_format.h"
 #include "offline/motor_config.h"
 #include "offline/operating_band.h"
 #include "output/progress_bar.h"

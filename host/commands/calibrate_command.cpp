@@ -16,14 +16,14 @@
 #include <tuple>
 #include <vector>
 
-#include "analysis/calibration.h"
-#include "analysis/calibration_candidates.h"
-#include "analysis/calibration_facts.h"
+#include "analysis/calibration/calibration.h"
+#include "analysis/calibration/calibration_candidates.h"
+#include "analysis/calibration/calibration_facts.h"
 #include "commands/command_error.h"
 #include "commands/commands.h"
-#include "config/facts_file.h"
-#include "config/number_format.h"
-#include "config/parameter_file.h"
+#include "formats/facts_file.h"
+#include "formats/number_format.h"
+#include "formats/parameter_file.h"
 #include "offline/motor_config.h"
 #include "offline/parallel_for.h"
 #include "output/plot.h"

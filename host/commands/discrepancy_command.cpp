@@ -13,11 +13,11 @@
 #include <system_error>
 #include <vector>
 
-#include "analysis/discrepancy.h"
+#include "analysis/discrepancy/discrepancy.h"
 #include "commands/command_error.h"
 #include "commands/commands.h"
-#include "config/number_format.h"
-#include "config/parameter_file.h"
+#include "formats/number_format.h"
+#include "formats/parameter_file.h"
 #include "offline/motor_config.h"
 #include "offline/parallel_for.h"
 #include "output/plot.h"

@@ -11,11 +11,11 @@
 #include <system_error>
 #include <vector>
 
-#include "analysis/identification.h"
+#include "analysis/identification/identification.h"
 #include "commands/command_error.h"
 #include "commands/commands.h"
-#include "config/number_format.h"
-#include "config/parameter_file.h"
+#include "formats/number_format.h"
+#include "formats/parameter_file.h"
 #include "model/motor_model.h"
 #include "offline/motor_config.h"
 #include "output/amplitude_csv.h"

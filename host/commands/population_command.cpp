@@ -15,10 +15,10 @@
 #include <string>
 #include <vector>
 
-#include "analysis/population.h"
+#include "analysis/studies/population.h"
 #include "commands/command_error.h"
 #include "commands/commands.h"
-#include "config/spread_file.h"
+#include "formats/spread_file.h"
 #include "model/batch_simulator.h"
 #include "offline/motor_config.h"
 #include "offline/offline_sweep.h"

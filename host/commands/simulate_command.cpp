@@ -6,7 +6,7 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
-#include "analysis/steady_state.h"
+#include "analysis/steady_state/steady_state.h"
 #include "commands/command_error.h"
 #include "commands/commands.h"
 #include "offline/motor_config.h"

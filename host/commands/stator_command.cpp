@@ -9,9 +9,9 @@
 #include <string>
 #include <vector>
 
-#include "analysis/harmonic_balance.h"
+#include "analysis/free_stator/harmonic_balance.h"
 #include "commands/commands.h"
-#include "config/number_format.h"
+#include "formats/number_format.h"
 #include "offline/motor_config.h"
 #include "output/plot.h"
 #include "output/text_files.h"

@@ -9,7 +9,7 @@
 
 #include "commands/command_error.h"
 #include "commands/commands.h"
-#include "config/number_format.h"
+#include "formats/number_format.h"
 #include "device/device_options.h"
 #include "device/device_sweep.h"
 #include "device/stop_signal.h"

@@ -6,8 +6,8 @@
 #include <string>
 #include <vector>
 
-#include "analysis/candidate_effects.h"
-#include "analysis/synthetic_measurements.h"
+#include "analysis/discrepancy/candidate_effects.h"
+#include "analysis/measurements/synthetic_measurements.h"
 #include "commands/commands.h"
 #include "offline/motor_config.h"
 #include "offline/parallel_for.h"

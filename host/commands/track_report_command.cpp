@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "commands/commands.h"
-#include "config/number_format.h"
+#include "formats/number_format.h"
 #include "output/plot.h"
 #include "track/track_report.h"
 

@@ -10,10 +10,10 @@
 #include <string>
 #include <vector>
 
-#include "analysis/operating_curves.h"
-#include "analysis/paper_facts.h"
+#include "analysis/steady_state/operating_curves.h"
+#include "analysis/studies/paper_facts.h"
 #include "commands/commands.h"
-#include "config/number_format.h"
+#include "formats/number_format.h"
 #include "offline/motor_config.h"
 #include "output/plot.h"
 #include "output/text_files.h"

@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "analysis/operating_point.h"
+#include "analysis/operating_point/operating_point.h"
 #include "output/pick_plots.h"
 #include "output/sweep_table.h"
 

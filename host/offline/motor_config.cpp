@@ -1,6 +1,6 @@
 #include "offline/motor_config.h"
 
-#include "config/parameter_file.h"
+#include "formats/parameter_file.h"
 #include "output/text_files.h"
 
 namespace swum::host {

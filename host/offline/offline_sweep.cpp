@@ -6,8 +6,8 @@
 #include <stdexcept>
 #include <string>
 
-#include "analysis/steady_state.h"
-#include "analysis/steady_state_batch.h"
+#include "analysis/steady_state/steady_state.h"
+#include "analysis/steady_state/steady_state_batch.h"
 #include "model/batch_simulator.h"
 #include "offline/parallel_for.h"
 #include "output/progress_bar.h"

@@ -6,9 +6,9 @@
 #include <stdexcept>
 #include <string>
 
-#include "analysis/steady_state.h"
-#include "analysis/steady_state_batch.h"
-#include "config/number_format.h"
+#include "analysis/steady_state/steady_state.h"
+#include "analysis/steady_state/steady_state_batch.h"
+#include "formats/number_format.h"
 #include "model/batch_simulator.h"
 #include "offline/offline_sweep.h"
 #include "offline/parallel_for.h"

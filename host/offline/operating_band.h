@@ -12,7 +12,7 @@
 #include <string>
 #include <vector>
 
-#include "analysis/operating_point.h"
+#include "analysis/operating_point/operating_point.h"
 #include "model/motor_model.h"
 
 namespace swum::host {

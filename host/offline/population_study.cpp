@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <nlohmann/json.hpp>
 
-#include "analysis/population.h"
+#include "analysis/studies/population.h"
 #include "model/motor_model.h"
 #include "offline/model_pick.h"
 #include "offline/offline_sweep.h"

@@ -7,8 +7,8 @@
 #include <string>
 #include <vector>
 
-#include "analysis/operating_point.h"
-#include "config/spread_file.h"
+#include "analysis/operating_point/operating_point.h"
+#include "formats/spread_file.h"
 #include "model/parameters.h"
 
 namespace swum::host {

@@ -8,7 +8,7 @@
 #include <string_view>
 #include <vector>
 
-#include "analysis/amplitude_measurement.h"
+#include "analysis/free_stator/amplitude_measurement.h"
 
 namespace swum::host {
 

@@ -6,7 +6,7 @@
 #include <optional>
 #include <string>
 
-#include "config/number_format.h"
+#include "formats/number_format.h"
 #include "device/device.h"
 
 namespace swum::host {

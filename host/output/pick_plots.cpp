@@ -3,7 +3,7 @@
 #include <cmath>
 #include <map>
 
-#include "config/number_format.h"
+#include "formats/number_format.h"
 #include "output/plot.h"
 
 namespace swum::host {

@@ -7,7 +7,7 @@
 #include <utility>
 #include <vector>
 
-#include "analysis/operating_point.h"
+#include "analysis/operating_point/operating_point.h"
 #include "output/sweep_table.h"
 
 namespace swum::host {

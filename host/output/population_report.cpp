@@ -5,8 +5,8 @@
 #include <optional>
 #include <utility>
 
-#include "analysis/population.h"
-#include "config/number_format.h"
+#include "analysis/studies/population.h"
+#include "formats/number_format.h"
 
 namespace swum::host {
 namespace {

@@ -9,8 +9,8 @@
 #include <stdexcept>
 #include <utility>
 
-#include "config/csv_cells.h"
-#include "config/number_format.h"
+#include "formats/csv_cells.h"
+#include "formats/number_format.h"
 #include "output/plot.h"
 #include "output/value_lists.h"
 

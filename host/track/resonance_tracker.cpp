@@ -4,7 +4,7 @@
 #include <cmath>
 #include <stdexcept>
 
-#include "config/number_format.h"
+#include "formats/number_format.h"
 #include "model/electrical.h"
 
 namespace swum::host {

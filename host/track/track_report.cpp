@@ -6,8 +6,8 @@
 #include <map>
 #include <stdexcept>
 
-#include "config/csv_cells.h"
-#include "config/number_format.h"
+#include "formats/csv_cells.h"
+#include "formats/number_format.h"
 
 namespace swum::host {
 namespace {

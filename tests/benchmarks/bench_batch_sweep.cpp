@@ -11,8 +11,8 @@
 #include <string>
 #include <vector>
 
-#include "analysis/steady_state_batch.h"
-#include "config/parameter_file.h"
+#include "analysis/steady_state/steady_state_batch.h"
+#include "formats/parameter_file.h"
 #include "model/batch_simulator.h"
 #include "test_paths.h"
 

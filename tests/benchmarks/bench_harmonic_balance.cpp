@@ -3,7 +3,7 @@
 // single-valued point and at a three-branch point; and one mode from one seed.
 #include <benchmark/benchmark.h>
 
-#include "analysis/harmonic_balance.h"
+#include "analysis/free_stator/harmonic_balance.h"
 #include "model/motor_model.h"
 
 namespace {

@@ -18,11 +18,11 @@
 #include <stdexcept>
 #include <thread>
 
-#include "config/parameter_file.h"
-#include "emulator_core.h"
-#include "lockstep_clock.h"
+#include "formats/parameter_file.h"
+#include "core/emulator_core.h"
+#include "core/lockstep_clock.h"
 #include "modbus_codec.h"
-#include "modbus_server.h"
+#include "transports/modbus_server.h"
 #include "test_paths.h"
 
 namespace {

@@ -14,7 +14,7 @@
 #include <string>
 #include <vector>
 
-#include "config/parameter_file.h"
+#include "formats/parameter_file.h"
 #include "model/simulator.h"
 #include "test_paths.h"
 

@@ -1,4 +1,4 @@
-// Cost of one operating point run to steady state (src/analysis/steady_state.h), the unit of
+// Cost of one operating point run to steady state (src/analysis/steady_state/steady_state.h), the unit of
 // every sweep, pick, synth, fit and validation fact (issue 16, items 1 and 3). Side by side in
 // one run:
 //   StepByStep  the loop before issue 16: one step() call per step and the window statistics
@@ -18,8 +18,8 @@
 #include <sstream>
 #include <string>
 
-#include "analysis/steady_state.h"
-#include "config/parameter_file.h"
+#include "analysis/steady_state/steady_state.h"
+#include "formats/parameter_file.h"
 #include "test_paths.h"
 
 namespace {

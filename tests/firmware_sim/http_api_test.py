@@ -41,7 +41,7 @@ import emu_harness  # noqa: E402
 from emu_harness import CONFIG, SOURCE_DIR, Emulator, RegisterMap  # noqa: E402
 
 OPENAPI_PATH = os.path.join(SOURCE_DIR, "docs/openapi.yaml")
-RECORDING_SOURCE = os.path.join(SOURCE_DIR, "firmware_sim/http_recording.cpp")
+RECORDING_SOURCE = os.path.join(SOURCE_DIR, "firmware_sim/http/http_recording.cpp")
 TOKEN = "s3cret-token"
 TICK_HZ = 10000.0  # swum-emu's default --tick-hz
 FAULT_CODE_OVER_TEMPERATURE = 4
@@ -366,7 +366,7 @@ def active_types(api):
 
 
 def recording_header():
-    """kRecordingHeader of firmware_sim/http_recording.cpp (its string literals joined)."""
+    """kRecordingHeader of firmware_sim/http/http_recording.cpp (its string literals joined)."""
     with open(RECORDING_SOURCE) as f:
         source = f.read()
     m = re.search(r"kRecordingHeader\s*=\s*((?:\s*\"[^\"]*\")+)\s*;", source)

@@ -6,8 +6,8 @@
 #include <fstream>
 #include <sstream>
 
-#include "analysis/steady_state.h"
-#include "config/parameter_file.h"
+#include "analysis/steady_state/steady_state.h"
+#include "formats/parameter_file.h"
 #include "model/motor_model.h"
 
 int main(int argc, char** argv) {

@@ -1,4 +1,4 @@
-// Fuzz target: `swum synth --effect NAME[:key=value,...]` (src/analysis/candidate_effects.h
+// Fuzz target: `swum synth --effect NAME[:key=value,...]` (src/analysis/discrepancy/candidate_effects.h
 // apply_effect_argument).
 // Invariants: the only error is std::invalid_argument; an accepted argument enables the named
 // effect, sets every key=value given (the last one of a key wins), and leaves parameters that pass
@@ -9,8 +9,8 @@
 #include <stdexcept>
 #include <string>
 
-#include "analysis/candidate_effects.h"
-#include "config/csv_cells.h"
+#include "analysis/discrepancy/candidate_effects.h"
+#include "formats/csv_cells.h"
 #include "fuzz_check.h"
 #include "model/parameters.h"
 #include "parameter_round_trip.h"

@@ -1,4 +1,4 @@
-// Fuzz target: a facts file (TOML; src/config/facts_file.h parse_facts), the --facts of
+// Fuzz target: a facts file (TOML; src/formats/facts_file.h parse_facts), the --facts of
 // `swum calibrate`.
 // Invariants: the only error is ParameterError, one line naming the source; accepted facts
 // have a known kind, a finite tolerance > 0, a band min <= max that is target -/+ tolerance
@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include "config/facts_file.h"
+#include "formats/facts_file.h"
 #include "fuzz_check.h"
 #include "model/parameters.h"
 

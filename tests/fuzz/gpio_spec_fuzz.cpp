@@ -1,4 +1,4 @@
-// Fuzz target: swum-emu's --gpio "CHIP:enable=N,fault=M[,a=K,b=L]" (firmware_sim/gpio_transport.h
+// Fuzz target: swum-emu's --gpio "CHIP:enable=N,fault=M[,a=K,b=L]" (firmware_sim/transports/gpio_transport.h
 // parse_gpio_spec).
 // Invariants: an accepted spec names a chip, its line offsets were written as whole decimal
 // numbers (no "enable=3x"), are >= 0 or unused, the encoder has both lines or neither; the
@@ -9,7 +9,7 @@
 #include <string>
 
 #include "fuzz_check.h"
-#include "gpio_transport.h"
+#include "transports/gpio_transport.h"
 
 namespace {
 

@@ -1,4 +1,4 @@
-// Fuzz target: the HTTP API's request bodies (firmware_sim/http_json.h): a fault request, a
+// Fuzz target: the HTTP API's request bodies (firmware_sim/http/http_json.h): a fault request, a
 // lockstep step and a fault's name in DELETE /api/v1/faults/{type}, all from outside input.
 // Invariants: the only error is HttpError with a 4xx status and a one-line message; an accepted
 // fault is a fault (or a clear naming one) whose text form reads back the same; an accepted
@@ -10,7 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include "fuzz_check.h"
-#include "http_json.h"
+#include "http/http_json.h"
 
 namespace {
 

@@ -1,4 +1,4 @@
-// Fuzz target: the measurement CSV reader (src/analysis/measurements.h) behind `swum discrepancy`,
+// Fuzz target: the measurement CSV reader (src/analysis/measurements/measurements.h) behind `swum discrepancy`,
 // `swum synth` (operating points) and the sweep/log files read as measurements.
 // Invariants, for parse_measurements_csv and parse_operating_points_csv: the only error is
 // MeasurementError; an accepted set has rows, every value finite and inside the documented
@@ -9,7 +9,7 @@
 #include <cstdint>
 #include <string>
 
-#include "analysis/measurements.h"
+#include "analysis/measurements/measurements.h"
 #include "fuzz_check.h"
 
 namespace {

@@ -1,5 +1,5 @@
 // Fuzz target: bytes arriving on a Modbus RTU line, framed the way swum-emu's RTU server frames
-// them (firmware_sim/modbus_server.cpp: rtu::request_length decides how many bytes to read next,
+// them (firmware_sim/transports/modbus_server.cpp: rtu::request_length decides how many bytes to read next,
 // rtu::crc16 checks the frame, the PDU between unit id and CRC goes to parse_request/decide).
 // Input: byte 0 = options (bit 0: put the right CRC on each frame, so the fuzzer reaches the
 // PDU checks without solving CRC-16), then the line's bytes.
@@ -14,7 +14,7 @@
 
 #include "fuzz_check.h"
 #include "modbus_pdu_check.h"
-#include "modbus_server.h"
+#include "transports/modbus_server.h"
 
 namespace {
 

@@ -1,4 +1,4 @@
-// Fuzz target: a motor parameter file (TOML; src/config/parameter_file.h parse_motor_parameters),
+// Fuzz target: a motor parameter file (TOML; src/formats/parameter_file.h parse_motor_parameters),
 // the --config of every `swum` command and of swum-emu.
 // Invariants: the only error is ParameterError (a toml++ exception or any other escaping is a
 // crash); accepted parameters pass validate_parameters, and format_motor_parameters writes
@@ -8,7 +8,7 @@
 #include <cstdint>
 #include <string>
 
-#include "config/parameter_file.h"
+#include "formats/parameter_file.h"
 #include "fuzz_check.h"
 #include "parameter_round_trip.h"
 

@@ -5,7 +5,7 @@
 
 #include <string>
 
-#include "config/parameter_file.h"
+#include "formats/parameter_file.h"
 #include "fuzz_check.h"
 #include "model/parameters.h"
 

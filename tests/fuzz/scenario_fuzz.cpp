@@ -1,4 +1,4 @@
-// Fuzz target: a scenario file (TOML; firmware_sim/scenario.h parse_scenario), swum-emu's
+// Fuzz target: a scenario file (TOML; firmware_sim/core/scenario.h parse_scenario), swum-emu's
 // --scenario; the same bytes also as one --inject value (parse_injection).
 // Invariants: the only error is ScenarioError, with a one-line message (no control
 // characters); an accepted scenario's events are ordered by at_s, lie in [0, 1e6] s, and each
@@ -9,7 +9,7 @@
 #include <string>
 
 #include "fuzz_check.h"
-#include "scenario.h"
+#include "core/scenario.h"
 
 namespace {
 

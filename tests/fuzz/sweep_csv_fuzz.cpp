@@ -1,5 +1,5 @@
 // Fuzz target: the sweep file reader of `swum pick --sweep` (host/output/sweep_table.h
-// parse_sweep_csv) and the picking rule it feeds (src/analysis/operating_point.h
+// parse_sweep_csv) and the picking rule it feeds (src/analysis/operating_point/operating_point.h
 // pick_operating_point, one curve per voltage and load, as pick_command.cpp builds them).
 // Invariants: the only errors are std::runtime_error and std::invalid_argument (a bad number
 // cell, from parse_finite_number; `swum pick` catches both as std::exception); accepted
@@ -21,7 +21,7 @@
 #include <utility>
 #include <vector>
 
-#include "analysis/operating_point.h"
+#include "analysis/operating_point/operating_point.h"
 #include "fuzz_check.h"
 #include "output/sweep_table.h"
 

@@ -1,4 +1,4 @@
-// Fuzz target: a record/replay trace (firmware_sim/trace.h read_trace), swum-emu's --replay.
+// Fuzz target: a record/replay trace (firmware_sim/core/trace.h read_trace), swum-emu's --replay.
 // Invariants: the only error is TraceError, with a one-line message; an accepted trace has
 // telemetry rows on consecutive ticks and inputs in tick order, and (when short) replays into a
 // fresh emulator core without crashing or throwing (identical or not).
@@ -7,9 +7,9 @@
 #include <sstream>
 #include <string>
 
-#include "config/parameter_file.h"
+#include "formats/parameter_file.h"
 #include "fuzz_check.h"
-#include "trace.h"
+#include "core/trace.h"
 
 namespace {
 

@@ -34,8 +34,8 @@
 #include "command.h"               // Command, AmplifierLimits
 #include "endpoint.h"              // parse_modbus_endpoint
 #include "modbus_codec.h"          // parse_request, decide, fill_holding, fill_input, holding::/input:: addresses
-#include "modbus_server.h"         // ModbusTcpServer (the emulator's Modbus TCP framing)
-#include "shared_state.h"          // SharedState
+#include "transports/modbus_server.h"         // ModbusTcpServer (the emulator's Modbus TCP framing)
+#include "core/shared_state.h"          // SharedState
 #include "telemetry.h"             // Telemetry, RejectSnapshot
 // Host side (host/device/ and host/output/ today):
 #include "device/can_device.h"     // CanDevice (CAN client: command/aux frames out, telemetry sets in)

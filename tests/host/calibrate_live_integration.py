@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""From a live sweep to a calibrated config (`swum calibrate`, src/analysis/calibration.h):
+"""From a live sweep to a calibrated config (`swum calibrate`, src/analysis/calibration/calibration.h):
 swum-emu runs a motor of the design whose base parameters differ from config/li2019.toml
 (preload 24.8 -> 22.5 N, L1 damping 39 -> 44 N s/m, friction coefficient 0.35 -> 0.33, c1111
 -0.85e17 -> -1.0e17 Pa), `swum sweep --modbus` measures it across the softening resonance at two

@@ -1,6 +1,6 @@
 // The files the host tool writes, read back: the sweep table in both layouts (model and
 // device), and `swum sweep` / `swum log` output taken as measurements by the discrepancy
-// workflow (src/analysis/measurements.h) — real formatter text from the fake device.
+// workflow (src/analysis/measurements/measurements.h) — real formatter text from the fake device.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -10,7 +10,7 @@
 #include <utility>
 #include <vector>
 
-#include "analysis/measurements.h"
+#include "analysis/measurements/measurements.h"
 #include "device/device_sweep.h"
 #include "fake_device.h"
 #include "output/log_table.h"

@@ -12,7 +12,7 @@
 #include <utility>
 #include <vector>
 
-#include "config/parameter_file.h"
+#include "formats/parameter_file.h"
 #include "output/value_lists.h"
 #include "test_paths.h"
 

@@ -9,8 +9,8 @@
 #include <string>
 #include <vector>
 
-#include "analysis/synthetic_amplitudes.h"
-#include "config/parameter_file.h"
+#include "analysis/free_stator/synthetic_amplitudes.h"
+#include "formats/parameter_file.h"
 #include "output/amplitude_csv.h"
 #include "swum_cli_runner.h"
 #include "test_paths.h"

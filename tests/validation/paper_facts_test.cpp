@@ -1,6 +1,6 @@
 // The paper's experimental facts (model_spec §8) on the calibrated motor
 // (config/li2019.toml) and its linear variant, and the literal reading's cross-check
-// (model_spec §9). The criteria live in src/analysis/paper_facts (shared with
+// (model_spec §9). The criteria live in src/analysis/studies/paper_facts (shared with
 // `swum validate`, which writes docs/validation.md's table). A fact the calibrated model
 // does not reproduce stays here as a DISABLED_ test whose name says so.
 #include <gtest/gtest.h>
@@ -9,8 +9,8 @@
 #include <sstream>
 #include <string>
 
-#include "analysis/paper_facts.h"
-#include "config/parameter_file.h"
+#include "analysis/studies/paper_facts.h"
+#include "formats/parameter_file.h"
 #include "model/motor_model.h"
 #include "test_paths.h"
 

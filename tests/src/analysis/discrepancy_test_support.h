@@ -7,8 +7,8 @@
 #include <sstream>
 #include <vector>
 
-#include "analysis/discrepancy.h"
-#include "config/parameter_file.h"
+#include "analysis/discrepancy/discrepancy.h"
+#include "formats/parameter_file.h"
 #include "test_paths.h"
 
 namespace swum::test {

@@ -6,7 +6,7 @@
 #include <functional>
 #include <thread>
 
-#include "analysis/measured_point_model.h"
+#include "analysis/measurements/measured_point_model.h"
 
 namespace swum::test {
 

@@ -4,7 +4,7 @@
 #include <fstream>
 #include <sstream>
 
-#include "config/parameter_file.h"
+#include "formats/parameter_file.h"
 #include "test_paths.h"
 
 namespace swum::test {

@@ -5,7 +5,7 @@
 
 #include <gtest/gtest.h>
 
-#include "analysis/steady_state.h"
+#include "analysis/steady_state/steady_state.h"
 #include "model/simulator.h"
 
 namespace swum {

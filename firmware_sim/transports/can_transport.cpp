@@ -1,0 +1,254 @@
+#include "transports/can_transport.h"
+
+#include "core/lockstep_clock.h"
+
+#include <time.h>
+
+#include <array>
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+#include <stdexcept>
+
+namespace swum::emu {
+
+namespace {
+std::int64_t monotonic_ns() {
+  timespec ts{};
+  clock_gettime(CLOCK_MONOTONIC, &ts);  // cannot fail for CLOCK_MONOTONIC with a valid pointer
+  return static_cast<std::int64_t>(ts.tv_sec) * 1'000'000'000 + ts.tv_nsec;
+}
+// CLOCK_REALTIME now, or -1 (reported once) if clock_gettime fails.
+std::int64_t realtime_ns() {
+  timespec ts{};
+  if (clock_gettime(CLOCK_REALTIME, &ts) != 0) {
+    static std::atomic<bool> reported{false};
+    if (!reported.exchange(true))
+      std::fprintf(stderr, "swum-emu: clock_gettime(CLOCK_REALTIME): %s; CAN receive timestamps unused\n",
+                   std::strerror(errno));
+    return -1;
+  }
+  return static_cast<std::int64_t>(ts.tv_sec) * 1'000'000'000 + ts.tv_nsec;
+}
+}  // namespace
+
+RxStamp receive_time(std::chrono::nanoseconds timestamp, std::int64_t realtime_now_ns, std::int64_t monotonic_now_ns) {
+  RxStamp r;
+  r.monotonic_ns = monotonic_now_ns;
+  if (timestamp.count() == 0) return r;  // missing
+  const std::int64_t age = realtime_now_ns - static_cast<std::int64_t>(timestamp.count());
+  if (realtime_now_ns < 0 || age < -1'000'000 || age > kMaxFrameAgeNs) {
+    r.source = RxStampSource::implausible;
+    return r;
+  }
+  r.source = RxStampSource::bus;
+  r.age_ns = age > 0 ? age : 0;
+  r.monotonic_ns = monotonic_now_ns - r.age_ns;
+  return r;
+}
+
+CanTransport::CanTransport(std::unique_ptr<io::CanBus> rx_bus, std::unique_ptr<io::CanBus> tx_bus,
+                           CanTransportConfig config, SharedState& shared, AmplifierLimits limits)
+    : rx_bus_(std::move(rx_bus)),
+      tx_bus_(std::move(tx_bus)),
+      config_(config),
+      ids_(protocol::can::ids_for_node(config.node)),
+      shared_(shared),
+      limits_(limits) {
+  if (config.node < protocol::can::kMinNode || config.node > protocol::can::kMaxNode)
+    throw std::invalid_argument("CAN node id must be " + std::to_string(protocol::can::kMinNode) + ".." +
+                                std::to_string(protocol::can::kMaxNode));
+  const std::array<io::CanFilter, 3> filters{io::CanFilter{ids_.command, io::kCanStandardIdMax, false},
+                                             io::CanFilter{ids_.aux, io::kCanStandardIdMax, false},
+                                             io::CanFilter{protocol::can::kSyncId, io::kCanStandardIdMax, false}};
+
+  const io::CanResult r = rx_bus_->set_filters(filters);
+  if (!r.ok()) throw std::runtime_error("CAN: cannot set receive filters on " + rx_bus_->name() + ": " + r.message);
+}
+
+CanTransport::~CanTransport() { stop(); }
+
+void CanTransport::start() {
+  rx_thread_ = std::thread([this] { rx_loop(); });
+  tx_thread_ = std::thread([this] { tx_loop(); });
+}
+
+void CanTransport::stop() {
+  stopping_.store(true);
+  if (rx_thread_.joinable()) rx_thread_.join();
+  if (tx_thread_.joinable()) tx_thread_.join();
+}
+
+void CanTransport::rx_loop() {
+  protocol::can::AliveCounter command_alive, aux_alive;
+  io::CanFrame frame;
+  std::uint64_t reported_errors = 0;
+  while (!stopping_.load(std::memory_order_relaxed)) {
+    const io::CanResult r = rx_bus_->receive(frame, std::chrono::milliseconds(50));
+    if (r.status == io::CanStatus::timeout) continue;
+    if (r.status == io::CanStatus::error_frame) {
+      stats_.error_frames.fetch_add(1);
+      const io::CanErrorInfo info = io::decode_error_frame(frame);
+      if (info.bus_off) {
+        stats_.bus_off.fetch_add(1);
+        std::fprintf(stderr, "swum-emu: CAN %s: bus-off (%s); waiting for the controller to restart\n",
+                     rx_bus_->name().c_str(), info.describe().c_str());
+      }
+      continue;
+    }
+    if (r.status != io::CanStatus::ok) {
+      stats_.rx_errors.fetch_add(1);
+      if (reported_errors++ < 5)
+        std::fprintf(stderr, "swum-emu: CAN %s: receive: %s\n", rx_bus_->name().c_str(), r.message.c_str());
+      ::timespec pause{0, 10'000'000};
+      ::nanosleep(&pause, nullptr);  // e.g. ENETDOWN: do not spin
+      continue;
+    }
+    stats_.rx_frames.fetch_add(1, std::memory_order_relaxed);
+    log_frame(frame);
+    // A scenario's bus-off: the node hears nothing, except that a SYNC still steps the emulated
+    // clock (unanswered: send_telemetry() sends nothing then); otherwise, with SYNC as the clock,
+    // emulated time would never reach the end of the bus-off.
+    const bool sync = frame.id == protocol::can::kSyncId && !frame.extended;
+    if (shared_.can_bus_off.load(std::memory_order_relaxed) && !(sync && shared_.lockstep != nullptr)) {
+      stats_.bus_off_discarded.fetch_add(1, std::memory_order_relaxed);
+      continue;
+    }
+    const RxStamp stamp = receive_time(frame.timestamp, realtime_ns(), monotonic_ns());
+    switch (stamp.source) {
+      case RxStampSource::bus:
+        stats_.rx_stamped.fetch_add(1, std::memory_order_relaxed);
+        receive_age_.record(static_cast<std::uint64_t>(stamp.age_ns));
+        break;
+      case RxStampSource::missing: stats_.rx_stamp_missing.fetch_add(1, std::memory_order_relaxed); break;
+      case RxStampSource::implausible: stats_.rx_stamp_implausible.fetch_add(1, std::memory_order_relaxed); break;
+    }
+    // The alive counter's resynchronisation window (1 s without an accepted frame): on the
+    // emulated clock in lockstep, so that whether a command counts never depends on wall time.
+    const std::int64_t alive_ns =
+        shared_.lockstep != nullptr ? static_cast<std::int64_t>(std::llround(shared_.telemetry.load().sim_time_s * 1e9))
+                                    : stamp.monotonic_ns;
+    Reason reason = Reason::none;
+    Command command;
+    if (frame.id == ids_.command && !frame.extended) {
+      protocol::can::CommandFrame c;
+      reason = protocol::can::decode_command(frame, c);
+      if (reason == Reason::none) reason = command_alive.check(c.alive, alive_ns);
+      if (reason == Reason::none) {
+        command = protocol::can::to_command(c);
+        reason = validate(command, limits_);
+      }
+      if (reason == Reason::none) {
+        command.accepted_ns = static_cast<std::uint64_t>(stamp.monotonic_ns);
+        reason = shared_.submit(command);
+        if (reason == Reason::none) command_alive.accept(c.alive, alive_ns);
+      }
+    } else if (frame.id == ids_.aux && !frame.extended) {
+      protocol::can::AuxFrame a;
+      reason = protocol::can::decode_aux(frame, a);
+      if (reason == Reason::none) reason = aux_alive.check(a.alive, alive_ns);
+      if (reason == Reason::none) {
+        command = protocol::can::to_command(a);
+        reason = validate(command, limits_);
+      }
+      if (reason == Reason::none) {
+        command.accepted_ns = static_cast<std::uint64_t>(stamp.monotonic_ns);
+        reason = shared_.submit(command);
+        if (reason == Reason::none) aux_alive.accept(a.alive, alive_ns);
+      }
+    } else if (sync) {
+      reason = on_sync(frame);
+      if (reason == Reason::none) continue;  // a step, not a command: not counted as accepted
+    } else {
+      continue;  // not for us (filters normally keep these out)
+    }
+    if (reason == Reason::none) {
+      stats_.accepted.fetch_add(1, std::memory_order_relaxed);
+    } else {
+      stats_.rejected.fetch_add(1, std::memory_order_relaxed);
+      if (reason != Reason::queue_full) shared_.rejects.record(reason, CommandSource::can);  // submit() logged it
+    }
+  }
+}
+
+// candump -l: "(SECONDS.MICROSECONDS) IFACE ID#DATA". In lockstep the time is the emulated time
+// (the same run gives the same file); heartbeats, on the wall clock, are not logged then.
+void CanTransport::log_frame(const io::CanFrame& frame) {
+  if (config_.can_log == nullptr) return;
+  const bool lockstep = shared_.lockstep != nullptr;
+  if (lockstep && frame.id == ids_.heartbeat) return;
+  const std::int64_t ns = lockstep ? static_cast<std::int64_t>(std::llround(shared_.telemetry.load().sim_time_s * 1e9))
+                                   : realtime_ns();
+  char data[17] = "";
+  for (unsigned i = 0; i < frame.dlc && i < 8; ++i) std::snprintf(data + 2 * i, 3, "%02X", frame.data[i]);
+  const std::lock_guard lock(log_mutex_);
+  std::fprintf(config_.can_log, "(%lld.%06lld) %s %03X#%s\n", static_cast<long long>(ns / 1'000'000'000),
+               static_cast<long long>((ns % 1'000'000'000) / 1000), rx_bus_->name().c_str(), frame.id, data);
+}
+
+void CanTransport::send(const io::CanFrame& frame) {
+  io::CanBus& bus = tx_bus_ ? *tx_bus_ : *rx_bus_;
+  const io::CanResult r = bus.send(frame);
+  if (r.ok()) {
+    log_frame(frame);
+    stats_.tx_frames.fetch_add(1, std::memory_order_relaxed);
+  } else if (r.status == io::CanStatus::retry) {
+    stats_.tx_dropped.fetch_add(1, std::memory_order_relaxed);  // queue full: telemetry is periodic, drop it
+  } else {
+    if (stats_.tx_errors.fetch_add(1) < 5)
+      std::fprintf(stderr, "swum-emu: CAN %s: send: %s\n", bus.name().c_str(), r.message.c_str());
+  }
+}
+
+Reason CanTransport::on_sync(const io::CanFrame& frame) {
+  protocol::can::SyncFrame sync;
+  if (const Reason r = protocol::can::decode_sync(frame, sync); r != Reason::none) return r;
+  if (shared_.lockstep == nullptr) return Reason::clock_not_external;
+  // CANopen synchronous semantics: the actual values sampled at this SYNC go out now; the
+  // set-points received since the last SYNC (queued already, in order) act from the cycle's first
+  // tick; frames arriving meanwhile wait in the socket for the next cycle. False: the run ended.
+  send_telemetry();
+  stats_.syncs.fetch_add(1, std::memory_order_relaxed);
+  shared_.lockstep->advance(config_.sync_ticks);
+  return Reason::none;
+}
+
+void CanTransport::send_telemetry() {
+  if (shared_.can_bus_off.load(std::memory_order_relaxed) || shared_.telemetry_silent.load(std::memory_order_relaxed))
+    return;  // a scenario's bus-off or telemetry silence
+  const Telemetry t = shared_.telemetry.load();
+  const RejectSnapshot rejects{static_cast<Reason>(shared_.rejects.last_reason.load()), shared_.rejects.count.load()};
+  send(protocol::can::encode_status(t, rejects, status_counter_.fetch_add(1, std::memory_order_relaxed), ids_.status));
+  send(protocol::can::encode_motion(t, ids_.motion));
+  send(protocol::can::encode_drive(t, ids_.drive));
+  send(protocol::can::encode_loop_stats(t, ids_.loop_stats));
+  send(protocol::can::encode_clock(t, ids_.clock));
+  send(protocol::can::encode_electrical_a(t, ids_.electrical_a));
+  send(protocol::can::encode_electrical_b(t, ids_.electrical_b));
+  send(protocol::can::encode_output(t, ids_.output));  // last: it ends the set
+}
+
+void CanTransport::tx_loop() {
+  const auto period = static_cast<std::int64_t>(1e9 / (config_.telemetry_hz > 0 ? config_.telemetry_hz : 100.0));
+  const auto heartbeat = static_cast<std::int64_t>(config_.heartbeat_s * 1e9);
+  std::int64_t next = monotonic_ns();
+  std::int64_t next_heartbeat = next;
+  // Lockstep: telemetry goes out at each SYNC (on_sync), never on the wall clock.
+  const bool periodic_telemetry = config_.telemetry_hz > 0 && shared_.lockstep == nullptr;
+  while (!stopping_.load(std::memory_order_relaxed)) {
+    if (periodic_telemetry) send_telemetry();
+    const std::int64_t now = monotonic_ns();
+    if (heartbeat > 0 && now >= next_heartbeat && !shared_.can_bus_off.load(std::memory_order_relaxed)) {
+      send(protocol::can::encode_heartbeat(ids_.heartbeat));
+      next_heartbeat += heartbeat;
+      if (next_heartbeat < now) next_heartbeat = now + heartbeat;
+    }
+    next += period;
+    if (next < now) next = now + period;  // fell behind (e.g. stopped in a debugger): no burst
+    const timespec ts{static_cast<time_t>(next / 1'000'000'000), static_cast<long>(next % 1'000'000'000)};
+    while (clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &ts, nullptr) == EINTR) {
+    }
+  }
+}
+
+}  // namespace swum::emu

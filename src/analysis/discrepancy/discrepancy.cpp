@@ -1,0 +1,410 @@
+#include "analysis/discrepancy/discrepancy.h"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <numeric>
+#include <random>
+#include <stdexcept>
+#include <tuple>
+
+#include "analysis/fit/parameter_fit.h"
+#include "formats/number_format.h"
+
+namespace swum {
+namespace {
+
+double sum_of_squares(const std::vector<double>& r, const std::vector<std::size_t>& slots) {
+  double s = 0.0;
+  for (std::size_t k : slots) s += r[k] * r[k];
+  return s;
+}
+
+double rms(const std::vector<double>& r, const std::vector<std::size_t>& slots) {
+  return slots.empty() ? 0.0 : std::sqrt(sum_of_squares(r, slots) / static_cast<double>(slots.size()));
+}
+
+// Schwarz criterion difference for `added` extra parameters: n ln(SSE1/SSE0) + added ln n.
+double delta_bic(double sse_new, double sse_old, std::size_t n, int added) {
+  const double nd = static_cast<double>(n);
+  return nd * std::log(std::max(sse_new, 1e-300) / std::max(sse_old, 1e-300)) + added * std::log(nd);
+}
+
+std::string describe_evidence(double bic, const HeldOutEvidence& e) {
+  return format_numbers("delta BIC %+.4g; held-out: ", bic) + std::to_string(e.improved) + " of " +
+         std::to_string(e.points) + format_numbers(" points better, p = %.2g", e.p_value) +
+         format_numbers(" (signed-rank %.2g, sign-flip %.2g)", e.signed_rank_p, e.sign_flip_p) +
+         format_numbers("; RMS gap %.3g %%", 100.0 * e.rms_before) +
+         format_numbers(" -> %.3g %% (reduction %.0f %%", 100.0 * e.rms_after, 100.0 * e.reduction) +
+         format_numbers(", 90 %% interval %.0f..%.0f %%)", 100.0 * e.reduction_low, 100.0 * e.reduction_high);
+}
+
+// The Cauchy M-estimate (parameter_fit.h) from a first fit `ls` (at the round's scale), rescaled
+// by what that fit leaves. Its cost is not convex where a reading sits on a step of the model (a dead-zone edge,
+// a jump across the fold): the last parameter is first scanned around the least-squares value
+// (+-10, 25, 50 % of its offset from neutral, one batch) and the fit starts at the lowest
+// robust cost.
+ParameterFit robust_refit(const ParameterEvaluator& eval, const ResidualModel& model,
+                          const std::vector<std::size_t>& train, const ParameterFit& ls, int max_iterations) {
+  const double scale = kCauchyEfficiencyScale * robust_sigma(model.residuals(ls.predictions), train);
+  if (!(scale > 0.0)) return ls;
+  auto cauchy_cost = [&](const Predictions& p) {
+    double cost = 0.0;
+    for (std::size_t k : train) {
+      const double r = model.residual(k, p);
+      cost += scale * scale * std::log1p(r * r / (scale * scale));
+    }
+    return cost;
+  };
+  const FreeParameter& e = eval.free().back();
+  const double offset = ls.values.back() - e.origin;
+  std::vector<std::vector<double>> starts;
+  for (double f : {-0.5, -0.25, -0.1, 0.1, 0.25, 0.5}) {
+    std::vector<double> v = ls.values;
+    v.back() = std::clamp(ls.values.back() + f * offset, std::min(e.lower, e.upper), std::max(e.lower, e.upper));
+    starts.push_back(v);
+  }
+  const std::vector<Predictions> scanned = eval.evaluate(starts);
+  std::vector<double> start = ls.values;
+  const Predictions* start_predictions = &ls.predictions;
+  double best = cauchy_cost(ls.predictions);
+  for (std::size_t k = 0; k < starts.size(); ++k) {
+    const double cost = cauchy_cost(scanned[k]);
+    if (cost < best) {
+      best = cost;
+      start = starts[k];
+      start_predictions = &scanned[k];
+    }
+  }
+  ParameterFit robust = fit_parameters(eval, model, train, start, max_iterations, start_predictions, scale);
+  return robust.ok ? robust : ls;
+}
+
+// Cauchy cost sum a^2 ln(1 + r^2/a^2) over `slots` (parameter_fit.h).
+// (a = 0, a model that leaves exactly nothing: the sum of squares.)
+double cauchy_cost(const std::vector<double>& r, const std::vector<std::size_t>& slots, double a) {
+  double cost = 0.0;
+  for (std::size_t k : slots) cost += a > 0.0 ? a * a * std::log1p(r[k] * r[k] / (a * a)) : r[k] * r[k];
+  return cost;
+}
+
+std::vector<FreeParameter> free_parameters_of(const std::vector<const CandidateEffect*>& effects) {
+  std::vector<FreeParameter> free;
+  for (const CandidateEffect* e : effects) free.push_back(effect_free_parameter(*e));
+  return free;
+}
+
+struct Screened {
+  double theta = 0.0;
+  double sse = 0.0;
+  double robust = 0.0;  // Cauchy cost at the round's scale
+  Predictions predictions;
+  std::vector<double> residuals;
+};
+
+}  // namespace
+
+DiscrepancyResult run_discrepancy(const MotorParameters& baseline, const MeasurementSet& set,
+                                  const DiscrepancyOptions& options, const ParallelFor& parallel) {
+  std::vector<const CandidateEffect*> candidates;
+  if (options.candidates.empty()) {
+    for (const auto& e : candidate_effects()) candidates.push_back(&e);
+  } else {
+    for (const std::string& name : options.candidates) {
+      const CandidateEffect* e = find_candidate_effect(name);
+      if (e == nullptr) {
+        throw std::invalid_argument("unknown effect '" + name + "' (known: " + candidate_effect_names() + ")");
+      }
+      candidates.push_back(e);
+    }
+  }
+  DiscrepancyResult result;
+  result.held_out = held_out_rows(set, {options.held_out_fraction, options.min_held_out_points, options.split_seed},
+                                  result.held_out_points, result.operating_points);
+  const ResidualModel model(set, options.floor_fraction);
+  std::vector<std::size_t> train, test;
+  for (std::size_t k = 0; k < model.slots().size(); ++k) {
+    (result.held_out[model.slots()[k].row] ? test : train).push_back(k);
+  }
+  const std::size_t n = train.size();
+  auto predict = [&](const std::vector<MotorParameters>& models) {
+    result.model_evaluations += static_cast<int>(models.size());
+    return predict_points(models, set.rows, options.prediction, parallel);
+  };
+
+  MotorParameters current = baseline;
+  result.baseline_predictions = predict({current})[0];
+  result.baseline_map = map_disagreement(set, result.baseline_predictions, model);
+  Predictions current_predictions = result.baseline_predictions;
+  std::vector<double> current_r = model.residuals(current_predictions);
+
+  const bool robust_fit = options.robust;
+  std::vector<bool> used(candidates.size(), false);
+  while (static_cast<int>(result.effects.size()) < options.max_effects) {
+    DiscrepancyRound round;
+    const double sse0 = sum_of_squares(current_r, train);
+    // Candidates are screened, ranked and first fitted by the Cauchy cost at a scale set by
+    // what the current model leaves: a few readings on the other side of a fold or a dead-zone
+    // edge (residuals of 100 % and more) must not choose the effect.
+    const double round_scale = kCauchyEfficiencyScale * robust_sigma(current_r, train);
+    const double robust0 = cauchy_cost(current_r, train, round_scale);
+    // Screening: a probe at the typical magnitude, then Gauss-Newton / secant steps, every
+    // candidate of a step in one parallel batch.
+    std::vector<std::size_t> active;
+    std::vector<Screened> best(candidates.size());
+    std::vector<Screened> last(candidates.size());
+    std::vector<Screened> previous(candidates.size());
+    for (std::size_t c = 0; c < candidates.size(); ++c) {
+      CandidateScore score;
+      score.name = std::string(candidates[c]->name);
+      if (used[c] || effect_enabled(current, *candidates[c])) {
+        score.skipped = true;
+        score.note = "already in the model";
+      } else if (candidates[c]->needs_time && !set.has_time) {
+        score.skipped = true;
+        score.note = "needs time_s (builds up over a session)";
+      } else {
+        active.push_back(c);
+        best[c] = {0.0, sse0, robust0, current_predictions, current_r};
+        previous[c] = best[c];
+      }
+      round.candidates.push_back(score);
+    }
+    std::vector<double> thetas(candidates.size(), 1.0);
+    for (int step = 0; step <= options.screening_steps && !active.empty(); ++step) {
+      std::vector<MotorParameters> models;
+      for (std::size_t c : active) {
+        MotorParameters p = current;
+        enable_effect(p, *candidates[c], candidates[c]->neutral + thetas[c] * candidates[c]->typical);
+        models.push_back(p);
+      }
+      const std::vector<Predictions> batch = predict(models);
+      std::vector<std::pair<double, std::size_t>> promising;  // (predicted SSE, candidate)
+      for (std::size_t a = 0; a < active.size(); ++a) {
+        const std::size_t c = active[a];
+        const CandidateEffect& e = *candidates[c];
+        Screened s{thetas[c], 0.0, 0.0, batch[a], model.residuals(batch[a])};
+        s.sse = sum_of_squares(s.residuals, train);
+        s.robust = cauchy_cost(s.residuals, train, round_scale);
+        if (s.robust < best[c].robust) best[c] = s;
+        // Secant through the last two evaluations (the first: the current model at theta 0).
+        const Screened& from = step == 0 ? previous[c] : last[c];
+        const double dtheta = s.theta - from.theta;
+        // Iteratively reweighted Gauss-Newton step of the Cauchy cost (weights 1/(1 + r^2/a^2)).
+        double jr = 0.0, jj = 0.0, wjr = 0.0, wjj = 0.0;
+        for (std::size_t k : train) {
+          const double j = (s.residuals[k] - from.residuals[k]) / dtheta;
+          const double w = round_scale > 0.0
+                               ? 1.0 / (1.0 + s.residuals[k] * s.residuals[k] / (round_scale * round_scale))
+                               : 1.0;
+          jr += j * s.residuals[k];
+          jj += j * j;
+          wjr += w * j * s.residuals[k];
+          wjj += w * j * j;
+        }
+        double lo = (e.lower - e.neutral) / e.typical;
+        double hi = (e.upper - e.neutral) / e.typical;
+        if (lo > hi) std::swap(lo, hi);
+        double next = wjj > 0.0 ? s.theta - wjr / wjj : s.theta;
+        next = std::clamp(next, lo, hi);
+        if (std::abs(next - s.theta) < 1e-3) next = s.theta + 1e-3;
+        thetas[c] = next;
+        // Gauss-Newton prediction of the minimum: screening goes on only for candidates that
+        // could pass the BIC margin, at most the three best.
+        const double predicted = std::min(best[c].sse, jj > 0.0 ? s.sse - jr * jr / jj : s.sse);
+        if (delta_bic(predicted, sse0, n, 1) < -options.bic_margin) promising.emplace_back(predicted, c);
+        last[c] = std::move(s);
+      }
+      std::sort(promising.begin(), promising.end());
+      if (promising.size() > 3) promising.resize(3);
+      active.clear();
+      for (const auto& p : promising) active.push_back(p.second);
+    }
+    active.clear();
+    for (std::size_t c = 0; c < candidates.size(); ++c) {
+      if (!round.candidates[c].skipped) active.push_back(c);
+    }
+    // The winner: the lowest robust cost among the candidates that pass the BIC margin; when
+    // none does, the lowest BIC (for the verdict).
+    std::optional<std::size_t> winner;
+    for (std::size_t c : active) {
+      CandidateScore& score = round.candidates[c];
+      score.value = candidates[c]->neutral + best[c].theta * candidates[c]->typical;
+      score.train_rms = std::sqrt(best[c].sse / static_cast<double>(std::max<std::size_t>(n, 1)));
+      score.held_out_rms = rms(best[c].residuals, test);
+      score.delta_bic = delta_bic(best[c].sse, sse0, n, 1);
+    }
+    for (std::size_t c : active) {
+      const bool passes = round.candidates[c].delta_bic < -options.bic_margin;
+      const bool winner_passes = winner && round.candidates[*winner].delta_bic < -options.bic_margin;
+      if (!winner || (passes && !winner_passes) || (passes && best[c].robust < best[*winner].robust) ||
+          (!passes && !winner_passes && round.candidates[c].delta_bic < round.candidates[*winner].delta_bic)) {
+        winner = c;
+      }
+    }
+    if (!winner || round.candidates[*winner].delta_bic > -options.bic_margin) {
+      round.verdict = winner
+                          ? "no candidate lowers the BIC by more than " + format_numbers("%.3g", options.bic_margin) +
+                                " (best: " + round.candidates[*winner].name + ", " +
+                                format_numbers("%+.3g", round.candidates[*winner].delta_bic) + ")"
+                          : "no candidate left";
+      result.rounds.push_back(round);
+      break;
+    }
+    // Full fit of the best screened candidate, jointly with the effects named before it. From
+    // the second round on, an earlier fit may have absorbed part of the new effect, which can
+    // misrank the screening: the three best screened candidates are fitted, the one with the
+    // lowest training BIC is chosen, and only that one is tested on the held-out points.
+    std::vector<std::size_t> ranked;
+    for (std::size_t k : active) {
+      if (round.candidates[k].delta_bic < -options.bic_margin) ranked.push_back(k);
+    }
+    std::sort(ranked.begin(), ranked.end(),
+              [&](std::size_t x, std::size_t y) { return best[x].robust < best[y].robust; });
+    ranked.resize(std::min<std::size_t>(ranked.size(), result.effects.empty() ? 1 : 3));
+    struct Trial {
+      std::size_t c;
+      ParameterFit fit;
+      std::vector<double> residuals;
+      double bic;
+      HeldOutEvidence evidence;
+      bool passes;
+    };
+    std::optional<Trial> chosen;
+    std::vector<const CandidateEffect*> fitted_effects;
+    for (const NamedEffect& named : result.effects) fitted_effects.push_back(find_candidate_effect(named.name));
+    fitted_effects.push_back(nullptr);
+    const std::size_t last_index = fitted_effects.size() - 1;
+    for (std::size_t c : ranked) {
+      std::vector<double> start;
+      for (const NamedEffect& named : result.effects) start.push_back(named.value);
+      start.push_back(round.candidates[c].value);
+      fitted_effects[last_index] = candidates[c];
+      const ParameterEvaluator eval(current, free_parameters_of(fitted_effects), set, options.prediction, parallel,
+                                    result.model_evaluations);
+      Trial trial{c,
+                  fit_parameters(eval, model, train, start, options.max_fit_iterations, &best[c].predictions,
+                                 robust_fit ? round_scale : 0.0),
+                  {},
+                  0.0,
+                  {},
+                  false};
+      if (trial.fit.ok && robust_fit) {
+        trial.fit = robust_refit(eval, model, train, trial.fit, options.max_fit_iterations);
+      }
+      trial.residuals = model.residuals(trial.fit.predictions);
+      trial.bic = delta_bic(trial.fit.train_sum_of_squares, sse0, n, 1);
+
+      CandidateScore& score = round.candidates[c];
+      score.value = trial.fit.values[last_index];
+      score.train_rms = std::sqrt(trial.fit.train_sum_of_squares / static_cast<double>(n));
+      score.held_out_rms = rms(trial.residuals, test);
+      score.delta_bic = trial.bic;
+      // Chosen on the training points alone (the lowest BIC of a usable fit); only the chosen
+      // one is tested on the held-out points, so their test is not spent on the choice.
+      const bool better = !chosen || (trial.fit.ok && !chosen->fit.ok) ||
+                          (trial.fit.ok == chosen->fit.ok && trial.bic < chosen->bic);
+      if (better) chosen = std::move(trial);
+    }
+    if (!chosen) {  // nothing ranked (a delta BIC exactly at the margin, or not a number)
+      round.verdict = "no candidate lowers the BIC by more than " + format_numbers("%.3g", options.bic_margin);
+      result.rounds.push_back(round);
+      break;
+    }
+    chosen->evidence = compare_held_out(set, model, current_r, chosen->residuals, test, options.split_seed);
+    chosen->passes = chosen->fit.ok && chosen->bic < -options.bic_margin &&
+                     chosen->evidence.p_value < options.significance;
+    const std::size_t c = chosen->c;
+    const CandidateEffect& e = *candidates[c];
+    const ParameterFit& fit = chosen->fit;
+    const std::vector<double>& fit_r = chosen->residuals;
+    const double bic = chosen->bic;
+    const HeldOutEvidence& evidence = chosen->evidence;
+    fitted_effects[last_index] = &e;
+    const ParameterEvaluator eval(current, free_parameters_of(fitted_effects), set, options.prediction, parallel,
+                                  result.model_evaluations);
+    round.fitted = c;
+    round.accepted = chosen->passes;
+    round.held_out = evidence;
+    round.fitted_delta_bic = bic;
+    if (!round.accepted) {
+      std::string why;
+      if (!fit.ok) why = "the fit did not converge to a usable solution; ";
+      if (!(bic < -options.bic_margin)) {
+        why += format_numbers("delta BIC %+.3g is not below -%.3g; ", bic, options.bic_margin);
+      }
+      if (!(evidence.p_value < options.significance)) {
+        why += format_numbers("held-out p = %.3g is not below %.3g", evidence.p_value, options.significance) +
+               format_numbers(" (signed-rank %.3g, sign-flip %.3g; ", evidence.signed_rank_p, evidence.sign_flip_p) +
+               std::to_string(evidence.improved) + " of " + std::to_string(evidence.points) +
+               " held-out points better)";
+      }
+      if (why.size() >= 2 && why.compare(why.size() - 2, 2, "; ") == 0) why.resize(why.size() - 2);
+      round.verdict = std::string(e.name) + " fitted but not named: " + why +
+                      format_numbers("; held-out RMS %.3g %% -> %.3g %%", 100.0 * evidence.rms_before,
+                                     100.0 * evidence.rms_after);
+      result.rounds.push_back(round);
+      break;
+    }
+    NamedEffect named;
+    named.name = std::string(e.name);
+    named.key = std::string(e.free_key);
+    named.unit = std::string(effect_free_spec(e).unit);
+    named.value = fit.values[last_index];
+    named.standard_error = fit.standard_errors[last_index];
+    named.delta_bic = bic;
+    named.held_out = evidence;
+    round.verdict = "named " + named.name + ": " + describe_evidence(bic, evidence);
+    for (std::size_t k = 0; k < result.effects.size(); ++k) {  // refined jointly
+      result.effects[k].value = fit.values[k];
+      result.effects[k].standard_error = fit.standard_errors[k];
+    }
+    result.effects.push_back(named);
+    result.rounds.push_back(round);
+    used[c] = true;
+    current = eval.parameters_at(fit.values);
+    current_predictions = fit.predictions;
+    current_r = fit_r;
+  }
+
+  result.augmented = current;
+  result.augmented_predictions = current_predictions;
+  result.augmented_map = map_disagreement(set, current_predictions, model);
+  const std::vector<double> r0 = model.residuals(result.baseline_predictions);
+  result.rms_before = rms(r0, test);
+  result.rms_after = rms(current_r, test);
+  for (std::size_t k : test) {
+    QuantityGap& g = result.gaps[static_cast<std::size_t>(model.slots()[k].quantity)];
+    ++g.count;
+    g.rms_before += r0[k] * r0[k];
+    g.rms_after += current_r[k] * current_r[k];
+    g.max_before = std::max(g.max_before, std::abs(r0[k]));
+    g.max_after = std::max(g.max_after, std::abs(current_r[k]));
+  }
+  for (QuantityGap& g : result.gaps) {
+    if (g.count == 0) continue;
+    g.rms_before = std::sqrt(g.rms_before / g.count);
+    g.rms_after = std::sqrt(g.rms_after / g.count);
+  }
+  if (result.effects.empty()) {
+    if (!result.rounds.empty() && result.rounds.back().fitted && result.rounds.back().held_out.reduction > 0.0) {
+      const DiscrepancyRound& last = result.rounds.back();
+      // A fit that helped but did not pass: say so rather than "nothing explains it".
+      result.conclusion = "nothing named: " + last.verdict + "; baseline residual " + result.baseline_map.summary;
+    } else {
+      result.conclusion = result.baseline_map.structured
+                              ? "no candidate explains the residual; unexplained residual, " +
+                                    result.baseline_map.summary
+                              : "no significant missing effect: the residual is " + result.baseline_map.summary;
+    }
+  } else {
+    result.conclusion = "named";
+    for (const NamedEffect& e : result.effects) result.conclusion += " " + e.name;
+    result.conclusion += "; held-out RMS " +
+                         format_numbers("%.3g %% -> %.3g %%", 100.0 * result.rms_before, 100.0 * result.rms_after);
+    result.conclusion += "; remaining residual " + result.augmented_map.summary;
+  }
+  return result;
+}
+
+}  // namespace swum

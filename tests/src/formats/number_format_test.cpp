@@ -1,0 +1,36 @@
+// The one number formatter (src/formats/number_format.h) of src/ and host/ tables, labels and
+// messages.
+#include "formats/number_format.h"
+
+#include <gtest/gtest.h>
+
+#include <string>
+
+namespace swum {
+namespace {
+
+TEST(NumberFormat, DefaultIsTheShortestFaithfulTableText) {
+  EXPECT_EQ(format_number(40400.0), "40400");
+  EXPECT_EQ(format_number(0.1 + 0.2), "0.3");
+  EXPECT_EQ(format_number(1234567.0), "1.23457e+06");
+}
+
+TEST(NumberFormat, FormatIsAnyPrintfConversionOfOneDouble) {
+  EXPECT_EQ(format_number(12.3456, "%.3f"), "12.346");
+  EXPECT_EQ(format_number(-725.04, "%+.1f"), "-725.0");
+  EXPECT_EQ(format_number(2.0, "%+.5g"), "+2");
+}
+
+TEST(NumberFormat, MessagesTakeUpToFourNumbers) {
+  EXPECT_EQ(format_numbers("peak %.4g mm/s at %.0f Hz", 120.68, 40300.0), "peak 120.7 mm/s at 40300 Hz");
+  EXPECT_EQ(format_numbers("%.0f/%.0f/%.0f/%.0f", 1.0, 2.0, 3.0, 4.0), "1/2/3/4");
+}
+
+TEST(NumberFormat, TextsAreCappedAsTheCallersAlwaysCappedThem) {
+  volatile double huge = 1e100;  // not a constant: the cap is what is tested, not a warning
+  EXPECT_EQ(format_number(huge, "%.0f").size(), 63u);
+  EXPECT_EQ(format_numbers("%.0f%.0f%.0f", huge, huge, huge).size(), 255u);
+}
+
+}  // namespace
+}  // namespace swum
