@@ -21,13 +21,13 @@
 #include <stdexcept>
 #include <thread>
 
-#include "formats/parameter_file.h"
 #include "core/emulator_core.h"
+#include "core/scenario.h"
+#include "core/trace.h"
+#include "formats/parameter_file.h"
 #include "gpiod_lines.h"
 #include "model/motor_model.h"
-#include "core/scenario.h"
 #include "socketcan_bus.h"
-#include "core/trace.h"
 
 namespace swum::emu {
 namespace {

@@ -7,8 +7,8 @@
 #include <string>
 
 #include "app/emu_options.h"
-#include "http/http_api.h"
 #include "core/loop_statistics.h"
+#include "http/http_api.h"
 
 namespace swum::emu {
 

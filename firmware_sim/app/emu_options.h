@@ -16,12 +16,12 @@
 #include <vector>
 
 #include "core/amplifier.h"
+#include "core/lockstep_clock.h"
+#include "core/realtime_loop.h"
+#include "http/http_api.h"
 #include "transports/can_transport.h"
 #include "transports/gpio_transport.h"
-#include "http/http_api.h"
-#include "core/lockstep_clock.h"
 #include "transports/modbus_server.h"
-#include "core/realtime_loop.h"
 
 namespace swum::emu {
 

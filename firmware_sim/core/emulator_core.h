@@ -12,10 +12,10 @@
 
 #include "core/amplifier.h"
 #include "core/loop_statistics.h"
-#include "model/model_faults.h"
-#include "model/simulator.h"
 #include "core/scenario_player.h"
 #include "core/shared_state.h"
+#include "model/model_faults.h"
+#include "model/simulator.h"
 
 namespace swum::emu {
 

@@ -18,11 +18,11 @@
 
 #include <httplib.h>
 
+#include "core/lockstep_clock.h"
 #include "http/api_thread_priority.h"
 #include "http/dashboard_assets.h"
 #include "http/http_json.h"
 #include "http/http_range.h"
-#include "core/lockstep_clock.h"
 
 namespace swum::emu {
 namespace {

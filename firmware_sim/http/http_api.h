@@ -15,10 +15,10 @@
 #include <string>
 #include <thread>
 
-#include "http/http_recording.h"
-#include "model/motor_model.h"
-#include "http/resonance_peak.h"
 #include "core/shared_state.h"
+#include "http/http_recording.h"
+#include "http/resonance_peak.h"
+#include "model/motor_model.h"
 
 namespace httplib {
 class Server;

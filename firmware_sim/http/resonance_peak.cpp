@@ -3,8 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
-#include "model/effects.h"
 #include "core/scenario_player.h"
+#include "model/effects.h"
 
 namespace swum::emu {
 

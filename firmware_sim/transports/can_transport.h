@@ -15,9 +15,9 @@
 #include <mutex>
 #include <thread>
 
-#include "core/amplifier.h"
 #include "can_bus.h"
 #include "can_codec.h"
+#include "core/amplifier.h"
 #include "core/loop_statistics.h"
 #include "core/shared_state.h"
 

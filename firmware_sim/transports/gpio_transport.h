@@ -13,8 +13,8 @@
 #include <string>
 #include <thread>
 
-#include "gpio_lines.h"
 #include "core/shared_state.h"
+#include "gpio_lines.h"
 
 namespace swum::emu {
 

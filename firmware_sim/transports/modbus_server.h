@@ -17,9 +17,9 @@
 #include <vector>
 
 #include "core/amplifier.h"
-#include "endpoint.h"
 #include "core/loop_statistics.h"
 #include "core/shared_state.h"
+#include "endpoint.h"
 
 namespace swum::emu {
 

@@ -9,10 +9,10 @@
 
 #include "commands/command_error.h"
 #include "commands/commands.h"
-#include "formats/number_format.h"
 #include "device/device_options.h"
 #include "device/device_sweep.h"
 #include "device/stop_signal.h"
+#include "formats/number_format.h"
 #include "offline/motor_config.h"
 #include "offline/offline_sweep.h"
 #include "output/partial_file.h"

@@ -9,9 +9,9 @@
 
 #include "commands/command_error.h"
 #include "commands/commands.h"
-#include "formats/number_format.h"
 #include "device/device_options.h"
 #include "device/stop_signal.h"
+#include "formats/number_format.h"
 #include "output/partial_file.h"
 #include "output/plot.h"
 #include "track/track_run.h"

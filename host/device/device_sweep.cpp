@@ -8,7 +8,7 @@
 #include <thread>
 
 #include "analysis/measurements/measurements.h"  // fault_status_word
-#include "can_codec.h"              // the CAN slew step (the coarser of the two protocols)
+#include "can_codec.h"                           // the CAN slew step (the coarser of the two protocols)
 #include "commands/command_error.h"
 #include "device/stop_signal.h"
 

@@ -6,8 +6,8 @@
 #include <optional>
 #include <string>
 
-#include "formats/number_format.h"
 #include "device/device.h"
+#include "formats/number_format.h"
 
 namespace swum::host {
 

@@ -4,8 +4,8 @@
 
 #include <vector>
 
-#include "analysis/identification/identification.h"
 #include "analysis/free_stator/synthetic_amplitudes.h"
+#include "analysis/identification/identification.h"
 
 namespace {
 

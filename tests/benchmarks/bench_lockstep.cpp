@@ -18,12 +18,12 @@
 #include <stdexcept>
 #include <thread>
 
-#include "formats/parameter_file.h"
 #include "core/emulator_core.h"
 #include "core/lockstep_clock.h"
+#include "formats/parameter_file.h"
 #include "modbus_codec.h"
-#include "transports/modbus_server.h"
 #include "test_paths.h"
+#include "transports/modbus_server.h"
 
 namespace {
 

@@ -11,9 +11,9 @@
 #include <string_view>
 #include <thread>
 
+#include "core/scenario.h"
 #include "formats/parameter_file.h"
 #include "model/motor_model.h"
-#include "core/scenario.h"
 #include "test_paths.h"
 
 namespace swum::emu::test {

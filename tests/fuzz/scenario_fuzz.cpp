@@ -8,8 +8,8 @@
 #include <cstdint>
 #include <string>
 
-#include "fuzz_check.h"
 #include "core/scenario.h"
+#include "fuzz_check.h"
 
 namespace {
 

@@ -7,9 +7,9 @@
 #include <sstream>
 #include <string>
 
+#include "core/trace.h"
 #include "formats/parameter_file.h"
 #include "fuzz_check.h"
-#include "core/trace.h"
 
 namespace {
 

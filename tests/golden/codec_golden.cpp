@@ -29,14 +29,14 @@
 // ============================== ADAPTER ==============================
 // Wire codecs (protocol/ today) and the emulator (firmware_sim/):
 #include "can_codec.h"  // ids_for_node, crc8, CommandFrame/AuxFrame encode/decode/to_command, AliveCounter, encode_<telemetry>
-#include "can_telemetry_decode.h"  // decode_status/motion/drive/output/clock
-#include "codes.h"                 // Reason, AmpState, FaultCode, Action, CommandSource, to_string()
-#include "command.h"               // Command, AmplifierLimits
-#include "endpoint.h"              // parse_modbus_endpoint
-#include "modbus_codec.h"          // parse_request, decide, fill_holding, fill_input, holding::/input:: addresses
-#include "transports/modbus_server.h"         // ModbusTcpServer (the emulator's Modbus TCP framing)
-#include "core/shared_state.h"          // SharedState
-#include "telemetry.h"             // Telemetry, RejectSnapshot
+#include "can_telemetry_decode.h"      // decode_status/motion/drive/output/clock
+#include "codes.h"                     // Reason, AmpState, FaultCode, Action, CommandSource, to_string()
+#include "command.h"                   // Command, AmplifierLimits
+#include "core/shared_state.h"         // SharedState
+#include "endpoint.h"                  // parse_modbus_endpoint
+#include "modbus_codec.h"              // parse_request, decide, fill_holding, fill_input, holding::/input:: addresses
+#include "telemetry.h"                 // Telemetry, RejectSnapshot
+#include "transports/modbus_server.h"  // ModbusTcpServer (the emulator's Modbus TCP framing)
 // Host side (host/device/ and host/output/ today):
 #include "device/can_device.h"     // CanDevice (CAN client: command/aux frames out, telemetry sets in)
 #include "device/device.h"         // DeviceTelemetry, DriveSetpoint, DeviceAction, DeviceTimeouts, reject_reason_name

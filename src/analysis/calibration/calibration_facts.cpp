@@ -14,8 +14,8 @@
 
 #include "analysis/calibration/calibration_candidates.h"
 #include "analysis/calibration/calibration_detail.h"
-#include "analysis/steady_state/operating_curves.h"
 #include "analysis/fit/parameter_fit.h"
+#include "analysis/steady_state/operating_curves.h"
 #include "formats/number_format.h"
 
 namespace swum {

@@ -5,8 +5,8 @@
 #include <cmath>
 #include <limits>
 
-#include "analysis/steady_state/steady_state.h"
 #include "../emu_test_support.h"
+#include "analysis/steady_state/steady_state.h"
 
 namespace swum::emu {
 namespace {

@@ -17,12 +17,12 @@
 #include <thread>
 #include <vector>
 
-#include "can_codec.h"
-#include "transports/can_transport.h"
 #include "../emu_test_support.h"
+#include "can_codec.h"
 #include "core/emulator_core.h"
-#include "fake_can_bus.h"
 #include "core/lockstep_clock.h"
+#include "fake_can_bus.h"
+#include "transports/can_transport.h"
 
 namespace swum::emu {
 namespace {

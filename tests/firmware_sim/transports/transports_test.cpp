@@ -5,11 +5,11 @@
 #include <functional>
 #include <thread>
 
-#include "can_codec.h"
-#include "transports/can_transport.h"
 #include "../emu_test_support.h"
+#include "can_codec.h"
 #include "fake_can_bus.h"
 #include "fake_gpio_lines.h"
+#include "transports/can_transport.h"
 #include "transports/gpio_transport.h"
 
 namespace swum::emu {

@@ -14,8 +14,8 @@
 #include <string_view>
 #include <vector>
 
-#include "formats/parameter_file.h"
 #include "../discrepancy_test_support.h"
+#include "formats/parameter_file.h"
 
 namespace swum {
 namespace {

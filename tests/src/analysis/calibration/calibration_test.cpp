@@ -11,11 +11,11 @@
 #include <map>
 #include <string>
 
+#include "../discrepancy_test_support.h"
+#include "../thread_pool_for.h"
 #include "analysis/calibration/calibration_candidates.h"
 #include "analysis/calibration/calibration_facts.h"
 #include "analysis/measurements/synthetic_measurements.h"
-#include "../discrepancy_test_support.h"
-#include "../thread_pool_for.h"
 
 namespace swum {
 namespace {

@@ -17,11 +17,11 @@
 #include <sstream>
 #include <string>
 
+#include "../discrepancy_test_support.h"
+#include "../thread_pool_for.h"
 #include "analysis/discrepancy/discrepancy.h"
 #include "analysis/measurements/synthetic_measurements.h"
 #include "formats/parameter_file.h"
-#include "../discrepancy_test_support.h"
-#include "../thread_pool_for.h"
 
 namespace swum {
 namespace {

@@ -10,9 +10,9 @@
 #include <string>
 #include <vector>
 
+#include "../thread_pool_for.h"
 #include "formats/parameter_file.h"
 #include "test_paths.h"
-#include "../thread_pool_for.h"
 
 namespace swum {
 namespace {

@@ -8,8 +8,8 @@
 #include <cmath>
 #include <vector>
 
-#include "formats/spread_file.h"
 #include "../thread_pool_for.h"
+#include "formats/spread_file.h"
 
 namespace swum {
 namespace {
