@@ -11,7 +11,7 @@
 #include <set>
 #include <string>
 
-#include "control/speed_pi.h"
+#include "controllers/speed_pi.h"
 #include "device/device.h"
 
 namespace swum::host {

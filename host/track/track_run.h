@@ -8,8 +8,8 @@
 #include <optional>
 #include <string>
 
+#include "controllers/resonance_tracker.h"
 #include "device/device.h"
-#include "track/resonance_tracker.h"
 
 namespace swum::host {
 

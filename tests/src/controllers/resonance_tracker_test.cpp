@@ -3,7 +3,7 @@
 // above fp + 300 Hz (hysteresis), and the motional phase crossing 0 at fp + 110 Hz with the
 // calibrated motor's slope (-0.07 deg/Hz; docs/model.md "Electrical port"). The physics of a
 // real run (the emulator, the thermal motor, ten minutes) is in tests/host/track_thermal.py.
-#include "track/resonance_tracker.h"
+#include "controllers/resonance_tracker.h"
 
 #include <gtest/gtest.h>
 
@@ -15,7 +15,7 @@
 #include <string>
 #include <vector>
 
-namespace swum::host {
+namespace swum {
 namespace {
 
 struct Plant {
@@ -261,4 +261,4 @@ TEST(ResonanceTracker, SettingsAreChecked) {
 }
 
 }  // namespace
-}  // namespace swum::host
+}  // namespace swum

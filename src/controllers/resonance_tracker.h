@@ -21,7 +21,7 @@
 #include <optional>
 #include <string>
 
-namespace swum::host {
+namespace swum {
 
 enum class TrackMethod { phase, speed, fixed };
 
@@ -118,4 +118,4 @@ class ResonanceTracker {
   int collapses_ = 0;
 };
 
-}  // namespace swum::host
+}  // namespace swum

@@ -4,7 +4,7 @@
 // integral does not grow while the output is saturated in the direction the error pushes).
 #pragma once
 
-namespace swum::host {
+namespace swum {
 
 // Defaults tuned on swum-emu with config/li2019.toml at 40 kHz (docs/host.md, "swum control").
 inline constexpr double kDefaultKpVppPerMmS = 0.5;
@@ -31,4 +31,4 @@ class SpeedPi {
   double integral_vpp_ = 0.0;
 };
 
-}  // namespace swum::host
+}  // namespace swum

@@ -1,4 +1,4 @@
-#include "track/resonance_tracker.h"
+#include "controllers/resonance_tracker.h"
 
 #include <algorithm>
 #include <cmath>
@@ -7,7 +7,7 @@
 #include "formats/number_format.h"
 #include "model/electrical.h"
 
-namespace swum::host {
+namespace swum {
 namespace {
 
 std::string hz(double f) { return format_number(f) + " Hz"; }
@@ -239,4 +239,4 @@ TrackDecision ResonanceTracker::next(const TrackSample& s) {
   return decide(mode_);
 }
 
-}  // namespace swum::host
+}  // namespace swum

@@ -1,9 +1,9 @@
-#include "control/speed_pi.h"
+#include "controllers/speed_pi.h"
 
 #include <algorithm>
 #include <stdexcept>
 
-namespace swum::host {
+namespace swum {
 
 SpeedPi::SpeedPi(const SpeedPiGains& gains) : gains_(gains) {
   if (!(gains.kp_vpp_per_mm_s >= 0.0)) throw std::invalid_argument("--kp: must be >= 0");
@@ -34,4 +34,4 @@ double SpeedPi::update(double target_mm_s, double speed_mm_s, double cycle_s) {
   return std::clamp(proportional_vpp + integral_vpp_, 0.0, gains_.max_vpp);
 }
 
-}  // namespace swum::host
+}  // namespace swum
