@@ -27,7 +27,7 @@ void run_cycles(CycleExchange& exchange, ResonanceTracker& tracker, const TrackR
   setpoint.vpp = s.vpp;
   setpoint.phase_deg = s.drive_phase_deg;
   TrackDecision decision = tracker.start();
-  event(decision.event);
+  event(describe(decision.event));
   const auto cycles = static_cast<std::uint64_t>(std::llround(s.duration_s / s.cycle_s));
   DeviceAction action = DeviceAction::enable;
   int not_enabled = 0;
@@ -71,13 +71,12 @@ void run_cycles(CycleExchange& exchange, ResonanceTracker& tracker, const TrackR
     sample.time_s = row.time_s;
     sample.speed_mm_s = t.speed_mm_s;
     if (t.electrical) sample.motional_phase_deg = t.electrical->motional_phase_a_deg;
-    try {
-      decision = tracker.next(sample);
-    } catch (const std::runtime_error& e) {
-      result.stop_reason = e.what();
+    decision = tracker.next(sample);
+    if (decision.status != TrackStatus::ok) {
+      result.stop_reason = failure_text(decision);
       return;
     }
-    event(decision.event);
+    event(describe(decision.event));
   }
 }
 

@@ -12,7 +12,70 @@ namespace {
 
 std::string hz(double f) { return format_number(f) + " Hz"; }
 
+const char* peak_reason_text(PeakReason why) {
+  switch (why) {
+    case PeakReason::speed_fell: return "the speed fell below the best";
+    case PeakReason::no_higher_speed: return "no higher speed in the last steps";
+    case PeakReason::min_hz_reached: return "--min-hz reached";
+  }
+  return "?";
+}
+
+// The collapse's cause with its readings ("speed 12 mm/s below 0.5 x 80 mm/s").
+std::string cause_text(const TrackEvent& e) {
+  switch (e.cause) {
+    case CollapseCause::search_speed:
+      return "speed " + format_number(e.speed_mm_s) + " mm/s below " + format_number(e.share) + " x the best " +
+             format_number(e.reference_mm_s) + " mm/s during the search";
+    case CollapseCause::hold_speed:
+      return "speed " + format_number(e.speed_mm_s) + " mm/s below " + format_number(e.share) + " x " +
+             format_number(e.reference_mm_s) + " mm/s";
+    case CollapseCause::lock_phase:
+      return "phase " + format_number(e.phase_deg) + " deg (" + format_number(e.error_deg) +
+             " deg off the set-point), speed " + format_number(e.speed_mm_s) + " mm/s";
+  }
+  return "?";
+}
+
+TrackEvent event_of(TrackEventKind kind, double from_hz) {
+  TrackEvent e;
+  e.kind = kind;
+  e.from_hz = from_hz;
+  return e;
+}
+
 }  // namespace
+
+std::string describe(const TrackEvent& e) {
+  switch (e.kind) {
+    case TrackEventKind::none: return {};
+    case TrackEventKind::approach:
+      return "approach from " + hz(e.from_hz) + " to the phase set-point " + format_number(e.setpoint_deg) + " deg";
+    case TrackEventKind::search: return "search for the speed peak down from " + hz(e.from_hz);
+    case TrackEventKind::peak:
+      return "peak " + hz(e.peak_hz) + " (" + peak_reason_text(e.peak_reason) + "), operating point " +
+             hz(e.operating_hz);
+    case TrackEventKind::collapse:
+      return "collapse at " + hz(e.from_hz) + " (" + cause_text(e) + ", t = " + format_number(e.time_s) +
+             " s): up to " + hz(e.to_hz) + ", approaching again from above";
+    case TrackEventKind::setpoint_measured:
+      return "phase set-point " + format_number(e.setpoint_deg) + " deg (measured at " + hz(e.operating_hz) + ")";
+    case TrackEventKind::setpoint_reached: return "phase set-point reached at " + hz(e.from_hz);
+  }
+  return {};
+}
+
+std::string failure_text(const TrackDecision& d) {
+  switch (d.status) {
+    case TrackStatus::ok: return {};
+    case TrackStatus::too_many_collapses:
+      return "collapsed " + std::to_string(d.collapses) + " times (last at " + hz(d.event.from_hz) + ": " +
+             cause_text(d.event) + "): the set-point or margin cannot be held; drive off";
+    case TrackStatus::no_phase_reading:
+      return "--method phase: the device does not report the motional phase (electrical port)";
+  }
+  return {};
+}
 
 std::string check(const TrackSettings& s) {
   auto bad = [](const char* option, double value, const char* range) {
@@ -69,35 +132,36 @@ double ResonanceTracker::clamp_hz(double f) const { return std::clamp(f, setting
 
 double ResonanceTracker::speed_of(const TrackSample& s) const { return settings_.direction * s.speed_mm_s; }
 
-TrackDecision ResonanceTracker::decide(TrackMode mode, std::string event) {
+TrackDecision ResonanceTracker::decide(TrackMode mode, const TrackEvent& event) {
   mode_ = mode;
-  return {frequency_hz_, mode, std::move(event)};
+  return {frequency_hz_, mode, event, TrackStatus::ok, collapses_};
 }
 
 TrackDecision ResonanceTracker::start() {
   frequency_hz_ = settings_.start_hz;
   operating_hz_ = settings_.start_hz;
   if (settings_.method == TrackMethod::phase && setpoint_deg_) {
-    return decide(TrackMode::approach, "approach from " + hz(frequency_hz_) + " to the phase set-point " +
-                                           format_number(*setpoint_deg_) + " deg");
+    TrackEvent e = event_of(TrackEventKind::approach, frequency_hz_);
+    e.setpoint_deg = *setpoint_deg_;
+    return decide(TrackMode::approach, e);
   }
   best_speed_mm_s_ = -1e300;
   best_hz_ = frequency_hz_;
   since_best_ = 0;
   dwell_ = 0;
-  return decide(TrackMode::search, "search for the speed peak down from " + hz(frequency_hz_));
+  return decide(TrackMode::search, event_of(TrackEventKind::search, frequency_hz_));
 }
 
-TrackDecision ResonanceTracker::begin_search(double from_hz, const std::string& event) {
+TrackDecision ResonanceTracker::begin_search(double from_hz) {
   // The sample at from_hz is the one just taken (the hold cycle): the search starts below it.
   since_best_ = 0;
   dwell_ = 0;
   best_hz_ = from_hz;
   frequency_hz_ = clamp_hz(from_hz - settings_.search_step_hz);
-  return decide(TrackMode::search, event);
+  return decide(TrackMode::search);
 }
 
-TrackDecision ResonanceTracker::found_peak(const std::string& why) {
+TrackDecision ResonanceTracker::found_peak(PeakReason why) {
   peak_hz_ = best_hz_;
   operating_hz_ = clamp_hz(best_hz_ + settings_.margin_hz);
   frequency_hz_ = operating_hz_;  // up from the search: never into the collapse
@@ -105,19 +169,25 @@ TrackDecision ResonanceTracker::found_peak(const std::string& why) {
   phase_sum_deg_ = 0.0;
   phase_count_ = 0;
   searched_once_ = true;
-  return decide(TrackMode::settle, "peak " + hz(best_hz_) + " (" + why + "), operating point " + hz(operating_hz_));
+  TrackEvent e = event_of(TrackEventKind::peak, frequency_hz_);
+  e.peak_hz = best_hz_;
+  e.peak_reason = why;
+  e.operating_hz = operating_hz_;
+  return decide(TrackMode::settle, e);
 }
 
-TrackDecision ResonanceTracker::collapse(const TrackSample& s, const std::string& why) {
+TrackDecision ResonanceTracker::collapse(const TrackSample& s, TrackEvent why) {
+  why.kind = TrackEventKind::collapse;
+  why.from_hz = frequency_hz_;
+  why.time_s = s.time_s;
+  why.share = settings_.collapse_share;
   if (++collapses_ > settings_.max_collapses) {
-    throw std::runtime_error("collapsed " + std::to_string(collapses_) + " times (last at " + hz(frequency_hz_) + ": " +
-                             why + "): the set-point or margin cannot be held; drive off");
+    return {frequency_hz_, mode_, why, TrackStatus::too_many_collapses, collapses_};
   }
-  const double from = frequency_hz_;
   frequency_hz_ = clamp_hz(std::max(frequency_hz_, operating_hz_) + settings_.recovery_hz);
+  why.to_hz = frequency_hz_;
   good_speed_mm_s_ = 0.0;  // the mover re-accelerates: no collapse test until a new reference
-  return decide(TrackMode::recover, "collapse at " + hz(from) + " (" + why + ", t = " + format_number(s.time_s) +
-                                        " s): up to " + hz(frequency_hz_) + ", approaching again from above");
+  return decide(TrackMode::recover, why);
 }
 
 bool ResonanceTracker::collapsed(const TrackSample& s) const {
@@ -141,8 +211,11 @@ TrackDecision ResonanceTracker::search_step(const TrackSample& s) {
     peak_hz_ = best_hz_;
     operating_hz_ = clamp_hz(best_hz_ + settings_.margin_hz);
     searched_once_ = true;
-    return collapse(s, "speed " + format_number(v) + " mm/s below " + format_number(settings_.collapse_share) +
-                           " x the best " + format_number(best_speed_mm_s_) + " mm/s during the search");
+    TrackEvent why;
+    why.cause = CollapseCause::search_speed;
+    why.speed_mm_s = v;
+    why.reference_mm_s = best_speed_mm_s_;
+    return collapse(s, why);
   }
   if (v > best_speed_mm_s_) {
     best_speed_mm_s_ = v;
@@ -152,9 +225,9 @@ TrackDecision ResonanceTracker::search_step(const TrackSample& s) {
     ++since_best_;
   }
   if (best_speed_mm_s_ > 0.0 && v < (1.0 - settings_.search_drop) * best_speed_mm_s_)
-    return found_peak("the speed fell below the best");
-  if (since_best_ >= settings_.search_patience) return found_peak("no higher speed in the last steps");
-  if (frequency_hz_ - settings_.search_step_hz < settings_.min_hz) return found_peak("--min-hz reached");
+    return found_peak(PeakReason::speed_fell);
+  if (since_best_ >= settings_.search_patience) return found_peak(PeakReason::no_higher_speed);
+  if (frequency_hz_ - settings_.search_step_hz < settings_.min_hz) return found_peak(PeakReason::min_hz_reached);
   frequency_hz_ -= settings_.search_step_hz;
   return decide(TrackMode::search);
 }
@@ -163,7 +236,7 @@ TrackDecision ResonanceTracker::next(const TrackSample& s) {
   const bool uses_phase = settings_.method == TrackMethod::phase;
   if (uses_phase && (mode_ == TrackMode::lock || mode_ == TrackMode::approach || mode_ == TrackMode::settle) &&
       !s.motional_phase_deg) {
-    throw std::runtime_error("--method phase: the device does not report the motional phase (electrical port)");
+    return {frequency_hz_, mode_, {}, TrackStatus::no_phase_reading, collapses_};
   }
   switch (mode_) {
     case TrackMode::search: return search_step(s);
@@ -176,10 +249,12 @@ TrackDecision ResonanceTracker::next(const TrackSample& s) {
       good_speed_mm_s_ = speed_of(s);
       next_probe_s_ = s.time_s + settings_.probe_interval_s;
       if (uses_phase) {
-        std::string event;
+        TrackEvent event;
         if (!setpoint_deg_) {
           setpoint_deg_ = phase_sum_deg_ / phase_count_;
-          event = "phase set-point " + format_number(*setpoint_deg_) + " deg (measured at " + hz(operating_hz_) + ")";
+          event.kind = TrackEventKind::setpoint_measured;
+          event.setpoint_deg = *setpoint_deg_;
+          event.operating_hz = operating_hz_;
         }
         return decide(TrackMode::lock, event);
       }
@@ -187,22 +262,28 @@ TrackDecision ResonanceTracker::next(const TrackSample& s) {
     }
     case TrackMode::hold: {
       if (collapsed(s)) {
-        return collapse(s, "speed " + format_number(speed_of(s)) + " mm/s below " +
-                               format_number(settings_.collapse_share) + " x " + format_number(good_speed_mm_s_) +
-                               " mm/s");
+        TrackEvent why;
+        why.cause = CollapseCause::hold_speed;
+        why.speed_mm_s = speed_of(s);
+        why.reference_mm_s = good_speed_mm_s_;
+        return collapse(s, why);
       }
       good_speed_mm_s_ += 0.2 * (speed_of(s) - good_speed_mm_s_);  // follows the slow drift
       if (settings_.method == TrackMethod::speed && s.time_s >= next_probe_s_) {
         best_speed_mm_s_ = speed_of(s);
-        return begin_search(frequency_hz_, {});
+        return begin_search(frequency_hz_);
       }
       return decide(TrackMode::hold);
     }
     case TrackMode::lock: {
       const double error_deg = wrap_phase_deg(*s.motional_phase_deg - *setpoint_deg_);
       if (collapsed(s)) {
-        return collapse(s, "phase " + format_number(*s.motional_phase_deg) + " deg (" + format_number(error_deg) +
-                               " deg off the set-point), speed " + format_number(speed_of(s)) + " mm/s");
+        TrackEvent why;
+        why.cause = CollapseCause::lock_phase;
+        why.phase_deg = *s.motional_phase_deg;
+        why.error_deg = error_deg;
+        why.speed_mm_s = speed_of(s);
+        return collapse(s, why);
       }
       if (!settings_.phase_setpoint_deg) good_speed_mm_s_ += 0.2 * (speed_of(s) - good_speed_mm_s_);
       // Above the resonance the phase falls with frequency: a phase above the set-point means
@@ -219,7 +300,7 @@ TrackDecision ResonanceTracker::next(const TrackSample& s) {
         // Down from above until the phase reaches the set-point, then the loop takes over.
         if (wrap_phase_deg(*s.motional_phase_deg - *setpoint_deg_) >= 0.0 && frequency_hz_ < settings_.max_hz) {
           good_speed_mm_s_ = std::max(0.0, speed_of(s));  // the collapse test's reference from here on
-          return decide(TrackMode::lock, "phase set-point reached at " + hz(frequency_hz_));
+          return decide(TrackMode::lock, event_of(TrackEventKind::setpoint_reached, frequency_hz_));
         }
         frequency_hz_ = clamp_hz(frequency_hz_ - settings_.approach_step_hz);
         operating_hz_ = frequency_hz_;  // a collapse now recovers from here, not from --start-hz

@@ -1,7 +1,10 @@
 // `swum track`'s decision per control cycle (docs/host.md, "swum track"): keep the drive a
 // margin above the softening speed peak while the resonance moves with temperature and load,
 // never dwelling below the peak, where the speed collapses. Pure: one telemetry sample in, the
-// next frequency out; the command (track_command.cpp) does the device exchange and the log.
+// next frequency out; the caller does the device exchange and the log (host/track/track_run.cpp).
+// A cycle's decision allocates nothing and throws nothing, so that a drive may run it in its
+// real-time tick: what happened is a TrackEvent of numbers, what went wrong a TrackStatus, and
+// both become text only where a log is written (describe(), failure_text()).
 //
 // Methods:
 //  * speed  - extremum seeking with a margin: a search steps down from the operating point
@@ -66,11 +69,58 @@ struct TrackSample {
 enum class TrackMode { search, settle, hold, lock, approach, recover };
 [[nodiscard]] const char* mode_name(TrackMode mode);
 
+// What happened in a cycle, as numbers; describe() gives its one line for a log.
+enum class TrackEventKind {
+  none,
+  approach,           // phase method with a set-point: from `from_hz` down to `setpoint_deg`
+  search,             // a search for the speed peak down from `from_hz`
+  peak,               // the peak `peak_hz` found (`peak_reason`), operating point `operating_hz`
+  collapse,           // collapsed at `from_hz` (`cause`, `time_s`), up to `to_hz`
+  setpoint_measured,  // phase set-point `setpoint_deg`, measured at `operating_hz`
+  setpoint_reached,   // the approach reached the phase set-point at `from_hz`
+};
+enum class PeakReason { speed_fell, no_higher_speed, min_hz_reached };
+enum class CollapseCause {
+  search_speed,  // `speed_mm_s` below `share` x the search's best `reference_mm_s`
+  hold_speed,    // `speed_mm_s` below `share` x the held speed `reference_mm_s`
+  lock_phase,    // `phase_deg` (`error_deg` off the set-point), speed `speed_mm_s`
+};
+struct TrackEvent {
+  TrackEventKind kind = TrackEventKind::none;
+  double from_hz = 0.0;
+  double to_hz = 0.0;
+  double peak_hz = 0.0;
+  double operating_hz = 0.0;
+  double setpoint_deg = 0.0;
+  PeakReason peak_reason = PeakReason::speed_fell;
+  CollapseCause cause = CollapseCause::hold_speed;
+  double time_s = 0.0;
+  double speed_mm_s = 0.0;
+  double reference_mm_s = 0.0;
+  double share = 0.0;
+  double phase_deg = 0.0;
+  double error_deg = 0.0;
+};
+
+// Why a run cannot go on: the caller switches the drive off.
+enum class TrackStatus {
+  ok,
+  too_many_collapses,  // more than max_collapses: the set-point or margin cannot be held
+  no_phase_reading,    // the phase method got a sample without the motional phase
+};
+
 struct TrackDecision {
   double frequency_hz = 0.0;
   TrackMode mode = TrackMode::search;
-  std::string event;  // one line when something happened (peak found, set-point, collapse), else empty
+  TrackEvent event;                      // kind none: nothing to log
+  TrackStatus status = TrackStatus::ok;  // not ok: the run ends (frequency and mode as they were)
+  int collapses = 0;                     // with too_many_collapses: how many
 };
+
+// The event's one line for a log, empty for none ("peak 39450 Hz (...), operating point 39550 Hz").
+[[nodiscard]] std::string describe(const TrackEvent& event);
+// A failed decision's one line ("collapsed 4 times (last at ...): ...; drive off"), empty when ok.
+[[nodiscard]] std::string failure_text(const TrackDecision& decision);
 
 class ResonanceTracker {
  public:
@@ -78,8 +128,8 @@ class ResonanceTracker {
 
   // The frequency of the first cycle.
   [[nodiscard]] TrackDecision start();
-  // The telemetry after the last cycle -> the frequency of the next one. A phase method without
-  // a phase reading throws std::runtime_error (the device does not report the electrical port).
+  // The telemetry after the last cycle -> the frequency of the next one. Allocates and throws
+  // nothing; a phase method without a phase reading, or one collapse too many, returns a status.
   [[nodiscard]] TrackDecision next(const TrackSample& sample);
 
   [[nodiscard]] std::optional<double> peak_hz() const { return peak_hz_; }
@@ -89,10 +139,11 @@ class ResonanceTracker {
 
  private:
   TrackDecision search_step(const TrackSample& s);
-  TrackDecision begin_search(double from_hz, const std::string& event);
-  TrackDecision found_peak(const std::string& why);
-  TrackDecision collapse(const TrackSample& s, const std::string& why);
-  TrackDecision decide(TrackMode mode, std::string event = {});
+  TrackDecision begin_search(double from_hz);
+  TrackDecision found_peak(PeakReason why);
+  // `why` carries the cause and its readings; the rest of the event is filled here.
+  TrackDecision collapse(const TrackSample& s, TrackEvent why);
+  TrackDecision decide(TrackMode mode, const TrackEvent& event = {});
   [[nodiscard]] bool collapsed(const TrackSample& s) const;
   [[nodiscard]] double speed_of(const TrackSample& s) const;  // along the drive direction
   [[nodiscard]] double clamp_hz(double f) const;

@@ -1,4 +1,4 @@
-// The tracker's decisions (host/track/resonance_tracker.h) against a small softening plant with
+// The tracker's decisions (src/controllers/resonance_tracker.h) against a small softening plant with
 // a fold: the speed peak at fp, a jump down below fp - 150 Hz that holds until the drive goes
 // above fp + 300 Hz (hysteresis), and the motional phase crossing 0 at fp + 110 Hz with the
 // calibrated motor's slope (-0.07 deg/Hz; docs/model.md "Electrical port"). The physics of a
@@ -7,13 +7,30 @@
 
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <cmath>
+#include <cstdlib>
 #include <functional>
 #include <limits>
+#include <new>
 #include <numbers>
 #include <stdexcept>
 #include <string>
 #include <vector>
+
+// Every allocation of this test binary is counted, so that a test can show a stretch of code
+// allocates nothing (a drive runs the tracker in its real-time tick).
+namespace {
+std::atomic<long> allocations{0};
+}  // namespace
+
+void* operator new(std::size_t size) {
+  ++allocations;
+  if (void* p = std::malloc(size == 0 ? 1 : size)) return p;
+  throw std::bad_alloc();
+}
+void operator delete(void* p) noexcept { std::free(p); }
+void operator delete(void* p, std::size_t) noexcept { std::free(p); }
 
 namespace swum {
 namespace {
@@ -186,21 +203,27 @@ TEST(ResonanceTracker, RepeatedCollapsesEndTheRun) {
   s.max_collapses = 3;
   ResonanceTracker tracker(s);
   double f = tracker.start().frequency_hz;
-  bool threw = false;
-  for (double t = kCycleS; t <= 120.0 && !threw; t += kCycleS) {
+  bool ended = false;
+  for (double t = kCycleS; t <= 120.0 && !ended; t += kCycleS) {
     TrackSample sample = plant.sample(f, t);
     if (f < 39650.0) {  // this motor collapses 200 Hz above its peak
       plant.collapsed = true;
       sample = plant.sample(f, t);
     }
-    try {
-      f = tracker.next(sample).frequency_hz;
-    } catch (const std::runtime_error& e) {
-      threw = true;
-      EXPECT_NE(std::string(e.what()).find("collapsed 4 times"), std::string::npos) << e.what();
+    const TrackDecision d = tracker.next(sample);
+    if (d.status != TrackStatus::ok) {
+      ended = true;
+      EXPECT_EQ(d.status, TrackStatus::too_many_collapses);
+      EXPECT_EQ(d.collapses, 4);
+      EXPECT_EQ(d.frequency_hz, f);  // no new frequency: the run ends where it was
+      const std::string text = failure_text(d);
+      EXPECT_EQ(text.rfind("collapsed 4 times (last at ", 0), 0u) << text;
+      EXPECT_NE(text.find("): the set-point or margin cannot be held; drive off"), std::string::npos) << text;
+    } else {
+      f = d.frequency_hz;
     }
   }
-  EXPECT_TRUE(threw);
+  EXPECT_TRUE(ended);
 }
 
 TEST(ResonanceTracker, SpeedRecoversFromACollapse) {
@@ -236,11 +259,80 @@ TEST(ResonanceTracker, PhaseMethodNeedsThePhase) {
   (void)tracker.start();
   TrackSample s;
   s.speed_mm_s = 100.0;
-  try {
-    (void)tracker.next(s);
-    FAIL() << "no exception";
-  } catch (const std::runtime_error& e) {
-    EXPECT_STREQ(e.what(), "--method phase: the device does not report the motional phase (electrical port)");
+  const TrackDecision d = tracker.next(s);
+  EXPECT_EQ(d.status, TrackStatus::no_phase_reading);
+  EXPECT_EQ(failure_text(d), "--method phase: the device does not report the motional phase (electrical port)");
+}
+
+// Each event's line, as `swum track` logs it (docs/host.md, "swum track"): the numbers of the
+// event in the words the log has always used.
+TEST(ResonanceTracker, EventsReadAsOneLineEach) {
+  TrackEvent e;
+  EXPECT_EQ(describe(e), "");
+  e.kind = TrackEventKind::search;
+  e.from_hz = 41500.0;
+  EXPECT_EQ(describe(e), "search for the speed peak down from 41500 Hz");
+  e.kind = TrackEventKind::approach;
+  e.setpoint_deg = 12.5;
+  EXPECT_EQ(describe(e), "approach from 41500 Hz to the phase set-point 12.5 deg");
+  e.kind = TrackEventKind::peak;
+  e.peak_hz = 39450.0;
+  e.operating_hz = 39550.0;
+  e.peak_reason = PeakReason::no_higher_speed;
+  EXPECT_EQ(describe(e), "peak 39450 Hz (no higher speed in the last steps), operating point 39550 Hz");
+  e.kind = TrackEventKind::collapse;
+  e.from_hz = 39500.0;
+  e.to_hz = 40150.0;
+  e.time_s = 12.25;
+  e.cause = CollapseCause::hold_speed;
+  e.speed_mm_s = 20.0;
+  e.share = 0.5;
+  e.reference_mm_s = 80.0;
+  EXPECT_EQ(describe(e),
+            "collapse at 39500 Hz (speed 20 mm/s below 0.5 x 80 mm/s, t = 12.25 s): up to 40150 Hz, approaching "
+            "again from above");
+  e.cause = CollapseCause::lock_phase;
+  e.phase_deg = 75.0;
+  e.error_deg = 62.5;
+  EXPECT_EQ(describe(e),
+            "collapse at 39500 Hz (phase 75 deg (62.5 deg off the set-point), speed 20 mm/s, t = 12.25 s): up to "
+            "40150 Hz, approaching again from above");
+  e.kind = TrackEventKind::setpoint_measured;
+  EXPECT_EQ(describe(e), "phase set-point 12.5 deg (measured at 39550 Hz)");
+  e.kind = TrackEventKind::setpoint_reached;
+  EXPECT_EQ(describe(e), "phase set-point reached at 39500 Hz");
+}
+
+// A cycle's decision allocates nothing, whatever happens in it: searches, peaks, locks, set-points,
+// collapses, recoveries and the end of a run, for each method (the plant is pushed onto its lower
+// branch twice).
+TEST(ResonanceTracker, DecisionsAllocateNothing) {
+  for (const TrackMethod method : {TrackMethod::speed, TrackMethod::phase, TrackMethod::fixed}) {
+    SCOPED_TRACE("method " + std::to_string(static_cast<int>(method)));
+    Plant plant{[](double t) { return 39450.0 - 300.0 * (1.0 - std::exp(-t / 20.0)); }};
+    TrackSettings s = settings(method);
+    s.max_collapses = 1;
+    ResonanceTracker tracker(s);
+    double f = tracker.start().frequency_hz;
+    int events = 0;
+    TrackStatus last = TrackStatus::ok;
+    const long before = allocations.load();
+    for (int cycle = 1; cycle <= 6000 && last == TrackStatus::ok; ++cycle) {
+      const double t = cycle * kCycleS;
+      if (cycle == 2000 || cycle == 4000) plant.collapsed = true;  // a disturbance
+      const TrackDecision d = tracker.next(plant.sample(f, t));
+      f = d.frequency_hz;
+      last = d.status;
+      if (d.event.kind != TrackEventKind::none) ++events;
+    }
+    EXPECT_EQ(allocations.load() - before, 0);
+    EXPECT_GE(events, 1);  // at least the peak
+    if (method != TrackMethod::fixed) {
+      // The second disturbance is one collapse too many: the failure path is covered too (the
+      // fixed frequency sits far enough above the drifting peak for the plant to recover alone).
+      EXPECT_EQ(tracker.collapses(), 2);
+      EXPECT_EQ(last, TrackStatus::too_many_collapses);
+    }
   }
 }
 
