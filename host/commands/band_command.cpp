@@ -1,7 +1,8 @@
 // `swum band --config F --vpp LIST [--load LIST] [--temperature-rise-k LIST]`: the band of drive
 // frequencies an amplifier's oscillator must cover, from the model: a continuous down-sweep per
-// (voltage, load, stator temperature rise), the drift-aware pick on each (operating_band.h);
-// rows to --out (CSV, written atomically) or --json, the band on stdout (docs/host.md).
+// (voltage, load, stator temperature rise), the drift-aware pick on each
+// (src/analysis/operating_point/operating_band.h); rows to --out (CSV, written atomically) or --json, the band on
+// stdout (docs/host.md).
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -13,8 +14,8 @@
 #include "commands/command_error.h"
 #include "commands/commands.h"
 #include "formats/number_format.h"
+#include "offline/band_run.h"
 #include "offline/motor_config.h"
-#include "offline/operating_band.h"
 #include "output/progress_bar.h"
 #include "output/text_files.h"
 #include "output/value_lists.h"
@@ -128,8 +129,7 @@ void run_band(const BandOptions& o) {
   grid.temperature_rises_k = parse_number_list(o.rise_list, "--temperature-rise-k");
   grid.frequencies_hz = parse_range_or_value(o.frequency_range, "--frequency");
   grid.margin_hz = o.margin_hz;
-  grid.jobs = o.jobs;
-  check_band_grid(grid);  // every bad value named before the file is read
+  check_band_grid(grid, o.jobs);  // every bad value named before the file is read
   const MotorParameters parameters = load_motor_parameters(o.config_path);
   check_band_thermal(grid, parameters, o.config_path);
   const MotorModel model(parameters);
@@ -137,7 +137,7 @@ void run_band(const BandOptions& o) {
   {
     ProgressBar progress("band", grid.voltages.size() * grid.loads_n.size() * grid.temperature_rises_k.size() *
                                      grid.frequencies_hz.size());
-    rows = operating_band(model, grid, [&] { progress.advance(); });
+    rows = run_operating_band(model, grid, o.jobs, [&] { progress.advance(); });
   }
   const BandSummary summary = summarize_band(rows);
   if (!o.out_path.empty()) write_text_file_atomically(o.out_path, band_csv(rows));

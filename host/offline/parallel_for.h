@@ -3,7 +3,7 @@
 // exception a task throws stops the batch and is rethrown to the caller.
 #pragma once
 
-#include "analysis/measurements/measured_point_model.h"
+#include "analysis/steady_state/parallel_for.h"
 
 namespace swum::host {
 

@@ -45,10 +45,6 @@ std::vector<SlowState> session_history(const EffectCoefficients& e, std::span<co
 
 }  // namespace
 
-void serial_for(std::size_t count, const std::function<void(std::size_t)>& body) {
-  for (std::size_t i = 0; i < count; ++i) body(i);
-}
-
 std::vector<std::size_t> session_order(std::span<const Measurement> points) {
   std::vector<std::size_t> order(points.size());
   std::iota(order.begin(), order.end(), std::size_t{0});

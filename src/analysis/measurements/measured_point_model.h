@@ -15,15 +15,11 @@
 #include <vector>
 
 #include "analysis/measurements/measurements.h"
+#include "analysis/steady_state/parallel_for.h"
 #include "analysis/steady_state/steady_state.h"
 #include "model/parameters.h"
 
 namespace swum {
-
-// Runs body(0..count-1), possibly concurrently (the host passes a thread pool; src/ starts no
-// threads). serial_for is the plain loop.
-using ParallelFor = std::function<void(std::size_t count, const std::function<void(std::size_t)>& body)>;
-void serial_for(std::size_t count, const std::function<void(std::size_t)>& body);
 
 struct PredictionOptions {
   // Measurement protocol: from rest, settle 40 ms, average one 10 ms window (fixed length, so

@@ -1,19 +1,14 @@
-#include "offline/operating_band.h"
+#include "analysis/operating_point/operating_band.h"
 
 #include <algorithm>
 #include <functional>
 #include <span>
-#include <stdexcept>
-#include <string>
 
 #include "analysis/steady_state/steady_state.h"
 #include "analysis/steady_state/steady_state_batch.h"
-#include "formats/number_format.h"
 #include "model/batch_simulator.h"
-#include "offline/offline_sweep.h"
-#include "offline/parallel_for.h"
 
-namespace swum::host {
+namespace swum {
 namespace {
 
 // The down-sweep of one (voltage, load, rise): frequencies from high to low, each point from the
@@ -55,31 +50,8 @@ void widen(std::optional<FrequencyRange>& range, double f) {
 
 }  // namespace
 
-void check_band_grid(const BandGrid& grid) {
-  check_grid(OfflineGrid{grid.voltages, grid.frequencies_hz, grid.loads_n});
-  if (grid.temperature_rises_k.empty()) throw std::invalid_argument("--temperature-rise-k: no values");
-  for (double rise : grid.temperature_rises_k) {
-    if (!(rise >= 0.0 && rise <= 300.0)) {
-      throw std::invalid_argument("--temperature-rise-k: " + format_number(rise) + " is outside 0..300 K");
-    }
-  }
-  if (!(grid.margin_hz >= 0.0 && grid.margin_hz <= 10000.0)) {
-    throw std::invalid_argument("--margin-hz: must be within 0..10000");
-  }
-  if (grid.jobs < 0 || grid.jobs > 1024) throw std::invalid_argument("--jobs: must be within 0..1024 (0 = all cores)");
-}
-
-void check_band_thermal(const BandGrid& grid, const MotorParameters& parameters, const std::string& parameters_source) {
-  if (parameters.effects.thermal.enabled) return;
-  for (double rise : grid.temperature_rises_k) {
-    if (rise != 0.0) {
-      throw std::invalid_argument("--temperature-rise-k: " + format_number(rise) + " K needs the thermal effect, but " +
-                                  parameters_source + " has [effects.thermal] enabled = false");
-    }
-  }
-}
-
-std::vector<BandRow> operating_band(const MotorModel& model, const BandGrid& grid, const BandPointDone& point_done) {
+std::vector<BandRow> operating_band(const MotorModel& model, const BandGrid& grid, const ParallelFor& parallel,
+                                    std::size_t tasks, const BandPointDone& point_done) {
   std::vector<BandRow> rows;
   std::vector<OperatingChain> chains;
   for (double v : grid.voltages) {
@@ -90,13 +62,13 @@ std::vector<BandRow> operating_band(const MotorModel& model, const BandGrid& gri
       }
     }
   }
-  // As a model sweep runs its points (offline_sweep.cpp): as many tasks as threads while each
-  // still fills a vector of lanes, a contiguous run of chains per task; a chain stays in one lane.
-  const unsigned jobs = static_cast<unsigned>(std::max(grid.jobs, 0));
+  // As a model sweep runs its points (host/offline/offline_sweep.cpp): as many tasks as asked
+  // while each still fills a vector of lanes, a contiguous run of chains per task; a chain stays
+  // in one lane.
   const std::size_t batches = (chains.size() + BatchSimulator::kLanePadding - 1) / BatchSimulator::kLanePadding;
-  const std::size_t tasks = std::clamp<std::size_t>(batches, 1, parallel_threads(jobs));
+  tasks = std::clamp<std::size_t>(batches, 1, std::max<std::size_t>(tasks, 1));
   const std::size_t per_task = (chains.size() + tasks - 1) / tasks;
-  make_parallel_for(jobs)(tasks, [&](std::size_t task) {
+  parallel(tasks, [&](std::size_t task) {
     const std::size_t begin = std::min(chains.size(), task * per_task);
     const std::size_t end = std::min(chains.size(), begin + per_task);
     const std::span<const OperatingChain> mine(chains.data() + begin, end - begin);
@@ -129,4 +101,4 @@ BandSummary summarize_band(const std::vector<BandRow>& rows) {
   return s;
 }
 
-}  // namespace swum::host
+}  // namespace swum

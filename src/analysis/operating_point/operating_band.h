@@ -1,21 +1,21 @@
-// `swum band`: the range of drive frequencies an amplifier's oscillator must cover (docs/host.md,
-// "swum band"). For every (voltage, load, stator temperature rise) the model runs one continuous
+// The range of drive frequencies an amplifier's oscillator must cover (docs/host.md, "swum
+// band"). For every (voltage, load, stator temperature rise) the model runs one continuous
 // down-sweep, each point from the state the previous one left, the slow states frozen at that
 // rise (an OperatingChain, steady_state_batch.h); pick_operating_point then chooses the
 // frequency a margin above the softening peak on that curve. Pure: model and grid in, rows out;
-// the chains run on this machine's cores (parallel_for.h), each core's chains in SIMD lanes.
+// the chains run as the caller's ParallelFor runs tasks, each task's chains in SIMD lanes.
 #pragma once
 
 #include <cstddef>
 #include <functional>
 #include <optional>
-#include <string>
 #include <vector>
 
 #include "analysis/operating_point/operating_point.h"
+#include "analysis/steady_state/parallel_for.h"
 #include "model/motor_model.h"
 
-namespace swum::host {
+namespace swum {
 
 struct BandGrid {
   std::vector<double> voltages;
@@ -23,7 +23,6 @@ struct BandGrid {
   std::vector<double> temperature_rises_k{0.0};
   std::vector<double> frequencies_hz;  // any order: each chain runs them from the highest down
   double margin_hz = 100.0;            // PickOptions::min_margin_hz
-  int jobs = 0;                        // worker threads, 0 = all cores
 };
 
 // One chain's curve and its pick.
@@ -35,22 +34,14 @@ struct BandRow {
   PickResult pick;
 };
 
-// Throws std::invalid_argument naming the option (--vpp, --frequency, --load as check_grid;
-// --temperature-rise-k 0..300 K; --margin-hz 0..10000 Hz; --jobs 0..1024) of a value no band can
-// use.
-void check_band_grid(const BandGrid& grid);
-
-// A rise other than 0 needs the thermal effect: throws std::invalid_argument naming
-// --temperature-rise-k and `parameters_source` (the file) when it is off.
-void check_band_thermal(const BandGrid& grid, const MotorParameters& parameters, const std::string& parameters_source);
-
-// Called on a worker thread (concurrently) each time a point of some chain is final.
+// Called (concurrently, from the ParallelFor's tasks) each time a point of some chain is final.
 using BandPointDone = std::function<void()>;
 
-// Rows in (voltage, load, temperature rise) order, the order of the grid's lists. The result does
-// not depend on `jobs` (nor on the SIMD lanes: steady_state_batch.h).
-std::vector<BandRow> operating_band(const MotorModel& model, const BandGrid& grid,
-                                    const BandPointDone& point_done = {});
+// Rows in (voltage, load, temperature rise) order, the order of the grid's lists. The chains are
+// cut into `tasks` contiguous runs (at most one per SIMD batch), run by `parallel`; the result
+// depends neither on `tasks` nor on the lanes (steady_state_batch.h).
+std::vector<BandRow> operating_band(const MotorModel& model, const BandGrid& grid, const ParallelFor& parallel,
+                                    std::size_t tasks, const BandPointDone& point_done = {});
 
 // What an oscillator must cover: the picked frequencies and the peaks over the decided rows.
 struct FrequencyRange {
@@ -65,4 +56,4 @@ struct BandSummary {
 };
 BandSummary summarize_band(const std::vector<BandRow>& rows);
 
-}  // namespace swum::host
+}  // namespace swum

@@ -6,7 +6,7 @@
 #include <functional>
 #include <thread>
 
-#include "analysis/measurements/measured_point_model.h"
+#include "analysis/steady_state/parallel_for.h"
 
 namespace swum::test {
 

@@ -1,6 +1,6 @@
 // operating_band on the calibrated motor (config/li2019.toml) and on it with a thermal effect whose
 // stiffness falls with temperature: physical facts of the band an oscillator must cover.
-#include "offline/operating_band.h"
+#include "analysis/operating_point/operating_band.h"
 
 #include <gtest/gtest.h>
 
@@ -12,11 +12,11 @@
 #include <utility>
 #include <vector>
 
+#include "../thread_pool_for.h"
 #include "formats/parameter_file.h"
-#include "output/value_lists.h"
 #include "test_paths.h"
 
-namespace swum::host {
+namespace swum {
 namespace {
 
 MotorParameters li2019() {
@@ -43,7 +43,7 @@ BandGrid coarse_grid(std::vector<double> voltages, std::vector<double> rises_k =
   BandGrid grid;
   grid.voltages = std::move(voltages);
   grid.temperature_rises_k = std::move(rises_k);
-  grid.frequencies_hz = parse_range_or_value("38750:40500:50", "--frequency");
+  for (double f = 38750.0; f <= 40500.0 + 1e-9; f += 50.0) grid.frequencies_hz.push_back(f);
   grid.margin_hz = 100.0;
   return grid;
 }
@@ -57,7 +57,7 @@ const BandRow& row_at(const std::vector<BandRow>& rows, double vpp, double rise_
 
 TEST(OperatingBand, PicksAMarginAboveTheSofteningPeakAndThePeakFallsWithVoltage) {
   const MotorModel model(li2019());
-  const auto rows = operating_band(model, coarse_grid({100.0, 400.0}));
+  const auto rows = operating_band(model, coarse_grid({100.0, 400.0}), test::two_thread_for, 2);
   ASSERT_EQ(rows.size(), 2u);
   const BandRow& low = row_at(rows, 100.0);
   const BandRow& high = row_at(rows, 400.0);
@@ -87,7 +87,7 @@ TEST(OperatingBand, PicksAMarginAboveTheSofteningPeakAndThePeakFallsWithVoltage)
 
 TEST(OperatingBand, AWarmerStatorWhoseStiffnessFallsMovesThePeakDown) {
   const MotorModel model(li2019_softening_when_hot());
-  const auto rows = operating_band(model, coarse_grid({400.0}, {0.0, 50.0}));
+  const auto rows = operating_band(model, coarse_grid({400.0}, {0.0, 50.0}), test::two_thread_for, 2);
   const BandRow& cold = row_at(rows, 400.0, 0.0);
   const BandRow& hot = row_at(rows, 400.0, 50.0);
   ASSERT_TRUE(cold.pick.decided) << cold.pick.reason;
@@ -97,7 +97,7 @@ TEST(OperatingBand, AWarmerStatorWhoseStiffnessFallsMovesThePeakDown) {
       << cold.pick.peak_frequency_hz << " vs " << hot.pick.peak_frequency_hz;
   EXPECT_GE(hot.pick.frequency_hz, hot.pick.peak_frequency_hz + 100.0);
   // The cold row is the motor without the effect: the frozen rise 0 changes nothing.
-  const auto plain = operating_band(MotorModel(li2019()), coarse_grid({400.0}));
+  const auto plain = operating_band(MotorModel(li2019()), coarse_grid({400.0}), test::two_thread_for, 2);
   EXPECT_EQ(plain.front().pick.peak_frequency_hz, cold.pick.peak_frequency_hz);
 }
 
@@ -105,12 +105,10 @@ TEST(OperatingBand, RowsDoNotDependOnTheThreads) {
   const MotorModel model(li2019());
   BandGrid grid = coarse_grid({200.0, 400.0});
   grid.loads_n = {0.0, 1.0};
-  grid.jobs = 1;
-  const auto one = operating_band(model, grid);
-  grid.jobs = 2;
+  const auto one = operating_band(model, grid, serial_for, 1);
   std::size_t points = 0;
   std::mutex m;
-  const auto two = operating_band(model, grid, [&] {
+  const auto two = operating_band(model, grid, test::two_thread_for, 2, [&] {
     const std::lock_guard lock(m);
     ++points;
   });
@@ -128,39 +126,6 @@ TEST(OperatingBand, RowsDoNotDependOnTheThreads) {
   EXPECT_EQ(one[1].load_n, 1.0);
 }
 
-TEST(OperatingBand, ChecksNameTheOption) {
-  auto message = [](const BandGrid& grid) {
-    try {
-      check_band_grid(grid);
-    } catch (const std::invalid_argument& e) {
-      return std::string(e.what());
-    }
-    return std::string("no error");
-  };
-  BandGrid grid = coarse_grid({400.0});
-  EXPECT_EQ(message(grid), "no error");
-  grid.temperature_rises_k = {400.0};
-  EXPECT_EQ(message(grid), "--temperature-rise-k: 400 is outside 0..300 K");
-  grid.temperature_rises_k = {0.0};
-  grid.margin_hz = -1.0;
-  EXPECT_EQ(message(grid), "--margin-hz: must be within 0..10000");
-  grid.margin_hz = 100.0;
-  grid.jobs = -1;
-  EXPECT_EQ(message(grid), "--jobs: must be within 0..1024 (0 = all cores)");
-
-  grid = coarse_grid({400.0}, {0.0, 20.0});
-  try {
-    check_band_thermal(grid, li2019(), "li2019.toml");
-    FAIL() << "a rise without the thermal effect";
-  } catch (const std::invalid_argument& e) {
-    EXPECT_EQ(std::string(e.what()),
-              "--temperature-rise-k: 20 K needs the thermal effect, but li2019.toml has [effects.thermal] enabled = "
-              "false");
-  }
-  EXPECT_NO_THROW(check_band_thermal(grid, li2019_softening_when_hot(), "hot.toml"));
-  EXPECT_NO_THROW(check_band_thermal(coarse_grid({400.0}), li2019(), "li2019.toml"));
-}
-
 TEST(OperatingBand, SummaryOfUndecidedRowsHasNoBand) {
   std::vector<BandRow> rows(2);
   rows[0].pick.reason = "sweep higher";
@@ -173,4 +138,4 @@ TEST(OperatingBand, SummaryOfUndecidedRowsHasNoBand) {
 }
 
 }  // namespace
-}  // namespace swum::host
+}  // namespace swum

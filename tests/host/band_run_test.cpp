@@ -1,0 +1,101 @@
+// `swum band`'s part on this machine (host/offline/band_run.h): the grid's checks name the
+// option, and the threaded run gives the rows src/'s operating_band gives on one thread.
+#include "offline/band_run.h"
+
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "formats/parameter_file.h"
+#include "output/value_lists.h"
+#include "test_paths.h"
+
+namespace swum::host {
+namespace {
+
+MotorParameters li2019() {
+  const std::string path = swum::test::source_path("config/li2019.toml");
+  std::ifstream in(path);
+  std::stringstream text;
+  text << in.rdbuf();
+  return parse_motor_parameters(text.str(), path);
+}
+
+MotorParameters li2019_softening_when_hot() {
+  MotorParameters p = li2019();
+  p.effects.thermal.enabled = true;
+  p.effects.thermal.stiffness_coefficient_per_k = -5e-4;
+  p.effects.thermal.damping_coefficient_per_k = 1e-3;
+  return p;
+}
+
+BandGrid coarse_grid(std::vector<double> voltages, std::vector<double> rises_k = {0.0}) {
+  BandGrid grid;
+  grid.voltages = std::move(voltages);
+  grid.temperature_rises_k = std::move(rises_k);
+  grid.frequencies_hz = parse_range_or_value("38750:40500:50", "--frequency");
+  grid.margin_hz = 100.0;
+  return grid;
+}
+
+TEST(OperatingBand, ChecksNameTheOption) {
+  auto message = [](const BandGrid& grid) {
+    try {
+      check_band_grid(grid, 0);
+    } catch (const std::invalid_argument& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  BandGrid grid = coarse_grid({400.0});
+  EXPECT_EQ(message(grid), "no error");
+  grid.temperature_rises_k = {400.0};
+  EXPECT_EQ(message(grid), "--temperature-rise-k: 400 is outside 0..300 K");
+  grid.temperature_rises_k = {0.0};
+  grid.margin_hz = -1.0;
+  EXPECT_EQ(message(grid), "--margin-hz: must be within 0..10000");
+  grid.margin_hz = 100.0;
+  try {
+    check_band_grid(grid, -1);
+    FAIL() << "--jobs -1 accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_STREQ(e.what(), "--jobs: must be within 0..1024 (0 = all cores)");
+  }
+
+  grid = coarse_grid({400.0}, {0.0, 20.0});
+  try {
+    check_band_thermal(grid, li2019(), "li2019.toml");
+    FAIL() << "a rise without the thermal effect";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_EQ(std::string(e.what()),
+              "--temperature-rise-k: 20 K needs the thermal effect, but li2019.toml has [effects.thermal] enabled = "
+              "false");
+  }
+  EXPECT_NO_THROW(check_band_thermal(grid, li2019_softening_when_hot(), "hot.toml"));
+  EXPECT_NO_THROW(check_band_thermal(coarse_grid({400.0}), li2019(), "li2019.toml"));
+}
+
+TEST(BandRun, OnTwoThreadsGivesTheRowsOfOne) {
+  const MotorModel model(li2019());
+  BandGrid grid = coarse_grid({300.0});
+  grid.loads_n = {0.0, 1.0};
+  std::atomic<int> points{0};  // point_done runs on the workers
+  const auto two = run_operating_band(model, grid, 2, [&] { ++points; });
+  const auto one = operating_band(model, grid, serial_for, 1);
+  ASSERT_EQ(two.size(), 2u);
+  ASSERT_EQ(one.size(), 2u);
+  EXPECT_EQ(points.load(), 2 * 36);  // two chains of 36 frequencies
+  for (std::size_t i = 0; i < one.size(); ++i) {
+    EXPECT_EQ(one[i].pick.frequency_hz, two[i].pick.frequency_hz);
+    EXPECT_EQ(one[i].pick.peak_frequency_hz, two[i].pick.peak_frequency_hz);
+    EXPECT_EQ(one[i].curve.size(), two[i].curve.size());
+  }
+}
+
+}  // namespace
+}  // namespace swum::host
