@@ -5,34 +5,15 @@
 #include <gtest/gtest.h>
 
 #include <atomic>
-#include <fstream>
-#include <sstream>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
-#include "formats/parameter_file.h"
+#include "calibrated_parameters.h"
 #include "output/value_lists.h"
-#include "test_paths.h"
 
 namespace swum::host {
 namespace {
-
-MotorParameters li2019() {
-  const std::string path = swum::test::source_path("config/li2019.toml");
-  std::ifstream in(path);
-  std::stringstream text;
-  text << in.rdbuf();
-  return parse_motor_parameters(text.str(), path);
-}
-
-MotorParameters li2019_softening_when_hot() {
-  MotorParameters p = li2019();
-  p.effects.thermal.enabled = true;
-  p.effects.thermal.stiffness_coefficient_per_k = -5e-4;
-  p.effects.thermal.damping_coefficient_per_k = 1e-3;
-  return p;
-}
 
 BandGrid coarse_grid(std::vector<double> voltages, std::vector<double> rises_k = {0.0}) {
   BandGrid grid;
@@ -69,19 +50,21 @@ TEST(OperatingBand, ChecksNameTheOption) {
 
   grid = coarse_grid({400.0}, {0.0, 20.0});
   try {
-    check_band_thermal(grid, li2019(), "li2019.toml");
+    check_band_thermal(grid, test::calibrated_parameters(), "li2019.toml");
     FAIL() << "a rise without the thermal effect";
   } catch (const std::invalid_argument& e) {
     EXPECT_EQ(std::string(e.what()),
               "--temperature-rise-k: 20 K needs the thermal effect, but li2019.toml has [effects.thermal] enabled = "
               "false");
   }
-  EXPECT_NO_THROW(check_band_thermal(grid, li2019_softening_when_hot(), "hot.toml"));
-  EXPECT_NO_THROW(check_band_thermal(coarse_grid({400.0}), li2019(), "li2019.toml"));
+  MotorParameters hot = test::calibrated_parameters();
+  hot.effects.thermal.enabled = true;
+  EXPECT_NO_THROW(check_band_thermal(grid, hot, "hot.toml"));
+  EXPECT_NO_THROW(check_band_thermal(coarse_grid({400.0}), test::calibrated_parameters(), "li2019.toml"));
 }
 
 TEST(BandRun, OnTwoThreadsGivesTheRowsOfOne) {
-  const MotorModel model(li2019());
+  const MotorModel model(test::calibrated_parameters());
   BandGrid grid = coarse_grid({300.0});
   grid.loads_n = {0.0, 1.0};
   std::atomic<int> points{0};  // point_done runs on the workers

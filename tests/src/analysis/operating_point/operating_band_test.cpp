@@ -4,33 +4,22 @@
 
 #include <gtest/gtest.h>
 
-#include <fstream>
 #include <mutex>
-#include <sstream>
 #include <stdexcept>
 #include <string>
 #include <utility>
 #include <vector>
 
 #include "../thread_pool_for.h"
-#include "formats/parameter_file.h"
-#include "test_paths.h"
+#include "calibrated_parameters.h"
 
 namespace swum {
 namespace {
 
-MotorParameters li2019() {
-  const std::string path = swum::test::source_path("config/li2019.toml");
-  std::ifstream in(path);
-  std::stringstream text;
-  text << in.rdbuf();
-  return parse_motor_parameters(text.str(), path);
-}
-
 // li2019 + [effects.thermal] enabled = true, stiffness_coefficient_per_k = -5e-4,
 // damping_coefficient_per_k = 1e-3: the resonance falls as the stator warms (docs/discrepancy.md).
 MotorParameters li2019_softening_when_hot() {
-  MotorParameters p = li2019();
+  MotorParameters p = test::calibrated_parameters();
   p.effects.thermal.enabled = true;
   p.effects.thermal.stiffness_coefficient_per_k = -5e-4;
   p.effects.thermal.damping_coefficient_per_k = 1e-3;
@@ -56,7 +45,7 @@ const BandRow& row_at(const std::vector<BandRow>& rows, double vpp, double rise_
 }
 
 TEST(OperatingBand, PicksAMarginAboveTheSofteningPeakAndThePeakFallsWithVoltage) {
-  const MotorModel model(li2019());
+  const MotorModel model(test::calibrated_parameters());
   const auto rows = operating_band(model, coarse_grid({100.0, 400.0}), test::two_thread_for, 2);
   ASSERT_EQ(rows.size(), 2u);
   const BandRow& low = row_at(rows, 100.0);
@@ -97,12 +86,13 @@ TEST(OperatingBand, AWarmerStatorWhoseStiffnessFallsMovesThePeakDown) {
       << cold.pick.peak_frequency_hz << " vs " << hot.pick.peak_frequency_hz;
   EXPECT_GE(hot.pick.frequency_hz, hot.pick.peak_frequency_hz + 100.0);
   // The cold row is the motor without the effect: the frozen rise 0 changes nothing.
-  const auto plain = operating_band(MotorModel(li2019()), coarse_grid({400.0}), test::two_thread_for, 2);
+  const auto plain = operating_band(MotorModel(test::calibrated_parameters()), coarse_grid({400.0}),
+                                    test::two_thread_for, 2);
   EXPECT_EQ(plain.front().pick.peak_frequency_hz, cold.pick.peak_frequency_hz);
 }
 
 TEST(OperatingBand, RowsDoNotDependOnTheThreads) {
-  const MotorModel model(li2019());
+  const MotorModel model(test::calibrated_parameters());
   BandGrid grid = coarse_grid({200.0, 400.0});
   grid.loads_n = {0.0, 1.0};
   const auto one = operating_band(model, grid, serial_for, 1);

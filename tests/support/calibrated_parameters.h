@@ -1,4 +1,4 @@
-// Shared by the model tests: the calibrated motor's parameters (config/li2019.toml).
+// Shared by the tests: the calibrated motor's parameters (config/li2019.toml).
 #pragma once
 
 #include <fstream>
