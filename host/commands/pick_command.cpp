@@ -21,8 +21,8 @@
 #include "offline/model_pick.h"
 #include "offline/motor_config.h"
 #include "offline/offline_sweep.h"
-#include "output/pick_plots.h"
 #include "output/progress_bar.h"
+#include "output/reports/pick_plots.h"
 #include "output/text_files.h"
 #include "output/value_lists.h"
 
