@@ -13,6 +13,7 @@
 #include "device/device_options.h"
 #include "device/stop_signal.h"
 #include "output/partial_file.h"
+#include "output/reports/control_report.h"
 #include "output/value_lists.h"
 
 namespace swum::host {
@@ -38,12 +39,6 @@ std::set<int> parse_fault_codes(const std::string& text) {
   return codes;
 }
 
-std::string describe_codes(const std::set<int>& codes) {
-  std::string text;
-  for (const int c : codes) text += (text.empty() ? "" : ",") + std::to_string(c);
-  return text.empty() ? "none" : text;
-}
-
 void run_control(ControlOptions& o) {
   SpeedControlSettings& s = o.settings;
   s.cycle_s = o.cycle_ms * 1e-3;
@@ -67,11 +62,7 @@ void run_control(ControlOptions& o) {
     throw;
   }
   out.commit();
-  std::printf("%llu cycles at %.6f mm/s (%s, recover %s) -> %s; mean |error| over the last half %.3f mm/s; "
-              "%d faults, %d retries\n",
-              static_cast<unsigned long long>(result.cycles), s.target_mm_s,
-              device->lockstep() ? "lockstep" : "wall time", describe_codes(s.recoverable_faults).c_str(),
-              o.out_path.c_str(), result.mean_abs_error_last_half_mm_s, result.faults_seen, result.retries);
+  std::fputs(control_run_summary(result, s, device->lockstep(), o.out_path).c_str(), stdout);
   if (result.stop_reason == "interrupted")
     throw CommandError("interrupted: drive off; " + o.out_path + " holds every cycle run", kExitInterrupted);
   if (!result.stop_reason.empty())

@@ -14,6 +14,7 @@
 #include "device/stop_signal.h"
 #include "output/log_table.h"
 #include "output/partial_file.h"
+#include "output/reports/log_report.h"
 
 namespace swum::host {
 namespace {
@@ -92,8 +93,7 @@ void run_log(const LogOptions& o) {
   }
   out.commit();
   const double elapsed = std::chrono::duration<double>(Clock::now() - start).count();
-  std::printf("%zu samples in %.2f s from %s (%.1f per s) -> %s; %zu gaps, %zu samples missing\n", samples, elapsed,
-              device->name().c_str(), samples / std::max(elapsed, 1e-9), o.out_path.c_str(), gaps, missing);
+  std::fputs(log_run_summary({samples, gaps, missing, elapsed}, device->name(), o.out_path).c_str(), stdout);
   if (!stop_reason.empty())
     throw CommandError("interrupted: " + o.out_path + " holds every sample received", kExitInterrupted);
 }

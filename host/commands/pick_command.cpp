@@ -2,11 +2,9 @@
 // frequency per voltage by pick_operating_point, from a sweep table, an offline model sweep or
 // a live sweep of a device; optional schedule, JSON and plots (docs/host.md).
 #include <algorithm>
-#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <memory>
-#include <nlohmann/json.hpp>
 #include <set>
 #include <string>
 #include <vector>
@@ -17,12 +15,12 @@
 #include "device/device_options.h"
 #include "device/device_sweep.h"
 #include "device/stop_signal.h"
-#include "formats/number_format.h"
 #include "offline/model_pick.h"
 #include "offline/motor_config.h"
 #include "offline/offline_sweep.h"
-#include "output/pick_plots.h"
 #include "output/progress_bar.h"
+#include "output/reports/pick_plots.h"
+#include "output/reports/pick_report.h"
 #include "output/text_files.h"
 #include "output/value_lists.h"
 
@@ -110,53 +108,9 @@ std::vector<SweepRow> read_sweep(const std::string& path) {
   }
 }
 
-double gain_percent(const PickResult& r) {
-  if (!r.decided || !r.naive_speed_mm_s || std::abs(*r.naive_speed_mm_s) < 1e-9) return NAN;
-  return 100.0 * (r.speed_mm_s / *r.naive_speed_mm_s - 1.0);
-}
-
 void report(const PickCommandOptions& o, const std::vector<VoltagePick>& picks) {
-  // Drift: from the peak of the lowest decided voltage.
-  double base = NAN;
-  double base_vpp = INFINITY;
-  for (const auto& p : picks) {
-    if (p.result.decided && p.vpp < base_vpp) {
-      base_vpp = p.vpp;
-      base = p.result.peak_frequency_hz;
-    }
-  }
-  using Json = nlohmann::ordered_json;
-  auto number_or_null = [](bool known, double v) { return known && std::isfinite(v) ? Json(v) : Json(nullptr); };
-  Json list = Json::array();
-  std::string schedule = "vpp,frequency_hz\n";
-  for (const auto& [v, r] : picks) {
-    Json j;
-    j["vpp"] = v;
-    j["decided"] = r.decided;
-    j["frequency_hz"] = number_or_null(r.decided, r.frequency_hz);
-    j["speed_mm_s"] = number_or_null(r.decided, r.speed_mm_s);
-    j["naive_speed_mm_s"] = number_or_null(r.naive_speed_mm_s.has_value(), r.naive_speed_mm_s.value_or(NAN));
-    j["gain_percent"] = number_or_null(r.decided, gain_percent(r));
-    j["peak_frequency_hz"] = number_or_null(r.decided, r.peak_frequency_hz);
-    j["drift_hz"] = number_or_null(r.decided, r.peak_frequency_hz - base);
-    j["margin_hz"] = r.margin_hz;
-    j["reason"] = r.reason;
-    list.push_back(j);
-    if (r.decided) schedule += format_number(v) + "," + format_number(r.frequency_hz) + "\n";
-    if (!o.json) {
-      if (r.decided) {
-        char naive[64] = "n/a (40.4 kHz outside the sweep)";
-        if (r.naive_speed_mm_s)
-          std::snprintf(naive, sizeof naive, "%.1f mm/s, gain %+.0f %%", *r.naive_speed_mm_s, gain_percent(r));
-        std::printf("%6g Vpp: run at %.0f Hz, %.1f mm/s (naive 40.4 kHz: %s), drift %+.0f Hz; %s\n", v, r.frequency_hz,
-                    r.speed_mm_s, naive, r.peak_frequency_hz - base, r.reason.c_str());
-      } else {
-        std::printf("%6g Vpp: undecided: %s\n", v, r.reason.c_str());
-      }
-    }
-  }
-  if (o.json) std::printf("%s\n", list.dump(2).c_str());
-  if (!o.schedule_path.empty()) write_text_file_atomically(o.schedule_path, schedule);
+  std::fputs((o.json ? pick_json(picks) : pick_text(picks)).c_str(), stdout);
+  if (!o.schedule_path.empty()) write_text_file_atomically(o.schedule_path, pick_schedule_csv(picks));
 }
 
 void write_plots(const PickCommandOptions& o, Source& source, const std::vector<SweepRow>& sweep,

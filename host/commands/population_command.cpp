@@ -25,8 +25,8 @@
 #include "offline/population_study.h"
 #include "offline/rank_world.h"
 #include "output/partial_file.h"
-#include "output/population_report.h"
 #include "output/progress_bar.h"
+#include "output/reports/population_report.h"
 #include "output/text_files.h"
 #include "output/value_lists.h"
 

@@ -3,13 +3,13 @@
 #include <cmath>
 #include <cstdio>
 #include <memory>
-#include <nlohmann/json.hpp>
 #include <string>
 
 #include "analysis/steady_state/steady_state.h"
 #include "commands/command_error.h"
 #include "commands/commands.h"
 #include "offline/motor_config.h"
+#include "output/reports/simulation_report.h"
 #include "output/text_files.h"
 #include "output/value_lists.h"
 
@@ -27,14 +27,6 @@ struct SimulateOptions {
   bool whole_duration = false;
   bool json = false;
 };
-
-void append_trace_row(std::string& csv, const TraceSample& s) {
-  char line[320];
-  std::snprintf(line, sizeof line, "%.9g,%.9g,%.9g,%.9g,%.9g,%.6g,%.6g,%.6g,%.6g,%.9g,%.9g\n", s.time_s, s.q1_m,
-                s.q1_dot_m_s, s.q2_m, s.q2_dot_m_s, s.tip_normal_um, s.tip_tangential_um, s.normal_force_n,
-                s.friction_force_n, s.mover_position_m, s.mover_velocity_m_s);
-  csv += line;
-}
 
 void run_simulate(const SimulateOptions& o) {
   OperatingPoint point;
@@ -64,12 +56,11 @@ void run_simulate(const SimulateOptions& o) {
   options.stop_when_settled = !o.whole_duration;
   std::string trace_csv;
   if (!o.trace_path.empty()) {
-    trace_csv = "time_s,q1_m,q1_dot_m_s,q2_m,q2_dot_m_s,tip_normal_um,tip_tangential_um,"
-                "normal_force_n,friction_force_n,mover_position_m,mover_velocity_m_s\n";
+    trace_csv = simulation_trace_header();
     // About 48 samples per drive period resolves the tip ellipse.
     const double steps_per_cycle = 1.0 / (model.time_step_s() * point.frequency_hz);
     options.trace_every_steps = static_cast<std::uint64_t>(std::max(1.0, steps_per_cycle / 48.0));
-    options.trace = [&trace_csv](const TraceSample& s) { append_trace_row(trace_csv, s); };
+    options.trace = [&trace_csv](const TraceSample& s) { append_simulation_trace_row(trace_csv, s); };
   }
 
   const auto wall_start = std::chrono::steady_clock::now();
@@ -81,35 +72,7 @@ void run_simulate(const SimulateOptions& o) {
     throw CommandError("simulation diverged at " + o.vpp + " Vpp, " + o.frequency_hz + " Hz: " + r.failure,
                        kExitDiverged);
   }
-  const double realtime_factor = wall_s > 0.0 ? r.sim_s / wall_s : 0.0;
-  if (o.json) {
-    nlohmann::ordered_json j;
-    j["vpp"] = point.vpp;
-    j["frequency_hz"] = point.frequency_hz;
-    j["load_n"] = point.load_n;
-    j["phase_deg"] = point.phase_deg;
-    j["steady"] = r.ok;
-    if (!r.ok) j["note"] = r.failure;
-    j["speed_mm_s"] = r.speed_mm_s;
-    j["tip_normal_um"] = r.tip_normal_um;
-    j["tip_tangential_um"] = r.tip_tangential_um;
-    j["contact_fraction"] = r.contact_fraction;
-    j["mean_normal_force_n"] = r.mean_normal_force_n;
-    j["mean_friction_force_n"] = r.mean_friction_force_n;
-    j["sim_s"] = r.sim_s;
-    j["steps"] = r.steps;
-    j["wall_s"] = wall_s;
-    j["realtime_factor"] = realtime_factor;
-    std::printf("%s\n", j.dump(2).c_str());
-    return;
-  }
-  std::printf("operating point : %g Vpp, %g Hz, load %g N, phase %g deg\n", point.vpp, point.frequency_hz, point.load_n,
-              point.phase_deg);
-  if (!r.ok) std::printf("note            : not settled (%s)\n", r.failure.c_str());
-  std::printf("mover speed     : %.3f mm/s\n", r.speed_mm_s);
-  std::printf("tip amplitudes  : normal %.4f um, tangential %.4f um\n", r.tip_normal_um, r.tip_tangential_um);
-  std::printf("contact fraction: %.3f\n", r.contact_fraction);
-  std::printf("simulated       : %.4f s in %.3f s wall (%.1fx real time)\n", r.sim_s, wall_s, realtime_factor);
+  std::fputs((o.json ? simulation_json(point, r, wall_s) : simulation_text(point, r, wall_s)).c_str(), stdout);
 }
 
 }  // namespace

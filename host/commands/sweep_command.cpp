@@ -2,7 +2,6 @@
 // (--config, all cores) or measured on a live device (--modbus / --can, docs/host.md).
 #include <algorithm>
 #include <cstdio>
-#include <filesystem>
 #include <memory>
 #include <string>
 #include <vector>
@@ -12,11 +11,11 @@
 #include "device/device_options.h"
 #include "device/device_sweep.h"
 #include "device/stop_signal.h"
-#include "formats/number_format.h"
 #include "offline/motor_config.h"
 #include "offline/offline_sweep.h"
 #include "output/partial_file.h"
 #include "output/progress_bar.h"
+#include "output/sweep_resume.h"
 #include "output/sweep_table.h"
 #include "output/value_lists.h"
 
@@ -38,70 +37,6 @@ struct SweepOptions {
   std::string plot_path;
   bool resume = false;
 };
-
-// What --resume keeps of OUT.partial: its rows (parsed) and their lines, header first.
-struct Kept {
-  std::vector<SweepRow> rows;
-  std::vector<std::string> lines;
-
-  std::size_t bytes(std::size_t rows_kept) const {
-    std::size_t n = 0;
-    for (std::size_t i = 0; i <= rows_kept; ++i) n += lines[i].size() + 1;
-    return n;
-  }
-};
-
-// OUT.partial for --resume: the header of this kind of sweep, then rows at the first points of
-// this sweep's plan, in order. The file has no room for the options themselves (a sweep file
-// is plain CSV), so a file of another grid is recognised by its points.
-Kept read_kept(const std::string& out_path, const std::string& header, const std::vector<SweepRow>& planned) {
-  Kept kept;
-  kept.lines = read_partial_lines(out_path);
-  const std::string partial = partial_path(out_path).string();
-  if (kept.lines.empty()) return kept;  // killed before its header was written: start afresh
-  if (kept.lines[0] + "\n" != header) {
-    throw CommandError("--resume: " + partial + " does not start with this sweep's header (a " +
-                       (header == format_sweep_header(kDeviceSweep) ? "model" : "device") +
-                       " sweep, or not a sweep file?)");
-  }
-  std::string text;
-  for (const std::string& line : kept.lines) text += line + "\n";
-  kept.rows = parse_sweep_csv(text, partial);
-  if (kept.rows.size() + 1 != kept.lines.size()) throw CommandError("--resume: " + partial + " has empty lines");
-  if (kept.rows.size() > planned.size()) {
-    throw CommandError("--resume: " + partial + " has " + std::to_string(kept.rows.size()) +
-                       " rows, more than the points of this sweep (" + std::to_string(planned.size()) +
-                       "): other --vpp, --frequency or --load?");
-  }
-  auto at = [](const SweepRow& r) {
-    return format_number(r.vpp) + "," + format_number(r.frequency_hz) + "," + format_number(r.load_n) + ",";
-  };
-  for (std::size_t i = 0; i < kept.rows.size(); ++i) {
-    const std::string where = at(planned[i]);
-    if (kept.lines[i + 1].compare(0, where.size(), where) != 0) {
-      throw CommandError("--resume: row " + std::to_string(i + 1) + " of " + partial +
-                         " is not at this sweep's point " + std::to_string(i + 1) + " (vpp,frequency_hz,load_n " +
-                         where.substr(0, where.size() - 1) + "): other --vpp, --frequency or --load?");
-    }
-  }
-  return kept;
-}
-
-// A fresh run never overwrites the rows of an unfinished one: they may be an hour of measurements.
-void refuse_to_overwrite_partial(const std::string& out_path) {
-  std::error_code ec;
-  if (std::filesystem::exists(partial_path(out_path), ec) && read_partial_lines(out_path).size() > 1) {
-    throw CommandError(partial_path(out_path).string() +
-                       " holds an unfinished sweep: continue it with --resume, or delete it to start afresh");
-  }
-}
-
-// OUT.partial with the header and the first `rows_kept` rows of `kept`, ready for the next row.
-PartialFile open_partial(const std::string& out_path, const std::string& header, const Kept& kept,
-                         std::size_t rows_kept) {
-  if (rows_kept == 0) return PartialFile(out_path, header);
-  return PartialFile::resume(out_path, kept.bytes(rows_kept));
-}
 
 // The run stopped (Ctrl-C, device error, ...): its rows stay in OUT.partial, which --resume
 // continues; a fresh run that wrote no row leaves nothing behind.
@@ -135,9 +70,9 @@ void run_model_sweep(const SweepOptions& o, const OfflineGrid& grid) {
   const std::string header = format_sweep_header(kModelSweep);
   std::vector<SweepRow> rows = model_sweep_points(grid);
   const MotorModel model(load_motor_parameters(o.config_path));
-  Kept kept;
+  SweepKept kept;
   if (o.resume) {
-    kept = read_kept(o.out_path, header, rows);
+    kept = read_sweep_partial(o.out_path, header, rows);
     // Another --config or --phase gives other numbers at the same points: the last row, computed
     // again, must come out the same to the last digit.
     if (!kept.rows.empty()) {
@@ -150,10 +85,10 @@ void run_model_sweep(const SweepOptions& o, const OfflineGrid& grid) {
     }
     std::copy(kept.rows.begin(), kept.rows.end(), rows.begin());
   } else {
-    refuse_to_overwrite_partial(o.out_path);
+    refuse_to_overwrite_sweep_partial(o.out_path);
   }
   const std::size_t first = kept.rows.size();
-  PartialFile file = open_partial(o.out_path, header, kept, first);
+  PartialFile file = open_sweep_partial(o.out_path, header, kept, first);
   // Points complete out of order on the workers; the file gets them in grid order.
   InOrderRows writer(file, first);
   const StopSignal stop;
@@ -176,24 +111,24 @@ void run_device_sweep(const SweepOptions& o, const DeviceSweepPlan& plan) {
   check_plan(plan);  // before the device is touched or --out is written
   const std::string header = format_sweep_header(kDeviceSweep);
   const std::vector<SweepRow> planned = device_sweep_points(plan);
-  Kept kept;
+  SweepKept kept;
   DeviceSweepStart start;
   std::size_t keep = 0;
   if (o.resume) {
-    kept = read_kept(o.out_path, header, planned);
+    kept = read_sweep_partial(o.out_path, header, planned);
     start = device_sweep_start(plan, kept.rows, keep);
     kept.rows.resize(keep);  // a curve cut short is measured again, from its top frequency
   } else {
-    refuse_to_overwrite_partial(o.out_path);
+    refuse_to_overwrite_sweep_partial(o.out_path);
   }
   if (o.resume && keep == planned.size()) {  // killed after its last point: nothing to measure
-    PartialFile file = open_partial(o.out_path, header, kept, keep);
+    PartialFile file = open_sweep_partial(o.out_path, header, kept, keep);
     finish(o, file, kept.rows, true);
     return;
   }
   const StopSignal stop;
   const auto device = open_device(o.device.address, o.device.timeouts());
-  PartialFile file = open_partial(o.out_path, header, kept, keep);
+  PartialFile file = open_sweep_partial(o.out_path, header, kept, keep);
   ProgressBar progress("sweep " + device->name(), planned.size() - keep);
   std::vector<SweepRow> rows = kept.rows;
   std::size_t written = keep;

@@ -2,7 +2,6 @@
 // "swum track"), by the motional phase (what an amplifier board measures) or by the speed, or
 // hold the cold pick (the baseline); one CSV row per cycle, plots of the run.
 #include <cstdio>
-#include <filesystem>
 #include <memory>
 #include <string>
 #include <vector>
@@ -11,9 +10,8 @@
 #include "commands/commands.h"
 #include "device/device_options.h"
 #include "device/stop_signal.h"
-#include "formats/number_format.h"
 #include "output/partial_file.h"
-#include "output/plot.h"
+#include "output/reports/track_run_report.h"
 #include "track/track_run.h"
 
 namespace swum::host {
@@ -37,35 +35,6 @@ TrackMethod parse_method(const std::string& text) {
   throw std::invalid_argument("--method: " + text + ": expected phase, speed or fixed");
 }
 
-// What the plots show: the rows kept in memory (a few numbers per cycle).
-struct Series {
-  std::vector<double> time_s, frequency_khz, speed_mm_s, temperature_c, phase_deg;
-  void add(const TrackRow& r) {
-    time_s.push_back(r.time_s);
-    frequency_khz.push_back(r.frequency_hz * 1e-3);
-    speed_mm_s.push_back(r.speed_mm_s);
-    temperature_c.push_back(r.stator_temperature_c.value_or(std::nan("")));
-    phase_deg.push_back(r.electrical ? r.electrical->motional_phase_a_deg : std::nan(""));
-  }
-};
-
-void write_plots(const Series& s, const std::string& dir, const std::string& method) {
-  std::filesystem::create_directories(dir);
-  auto plot = [&](const std::string& file, const std::string& title, const std::string& y_label,
-                  const std::vector<double>& y) {
-    PlotSpec spec{title + " (swum track --method " + method + ")", "device time (s)", y_label, {}};
-    spec.series.push_back({method, s.time_s, y, true, false});
-    write_png_plot(spec, std::filesystem::path(dir) / file);
-  };
-  plot("track_frequency.png", "Drive frequency", "frequency (kHz)", s.frequency_khz);
-  plot("track_speed.png", "Mover speed", "speed (mm/s)", s.speed_mm_s);
-  bool any_temperature = false, any_phase = false;
-  for (const double t : s.temperature_c) any_temperature |= std::isfinite(t);
-  for (const double p : s.phase_deg) any_phase |= std::isfinite(p);
-  if (any_temperature) plot("track_temperature.png", "Stator temperature", "temperature (degC)", s.temperature_c);
-  if (any_phase) plot("track_phase.png", "Motional current phase, phase A", "phase (deg)", s.phase_deg);
-}
-
 void run_track_command(TrackOptions& o) {
   TrackRunSettings& s = o.settings;
   s.tracker.method = parse_method(o.method);
@@ -81,7 +50,7 @@ void run_track_command(TrackOptions& o) {
   StopSignal stop;
   const auto device = open_device(o.device.address, o.device.timeouts());
   PartialFile out(o.out_path, kTrackCsvHeader);
-  Series series;
+  TrackPlotSeries series;
   TrackRunHooks hooks;
   hooks.on_row = [&](const TrackRow& row) {
     out.append(format_track_row(row));
@@ -101,13 +70,8 @@ void run_track_command(TrackOptions& o) {
     throw;
   }
   out.commit();
-  if (!o.plot_dir.empty() && !series.time_s.empty()) write_plots(series, o.plot_dir, o.method);
-  std::printf("%llu cycles (%s, method %s) -> %s; final %s Hz; peak %s; phase set-point %s; %d collapses\n",
-              static_cast<unsigned long long>(result.cycles), device->lockstep() ? "lockstep" : "wall time",
-              o.method.c_str(), o.out_path.c_str(), format_number(result.final_frequency_hz).c_str(),
-              result.peak_hz ? (format_number(*result.peak_hz) + " Hz").c_str() : "none",
-              result.phase_setpoint_deg ? (format_number(*result.phase_setpoint_deg) + " deg").c_str() : "none",
-              result.collapses);
+  if (!o.plot_dir.empty() && !series.time_s.empty()) write_track_plots(series, o.plot_dir, o.method);
+  std::fputs(track_run_summary(result, device->lockstep(), o.method, o.out_path).c_str(), stdout);
   if (result.stop_reason == "interrupted")
     throw CommandError("interrupted: drive off; " + o.out_path + " holds every cycle run", kExitInterrupted);
   if (!result.stop_reason.empty())

@@ -16,6 +16,7 @@
 #include "formats/number_format.h"
 #include "offline/motor_config.h"
 #include "output/plot.h"
+#include "output/reports/validation_report.h"
 #include "output/text_files.h"
 
 namespace swum::host {
@@ -158,11 +159,6 @@ void plot_tip_trajectories(const MotorParameters& parameters, const fs::path& di
   write_png_plot(by_frequency, dir / "fig11_tip_trajectory_vs_frequency.png");
 }
 
-std::string fact_row(const FactResult& f) {
-  return "| " + f.id + " | " + f.statement + " | " + f.paper_value + " | " + f.model_value + " | " +
-         (f.holds ? "pass" : "**fail**") + " |\n";
-}
-
 void run_validate(const ValidateOptions& o) {
   const MotorParameters parameters = load_motor_parameters(o.config_path);
   const MotorModel nonlinear(parameters);
@@ -173,14 +169,14 @@ void run_validate(const ValidateOptions& o) {
   if (ec) throw std::runtime_error("cannot create " + dir.string() + ": " + ec.message());
 
   PaperFacts facts(nonlinear, linear);
-  std::string table = "| fact | paper reports | paper value | model value | verdict |\n|---|---|---|---|---|\n";
-  for (const FactResult& f : facts.all()) table += fact_row(f);
+  std::vector<FactResult> results = facts.all();
   if (!o.literal_path.empty()) {
     const MotorModel literal(load_motor_parameters(o.literal_path));
-    table += fact_row(literal_reading_cross_check(literal));
+    results.push_back(literal_reading_cross_check(literal));
   }
-  write_text_file_atomically(dir / "facts.md", "Config: `" + o.config_path + "`\n\n" + table);
-  std::printf("%s", table.c_str());
+  const std::string table = validation_facts_table(results);
+  write_text_file_atomically(dir / "facts.md", validation_facts_markdown(o.config_path, table));
+  std::fputs(table.c_str(), stdout);
 
   plot_speed_vs_voltage(nonlinear, linear, dir / "fig13_speed_vs_voltage.png");
   plot_speed_vs_frequency(nonlinear, linear, dir / "fig14_speed_vs_frequency.png");

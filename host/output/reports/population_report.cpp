@@ -1,4 +1,4 @@
-#include "output/population_report.h"
+#include "output/reports/population_report.h"
 
 #include <algorithm>
 #include <nlohmann/json.hpp>

@@ -1,4 +1,4 @@
-#include "output/pick_plots.h"
+#include "output/reports/pick_plots.h"
 
 #include <cmath>
 #include <map>
