@@ -1,6 +1,7 @@
 #include "transports/can_transport.h"
 
 #include "core/lockstep_clock.h"
+#include "core/monotonic_clock.h"
 
 #include <time.h>
 
@@ -13,11 +14,6 @@
 namespace swum::emu {
 
 namespace {
-std::int64_t monotonic_ns() {
-  timespec ts{};
-  clock_gettime(CLOCK_MONOTONIC, &ts);  // cannot fail for CLOCK_MONOTONIC with a valid pointer
-  return static_cast<std::int64_t>(ts.tv_sec) * 1'000'000'000 + ts.tv_nsec;
-}
 // CLOCK_REALTIME now, or -1 (reported once) if clock_gettime fails.
 std::int64_t realtime_ns() {
   timespec ts{};

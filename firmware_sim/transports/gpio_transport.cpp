@@ -1,5 +1,7 @@
 #include "transports/gpio_transport.h"
 
+#include "core/monotonic_clock.h"
+
 #include <time.h>
 
 #include <cmath>
@@ -112,9 +114,7 @@ void GpioTransport::encoder_loop() {
   const auto period = static_cast<std::int64_t>(1e9 / config_.max_edge_rate_hz);
   const double origin = encoder_origin_m_;
   std::int64_t count = 0;
-  timespec now{};
-  clock_gettime(CLOCK_MONOTONIC, &now);
-  std::int64_t next = static_cast<std::int64_t>(now.tv_sec) * 1'000'000'000 + now.tv_nsec;
+  std::int64_t next = monotonic_ns();
   while (!stopping_.load(std::memory_order_relaxed)) {
     const double position = shared_.telemetry.load().position_m;
     const auto target = static_cast<std::int64_t>(std::floor((position - origin) / config_.encoder_resolution_m));
@@ -132,8 +132,7 @@ void GpioTransport::encoder_loop() {
     } else {
       next += 1'000'000;  // idle: look again in 1 ms
     }
-    clock_gettime(CLOCK_MONOTONIC, &now);
-    const std::int64_t n = static_cast<std::int64_t>(now.tv_sec) * 1'000'000'000 + now.tv_nsec;
+    const std::int64_t n = monotonic_ns();
     if (next < n - 10'000'000) next = n;  // far behind: no burst
     const timespec ts{static_cast<time_t>(next / 1'000'000'000), static_cast<long>(next % 1'000'000'000)};
     while (clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &ts, nullptr) == EINTR) {

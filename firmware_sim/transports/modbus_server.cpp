@@ -1,6 +1,7 @@
 #include "transports/modbus_server.h"
 
 #include "core/lockstep_clock.h"
+#include "core/monotonic_clock.h"
 
 #include <arpa/inet.h>
 #include <modbus.h>
@@ -33,11 +34,8 @@ namespace {
 
 std::string errno_text(const char* call, int e) { return std::string(call) + ": " + std::strerror(e); }
 
-std::uint64_t monotonic_ns() {
-  timespec ts{};
-  clock_gettime(CLOCK_MONOTONIC, &ts);
-  return static_cast<std::uint64_t>(ts.tv_sec) * 1'000'000'000ULL + static_cast<std::uint64_t>(ts.tv_nsec);
-}
+// The deadlines here are unsigned nanoseconds on the shared monotonic clock.
+std::uint64_t now_ns() { return static_cast<std::uint64_t>(monotonic_ns()); }
 
 std::uint64_t ms_to_ns(int ms) { return static_cast<std::uint64_t>(ms) * 1'000'000ULL; }
 
@@ -168,7 +166,7 @@ bool serve(modbus_t* ctx, const std::uint8_t* adu, int length, int checksum_leng
     }
   }
   if (exception == protocol::modbus::kNoException && decision.has_command) {
-    decision.command.accepted_ns = monotonic_ns();
+    decision.command.accepted_ns = now_ns();
     if (shared.submit(decision.command) != Reason::none) exception = protocol::modbus::kServerDeviceBusy;
   }
   if (exception == protocol::modbus::kNoException && decision.advance_ticks != 0) {
@@ -280,7 +278,7 @@ void ModbusTcpServer::stop() {
   if (acceptor_.joinable()) acceptor_.join();
   // A request being answered gets its reply out before the sockets close (within one frame
   // timeout): e.g. a lockstep step that the end of the run has just answered with exception 04.
-  const std::uint64_t until = monotonic_ns() + ms_to_ns(options_.frame_timeout_ms);
+  const std::uint64_t until = now_ns() + ms_to_ns(options_.frame_timeout_ms);
   for (;;) {
     {
       std::lock_guard lock(mutex_);
@@ -288,7 +286,7 @@ void ModbusTcpServer::stop() {
                        [](const auto& c) { return !c->ended && (c->phase == kStepping || c->phase == kReplying); }))
         break;
     }
-    if (monotonic_ns() >= until) break;
+    if (now_ns() >= until) break;
     const timespec pause{0, 1'000'000};
     nanosleep(&pause, nullptr);
   }
@@ -323,8 +321,8 @@ void ModbusTcpServer::supervise() {
     // have its wake-up swallowed and leave this thread in poll(-1) for ever.
     if (stopping_.load()) return;
     reap();
-    if (rc > 0 && (fds[0].revents & POLLIN)) accept_one(monotonic_ns());
-    timeout_ms = enforce_deadlines(monotonic_ns());
+    if (rc > 0 && (fds[0].revents & POLLIN)) accept_one(now_ns());
+    timeout_ms = enforce_deadlines(now_ns());
   }
 }
 
@@ -444,7 +442,7 @@ bool ModbusTcpServer::enter(Connection& c, int phase) {
   std::lock_guard lock(mutex_);
   if (c.phase == kClosing) return false;
   c.phase = phase;
-  c.since_ns = monotonic_ns();
+  c.since_ns = now_ns();
   return true;
 }
 
@@ -586,16 +584,16 @@ void ModbusRtuServer::drain(int fd) {
   // answer), garbage, the tail of a cut frame are discarded until the line has been silent
   // for max(3.5 characters, 5 ms).
   const std::uint64_t silence = std::max<std::uint64_t>(35 * character_ns(baud_) / 10, 5'000'000ULL);
-  std::uint64_t last = monotonic_ns();
+  std::uint64_t last = now_ns();
   while (!stopping_.load(std::memory_order_relaxed)) {
-    const std::uint64_t now = monotonic_ns();
+    const std::uint64_t now = now_ns();
     if (now >= last + silence) return;
     const int r = wait_readable(fd, last + silence - now);
     if (r < 0) return;  // the next read reports it
     if (r == 0) continue;
     std::uint8_t junk[256];
     const ssize_t got = ::read(fd, junk, sizeof junk);
-    if (got > 0) last = monotonic_ns();
+    if (got > 0) last = now_ns();
     else if (got < 0 && errno != EAGAIN && errno != EINTR) return;
   }
 }
@@ -635,8 +633,8 @@ void ModbusRtuServer::loop() {
       continue;
     }
     if (first == 0) continue;
-    const std::uint64_t deadline = monotonic_ns() + budget;
-    std::uint64_t last_byte = monotonic_ns();
+    const std::uint64_t deadline = now_ns() + budget;
+    std::uint64_t last_byte = now_ns();
     std::size_t have = 0;
     bool failed = false;
     std::optional<Drop> dropped;
@@ -647,7 +645,7 @@ void ModbusRtuServer::loop() {
         break;
       }
       if (static_cast<std::size_t>(need) == have) break;  // complete
-      const std::uint64_t now = monotonic_ns();
+      const std::uint64_t now = now_ns();
       if (now >= deadline) {
         dropped = Drop::frame_timeout;
         break;
@@ -672,7 +670,7 @@ void ModbusRtuServer::loop() {
       }
       if (got == 0) continue;
       have += static_cast<std::size_t>(got);
-      last_byte = monotonic_ns();
+      last_byte = now_ns();
     }
     if (failed) {
       line_failed(errno);
