@@ -106,7 +106,7 @@ void CanTransport::rx_loop() {
     // clock (unanswered: send_telemetry() sends nothing then); otherwise, with SYNC as the clock,
     // emulated time would never reach the end of the bus-off.
     const bool sync = frame.id == protocol::can::kSyncId && !frame.extended;
-    if (shared_.can_bus_off.load(std::memory_order_relaxed) && !(sync && shared_.lockstep != nullptr)) {
+    if (shared_.can_faults.off() && !(sync && shared_.lockstep != nullptr)) {
       stats_.bus_off_discarded.fetch_add(1, std::memory_order_relaxed);
       continue;
     }
@@ -210,7 +210,7 @@ Reason CanTransport::on_sync(const io::CanFrame& frame) {
 }
 
 void CanTransport::send_telemetry() {
-  if (shared_.can_bus_off.load(std::memory_order_relaxed) || shared_.telemetry_silent.load(std::memory_order_relaxed))
+  if (shared_.can_faults.off() || shared_.telemetry_silent.load(std::memory_order_relaxed))
     return;  // a scenario's bus-off or telemetry silence
   const Telemetry t = shared_.telemetry.load();
   const RejectSnapshot rejects{static_cast<Reason>(shared_.rejects.last_reason.load()), shared_.rejects.count.load()};
@@ -234,7 +234,7 @@ void CanTransport::tx_loop() {
   while (!stopping_.load(std::memory_order_relaxed)) {
     if (periodic_telemetry) send_telemetry();
     const std::int64_t now = monotonic_ns();
-    if (heartbeat > 0 && now >= next_heartbeat && !shared_.can_bus_off.load(std::memory_order_relaxed)) {
+    if (heartbeat > 0 && now >= next_heartbeat && !shared_.can_faults.off()) {
       send(protocol::can::encode_heartbeat(ids_.heartbeat));
       next_heartbeat += heartbeat;
       if (next_heartbeat < now) next_heartbeat = now + heartbeat;

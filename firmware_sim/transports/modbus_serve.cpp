@@ -22,19 +22,16 @@ namespace {
 // withheld (modbus_drop: the next N requests; telemetry_silence: FC04 reads); a modbus_delay
 // holds the reply back by delay_ms of emulated time (lockstep: the motor runs on that many ticks
 // while the controller waits; wall time: delay_ms / speedup).
-bool reply_allowed(SharedState& shared, std::uint8_t function, ModbusStats& stats,
-                   const SteppingHook& stepping) {
-  for (std::uint64_t drops = shared.modbus_drops.load(std::memory_order_relaxed); drops > 0;) {
-    if (shared.modbus_drops.compare_exchange_weak(drops, drops - 1, std::memory_order_relaxed)) {
-      stats.withheld_replies.fetch_add(1, std::memory_order_relaxed);
-      return false;
-    }
+bool reply_allowed(SharedState& shared, std::uint8_t function, ModbusStats& stats, const SteppingHook& stepping) {
+  if (shared.modbus_faults.take_drop()) {
+    stats.withheld_replies.fetch_add(1, std::memory_order_relaxed);
+    return false;
   }
   if (function == protocol::modbus::kReadInputRegisters && shared.telemetry_silent.load(std::memory_order_relaxed)) {
     stats.withheld_replies.fetch_add(1, std::memory_order_relaxed);
     return false;
   }
-  const double delay_ms = shared.modbus_delay_ms.load(std::memory_order_relaxed);
+  const double delay_ms = shared.modbus_faults.delay_ms();
   if (delay_ms > 0.0) {
     stats.delayed_replies.fetch_add(1, std::memory_order_relaxed);
     if (stepping && !stepping(true)) return false;  // the delay is the device's: no deadline on it
