@@ -72,12 +72,13 @@ class FakeLineBase {
   }
 
  protected:
-  State::Line& line() { return state_->line(config_.chip, config_.offset, ""); }
-  // The line, for an operation: throws as the real adapter does while a failure is injected.
-  State::Line& operable_line(const char* operation) {
-    auto& l = line();
-    if (l.failing) throw GpioError(where(config_) + ": " + operation + ": Input/output error (injected)", EIO);
-    return l;
+  // The line, for an operation; null (and `failure` filled) as the real adapter fails while a
+  // failure is injected.
+  State::Line* operable_line(const char* operation, GpioResult& failure) const {
+    auto& l = state_->line(config_.chip, config_.offset, "");
+    if (!l.failing) return &l;
+    failure = gpio_failure(where(config_) + ": " + operation + ": Input/output error (injected)", EIO);
+    return nullptr;
   }
   std::shared_ptr<State> state_;
   GpioLineConfig config_;
@@ -86,32 +87,41 @@ class FakeLineBase {
 class FakeOutput final : public GpioOutputLine, FakeLineBase {
  public:
   using FakeLineBase::FakeLineBase;
-  void set(bool value) override {
+  GpioResult set(bool value) override {
     std::lock_guard lock(state_->mutex);
-    operable_line("set").output_value = value;
+    GpioResult r;
+    if (auto* l = operable_line("set", r)) l->output_value = value;
+    return r;
   }
-  bool get() const override {
+  GpioResult get(bool& value) const override {
     std::lock_guard lock(state_->mutex);
-    return const_cast<FakeOutput*>(this)->operable_line("get").output_value;
+    GpioResult r;
+    if (const auto* l = operable_line("get", r)) value = l->output_value;
+    return r;
   }
 };
 
 class FakeInput final : public GpioInputLine, FakeLineBase {
  public:
   using FakeLineBase::FakeLineBase;
-  bool get() const override {
+  GpioResult get(bool& value) const override {
     std::lock_guard lock(state_->mutex);
-    return State::level_of(const_cast<FakeInput*>(this)->operable_line("get"));
+    GpioResult r;
+    if (const auto* l = operable_line("get", r)) value = State::level_of(*l);
+    return r;
   }
-  GpioWait wait_edge(GpioEvent& event, std::chrono::milliseconds timeout) override {
+  GpioResult wait_edge(GpioEvent& event, std::chrono::milliseconds timeout) override {
     std::unique_lock lock(state_->mutex);
-    auto& l = operable_line("wait for edges");
-    if (l.edge == GpioEdge::none)
-      throw GpioError(where(config_) + ": requested without edge detection, cannot wait for edges", EINVAL);
-    if (!state_->changed.wait_for(lock, timeout, [&] { return !l.events.empty(); })) return GpioWait::timeout;
-    event = l.events.front();
-    l.events.pop_front();
-    return GpioWait::event;
+    GpioResult r;
+    auto* l = operable_line("wait for edges", r);
+    if (l == nullptr) return r;
+    if (l->edge == GpioEdge::none)
+      return gpio_failure(where(config_) + ": requested without edge detection, cannot wait for edges", EINVAL);
+    if (!state_->changed.wait_for(lock, timeout, [&] { return !l->events.empty(); }))
+      return GpioResult{GpioStatus::timeout, 0, {}};
+    event = l->events.front();
+    l->events.pop_front();
+    return r;
   }
 };
 

@@ -33,7 +33,7 @@ class FakeGpioLines final : public GpioLines {
   bool level(const std::string& chip, unsigned offset) const;
   // Consumer holding the line, empty when free.
   std::string consumer(const std::string& chip, unsigned offset) const;
-  // Fault injection: while set, every set/get/wait_edge on the line throws GpioError (EIO), as
+  // Fault injection: while set, every set/get/wait_edge on the line returns an error (EIO), as
   // the real adapter does when the kernel refuses the operation.
   void fail_operations(const std::string& chip, unsigned offset, bool failing);
 

@@ -1,6 +1,8 @@
 // Narrow GPIO interface of the device side: request one output or input line of a chip,
 // set/get its value, wait for edge events with a timeout. Requests fail with GpioError
-// (clear text: no such chip, offset out of range, line busy); a line is released when its
+// (clear text: no such chip, offset out of range, line busy): they are load-time calls. The
+// per-event calls (set, get, wait_edge) run on the transport's loop and return a GpioResult
+// instead, never throw (docs/architecture.md, "Errors: one rule"). A line is released when its
 // object is destroyed.
 #pragma once
 
@@ -8,6 +10,7 @@
 #include <memory>
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 namespace swum::io {
 
@@ -34,23 +37,41 @@ struct GpioEvent {
   std::chrono::nanoseconds timestamp{0};  // kernel event timestamp (fake: steady clock)
 };
 
-enum class GpioWait { event, timeout };
+// What a per-event line operation came to, as io::CanResult is for a bus call.
+enum class GpioStatus {
+  ok,       // done (wait_edge: an event arrived)
+  timeout,  // wait_edge only: no event within the timeout
+  error,    // the kernel refused (chip gone, line released), or a misuse: errno + text
+};
+
+struct GpioResult {
+  GpioStatus status = GpioStatus::ok;
+  int error_number = 0;  // errno, when there is one
+  std::string message;   // one line naming the chip and line, for anything but ok
+  bool ok() const { return status == GpioStatus::ok; }
+};
 
 class GpioOutputLine {
  public:
   virtual ~GpioOutputLine() = default;
-  virtual void set(bool value) = 0;
-  virtual bool get() const = 0;
+  virtual GpioResult set(bool value) = 0;
+  virtual GpioResult get(bool& value) const = 0;  // `value` changed only when ok
 };
 
 class GpioInputLine {
  public:
   virtual ~GpioInputLine() = default;
-  virtual bool get() const = 0;
-  // Waits up to `timeout` for the next edge event (throws GpioError if requested with
-  // GpioEdge::none). Events queue: none is lost between calls.
-  virtual GpioWait wait_edge(GpioEvent& event, std::chrono::milliseconds timeout) = 0;
+  virtual GpioResult get(bool& value) const = 0;  // `value` changed only when ok
+  // Waits up to `timeout` for the next edge event: ok with `event` filled, or timeout. A line
+  // requested with GpioEdge::none gives error (EINVAL): a programming error, which the first test
+  // that makes it sees. Events queue: none is lost between calls.
+  virtual GpioResult wait_edge(GpioEvent& event, std::chrono::milliseconds timeout) = 0;
 };
+
+// A failed per-event operation, as the adapters report it.
+inline GpioResult gpio_failure(std::string message, int error_number) {
+  return GpioResult{GpioStatus::error, error_number, std::move(message)};
+}
 
 class GpioLines {
  public:

@@ -49,24 +49,29 @@ gpiod::line open_line(const GpioLineConfig& c) {
   throw GpioError(where(c) + ": request failed: " + e.what(), code);
 }
 
+// Both line kinds read a value the same way; libgpiod throws, the caller gets a status.
+GpioResult read_value(const gpiod::line& line, const GpioLineConfig& c, bool& value) {
+  try {
+    value = line.get_value() != 0;
+  } catch (const std::system_error& e) {
+    return gpio_failure(where(c) + ": get failed: " + e.what(), e.code().value());
+  }
+  return {};
+}
+
 class GpiodOutput final : public GpioOutputLine {
  public:
   explicit GpiodOutput(gpiod::line line, GpioLineConfig c) : line_(std::move(line)), config_(std::move(c)) {}
   ~GpiodOutput() override { line_.release(); }
-  void set(bool value) override {
+  GpioResult set(bool value) override {
     try {
       line_.set_value(value ? 1 : 0);
     } catch (const std::system_error& e) {
-      throw GpioError(where(config_) + ": set failed: " + e.what(), e.code().value());
+      return gpio_failure(where(config_) + ": set failed: " + e.what(), e.code().value());
     }
+    return {};
   }
-  bool get() const override {
-    try {
-      return line_.get_value() != 0;
-    } catch (const std::system_error& e) {
-      throw GpioError(where(config_) + ": get failed: " + e.what(), e.code().value());
-    }
-  }
+  GpioResult get(bool& value) const override { return read_value(line_, config_, value); }
 
  private:
   gpiod::line line_;
@@ -78,23 +83,18 @@ class GpiodInput final : public GpioInputLine {
   GpiodInput(gpiod::line line, GpioLineConfig c, bool events)
       : line_(std::move(line)), config_(std::move(c)), events_(events) {}
   ~GpiodInput() override { line_.release(); }
-  bool get() const override {
+  GpioResult get(bool& value) const override { return read_value(line_, config_, value); }
+  GpioResult wait_edge(GpioEvent& event, std::chrono::milliseconds timeout) override {
+    if (!events_)
+      return gpio_failure(where(config_) + ": requested without edge detection, cannot wait for edges", EINVAL);
     try {
-      return line_.get_value() != 0;
-    } catch (const std::system_error& e) {
-      throw GpioError(where(config_) + ": get failed: " + e.what(), e.code().value());
-    }
-  }
-  GpioWait wait_edge(GpioEvent& event, std::chrono::milliseconds timeout) override {
-    if (!events_) throw GpioError(where(config_) + ": requested without edge detection, cannot wait for edges", EINVAL);
-    try {
-      if (!line_.event_wait(timeout)) return GpioWait::timeout;
+      if (!line_.event_wait(timeout)) return GpioResult{GpioStatus::timeout, 0, {}};
       const gpiod::line_event e = line_.event_read();
       event.rising = e.event_type == gpiod::line_event::RISING_EDGE;
       event.timestamp = e.timestamp;
-      return GpioWait::event;
+      return {};
     } catch (const std::system_error& e) {
-      throw GpioError(where(config_) + ": waiting for an edge failed: " + e.what(), e.code().value());
+      return gpio_failure(where(config_) + ": waiting for an edge failed: " + e.what(), e.code().value());
     }
   }
 

@@ -1,5 +1,6 @@
 // Real GPIO adapter on libgpiod 1.6's C++ binding (gpiod.hpp), i.e. the kernel's GPIO character
-// device. Thin: it maps requests and values, and turns libgpiod's exceptions into GpioError.
+// device. Thin: it maps requests and values, and turns libgpiod's exceptions (std::system_error)
+// into GpioError at request time and into a GpioResult on every later call.
 #pragma once
 
 #include "gpio_lines.h"

@@ -26,14 +26,18 @@ std::string validate(const CanFrame& frame) {
   return {};
 }
 
-std::string to_cansend(const CanFrame& frame) {
-  char buf[48];
-  int n = std::snprintf(buf, sizeof buf, frame.extended ? "%08X#" : "%03X#", frame.id);
+std::size_t to_cansend(const CanFrame& frame, std::span<char, kCansendMaxLength + 1> out) {
+  int n = std::snprintf(out.data(), out.size(), frame.extended ? "%08X#" : "%03X#", frame.id);
   for (int i = 0; i < std::min<int>(frame.dlc, 8); ++i) {
-    n += std::snprintf(buf + n, sizeof buf - static_cast<std::size_t>(n), "%02X",
+    n += std::snprintf(out.data() + n, out.size() - static_cast<std::size_t>(n), "%02X",
                        frame.data[static_cast<std::size_t>(i)]);
   }
-  return std::string(buf, static_cast<std::size_t>(n));
+  return static_cast<std::size_t>(n);
+}
+
+std::string to_cansend(const CanFrame& frame) {
+  std::array<char, kCansendMaxLength + 1> text{};
+  return std::string(text.data(), to_cansend(frame, text));
 }
 
 std::string parse_cansend(std::string_view text, CanFrame& out) {

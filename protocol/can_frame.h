@@ -4,7 +4,9 @@
 
 #include <array>
 #include <chrono>
+#include <cstddef>
 #include <cstdint>
+#include <span>
 #include <string>
 #include <string_view>
 
@@ -35,6 +37,10 @@ std::string validate(const CanFrame& frame);
 // digits: extended). parse_cansend returns what is wrong (empty when fine; `out` is changed
 // only then).
 std::string to_cansend(const CanFrame& frame);
+// The same text into a caller's buffer, NUL-terminated, without allocating (a recording written
+// on a per-frame path); returns its length. Any 32-bit identifier fits: 8 digits, '#', 16 digits.
+inline constexpr std::size_t kCansendMaxLength = 8 + 1 + 16;
+std::size_t to_cansend(const CanFrame& frame, std::span<char, kCansendMaxLength + 1> out);
 std::string parse_cansend(std::string_view text, CanFrame& out);
 
 }  // namespace swum::protocol

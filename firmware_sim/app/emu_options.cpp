@@ -9,6 +9,7 @@
 #include <sstream>
 #include <tuple>
 
+#include "app/milliseconds.h"
 #include "can_codec.h"
 
 namespace swum::emu {

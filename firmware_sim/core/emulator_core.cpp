@@ -239,9 +239,8 @@ void EmulatorCore::apply_scenario(const ScenarioConditions& c) {
   }
   // Communication faults, for the transports.
   shared_.telemetry_silent.store(c.telemetry_silent, std::memory_order_relaxed);
-  if (c.modbus_drops_started != 0) shared_.modbus_drops.fetch_add(c.modbus_drops_started, std::memory_order_relaxed);
-  shared_.modbus_delay_ms.store(c.modbus_delay_ms, std::memory_order_relaxed);
-  shared_.can_bus_off.store(c.can_bus_off, std::memory_order_relaxed);
+  shared_.modbus_faults.set({.drops_started = c.modbus_drops_started, .delay_ms = c.modbus_delay_ms, .off = false});
+  shared_.can_faults.set({.drops_started = 0, .delay_ms = 0.0, .off = c.can_bus_off});
 }
 
 void EmulatorCore::report_sensors(const ScenarioConditions& c, double& position_m) {

@@ -1,5 +1,7 @@
 #include "core/realtime_loop.h"
 
+#include "core/monotonic_clock.h"
+
 #include <sched.h>
 #include <sys/mman.h>
 #include <sys/prctl.h>
@@ -12,11 +14,6 @@
 namespace swum::emu {
 
 namespace {
-std::int64_t now_ns() {
-  timespec ts{};
-  clock_gettime(CLOCK_MONOTONIC, &ts);  // cannot fail for CLOCK_MONOTONIC with a valid pointer
-  return static_cast<std::int64_t>(ts.tv_sec) * 1'000'000'000 + ts.tv_nsec;
-}
 timespec to_timespec(std::int64_t ns) {
   timespec ts{};
   ts.tv_sec = static_cast<time_t>(ns / 1'000'000'000);
@@ -55,7 +52,7 @@ std::uint64_t RealtimeLoop::run(const std::atomic<bool>& stop) {
   // Timer slack (50 us by default for SCHED_OTHER) would delay every wake-up: ask for 1 ns.
   if (prctl(PR_SET_TIMERSLACK, 1UL, 0UL, 0UL, 0UL) != 0)
     std::fprintf(stderr, "swum-emu: prctl(PR_SET_TIMERSLACK): %s\n", std::strerror(errno));
-  const std::int64_t start = now_ns();
+  const std::int64_t start = monotonic_ns();
   std::int64_t deadline = start + period_ns;
   std::uint64_t ticks = 0;
   while (!stop.load(std::memory_order_relaxed) && (config_.max_ticks == 0 || ticks < config_.max_ticks)) {
@@ -71,10 +68,10 @@ std::uint64_t RealtimeLoop::run(const std::atomic<bool>& stop) {
         std::fprintf(stderr, "swum-emu: clock_nanosleep: %s\n", std::strerror(rc));
         sleep_error_reported_ = true;
       }
-      wake = now_ns();
-      while (spin_ns > 0 && wake < deadline && !stop.load(std::memory_order_relaxed)) wake = now_ns();
+      wake = monotonic_ns();
+      while (spin_ns > 0 && wake < deadline && !stop.load(std::memory_order_relaxed)) wake = monotonic_ns();
     } else {
-      wake = now_ns();
+      wake = monotonic_ns();
       deadline = wake;
     }
     const std::int64_t lateness = wake - deadline;
@@ -85,7 +82,7 @@ std::uint64_t RealtimeLoop::run(const std::atomic<bool>& stop) {
     }
     ++ticks;
     if (config_.stats_every_ticks && ticks % config_.stats_every_ticks == 0) core_.set_stats(stats_.summary());
-    const std::int64_t end = now_ns();
+    const std::int64_t end = monotonic_ns();
     const bool overrun = !free_running && end > deadline + period_ns;
     stats_.record(static_cast<std::uint64_t>(lateness > 0 ? lateness : 0), static_cast<std::uint64_t>(end - wake),
                   overrun);
@@ -95,7 +92,7 @@ std::uint64_t RealtimeLoop::run(const std::atomic<bool>& stop) {
       ++resyncs_;
     }
   }
-  wall_s_ = static_cast<double>(now_ns() - start) * 1e-9;
+  wall_s_ = static_cast<double>(monotonic_ns() - start) * 1e-9;
   core_.set_stats(stats_.summary());
   return ticks;
 }

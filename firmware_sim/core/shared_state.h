@@ -7,6 +7,7 @@
 #include <cstdint>
 
 #include "core/amplifier.h"
+#include "core/comm_fault_gate.h"
 #include "core/lockfree.h"
 #include "core/scenario.h"
 #include "telemetry.h"
@@ -83,11 +84,10 @@ struct SharedState {
   std::atomic<std::uint64_t> queue_full{0};
 
   // Communication faults of a scenario (docs/scenarios.md): set by the loop at tick boundaries,
-  // read by the transports for each request / frame.
-  std::atomic<bool> telemetry_silent{false};   // no telemetry out (Modbus FC04 unanswered, no CAN frames)
-  std::atomic<std::uint64_t> modbus_drops{0};  // Modbus requests still to leave unanswered
-  std::atomic<double> modbus_delay_ms{0.0};    // every Modbus reply this late (emulated ms)
-  std::atomic<bool> can_bus_off{false};        // the CAN node neither sends nor receives
+  // read by the transports for each request / frame. Each transport has its own gate.
+  std::atomic<bool> telemetry_silent{false};  // no telemetry out (Modbus FC04 unanswered, no CAN frames)
+  CommFaultGate modbus_faults;                // modbus_drop, modbus_delay
+  CommFaultGate can_faults;                   // can_bus_off
   // The HTTP API (off unless --http): run-time faults in, the faults in force out, the recording.
   RuntimeEventQueue runtime_events;
   Seqlock<ActiveFaults> active_faults;

@@ -1,23 +1,23 @@
 #include "transports/can_transport.h"
 
 #include "core/lockstep_clock.h"
+#include "core/monotonic_clock.h"
+#include "transports/swum_can_profile.h"
 
 #include <time.h>
 
 #include <array>
 #include <cerrno>
+#include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <stdexcept>
 
+#include "can_codec.h"  // the CiA 301 SYNC that steps the lockstep clock, whatever the profile
+
 namespace swum::emu {
 
 namespace {
-std::int64_t monotonic_ns() {
-  timespec ts{};
-  clock_gettime(CLOCK_MONOTONIC, &ts);  // cannot fail for CLOCK_MONOTONIC with a valid pointer
-  return static_cast<std::int64_t>(ts.tv_sec) * 1'000'000'000 + ts.tv_nsec;
-}
 // CLOCK_REALTIME now, or -1 (reported once) if clock_gettime fails.
 std::int64_t realtime_ns() {
   timespec ts{};
@@ -47,22 +47,43 @@ RxStamp receive_time(std::chrono::nanoseconds timestamp, std::int64_t realtime_n
   return r;
 }
 
+// What the profile is handed: sending goes through the transport's counters and recording;
+// submitting checks the limits and stamps the frame's receive time before the queue.
+class CanTransport::Port final : public CanNodePort {
+ public:
+  Port(CanTransport& transport, bool record, std::int64_t receive_ns = 0)
+      : transport_(transport), record_(record), receive_ns_(receive_ns) {}
+  void send(const io::CanFrame& frame) override { transport_.send(frame, record_); }
+  Reason submit(Command command) override {
+    if (const Reason r = validate(command, transport_.limits_); r != Reason::none) return r;
+    command.accepted_ns = static_cast<std::uint64_t>(receive_ns_);
+    return transport_.shared_.submit(command);
+  }
+
+ private:
+  CanTransport& transport_;
+  bool record_;
+  std::int64_t receive_ns_;
+};
+
 CanTransport::CanTransport(std::unique_ptr<io::CanBus> rx_bus, std::unique_ptr<io::CanBus> tx_bus,
                            CanTransportConfig config, SharedState& shared, AmplifierLimits limits)
+    : CanTransport(std::move(rx_bus), std::move(tx_bus),
+                   std::make_unique<SwumCanProfile>(SwumCanProfileConfig{config.node, config.heartbeat_s}), config,
+                   shared, limits) {}
+
+CanTransport::CanTransport(std::unique_ptr<io::CanBus> rx_bus, std::unique_ptr<io::CanBus> tx_bus,
+                           std::unique_ptr<CanProfile> profile, CanTransportConfig config, SharedState& shared,
+                           AmplifierLimits limits)
     : rx_bus_(std::move(rx_bus)),
       tx_bus_(std::move(tx_bus)),
+      profile_(std::move(profile)),
+      bus_name_(rx_bus_->name()),
       config_(config),
-      ids_(protocol::can::ids_for_node(config.node)),
       shared_(shared),
       limits_(limits) {
-  if (config.node < protocol::can::kMinNode || config.node > protocol::can::kMaxNode)
-    throw std::invalid_argument("CAN node id must be " + std::to_string(protocol::can::kMinNode) + ".." +
-                                std::to_string(protocol::can::kMaxNode));
-  const std::array<io::CanFilter, 3> filters{io::CanFilter{ids_.command, io::kCanStandardIdMax, false},
-                                             io::CanFilter{ids_.aux, io::kCanStandardIdMax, false},
-                                             io::CanFilter{protocol::can::kSyncId, io::kCanStandardIdMax, false}};
-
-  const io::CanResult r = rx_bus_->set_filters(filters);
+  if (!profile_) throw std::invalid_argument("CAN: no profile (the frame set the node speaks)");
+  const io::CanResult r = rx_bus_->set_filters(profile_->filters());
   if (!r.ok()) throw std::runtime_error("CAN: cannot set receive filters on " + rx_bus_->name() + ": " + r.message);
 }
 
@@ -80,7 +101,6 @@ void CanTransport::stop() {
 }
 
 void CanTransport::rx_loop() {
-  protocol::can::AliveCounter command_alive, aux_alive;
   io::CanFrame frame;
   std::uint64_t reported_errors = 0;
   while (!stopping_.load(std::memory_order_relaxed)) {
@@ -110,7 +130,7 @@ void CanTransport::rx_loop() {
     // clock (unanswered: send_telemetry() sends nothing then); otherwise, with SYNC as the clock,
     // emulated time would never reach the end of the bus-off.
     const bool sync = frame.id == protocol::can::kSyncId && !frame.extended;
-    if (shared_.can_bus_off.load(std::memory_order_relaxed) && !(sync && shared_.lockstep != nullptr)) {
+    if (shared_.can_faults.off() && !(sync && shared_.lockstep != nullptr)) {
       stats_.bus_off_discarded.fetch_add(1, std::memory_order_relaxed);
       continue;
     }
@@ -123,74 +143,51 @@ void CanTransport::rx_loop() {
       case RxStampSource::missing: stats_.rx_stamp_missing.fetch_add(1, std::memory_order_relaxed); break;
       case RxStampSource::implausible: stats_.rx_stamp_implausible.fetch_add(1, std::memory_order_relaxed); break;
     }
-    // The alive counter's resynchronisation window (1 s without an accepted frame): on the
-    // emulated clock in lockstep, so that whether a command counts never depends on wall time.
-    const std::int64_t alive_ns =
-        shared_.lockstep != nullptr ? static_cast<std::int64_t>(std::llround(shared_.telemetry.load().sim_time_s * 1e9))
-                                    : stamp.monotonic_ns;
-    Reason reason = Reason::none;
-    Command command;
-    if (frame.id == ids_.command && !frame.extended) {
-      protocol::can::CommandFrame c;
-      reason = protocol::can::decode_command(frame, c);
-      if (reason == Reason::none) reason = command_alive.check(c.alive, alive_ns);
-      if (reason == Reason::none) {
-        command = protocol::can::to_command(c);
-        reason = validate(command, limits_);
-      }
-      if (reason == Reason::none) {
-        command.accepted_ns = static_cast<std::uint64_t>(stamp.monotonic_ns);
-        reason = shared_.submit(command);
-        if (reason == Reason::none) command_alive.accept(c.alive, alive_ns);
-      }
-    } else if (frame.id == ids_.aux && !frame.extended) {
-      protocol::can::AuxFrame a;
-      reason = protocol::can::decode_aux(frame, a);
-      if (reason == Reason::none) reason = aux_alive.check(a.alive, alive_ns);
-      if (reason == Reason::none) {
-        command = protocol::can::to_command(a);
-        reason = validate(command, limits_);
-      }
-      if (reason == Reason::none) {
-        command.accepted_ns = static_cast<std::uint64_t>(stamp.monotonic_ns);
-        reason = shared_.submit(command);
-        if (reason == Reason::none) aux_alive.accept(a.alive, alive_ns);
-      }
-    } else if (sync) {
-      reason = on_sync(frame);
+    CanRxResult result;
+    if (sync && shared_.lockstep != nullptr) {
+      const Reason reason = on_sync(frame);
       if (reason == Reason::none) continue;  // a step, not a command: not counted as accepted
+      result = {CanRxStatus::refused, reason};
     } else {
-      continue;  // not for us (filters normally keep these out)
+      // Protocol timeouts (the swum alive counter's resynchronisation window): on the emulated
+      // clock in lockstep, so that whether a command counts never depends on wall time.
+      const std::int64_t clock_ns = shared_.lockstep != nullptr ? static_cast<std::int64_t>(std::llround(
+                                                                      shared_.telemetry.load().sim_time_s * 1e9))
+                                                                : stamp.monotonic_ns;
+      Port port(*this, true, stamp.monotonic_ns);
+      result = profile_->receive(frame, CanRxTime{stamp.monotonic_ns, clock_ns}, port);
     }
-    if (reason == Reason::none) {
+    if (result.status == CanRxStatus::accepted) {
       stats_.accepted.fetch_add(1, std::memory_order_relaxed);
-    } else {
+    } else if (result.status == CanRxStatus::refused) {
       stats_.rejected.fetch_add(1, std::memory_order_relaxed);
-      if (reason != Reason::queue_full) shared_.rejects.record(reason, CommandSource::can);  // submit() logged it
+      if (result.reason != Reason::queue_full)
+        shared_.rejects.record(result.reason, CommandSource::can);  // submit() logged it
     }
   }
 }
 
 // candump -l: "(SECONDS.MICROSECONDS) IFACE ID#DATA". In lockstep the time is the emulated time
-// (the same run gives the same file); heartbeats, on the wall clock, are not logged then.
+// (the same run gives the same file); the profile's wall-clock frames (heartbeats) are not
+// logged then (send_periodic()).
 void CanTransport::log_frame(const io::CanFrame& frame) {
   if (config_.can_log == nullptr) return;
   const bool lockstep = shared_.lockstep != nullptr;
-  if (lockstep && frame.id == ids_.heartbeat) return;
   const std::int64_t ns = lockstep ? static_cast<std::int64_t>(std::llround(shared_.telemetry.load().sim_time_s * 1e9))
                                    : realtime_ns();
-  char data[17] = "";
-  for (unsigned i = 0; i < frame.dlc && i < 8; ++i) std::snprintf(data + 2 * i, 3, "%02X", frame.data[i]);
+  // The protocol's cansend text: 3 digits for a standard identifier, 8 for an extended one.
+  std::array<char, protocol::kCansendMaxLength + 1> text{};
+  protocol::to_cansend(frame, text);
   const std::lock_guard lock(log_mutex_);
-  std::fprintf(config_.can_log, "(%lld.%06lld) %s %03X#%s\n", static_cast<long long>(ns / 1'000'000'000),
-               static_cast<long long>((ns % 1'000'000'000) / 1000), rx_bus_->name().c_str(), frame.id, data);
+  std::fprintf(config_.can_log, "(%lld.%06lld) %s %s\n", static_cast<long long>(ns / 1'000'000'000),
+               static_cast<long long>((ns % 1'000'000'000) / 1000), bus_name_.c_str(), text.data());
 }
 
-void CanTransport::send(const io::CanFrame& frame) {
+void CanTransport::send(const io::CanFrame& frame, bool record) {
   io::CanBus& bus = tx_bus_ ? *tx_bus_ : *rx_bus_;
   const io::CanResult r = bus.send(frame);
   if (r.ok()) {
-    log_frame(frame);
+    if (record) log_frame(frame);
     stats_.tx_frames.fetch_add(1, std::memory_order_relaxed);
   } else if (r.status == io::CanStatus::retry) {
     stats_.tx_dropped.fetch_add(1, std::memory_order_relaxed);  // queue full: telemetry is periodic, drop it
@@ -214,35 +211,25 @@ Reason CanTransport::on_sync(const io::CanFrame& frame) {
 }
 
 void CanTransport::send_telemetry() {
-  if (shared_.can_bus_off.load(std::memory_order_relaxed) || shared_.telemetry_silent.load(std::memory_order_relaxed))
+  if (shared_.can_faults.off() || shared_.telemetry_silent.load(std::memory_order_relaxed))
     return;  // a scenario's bus-off or telemetry silence
   const Telemetry t = shared_.telemetry.load();
   const RejectSnapshot rejects{static_cast<Reason>(shared_.rejects.last_reason.load()), shared_.rejects.count.load()};
-  send(protocol::can::encode_status(t, rejects, status_counter_.fetch_add(1, std::memory_order_relaxed), ids_.status));
-  send(protocol::can::encode_motion(t, ids_.motion));
-  send(protocol::can::encode_drive(t, ids_.drive));
-  send(protocol::can::encode_loop_stats(t, ids_.loop_stats));
-  send(protocol::can::encode_clock(t, ids_.clock));
-  send(protocol::can::encode_electrical_a(t, ids_.electrical_a));
-  send(protocol::can::encode_electrical_b(t, ids_.electrical_b));
-  send(protocol::can::encode_output(t, ids_.output));  // last: it ends the set
+  Port out(*this, true);
+  profile_->send_telemetry(t, rejects, out);
 }
 
 void CanTransport::tx_loop() {
   const auto period = static_cast<std::int64_t>(1e9 / (config_.telemetry_hz > 0 ? config_.telemetry_hz : 100.0));
-  const auto heartbeat = static_cast<std::int64_t>(config_.heartbeat_s * 1e9);
   std::int64_t next = monotonic_ns();
-  std::int64_t next_heartbeat = next;
   // Lockstep: telemetry goes out at each SYNC (on_sync), never on the wall clock.
   const bool periodic_telemetry = config_.telemetry_hz > 0 && shared_.lockstep == nullptr;
+  // The profile's wall-clock frames; in lockstep they stay out of the recording (emulated time).
+  Port periodic(*this, shared_.lockstep == nullptr);
   while (!stopping_.load(std::memory_order_relaxed)) {
     if (periodic_telemetry) send_telemetry();
     const std::int64_t now = monotonic_ns();
-    if (heartbeat > 0 && now >= next_heartbeat && !shared_.can_bus_off.load(std::memory_order_relaxed)) {
-      send(protocol::can::encode_heartbeat(ids_.heartbeat));
-      next_heartbeat += heartbeat;
-      if (next_heartbeat < now) next_heartbeat = now + heartbeat;
-    }
+    if (!shared_.can_faults.off()) profile_->send_periodic(now, periodic);
     next += period;
     if (next < now) next = now + period;  // fell behind (e.g. stopped in a debugger): no burst
     const timespec ts{static_cast<time_t>(next / 1'000'000'000), static_cast<long>(next % 1'000'000'000)};

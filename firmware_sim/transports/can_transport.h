@@ -1,7 +1,10 @@
 // CAN transport on the CanBus interface (SocketCanBus on a real bus, FakeCanBus in tests):
-// a receive thread (kernel filters on the node's two command identifiers; decode, CRC, alive
-// counter, ranges -> command queue or reject with a reason) and a transmit thread (telemetry
-// frames at a fixed rate, heartbeat). Bus-off / ENOBUFS are counted and survived.
+// a receive thread (kernel filters on the identifiers the profile reads; the profile decodes and
+// checks each frame -> command queue or reject with a reason) and a transmit thread (the
+// profile's telemetry frames at a fixed rate, its heartbeat). What frames the node speaks is the
+// CanProfile's (can_profile.h; the swum frame set by default); sockets, statistics, recording,
+// the scenario's faults and the lockstep SYNC are this transport's, the same for every profile.
+// Bus-off / ENOBUFS are counted and survived.
 // A command's receive time (Command::accepted_ns, start of the loop's accept-to-effect latency)
 // is the bus's receive timestamp (the kernel's SO_TIMESTAMPNS on SocketCAN, CLOCK_REALTIME)
 // converted to CLOCK_MONOTONIC, so time spent queued in the kernel socket counts too.
@@ -13,20 +16,21 @@
 #include <cstdio>
 #include <memory>
 #include <mutex>
+#include <string>
 #include <thread>
 
 #include "can_bus.h"
-#include "can_codec.h"
 #include "core/amplifier.h"
 #include "core/loop_statistics.h"
 #include "core/shared_state.h"
+#include "transports/can_profile.h"
 
 namespace swum::emu {
 
 struct CanTransportConfig {
-  std::uint8_t node = 1;
-  double telemetry_hz = 100.0;    // Status/Motion/Drive/LoopStats/Clock/ElectricalA/ElectricalB/Output frames
-  double heartbeat_s = 1.0;       // 0 = no heartbeat
+  std::uint8_t node = 1;          // the swum profile's node id (constructor without a profile)
+  double telemetry_hz = 100.0;    // telemetry sets a second (swum: Status/Motion/.../Output frames)
+  double heartbeat_s = 1.0;       // the swum profile's heartbeat; 0 = no heartbeat
   std::uint32_t sync_ticks = 10;  // lockstep: ticks per SYNC (control cycle)
   // --record-can: every frame received and sent, in candump's log format (canplayer replays
   // it); null: none. Owned by the caller, open for the transport's life.
@@ -67,9 +71,15 @@ struct CanStats {
 
 class CanTransport {
  public:
-  // `tx_bus` may be null: then `rx_bus` is used for both directions.
+  // `tx_bus` may be null: then `rx_bus` is used for both directions. Speaks the swum frame set
+  // (SwumCanProfile) as node config.node. Throws std::invalid_argument for a bad node id,
+  // std::runtime_error when the receive filters cannot be set.
   CanTransport(std::unique_ptr<io::CanBus> rx_bus, std::unique_ptr<io::CanBus> tx_bus, CanTransportConfig config,
                SharedState& shared, AmplifierLimits limits);
+  // The same with any frame set; config.node and config.heartbeat_s are then unused.
+  CanTransport(std::unique_ptr<io::CanBus> rx_bus, std::unique_ptr<io::CanBus> tx_bus,
+               std::unique_ptr<CanProfile> profile, CanTransportConfig config, SharedState& shared,
+               AmplifierLimits limits);
   ~CanTransport();
   CanTransport(const CanTransport&) = delete;
   CanTransport& operator=(const CanTransport&) = delete;
@@ -82,18 +92,19 @@ class CanTransport {
   [[nodiscard]] const Histogram& receive_age() const { return receive_age_; }
 
  private:
+  class Port;  // the CanNodePort / CanSender the profile is handed
   void rx_loop();
   void tx_loop();
-  void send(const io::CanFrame& frame);
-  void send_telemetry();                      // the telemetry frames of the latest snapshot
-  Reason on_sync(const io::CanFrame& frame);  // lockstep: telemetry sampled now, then one cycle
-  std::atomic<std::uint8_t> status_counter_{0};
-  void log_frame(const io::CanFrame& frame);  // --record-can
+  void send(const io::CanFrame& frame, bool record);  // record: into --record-can
+  void send_telemetry();                              // the profile's frames of the latest snapshot
+  Reason on_sync(const io::CanFrame& frame);          // lockstep: telemetry sampled now, then one cycle
+  void log_frame(const io::CanFrame& frame);          // --record-can
   std::mutex log_mutex_;
   std::unique_ptr<io::CanBus> rx_bus_;
   std::unique_ptr<io::CanBus> tx_bus_;
+  std::unique_ptr<CanProfile> profile_;
+  std::string bus_name_;  // the recording's IFACE field, read once (name() returns a new string)
   CanTransportConfig config_;
-  protocol::can::Ids ids_;
   SharedState& shared_;
   AmplifierLimits limits_;
   std::atomic<bool> stopping_{false};

@@ -1,5 +1,7 @@
 #include "transports/gpio_transport.h"
 
+#include "core/monotonic_clock.h"
+
 #include <time.h>
 
 #include <cmath>
@@ -39,7 +41,9 @@ GpioTransport::GpioTransport(io::GpioLines& lines, GpioConfig config, SharedStat
   auto line = [&](int offset) { return io::GpioLineConfig{config_.chip, static_cast<unsigned>(offset), "swum-emu"}; };
   if (config_.enable >= 0) {
     enable_ = lines.request_input(line(config_.enable), io::GpioEdge::both, io::GpioBias::as_is);
-    shared_.enable_line.store(enable_->get());
+    bool level = false;
+    if (const io::GpioResult r = enable_->get(level); !r.ok()) throw io::GpioError(r.message, r.error_number);
+    shared_.enable_line.store(level);
   }
   if (config_.fault >= 0) fault_ = lines.request_output(line(config_.fault), false);
   if (config_.encoder_a >= 0) {
@@ -67,40 +71,36 @@ void GpioTransport::stop() {
   }
 }
 
-template <typename Operation>
-bool GpioTransport::guarded(Operation&& operation) {
-  try {
-    operation();
-    return true;
-  } catch (const io::GpioError& e) {
-    if (stats_.line_errors.fetch_add(1) == 0) {
-      const std::lock_guard lock(first_error_mutex_);
-      first_error_ = e.what();
-    }
-    const timespec pause{0, 1'000'000};  // a failing line is retried at most once per ms
-    ::nanosleep(&pause, nullptr);
-    return false;
-  }
+void GpioTransport::line_failed(const io::GpioResult& result) {
+  if (stats_.line_errors.fetch_add(1) == 0) first_error_ = result.message;
+  const timespec pause{0, 1'000'000};  // a failing line is retried at most once per ms
+  ::nanosleep(&pause, nullptr);
 }
 
 void GpioTransport::io_loop() {
   bool fault_level = false;
   while (!stopping_.load(std::memory_order_relaxed)) {
     if (enable_) {
-      const bool read = guarded([&] {
-        io::GpioEvent event;
-        if (enable_->wait_edge(event, std::chrono::milliseconds(1)) == io::GpioWait::event)
-          stats_.enable_edges.fetch_add(1);
-        shared_.enable_line.store(enable_->get());  // the level after the event(s)
-      });
-      if (!read) shared_.enable_line.store(false);  // cannot see the input: fail safe, drive off
+      io::GpioEvent event;
+      io::GpioResult r = enable_->wait_edge(event, std::chrono::milliseconds(1));
+      if (r.ok()) stats_.enable_edges.fetch_add(1);
+      bool level = false;
+      if (r.status != io::GpioStatus::error) r = enable_->get(level);  // the level after the event(s)
+      if (r.status == io::GpioStatus::error) {
+        line_failed(r);
+        level = false;  // cannot see the input: fail safe, drive off
+      }
+      shared_.enable_line.store(level);
     } else {
       const timespec pause{0, 1'000'000};
       ::nanosleep(&pause, nullptr);
     }
     if (fault_) {
       const bool level = shared_.telemetry.load().state == AmpState::fault;
-      if (level != fault_level && guarded([&] { fault_->set(level); })) fault_level = level;
+      if (level != fault_level) {
+        if (const io::GpioResult r = fault_->set(level); r.ok()) fault_level = level;
+        else line_failed(r);
+      }
     }
   }
 }
@@ -112,9 +112,7 @@ void GpioTransport::encoder_loop() {
   const auto period = static_cast<std::int64_t>(1e9 / config_.max_edge_rate_hz);
   const double origin = encoder_origin_m_;
   std::int64_t count = 0;
-  timespec now{};
-  clock_gettime(CLOCK_MONOTONIC, &now);
-  std::int64_t next = static_cast<std::int64_t>(now.tv_sec) * 1'000'000'000 + now.tv_nsec;
+  std::int64_t next = monotonic_ns();
   while (!stopping_.load(std::memory_order_relaxed)) {
     const double position = shared_.telemetry.load().position_m;
     const auto target = static_cast<std::int64_t>(std::floor((position - origin) / config_.encoder_resolution_m));
@@ -122,18 +120,17 @@ void GpioTransport::encoder_loop() {
       const std::int64_t old_state = ((count % 4) + 4) % 4;
       count += target > count ? 1 : -1;
       const std::int64_t state = ((count % 4) + 4) % 4;
-      guarded([&] {
-        if (kA[state] != kA[old_state]) a_->set(kA[state]);
-        if (kB[state] != kB[old_state]) b_->set(kB[state]);
-      });
+      io::GpioResult r;
+      if (kA[state] != kA[old_state]) r = a_->set(kA[state]);
+      if (r.ok() && kB[state] != kB[old_state]) r = b_->set(kB[state]);
+      if (!r.ok()) line_failed(r);
       stats_.encoder_count.store(count);
       stats_.encoder_edges.fetch_add(1);
       next += period;
     } else {
       next += 1'000'000;  // idle: look again in 1 ms
     }
-    clock_gettime(CLOCK_MONOTONIC, &now);
-    const std::int64_t n = static_cast<std::int64_t>(now.tv_sec) * 1'000'000'000 + now.tv_nsec;
+    const std::int64_t n = monotonic_ns();
     if (next < n - 10'000'000) next = n;  // far behind: no burst
     const timespec ts{static_cast<time_t>(next / 1'000'000'000), static_cast<long>(next % 1'000'000'000)};
     while (clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &ts, nullptr) == EINTR) {

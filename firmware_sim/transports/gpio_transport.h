@@ -9,7 +9,6 @@
 
 #include <atomic>
 #include <cstdint>
-#include <mutex>
 #include <string>
 #include <thread>
 
@@ -41,7 +40,8 @@ struct GpioStats {
 
 class GpioTransport {
  public:
-  // Requests the lines (throws io::GpioError with a clear message).
+  // Requests the lines and reads the enable input once (throws io::GpioError with a clear
+  // message: load time).
   GpioTransport(io::GpioLines& lines, GpioConfig config, SharedState& shared);
   ~GpioTransport();
   GpioTransport(const GpioTransport&) = delete;
@@ -53,10 +53,9 @@ class GpioTransport {
  private:
   void io_loop();
   void encoder_loop();
-  // Runs one line operation; a GpioError is counted (and its first message kept) instead of
-  // leaving the thread, which would end the process. False when it failed.
-  template <typename Operation>
-  bool guarded(Operation&& operation);
+  // A line operation that failed: counted (its message kept if it is the first), then a pause,
+  // so that a failing line is retried at most once per ms. The loops go on.
+  void line_failed(const io::GpioResult& result);
   GpioConfig config_;
   SharedState& shared_;
   std::unique_ptr<io::GpioInputLine> enable_;
@@ -66,8 +65,9 @@ class GpioTransport {
   double encoder_origin_m_ = 0.0;
   std::thread io_thread_, encoder_thread_;
   GpioStats stats_;
-  std::mutex first_error_mutex_;
-  std::string first_error_;  // error path only
+  // Written only by the thread whose failure was the first counted, read by stop() after the
+  // threads are joined: no lock on the loops' paths.
+  std::string first_error_;
 };
 
 }  // namespace swum::emu

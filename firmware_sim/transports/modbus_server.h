@@ -1,8 +1,9 @@
-// Modbus transports on libmodbus: a TCP server (one thread accepting and enforcing the
-// connection deadlines, one thread per client, up to max_clients at once) and an RTU server on
-// a serial device (one thread, its own framing with deadlines; libmodbus builds the replies).
-// Requests are checked by protocol/modbus_codec (pure); accepted writes go to the command queue, reads
-// are served from the latest telemetry snapshot. The loop never waits for these threads.
+// Modbus transports on libmodbus: a TCP server (modbus_tcp_server.cpp: one thread accepting and
+// enforcing the connection deadlines, one thread per client, up to max_clients at once) and an
+// RTU server on a serial device (modbus_rtu_server.cpp: one thread, its own framing with
+// deadlines by protocol/modbus_rtu; libmodbus builds the replies). Both serve a request the same
+// way (modbus_serve): checked by protocol/modbus_codec (pure), accepted writes to the command
+// queue, reads from the latest telemetry snapshot. The loop never waits for these threads.
 // Who gets a slot and what is cut off: docs/emulator.md, "Modbus: no client locks the others out".
 #pragma once
 
@@ -10,9 +11,7 @@
 #include <cstdint>
 #include <memory>
 #include <mutex>
-#include <span>
 #include <string>
-#include <string_view>
 #include <thread>
 #include <vector>
 
@@ -117,18 +116,5 @@ class ModbusRtuServer {
   std::thread thread_;
   ModbusStats stats_;
 };
-
-// A whole decimal number of milliseconds in [min_ms, max_ms] ("250"; not "2.5e2", "250ms", "-1",
-// " 250"). Returns an error text naming the bad text, empty when fine.
-std::string parse_milliseconds(std::string_view text, int min_ms, int max_ms, int& out);
-
-namespace rtu {
-// Total length of the RTU request whose first bytes are `frame`, as far as they tell (the rule
-// libmodbus applies to requests: from the function code, then a byte count): more than
-// frame.size() while bytes are missing, frame.size() when complete, -1 above 256 bytes.
-int request_length(std::span<const std::uint8_t> frame);
-// CRC-16/MODBUS (polynomial 0xA001 reflected, initial 0xFFFF); sent low byte first.
-std::uint16_t crc16(std::span<const std::uint8_t> bytes);
-}  // namespace rtu
 
 }  // namespace swum::emu

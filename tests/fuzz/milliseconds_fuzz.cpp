@@ -1,4 +1,5 @@
-// Fuzz target: swum-emu's --modbus-*-ms values (firmware_sim/transports/modbus_server.h parse_milliseconds).
+// Fuzz target: swum-emu's --modbus-*-ms values (firmware_sim/app/milliseconds.h
+// parse_milliseconds).
 // Input: bytes 0-3 and 4-7 = the allowed range's ends (little-endian int32, sorted), the rest
 // the text.
 // Invariants: an accepted text is a whole decimal number (an optional '-', then digits only)
@@ -10,8 +11,8 @@
 #include <cstring>
 #include <string>
 
+#include "app/milliseconds.h"
 #include "fuzz_check.h"
-#include "transports/modbus_server.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   if (size < 8) return 0;

@@ -1,12 +1,11 @@
 // Fuzz target: bytes arriving on a Modbus RTU line, framed the way swum-emu's RTU server frames
-// them (firmware_sim/transports/modbus_server.cpp: rtu::request_length decides how many bytes to read next,
-// rtu::crc16 checks the frame, the PDU between unit id and CRC goes to parse_request/decide).
-// Input: byte 0 = options (bit 0: put the right CRC on each frame, so the fuzzer reaches the
-// PDU checks without solving CRC-16), then the line's bytes.
-// Invariants: request_length never asks for fewer bytes than the server already holds (the
-// server reads need - have bytes: less would be a huge read), stays within 2..256 or says -1, and
-// says the same length again once the frame is complete; CRC-16/MODBUS of a frame with its own
-// CRC appended (low byte first) is 0; each framed PDU meets modbus_pdu_check.h.
+// them (firmware_sim/transports/modbus_rtu_server.cpp with protocol/modbus_rtu.h:
+// rtu::request_length decides how many bytes to read next, rtu::crc16 checks the frame, the PDU between unit id and CRC
+// goes to parse_request/decide). Input: byte 0 = options (bit 0: put the right CRC on each frame, so the fuzzer reaches
+// the PDU checks without solving CRC-16), then the line's bytes. Invariants: request_length never asks for fewer bytes
+// than the server already holds (the server reads need - have bytes: less would be a huge read), stays within 2..256 or
+// says -1, and says the same length again once the frame is complete; CRC-16/MODBUS of a frame with its own CRC
+// appended (low byte first) is 0; each framed PDU meets modbus_pdu_check.h.
 #include <cstddef>
 #include <cstdint>
 #include <span>
@@ -14,12 +13,12 @@
 
 #include "fuzz_check.h"
 #include "modbus_pdu_check.h"
-#include "transports/modbus_server.h"
+#include "modbus_rtu.h"
 
 namespace {
 
-namespace rtu = swum::emu::rtu;
-constexpr int kMaxAdu = 256;
+namespace rtu = swum::protocol::modbus::rtu;
+constexpr int kMaxAdu = rtu::kMaxAduLength;
 
 }  // namespace
 

@@ -3,6 +3,9 @@
 #include <gtest/gtest.h>
 #include <linux/can/error.h>
 
+#include <array>
+#include <string>
+
 #include "can_bus.h"
 
 using namespace swum::io;
@@ -45,6 +48,19 @@ TEST(CanFrame, CansendNotationRoundTrips) {
   ASSERT_EQ(parse_cansend("7FF#", empty), "");
   EXPECT_EQ(empty.dlc, 0);
   EXPECT_EQ(to_cansend(empty), "7FF#");
+}
+
+// The allocation-free form (the --record-can recording) writes the same text and has room for
+// any 32-bit identifier with eight bytes.
+TEST(CanFrame, CansendIntoABufferIsTheSameTextAndBounded) {
+  std::array<char, swum::protocol::kCansendMaxLength + 1> text{};
+  CanFrame e{0x1ABCDEF0, true, 2, {0xDE, 0xAD}};
+  EXPECT_EQ(std::string(text.data(), swum::protocol::to_cansend(e, text)), "1ABCDEF0#DEAD");
+  CanFrame s{0x080, false, 0, {}};
+  EXPECT_EQ(std::string(text.data(), swum::protocol::to_cansend(s, text)), "080#");
+  CanFrame widest{0xFFFFFFFF, true, 8, {1, 2, 3, 4, 5, 6, 7, 8}};
+  EXPECT_EQ(swum::protocol::to_cansend(widest, text), swum::protocol::kCansendMaxLength);
+  EXPECT_STREQ(text.data(), "FFFFFFFF#0102030405060708");
 }
 
 TEST(CanFrame, CansendNotationRejectsBadInputClearly) {

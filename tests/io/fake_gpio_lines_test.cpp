@@ -24,14 +24,22 @@ std::string error_of(F f) {
   }
   return "(no error)";
 }
+// A line's value; a failed read fails the test.
+template <class Line>
+bool level_of(const Line& line) {
+  bool value = false;
+  const GpioResult r = line.get(value);
+  EXPECT_TRUE(r.ok()) << r.message;
+  return value;
+}
 }  // namespace
 
 TEST_F(FakeGpio, OutputValueIsSeenOutside) {
   auto out = gpio.request_output({"gpiochip0", 3, "test"}, false);
   EXPECT_FALSE(gpio.level("gpiochip0", 3));
-  out->set(true);
+  ASSERT_TRUE(out->set(true).ok());
   EXPECT_TRUE(gpio.level("gpiochip0", 3));
-  EXPECT_TRUE(out->get());
+  EXPECT_TRUE(level_of(*out));
   EXPECT_EQ(gpio.consumer("gpiochip0", 3), "test");
   out.reset();
   EXPECT_EQ(gpio.consumer("gpiochip0", 3), "");
@@ -40,33 +48,36 @@ TEST_F(FakeGpio, OutputValueIsSeenOutside) {
 TEST_F(FakeGpio, InputReadsPullAndDrive) {
   auto in = gpio.request_input({"gpiochip0", 4, "test"}, GpioEdge::none, GpioBias::as_is);
   gpio.set_pull("gpiochip0", 4, true);
-  EXPECT_TRUE(in->get());
+  EXPECT_TRUE(level_of(*in));
   gpio.set_pull("gpiochip0", 4, false);
-  EXPECT_FALSE(in->get());
+  EXPECT_FALSE(level_of(*in));
   gpio.drive("gpiochip0", 4, true);
-  EXPECT_TRUE(in->get());
+  EXPECT_TRUE(level_of(*in));
   gpio.drive("gpiochip0", 4, std::nullopt);
-  EXPECT_FALSE(in->get());
+  EXPECT_FALSE(level_of(*in));
   GpioEvent ev;
-  EXPECT_NE(error_of([&] { in->wait_edge(ev, 1ms); }).find("without edge detection"), std::string::npos);
+  const GpioResult no_edges = in->wait_edge(ev, 1ms);  // a status, not an exception: a per-event call
+  EXPECT_EQ(no_edges.status, GpioStatus::error);
+  EXPECT_EQ(no_edges.error_number, EINVAL);
+  EXPECT_NE(no_edges.message.find("without edge detection"), std::string::npos) << no_edges.message;
 }
 
 TEST_F(FakeGpio, RequestBiasSetsUndrivenLevel) {
   auto in = gpio.request_input({"gpiochip0", 1, "test"}, GpioEdge::none, GpioBias::pull_up);
-  EXPECT_TRUE(in->get());
+  EXPECT_TRUE(level_of(*in));
 }
 
 TEST_F(FakeGpio, EdgeEventsQueueAndTimeout) {
   auto in = gpio.request_input({"gpiochip0", 5, "test"}, GpioEdge::both, GpioBias::as_is);
   GpioEvent ev;
-  EXPECT_EQ(in->wait_edge(ev, 10ms), GpioWait::timeout);
+  EXPECT_EQ(in->wait_edge(ev, 10ms).status, GpioStatus::timeout);
   gpio.set_pull("gpiochip0", 5, true);
   gpio.set_pull("gpiochip0", 5, false);
-  ASSERT_EQ(in->wait_edge(ev, 1000ms), GpioWait::event);
+  ASSERT_EQ(in->wait_edge(ev, 1000ms).status, GpioStatus::ok);
   EXPECT_TRUE(ev.rising);
-  ASSERT_EQ(in->wait_edge(ev, 1000ms), GpioWait::event);
+  ASSERT_EQ(in->wait_edge(ev, 1000ms).status, GpioStatus::ok);
   EXPECT_FALSE(ev.rising);
-  EXPECT_EQ(in->wait_edge(ev, 10ms), GpioWait::timeout);
+  EXPECT_EQ(in->wait_edge(ev, 10ms).status, GpioStatus::timeout);
 }
 
 TEST_F(FakeGpio, RisingOnlyIgnoresFallingAndWakesAcrossThreads) {
@@ -74,11 +85,11 @@ TEST_F(FakeGpio, RisingOnlyIgnoresFallingAndWakesAcrossThreads) {
   gpio.drive("gpiochip0", 6, true);
   gpio.drive("gpiochip0", 6, false);
   GpioEvent ev;
-  ASSERT_EQ(in->wait_edge(ev, 1000ms), GpioWait::event);
+  ASSERT_EQ(in->wait_edge(ev, 1000ms).status, GpioStatus::ok);
   EXPECT_TRUE(ev.rising);
-  EXPECT_EQ(in->wait_edge(ev, 10ms), GpioWait::timeout);
+  EXPECT_EQ(in->wait_edge(ev, 10ms).status, GpioStatus::timeout);
   std::thread t([&] { gpio.drive("gpiochip0", 6, true); });
-  EXPECT_EQ(in->wait_edge(ev, 5000ms), GpioWait::event);
+  EXPECT_EQ(in->wait_edge(ev, 5000ms).status, GpioStatus::ok);
   t.join();
 }
 
@@ -101,4 +112,26 @@ TEST_F(FakeGpio, ClearErrors) {
   } catch (const GpioError& e) {
     EXPECT_EQ(e.error_number(), EBUSY);
   }
+}
+
+TEST_F(FakeGpio, InjectedFailuresReturnAStatusAndLeaveTheValue) {
+  auto out = gpio.request_output({"gpiochip0", 3, "test"}, true);
+  auto in = gpio.request_input({"gpiochip0", 4, "test"}, GpioEdge::both, GpioBias::pull_up);
+  gpio.fail_operations("gpiochip0", 3, true);
+  gpio.fail_operations("gpiochip0", 4, true);
+  const GpioResult set = out->set(false);
+  EXPECT_EQ(set.status, GpioStatus::error);
+  EXPECT_EQ(set.error_number, EIO);
+  EXPECT_NE(set.message.find("GPIO chip 'gpiochip0' line 3: set"), std::string::npos) << set.message;
+  EXPECT_TRUE(gpio.level("gpiochip0", 3));  // not changed
+  bool value = false;
+  EXPECT_EQ(in->get(value).status, GpioStatus::error);
+  EXPECT_FALSE(value);  // untouched
+  GpioEvent ev;
+  EXPECT_EQ(in->wait_edge(ev, 1000ms).status, GpioStatus::error);  // at once, not after the timeout
+  gpio.fail_operations("gpiochip0", 3, false);
+  gpio.fail_operations("gpiochip0", 4, false);
+  EXPECT_TRUE(out->set(false).ok());
+  EXPECT_FALSE(gpio.level("gpiochip0", 3));
+  EXPECT_TRUE(level_of(*in));
 }

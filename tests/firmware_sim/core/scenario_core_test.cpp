@@ -347,26 +347,27 @@ TEST(ScenarioCore, CommunicationFaultsSetTheSharedFlagsWhileTheyLast) {
            "modbus_drop@0.005:count=2"});
   b.run_through(9);
   EXPECT_FALSE(b.shared.telemetry_silent.load());
-  EXPECT_EQ(b.shared.modbus_drops.load(), 0U);
-  EXPECT_EQ(b.shared.modbus_delay_ms.load(), 0.0);
-  EXPECT_FALSE(b.shared.can_bus_off.load());
+  EXPECT_EQ(b.shared.modbus_faults.pending_drops(), 0U);
+  EXPECT_EQ(b.shared.modbus_faults.delay_ms(), 0.0);
+  EXPECT_FALSE(b.shared.can_faults.off());
   b.run_through(10);
   EXPECT_TRUE(b.shared.telemetry_silent.load());
-  EXPECT_EQ(b.shared.modbus_drops.load(), 3U);
-  EXPECT_EQ(b.shared.modbus_delay_ms.load(), 25.0);
-  EXPECT_TRUE(b.shared.can_bus_off.load());
+  EXPECT_EQ(b.shared.modbus_faults.pending_drops(), 3U);
+  EXPECT_EQ(b.shared.modbus_faults.delay_ms(), 25.0);
+  EXPECT_TRUE(b.shared.can_faults.off());
   b.run_through(29);
   EXPECT_TRUE(b.shared.telemetry_silent.load());
-  EXPECT_EQ(b.shared.modbus_drops.load(), 3U);  // counted once, at the start tick
+  EXPECT_EQ(b.shared.modbus_faults.pending_drops(), 3U);  // counted once, at the start tick
   b.run_through(30);
   EXPECT_FALSE(b.shared.telemetry_silent.load());
-  EXPECT_EQ(b.shared.modbus_delay_ms.load(), 0.0);
-  EXPECT_TRUE(b.shared.can_bus_off.load());
+  EXPECT_EQ(b.shared.modbus_faults.delay_ms(), 0.0);
+  EXPECT_TRUE(b.shared.can_faults.off());
   b.run_through(40);
-  EXPECT_FALSE(b.shared.can_bus_off.load());
-  b.shared.modbus_drops.store(1);  // the Modbus server used two of them
+  EXPECT_FALSE(b.shared.can_faults.off());
+  ASSERT_TRUE(b.shared.modbus_faults.take_drop());  // the Modbus server used two of them
+  ASSERT_TRUE(b.shared.modbus_faults.take_drop());
   b.run_through(50);
-  EXPECT_EQ(b.shared.modbus_drops.load(), 3U);  // + the second drop's 2
+  EXPECT_EQ(b.shared.modbus_faults.pending_drops(), 3U);  // + the second drop's 2
 }
 
 // --- Determinism --------------------------------------------------------------------------------
@@ -428,7 +429,7 @@ struct WallClockCan {
 };
 
 TEST(ScenarioCan, EmulatedBusOffNeitherReceivesNorSends) {
-  WallClockCan can([](SharedState& shared) { shared.can_bus_off = true; });
+  WallClockCan can([](SharedState& shared) { shared.can_faults.set({.off = true}); });
   ASSERT_TRUE(can.peer->send(command_frame(can.ids, 1)).ok());
   ASSERT_TRUE(eventually([&] { return can.stats().bus_off_discarded.load() == 1; }));
   std::this_thread::sleep_for(100ms);  // 50 telemetry sets and 10 heartbeats would have gone out
@@ -439,7 +440,7 @@ TEST(ScenarioCan, EmulatedBusOffNeitherReceivesNorSends) {
   io::CanFrame f;
   EXPECT_FALSE(can.peer->receive(f, 1ms).ok());
   // Recovery: frames flow again both ways.
-  can.shared.can_bus_off = false;
+  can.shared.can_faults.set({.off = false});
   ASSERT_TRUE(can.peer->send(command_frame(can.ids, 2)).ok());
   ASSERT_TRUE(eventually([&] { return can.shared.commands.try_pop(c); }));
   EXPECT_EQ(c.action, Action::enable);
@@ -563,18 +564,18 @@ TEST(ScenarioCan, SyncStepsTheClockThroughAnEmulatedBusOff) {
   ASSERT_TRUE(receive_set(*rig.peer, rig.ids, first));
   EXPECT_EQ(first.tick, 0U);
   ASSERT_TRUE(rig.ticks_become(10));
-  EXPECT_TRUE(rig.shared.can_bus_off.load());
+  EXPECT_TRUE(rig.shared.can_faults.off());
   ASSERT_TRUE(rig.peer->send(command_frame(rig.ids, 1)).ok());  // not heard
   rig.sync(2);
   ASSERT_TRUE(rig.ticks_become(20));
   // The flags are those of the last tick run (19, still in the bus-off): SYNC 3 is unanswered
   // too, and its cycle's first tick (20) ends the bus-off.
-  EXPECT_TRUE(rig.shared.can_bus_off.load());
+  EXPECT_TRUE(rig.shared.can_faults.off());
   rig.sync(3);
   ASSERT_TRUE(rig.ticks_become(30));
   io::CanFrame f;
   EXPECT_FALSE(rig.peer->receive(f, 20ms).ok());  // no telemetry during the bus-off
-  EXPECT_FALSE(rig.shared.can_bus_off.load());
+  EXPECT_FALSE(rig.shared.can_faults.off());
   EXPECT_EQ(rig.transport->stats().syncs.load(), 3U);
   EXPECT_EQ(rig.transport->stats().bus_off_discarded.load(), 1U);  // the command
   EXPECT_EQ(rig.core.telemetry().applied_commands, 0U);

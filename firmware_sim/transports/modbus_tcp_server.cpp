@@ -1,6 +1,6 @@
+// The Modbus TCP server (modbus_server.h): the acceptor thread with the connection deadlines
+// and evictions, one thread per client; each request is served by modbus_serve.
 #include "transports/modbus_server.h"
-
-#include "core/lockstep_clock.h"
 
 #include <arpa/inet.h>
 #include <modbus.h>
@@ -16,30 +16,17 @@
 #include <algorithm>
 #include <array>
 #include <cerrno>
-#include <charconv>
-#include <cmath>
 #include <cstdio>
-#include <cstring>
-#include <functional>
 #include <optional>
 #include <stdexcept>
 #include <system_error>
 
 #include "modbus_codec.h"
+#include "transports/modbus_serve.h"
 
 namespace swum::emu {
 
 namespace {
-
-std::string errno_text(const char* call, int e) { return std::string(call) + ": " + std::strerror(e); }
-
-std::uint64_t monotonic_ns() {
-  timespec ts{};
-  clock_gettime(CLOCK_MONOTONIC, &ts);
-  return static_cast<std::uint64_t>(ts.tv_sec) * 1'000'000'000ULL + static_cast<std::uint64_t>(ts.tv_nsec);
-}
-
-std::uint64_t ms_to_ns(int ms) { return static_cast<std::uint64_t>(ms) * 1'000'000ULL; }
 
 // Phases of a TCP connection (ModbusTcpServer::Connection::phase).
 constexpr int kIdle = 0;       // waiting for a request's first byte: the idle timeout runs
@@ -98,115 +85,6 @@ bool discard_bytes(int fd, std::size_t count) {
     }
   }
   return true;
-}
-
-// One request: validate, queue writes, serve reads. False when the connection should close.
-// `surplus`: the MBAP length counted bytes after what the function code frames; a supported
-// function code with them is malformed (exception 03, wrong length), an unsupported one is
-// refused as such (01).
-// A scenario's communication faults, after the request was processed: false when its reply is
-// withheld (modbus_drop: the next N requests; telemetry_silence: FC04 reads); a modbus_delay
-// holds the reply back by delay_ms of emulated time (lockstep: the motor runs on that many ticks
-// while the controller waits; wall time: delay_ms / speedup).
-bool reply_allowed(SharedState& shared, std::uint8_t function, ModbusStats& stats,
-                   const std::function<bool(bool)>& stepping) {
-  for (std::uint64_t drops = shared.modbus_drops.load(std::memory_order_relaxed); drops > 0;) {
-    if (shared.modbus_drops.compare_exchange_weak(drops, drops - 1, std::memory_order_relaxed)) {
-      stats.withheld_replies.fetch_add(1, std::memory_order_relaxed);
-      return false;
-    }
-  }
-  if (function == protocol::modbus::kReadInputRegisters && shared.telemetry_silent.load(std::memory_order_relaxed)) {
-    stats.withheld_replies.fetch_add(1, std::memory_order_relaxed);
-    return false;
-  }
-  const double delay_ms = shared.modbus_delay_ms.load(std::memory_order_relaxed);
-  if (delay_ms > 0.0) {
-    stats.delayed_replies.fetch_add(1, std::memory_order_relaxed);
-    if (stepping && !stepping(true)) return false;  // the delay is the device's: no deadline on it
-    if (shared.lockstep != nullptr) {
-      const auto ticks = static_cast<std::uint64_t>(std::llround(delay_ms * 1e-3 * shared.tick_hz));
-      if (ticks > 0) shared.lockstep->advance(ticks);
-    } else if (shared.speedup > 0.0) {
-      const auto ns = static_cast<long long>(delay_ms * 1e6 / shared.speedup);
-      timespec pause{static_cast<time_t>(ns / 1'000'000'000), static_cast<long>(ns % 1'000'000'000)};
-      while (nanosleep(&pause, &pause) != 0 && errno == EINTR) {
-      }
-    }
-    if (stepping && !stepping(false)) return false;
-  }
-  return true;
-}
-
-// `stepping(true)` before a lockstep step waits for the loop, `stepping(false)` after it (the TCP
-// server suspends the connection's deadlines meanwhile); false: the connection is being closed.
-using SteppingHook = std::function<bool(bool)>;
-bool serve(modbus_t* ctx, const std::uint8_t* adu, int length, int checksum_length, modbus_mapping_t* map,
-           SharedState& shared, const AmplifierLimits& limits, ModbusStats& stats, bool surplus = false,
-           const SteppingHook& stepping = {}) {
-  stats.requests.fetch_add(1, std::memory_order_relaxed);
-  const int header = modbus_get_header_length(ctx);
-  const int pdu_length = length - header - checksum_length;
-  if (pdu_length < 1) return true;
-  const std::span<const std::uint8_t> pdu(adu + header, static_cast<std::size_t>(pdu_length));
-
-  protocol::modbus::Request request;
-  Reason reason = Reason::none;
-  std::uint8_t exception = protocol::modbus::parse_request(pdu, request, &reason);
-  if (surplus && exception == protocol::modbus::kNoException) {
-    exception = protocol::modbus::kIllegalDataValue;
-    reason = Reason::wrong_length;
-  }
-  protocol::modbus::Decision decision;
-  if (exception == protocol::modbus::kNoException) {
-    decision = protocol::modbus::decide(request, limits);
-    exception = decision.exception;
-    reason = decision.reason;
-    if (exception == protocol::modbus::kNoException && decision.advance_ticks != 0 && shared.lockstep == nullptr) {
-      exception = protocol::modbus::kIllegalDataValue;  // nothing of the request is applied
-      reason = Reason::clock_not_external;
-    }
-  }
-  if (exception == protocol::modbus::kNoException && decision.has_command) {
-    decision.command.accepted_ns = monotonic_ns();
-    if (shared.submit(decision.command) != Reason::none) exception = protocol::modbus::kServerDeviceBusy;
-  }
-  if (exception == protocol::modbus::kNoException && decision.advance_ticks != 0) {
-    // The command above is queued first, so the first of these ticks applies it.
-    if (stepping && !stepping(true)) return false;
-    const bool ran = shared.lockstep->advance(decision.advance_ticks);
-    if (stepping && !stepping(false)) return false;
-    if (!ran) exception = protocol::modbus::kServerDeviceFailure;  // the emulator stopped first
-  }
-  if (!reply_allowed(shared, pdu[0], stats, stepping)) return true;  // a scenario's communication fault
-  if (exception != protocol::modbus::kNoException) {
-    stats.exceptions.fetch_add(1, std::memory_order_relaxed);
-    if (exception != protocol::modbus::kServerDeviceBusy && exception != protocol::modbus::kServerDeviceFailure)
-      shared.rejects.record(reason, CommandSource::modbus);
-    if (pdu[0] & 0x80) {
-      // libmodbus answers function + 0x80 in one byte: a code that has the top bit already
-      // (128-255, those of exception replies) would come back as function - 128, e.g. 0x84 as
-      // "04 01", a malformed FC04 reply. With the bit cleared in the request it gives function | 0x80.
-      std::array<std::uint8_t, 8> head{};  // the MBAP header (7) or the RTU unit id (1), then the code
-      if (header + 1 > static_cast<int>(head.size())) return false;
-      std::copy_n(adu, header + 1, head.begin());
-      head[static_cast<std::size_t>(header)] &= 0x7F;
-      return modbus_reply_exception(ctx, head.data(), exception) != -1;
-    }
-    return modbus_reply_exception(ctx, adu, exception) != -1;
-  }
-  const Telemetry t = shared.telemetry.load();
-  if (request.function == protocol::modbus::kReadInputRegisters) {
-    const RejectSnapshot rejects{static_cast<Reason>(shared.rejects.last_reason.load(std::memory_order_relaxed)),
-                                 shared.rejects.count.load(std::memory_order_acquire)};
-    protocol::modbus::fill_input(t, rejects,
-                                 std::span<std::uint16_t, protocol::modbus::input::kCount>(
-                                     map->tab_input_registers, protocol::modbus::input::kCount));
-  } else {
-    protocol::modbus::fill_holding(t, std::span<std::uint16_t, protocol::modbus::holding::kCount>(
-                                          map->tab_registers, protocol::modbus::holding::kCount));
-  }
-  return modbus_reply(ctx, adu, length, map) != -1;
 }
 
 }  // namespace
@@ -280,7 +158,7 @@ void ModbusTcpServer::stop() {
   if (acceptor_.joinable()) acceptor_.join();
   // A request being answered gets its reply out before the sockets close (within one frame
   // timeout): e.g. a lockstep step that the end of the run has just answered with exception 04.
-  const std::uint64_t until = monotonic_ns() + ms_to_ns(options_.frame_timeout_ms);
+  const std::uint64_t until = now_ns() + ms_to_ns(options_.frame_timeout_ms);
   for (;;) {
     {
       std::lock_guard lock(mutex_);
@@ -288,7 +166,7 @@ void ModbusTcpServer::stop() {
                        [](const auto& c) { return !c->ended && (c->phase == kStepping || c->phase == kReplying); }))
         break;
     }
-    if (monotonic_ns() >= until) break;
+    if (now_ns() >= until) break;
     const timespec pause{0, 1'000'000};
     nanosleep(&pause, nullptr);
   }
@@ -323,8 +201,8 @@ void ModbusTcpServer::supervise() {
     // have its wake-up swallowed and leave this thread in poll(-1) for ever.
     if (stopping_.load()) return;
     reap();
-    if (rc > 0 && (fds[0].revents & POLLIN)) accept_one(monotonic_ns());
-    timeout_ms = enforce_deadlines(monotonic_ns());
+    if (rc > 0 && (fds[0].revents & POLLIN)) accept_one(now_ns());
+    timeout_ms = enforce_deadlines(now_ns());
   }
 }
 
@@ -444,7 +322,7 @@ bool ModbusTcpServer::enter(Connection& c, int phase) {
   std::lock_guard lock(mutex_);
   if (c.phase == kClosing) return false;
   c.phase = phase;
-  c.since_ns = monotonic_ns();
+  c.since_ns = now_ns();
   return true;
 }
 
@@ -515,234 +393,5 @@ void ModbusTcpServer::client_loop(Connection& c) {
   }
   wake(wake_fd_);
 }
-
-ModbusRtuServer::ModbusRtuServer(const std::string& device, int baud, int unit, SharedState& shared,
-                                 AmplifierLimits limits, int frame_timeout_ms)
-    : device_(device), baud_(baud), unit_(unit), frame_timeout_ms_(frame_timeout_ms), shared_(shared), limits_(limits) {
-  modbus_t* ctx = modbus_new_rtu(device.c_str(), baud, 'N', 8, 1);
-  if (!ctx) throw std::runtime_error("Modbus RTU: " + errno_text("modbus_new_rtu", errno));
-  if (modbus_set_slave(ctx, unit) != 0) {
-    const int e = errno;
-    modbus_free(ctx);
-    throw std::runtime_error("Modbus RTU: unit id " + std::to_string(unit) + ": " + modbus_strerror(e));
-  }
-  if (modbus_connect(ctx) != 0) {
-    const int e = errno;
-    modbus_free(ctx);
-    throw std::runtime_error("Modbus RTU: cannot open " + device + ": " + modbus_strerror(e));
-  }
-  // Frames are read here (loop()); libmodbus only builds and sends the replies. Should it ever
-  // flush the line after a reply (it does after some refusals), it first sleeps this long.
-  if (modbus_set_response_timeout(ctx, 0, 20000) != 0) {
-    const int e = errno;
-    modbus_close(ctx);
-    modbus_free(ctx);
-    throw std::runtime_error("Modbus RTU: modbus_set_response_timeout: " + std::string(modbus_strerror(e)));
-  }
-  ctx_ = ctx;
-}
-
-ModbusRtuServer::~ModbusRtuServer() {
-  stop();
-  if (ctx_) {
-    modbus_close(static_cast<modbus_t*>(ctx_));
-    modbus_free(static_cast<modbus_t*>(ctx_));
-  }
-}
-
-void ModbusRtuServer::start() {
-  thread_ = std::thread([this] { loop(); });
-}
-
-void ModbusRtuServer::stop() {
-  stopping_.store(true);
-  if (thread_.joinable()) thread_.join();
-}
-
-namespace {
-
-// 8N1: ten bits a character.
-std::uint64_t character_ns(int baud) { return 10'000'000'000ULL / static_cast<std::uint64_t>(baud); }
-
-// Waits until `fd` is readable or `timeout_ns` passed (bounded so that stop() is seen). 1:
-// readable, 0: not (yet), -1: the line failed (hang-up, error; errno set).
-int wait_readable(int fd, std::uint64_t timeout_ns) {
-  timeout_ns = std::min<std::uint64_t>(timeout_ns, 200'000'000ULL);
-  const timespec ts{static_cast<time_t>(timeout_ns / 1'000'000'000ULL),
-                    static_cast<long>(timeout_ns % 1'000'000'000ULL)};
-  pollfd p{fd, POLLIN, 0};
-  const int r = ::ppoll(&p, 1, &ts, nullptr);
-  if (r < 0) return errno == EINTR ? 0 : -1;
-  if (r == 0) return 0;
-  if (p.revents & POLLIN) return 1;
-  errno = (p.revents & POLLHUP) ? EPIPE : EIO;  // hang-up or error without data
-  return -1;
-}
-
-}  // namespace
-
-void ModbusRtuServer::drain(int fd) {
-  // Resynchronise on the RTU inter-frame gap: a frame for another unit (and that unit's
-  // answer), garbage, the tail of a cut frame are discarded until the line has been silent
-  // for max(3.5 characters, 5 ms).
-  const std::uint64_t silence = std::max<std::uint64_t>(35 * character_ns(baud_) / 10, 5'000'000ULL);
-  std::uint64_t last = monotonic_ns();
-  while (!stopping_.load(std::memory_order_relaxed)) {
-    const std::uint64_t now = monotonic_ns();
-    if (now >= last + silence) return;
-    const int r = wait_readable(fd, last + silence - now);
-    if (r < 0) return;  // the next read reports it
-    if (r == 0) continue;
-    std::uint8_t junk[256];
-    const ssize_t got = ::read(fd, junk, sizeof junk);
-    if (got > 0) last = monotonic_ns();
-    else if (got < 0 && errno != EAGAIN && errno != EINTR) return;
-  }
-}
-
-void ModbusRtuServer::loop() {
-  auto* ctx = static_cast<modbus_t*>(ctx_);
-  modbus_mapping_t* map = modbus_mapping_new(0, 0, protocol::modbus::holding::kCount, protocol::modbus::input::kCount);
-  if (!map) {
-    std::fprintf(stderr, "swum-emu: Modbus RTU: cannot allocate a libmodbus mapping\n");
-    return;
-  }
-  const int fd = modbus_get_socket(ctx);
-  const std::uint64_t character = character_ns(baud_);
-  // Inside a frame a silence this long ends it (Modbus over serial line: 1.5 characters; USB
-  // adapters deliver in bursts up to their latency timer, FTDI's 16 ms by default).
-  const std::uint64_t gap = std::max<std::uint64_t>(35 * character / 10, 20'000'000ULL);
-  // From its first byte a request has the frame timeout plus the time of a 256-byte frame.
-  const std::uint64_t budget = ms_to_ns(frame_timeout_ms_) + 256 * character;
-  std::uint8_t adu[MODBUS_RTU_MAX_ADU_LENGTH];
-  std::uint64_t line_errors = 0;
-  auto line_failed = [&](int e) {
-    if (++line_errors <= 5)
-      std::fprintf(stderr, "swum-emu: Modbus RTU: %s: %s%s\n", device_.c_str(), std::strerror(e),
-                   line_errors == 5 ? " (further errors counted only)" : "");
-    stats_.receive_errors.fetch_add(1);
-    ::poll(nullptr, 0, 100);  // a hung-up line stays readable: do not spin
-  };
-  auto discard = [&](Drop why, bool then_drain) {
-    stats_.drops.count(why);
-    if (then_drain) drain(fd);
-  };
-  while (!stopping_.load(std::memory_order_relaxed)) {
-    // Idle: wait for the first byte.
-    const int first = wait_readable(fd, 200'000'000ULL);
-    if (first < 0) {
-      line_failed(errno);
-      continue;
-    }
-    if (first == 0) continue;
-    const std::uint64_t deadline = monotonic_ns() + budget;
-    std::uint64_t last_byte = monotonic_ns();
-    std::size_t have = 0;
-    bool failed = false;
-    std::optional<Drop> dropped;
-    for (;;) {
-      const int need = rtu::request_length(std::span<const std::uint8_t>(adu, have));
-      if (need < 0) {
-        dropped = Drop::bad_length;
-        break;
-      }
-      if (static_cast<std::size_t>(need) == have) break;  // complete
-      const std::uint64_t now = monotonic_ns();
-      if (now >= deadline) {
-        dropped = Drop::frame_timeout;
-        break;
-      }
-      if (have > 0 && now >= last_byte + gap) {
-        dropped = Drop::partial_frame;
-        break;
-      }
-      if (stopping_.load(std::memory_order_relaxed)) break;
-      const int r = wait_readable(fd, std::min(deadline, have > 0 ? last_byte + gap : deadline) - now);
-      if (r < 0) {
-        failed = true;
-        break;
-      }
-      if (r == 0) continue;
-      // Read no further than this frame: the next one may already be behind it.
-      const ssize_t got = ::read(fd, adu + have, static_cast<std::size_t>(need) - have);
-      if (got < 0) {
-        if (errno == EAGAIN || errno == EINTR) continue;
-        failed = true;
-        break;
-      }
-      if (got == 0) continue;
-      have += static_cast<std::size_t>(got);
-      last_byte = monotonic_ns();
-    }
-    if (failed) {
-      line_failed(errno);
-      continue;
-    }
-    if (stopping_.load(std::memory_order_relaxed)) break;
-    if (dropped) {
-      // A partial frame ended in silence: the line is quiet already, the next byte starts a frame.
-      discard(*dropped, *dropped != Drop::partial_frame);
-      continue;
-    }
-    const std::uint16_t crc = rtu::crc16(std::span<const std::uint8_t>(adu, have - 2));
-    if (adu[have - 2] != (crc & 0xFF) || adu[have - 1] != (crc >> 8)) {
-      discard(Drop::bad_crc, true);
-      continue;
-    }
-    if (adu[0] != unit_ && adu[0] != 0) {  // 0: broadcast, served without an answer (libmodbus)
-      discard(Drop::other_unit, true);     // and skip that unit's answer
-      continue;
-    }
-    serve(ctx, adu, static_cast<int>(have), 2, map, shared_, limits_, stats_);
-  }
-  modbus_mapping_free(map);
-}
-
-std::string parse_milliseconds(std::string_view text, int min_ms, int max_ms, int& out) {
-  const std::string range = " (" + std::to_string(min_ms) + " to " + std::to_string(max_ms) + " ms)";
-  long long value = 0;
-  const char* begin = text.data();
-  const char* end = begin + text.size();
-  const auto [ptr, ec] = std::from_chars(begin, end, value);
-  if (text.empty() || ec == std::errc::invalid_argument || ptr != end)
-    return "'" + std::string(text) + "' is not a whole number of milliseconds" + range;
-  if (ec == std::errc::result_out_of_range || value < min_ms || value > max_ms)
-    return "'" + std::string(text) + "' is out of range" + range;
-  out = static_cast<int>(value);
-  return {};
-}
-
-namespace rtu {
-
-int request_length(std::span<const std::uint8_t> frame) {
-  // Unit id, function code; then as libmodbus (_modbus_receive_msg, MSG_INDICATION): a fixed
-  // part after the function code, a byte count for the multiple writes, the CRC.
-  constexpr int kMax = MODBUS_RTU_MAX_ADU_LENGTH;
-  if (frame.size() < 2) return 2;
-  const int function = frame[1];
-  int fixed = 0;
-  if (function <= 6) fixed = 4;                          // reads, single writes: address, count/value
-  else if (function == 15 || function == 16) fixed = 5;  // + byte count
-  else if (function == 22) fixed = 6;                    // mask write
-  else if (function == 23) fixed = 9;                    // read/write multiple registers
-  if (frame.size() < static_cast<std::size_t>(2 + fixed)) return 2 + fixed;
-  int data = 0;
-  if (function == 15 || function == 16) data = frame[6];
-  else if (function == 23) data = frame[10];
-  const int total = 2 + fixed + data + 2;
-  return total > kMax ? -1 : total;
-}
-
-std::uint16_t crc16(std::span<const std::uint8_t> bytes) {
-  std::uint16_t crc = 0xFFFF;
-  for (const std::uint8_t b : bytes) {
-    crc ^= b;
-    for (int i = 0; i < 8; ++i)
-      crc = (crc & 1) ? static_cast<std::uint16_t>((crc >> 1) ^ 0xA001) : static_cast<std::uint16_t>(crc >> 1);
-  }
-  return crc;
-}
-
-}  // namespace rtu
 
 }  // namespace swum::emu
