@@ -8,6 +8,7 @@
 #include <string_view>
 
 #include "formats/csv_cells.h"
+#include "formats/number_format.h"
 
 namespace swum::emu {
 namespace {
@@ -15,11 +16,7 @@ namespace {
 constexpr std::size_t kColumns = 30;
 constexpr std::size_t kFirstTelemetryColumn = 12;  // enable_line
 
-void put(std::string& out, double value) {
-  char buffer[32];
-  const auto r = std::to_chars(buffer, buffer + sizeof buffer, value);  // shortest round trip
-  out.append(buffer, r.ptr);
-}
+void put(std::string& out, double value) { append_shortest_decimal(out, value); }  // shortest round trip
 void put(std::string& out, std::uint64_t value) { out += std::to_string(value); }
 void put_empty(std::string& out, std::size_t count) { out.append(count, ','); }
 
