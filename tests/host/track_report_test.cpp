@@ -169,7 +169,7 @@ std::string error_of(Read read) {
 
 TEST(ReadTrackCsv, ReadsWhatSwumTrackWrites) {
   TrackRow row{0,       0.02,    TrackMode::search,
-               41500.0, 12.3456, ElectricalReading{0.24, 0.23, 60.0, 59.0, -12.0, -11.0, 8.0, 7.6},
+               41500.0, 12.3456, protocol::ElectricalValues{0.24, 0.23, 60.0, 59.0, -12.0, -11.0, 8.0, 7.6},
                20.5,    1,       0};
   std::string text = kTrackCsvHeader + format_track_row(row);
   row.cycle = 1;
