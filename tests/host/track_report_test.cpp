@@ -201,6 +201,21 @@ TEST(ReadTrackCsv, OnlyTheColumnsItNeedsInAnyOrderSkippingCommentsAndBlankLines)
   EXPECT_EQ(run.stator_temperature_c, (std::vector<double>{21, 22}));
 }
 
+// Read as every hand-written table is (src/formats/csv_table.h, CsvLines::hand_written): a line of
+// blanks, a CRLF file's empty lines and an indented comment are skipped like a blank line (they
+// failed as "1 cells, the header has N" before the one table reader); line numbers still count them.
+TEST(ReadTrackCsv, BlankLinesOfWhitespaceAndIndentedCommentsAreSkipped) {
+  const std::string path = write_file("crlf.csv",
+                                      "time_s,frequency_hz,speed_mm_s,stator_temperature_c\r\n\r\n"
+                                      "1,40000,100,21\r\n  \t\n  # indented\r\n2,40010,110,22\r\n3,40020,x,23\r\n");
+  EXPECT_EQ(error_of([&] { (void)read_track_csv(path, "r"); }), path + ":7: speed_mm_s 'x' is not a number");
+  const std::string good = write_file("crlf_good.csv", "time_s,frequency_hz,speed_mm_s,stator_temperature_c\r\n\r\n"
+                                                       "1,40000,100,21\r\n  \t\n  # indented\r\n2,40010,110,22\r\n");
+  const TrackSeries run = read_track_csv(good, "r");
+  EXPECT_EQ(run.time_s, (std::vector<double>{1, 2}));
+  EXPECT_EQ(run.speed_mm_s, (std::vector<double>{100, 110}));
+}
+
 TEST(ReadTrackCsv, OneLineErrorsNameTheFileAndTheLine) {
   const std::string header = kTrackCsvHeader;
   const std::string good = "0,0.020000,search,41500.000,1.000,,,,,,20.000,1,0\n";
