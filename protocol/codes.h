@@ -49,7 +49,9 @@ const char* identifier(FaultCode fault);
 const char* identifier(Reason reason);
 
 // Command actions; the values are the Modbus command register's codes (holding 0).
-enum class Action : std::uint8_t { none = 0, enable = 1, disable = 2, reset_fault = 3 };
+// none: a command without an action; as a command of its own it only feeds the watchdog, the
+// keep-alive of docs/protocols.md (keep_alive names the same code for the host's clients).
+enum class Action : std::uint8_t { none = 0, keep_alive = none, enable = 1, disable = 2, reset_fault = 3 };
 inline constexpr std::uint8_t kMaxAction = 3;
 
 enum class CommandSource : std::uint8_t { modbus = 0, can = 1, internal = 2 };

@@ -34,6 +34,7 @@ struct ElectricalValues {
   double phase_a_deg = 0.0, phase_b_deg = 0.0;
   double motional_phase_a_deg = 0.0, motional_phase_b_deg = 0.0;
   double power_a_w = 0.0, power_b_w = 0.0;
+  [[nodiscard]] double power_w() const { return power_a_w + power_b_w; }  // both phases
 };
 
 struct Telemetry {

@@ -10,7 +10,6 @@
 #include <array>
 #include <atomic>
 #include <cerrno>
-#include <charconv>
 #include <cstdarg>
 #include <cstdio>
 #include <cstring>
@@ -24,6 +23,7 @@
 #include "core/emulator_core.h"
 #include "core/scenario.h"
 #include "core/trace.h"
+#include "formats/number_format.h"
 #include "formats/parameter_file.h"
 #include "gpiod_lines.h"
 #include "model/motor_model.h"
@@ -210,12 +210,6 @@ void pin_loop_thread(int cpu) {
 
 unsigned long long u(std::uint64_t value) { return static_cast<unsigned long long>(value); }
 
-std::string shortest(double value) {
-  char buffer[32];
-  const auto r = std::to_chars(buffer, buffer + sizeof buffer, value);
-  return std::string(buffer, r.ptr);
-}
-
 // --scenario and every --inject, as one timeline (stable by time: the file's order, then the
 // injections'). Throws ScenarioError naming file:line or the --inject text.
 Scenario load_scenario(const EmuOptions& o) {
@@ -249,7 +243,7 @@ TraceSettings trace_settings(const EmuOptions& o, const std::string& config_text
                                     {"amplitude_slew", o.amplitude_slew_vpp_per_s},
                                     {"frequency", o.frequency_hz},
                                     {"phase", o.phase_deg}})
-    s.add(name, shortest(value));
+    s.add(name, shortest_decimal(value));
   return s;
 }
 

@@ -7,30 +7,21 @@
 #include <stdexcept>
 #include <string_view>
 
+#include "formats/csv_cells.h"
+#include "formats/number_format.h"
+
 namespace swum::emu {
 namespace {
 
 constexpr std::size_t kColumns = 30;
 constexpr std::size_t kFirstTelemetryColumn = 12;  // enable_line
 
-void put(std::string& out, double value) {
-  char buffer[32];
-  const auto r = std::to_chars(buffer, buffer + sizeof buffer, value);  // shortest round trip
-  out.append(buffer, r.ptr);
-}
+void put(std::string& out, double value) { append_shortest_decimal(out, value); }  // shortest round trip
 void put(std::string& out, std::uint64_t value) { out += std::to_string(value); }
 void put_empty(std::string& out, std::size_t count) { out.append(count, ','); }
 
-std::vector<std::string_view> split(std::string_view line) {
-  std::vector<std::string_view> fields;
-  std::size_t start = 0;
-  for (;;) {
-    const std::size_t comma = line.find(',', start);
-    fields.push_back(line.substr(start, comma == std::string_view::npos ? std::string_view::npos : comma - start));
-    if (comma == std::string_view::npos) return fields;
-    start = comma + 1;
-  }
-}
+// The cells of a trace row, byte for byte (a replayed row is compared with the recorded one).
+std::vector<std::string_view> split(std::string_view line) { return split_csv_cells(line, CsvCellTrim::none); }
 
 std::vector<std::string_view> column_names() { return split(kTraceHeader); }
 

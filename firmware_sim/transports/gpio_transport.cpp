@@ -7,8 +7,8 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
-#include <sstream>
 
+#include "formats/name_list.h"
 #include "whole_number.h"
 
 namespace swum::emu {
@@ -17,9 +17,9 @@ std::string parse_gpio_spec(const std::string& text, GpioConfig& out) {
   const auto colon = text.rfind(':');
   if (colon == std::string::npos || colon == 0) return "expected CHIP:enable=N,fault=M[,a=K,b=L], got '" + text + "'";
   out.chip = text.substr(0, colon);
-  std::stringstream list(text.substr(colon + 1));
-  std::string item;
-  while (std::getline(list, item, ',')) {
+  std::vector<std::string> items;
+  if (auto problem = split_name_list(std::string_view(text).substr(colon + 1), items); !problem.empty()) return problem;
+  for (const std::string& item : items) {
     const auto eq = item.find('=');
     if (eq == std::string::npos) return "expected NAME=OFFSET in '" + item + "'";
     const std::string name = item.substr(0, eq);

@@ -17,6 +17,7 @@
 #include "commands/command_error.h"
 #include "commands/commands.h"
 #include "formats/facts_file.h"
+#include "formats/name_list.h"
 #include "formats/number_format.h"
 #include "formats/parameter_file.h"
 #include "offline/motor_config.h"
@@ -48,22 +49,6 @@ struct CalibrateCommandOptions {
   bool json = false;
   int jobs = 0;
 };
-
-std::vector<std::string> split_names(const std::string& text, const char* option) {
-  std::vector<std::string> out;
-  std::size_t start = 0;
-  while (start <= text.size()) {
-    const std::size_t comma = text.find(',', start);
-    std::string item = text.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
-    item.erase(0, item.find_first_not_of(' '));
-    item.erase(item.find_last_not_of(' ') + 1);
-    if (item.empty()) throw std::invalid_argument(std::string(option) + ": empty name in '" + text + "'");
-    out.push_back(item);
-    if (comma == std::string::npos) break;
-    start = comma + 1;
-  }
-  return out;
-}
 
 // The options that shape the result, as given (the output paths and --json/--jobs left out).
 std::string command_line(const CalibrateCommandOptions& o) {
@@ -102,8 +87,8 @@ void run_calibrate_command(const CalibrateCommandOptions& o) {
   options.starts = o.starts;
   options.max_evaluations = o.max_evaluations;
   options.trade_offs = !o.no_trade_offs;
-  if (!o.free.empty()) options.free = split_names(o.free, "--free");
-  if (!o.candidates.empty()) options.candidates = split_names(o.candidates, "--candidates");
+  if (!o.free.empty()) options.free = parse_name_list(o.free, "--free");
+  if (!o.candidates.empty()) options.candidates = parse_name_list(o.candidates, "--candidates");
   if (!options.free.empty() && !options.candidates.empty()) {
     throw std::invalid_argument("--free and --candidates: give one (--free fixes the set, --candidates is the pool)");
   }

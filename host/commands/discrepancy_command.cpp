@@ -14,6 +14,7 @@
 #include "analysis/discrepancy/discrepancy.h"
 #include "commands/command_error.h"
 #include "commands/commands.h"
+#include "formats/name_list.h"
 #include "formats/parameter_file.h"
 #include "offline/motor_config.h"
 #include "offline/parallel_for.h"
@@ -35,24 +36,10 @@ struct DiscrepancyCommandOptions {
   int jobs = 0;
 };
 
-std::vector<std::string> split_list(const std::string& text) {
-  std::vector<std::string> out;
-  std::size_t start = 0;
-  while (start <= text.size()) {
-    const std::size_t comma = text.find(',', start);
-    std::string item = text.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
-    if (!item.empty()) out.push_back(item);
-    if (comma == std::string::npos) break;
-    start = comma + 1;
-  }
-  return out;
-}
-
 // --quantities: analyse only these columns (e.g. speed, as a board without a vibrometer
 // measures); rows left without a value are dropped.
 void keep_quantities(MeasurementSet& set, const std::vector<std::string>& names) {
   std::array<bool, kQuantityCount> keep{};
-  if (names.empty()) throw std::invalid_argument("--quantities: empty list (omit it to use every column)");
   for (const std::string& name : names) {
     const std::optional<Quantity> q = quantity_from_name(name);
     if (!q) {
@@ -79,10 +66,7 @@ void keep_quantities(MeasurementSet& set, const std::vector<std::string>& names)
 void run_discrepancy_command(const DiscrepancyCommandOptions& o) {
   if (o.jobs < 0) throw std::invalid_argument("--jobs: must be >= 1 (0 = all cores)");
   DiscrepancyOptions options;
-  options.candidates = split_list(o.effects);
-  if (!o.effects.empty() && options.candidates.empty()) {
-    throw std::invalid_argument("--effects: empty list (omit it to try every candidate)");
-  }
+  if (!o.effects.empty()) options.candidates = parse_name_list(o.effects, "--effects");
   for (const std::string& name : options.candidates) {
     if (find_candidate_effect(name) == nullptr) {
       throw std::invalid_argument("--effects: unknown effect '" + name + "' (known: " + candidate_effect_names() + ")");
@@ -98,7 +82,7 @@ void run_discrepancy_command(const DiscrepancyCommandOptions& o) {
   if (const std::string note = measurement_note(measured); !note.empty()) {
     std::fprintf(stderr, "%s: %s\n", o.measured_path.c_str(), note.c_str());
   }
-  if (o.quantities) keep_quantities(measured, split_list(*o.quantities));
+  if (o.quantities) keep_quantities(measured, parse_name_list(*o.quantities, "--quantities"));
   // A quarter of the operating points (at least 12, at most half) are held out for scoring. The
   // smallest combined held-out p is 2 x 2^-m for m held-out points: below 16 points (8 held
   // out) no effect could ever reach 0.01, so such a file cannot say anything either way.

@@ -206,7 +206,7 @@ DeviceTelemetry CanDevice::receive_set() {
   // Optional frames of the set: both electrical frames, or the sample has no electrical values.
   enum : unsigned { kElectricalA = 1, kElectricalB = 2, kBothPhases = 3 };
   unsigned electrical_seen = 0;
-  ElectricalReading electrical;
+  protocol::ElectricalValues electrical;
   double stator_temperature_c = 0.0;
   const auto deadline = std::chrono::steady_clock::now() + response_timeout_;
   for (;;) {

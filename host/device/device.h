@@ -12,6 +12,7 @@
 #include <string>
 
 #include "codes.h"
+#include "telemetry.h"
 
 namespace swum::host {
 
@@ -35,20 +36,16 @@ struct DriveSlew {
   double vpp_per_s = 0.0;
 };
 
-enum class DeviceAction { keep_alive, enable, disable, reset_fault };
+// The action of a command: the wire's (keep_alive, enable, disable, reset_fault), one type on
+// both ends.
+using DeviceAction = protocol::Action;
 
-// The amplifier's electrical port over its last window (docs/protocols.md "Electrical port"):
-// per phase the peak current of the drive-frequency component, its phase and the motional
-// current's phase relative to the phase's voltage (+ = current leads), and the real power.
-struct ElectricalReading {
-  double current_a_a = 0.0, current_b_a = 0.0;
-  double phase_a_deg = 0.0, phase_b_deg = 0.0;
-  double motional_phase_a_deg = 0.0, motional_phase_b_deg = 0.0;
-  double power_a_w = 0.0, power_b_w = 0.0;
-  double power_w() const { return power_a_w + power_b_w; }  // both phases
-};
-
-// One telemetry sample, in physical units.
+// One telemetry sample, in physical units. Not protocol::Telemetry (the device's own snapshot):
+// this is what the host learns of it through one protocol - the device clock, tick and sample
+// counter only when that protocol carries them, the host's reception time, counters with their
+// wire modulus - and the state, fault and reject codes as the wire sent them (ints: a board may
+// send a code this build does not know, and a log records it as sent). The electrical port is
+// the protocol's value type.
 struct DeviceTelemetry {
   // Device clock (the emulator's emulated time) when the protocol carries one; the host
   // times settle/dwell on it so a sped-up emulator and a real board behave the same.
@@ -80,8 +77,9 @@ struct DeviceTelemetry {
   double lateness_p99_us = 0.0;
   double lateness_max_us = 0.0;
   std::uint32_t overruns = 0;
-  // Absent when the device did not report them (a CAN set without the ElectricalA/B frames).
-  std::optional<ElectricalReading> electrical;
+  // The electrical port as the wire carries it (docs/protocols.md "Electrical port"); absent when
+  // the device did not report it (a CAN set without the ElectricalA/B frames).
+  std::optional<protocol::ElectricalValues> electrical;
   std::optional<double> stator_temperature_c;
 
   bool is(protocol::AmpState s) const { return state == static_cast<int>(s); }

@@ -209,7 +209,7 @@ class Sweeper {
           tangential += t.tip_tangential_um;
           ++n;
           if (t.electrical) {
-            const ElectricalReading& e = *t.electrical;
+            const protocol::ElectricalValues& e = *t.electrical;
             electrical.current_a_a += e.current_a_a;
             electrical.current_b_a += e.current_b_a;
             electrical.phase_a_deg += e.phase_a_deg;

@@ -20,16 +20,6 @@ namespace modbus = protocol::modbus;
 namespace holding = modbus::holding;
 namespace input = modbus::input;
 
-protocol::Action protocol_action(DeviceAction action) {
-  switch (action) {
-    case DeviceAction::keep_alive: return protocol::Action::none;
-    case DeviceAction::enable: return protocol::Action::enable;
-    case DeviceAction::disable: return protocol::Action::disable;
-    case DeviceAction::reset_fault: return protocol::Action::reset_fault;
-  }
-  return protocol::Action::none;
-}
-
 }  // namespace
 
 ModbusDevice::ModbusDevice(const std::string& endpoint_text, const DeviceTimeouts& timeouts)
@@ -121,7 +111,7 @@ void ModbusDevice::set_slew(double frequency_hz_per_s, double vpp_per_s) {
 }
 
 void ModbusDevice::command(DeviceAction action) {
-  const std::uint16_t value = modbus::command_code(protocol_action(action));
+  const std::uint16_t value = modbus::command_code(action);
   write_holding(holding::kCommand, &value, 1, "command write");
 }
 
@@ -137,7 +127,7 @@ DeviceTelemetry ModbusDevice::step(const DriveSetpoint& s, const DriveSlew& slew
   setpoints.frequency_slew_hz_per_s = slew.frequency_hz_per_s;
   setpoints.amplitude_slew_vpp_per_s = slew.vpp_per_s;
   std::array<std::uint16_t, holding::kCount> r{};
-  const std::string problem = modbus::encode_step_write(protocol_action(action), setpoints, ticks, r);
+  const std::string problem = modbus::encode_step_write(action, setpoints, ticks, r);
   if (!problem.empty()) throw DeviceError(name() + ": lockstep step: " + problem);
   write_holding(holding::kCommand, r.data(), static_cast<int>(r.size()), "lockstep step");
   return read();
@@ -179,9 +169,7 @@ DeviceTelemetry ModbusDevice::read() {
   t.lateness_max_us = static_cast<double>(d.stats.lateness_max_ns) / modbus::kTimingNsPerCount;
   t.overruns = static_cast<std::uint32_t>(d.stats.overruns);
   if (electrical_registers_) {
-    const protocol::ElectricalValues& e = d.electrical;
-    t.electrical = ElectricalReading{e.current_a_a,          e.current_b_a,          e.phase_a_deg, e.phase_b_deg,
-                                     e.motional_phase_a_deg, e.motional_phase_b_deg, e.power_a_w,   e.power_b_w};
+    t.electrical = d.electrical;
     t.stator_temperature_c = d.stator_temperature_c;
   }
   return t;

@@ -1,12 +1,12 @@
 #include "output/amplitude_csv.h"
 
 #include <array>
-#include <charconv>
 #include <cmath>
 #include <optional>
 
 #include "commands/command_error.h"
 #include "formats/csv_cells.h"
+#include "formats/csv_table.h"
 #include "formats/number_format.h"
 
 namespace swum::host {
@@ -15,10 +15,7 @@ namespace {
 constexpr std::array<std::string_view, 4> kColumns = {"vpp", "frequency_hz", "tip_normal_um", "tip_tangential_um"};
 
 [[noreturn]] void fail(std::string_view source, int line, int column, const std::string& what) {
-  std::string message(source);
-  message += ":" + std::to_string(line);
-  if (column > 0) message += ":" + std::to_string(column);
-  throw CommandError(message + ": " + what);
+  throw CommandError(csv_message(source, line, column, what));
 }
 
 std::string quoted_cell(std::string_view text) {
@@ -31,10 +28,9 @@ std::string quoted_cell(std::string_view text) {
 // Empty cell -> nullopt; otherwise a finite number or an error naming line and column.
 std::optional<double> number_cell(std::string_view cell, std::string_view source, int line, int column,
                                   std::string_view name) {
-  if (cell.empty()) return std::nullopt;
-  double value = 0.0;
-  if (const char* problem = parse_number_cell(cell, value)) {
-    fail(source, line, column, "column " + std::string(name) + ": " + quoted_cell(cell) + " " + problem);
+  std::optional<double> value;
+  if (const std::string problem = csv_number_problem(cell, name, value); !problem.empty()) {
+    fail(source, line, column, problem);
   }
   return value;
 }
@@ -43,50 +39,36 @@ std::optional<double> number_cell(std::string_view cell, std::string_view source
 
 std::vector<AmplitudeMeasurement> parse_amplitude_csv(std::string_view text, std::string_view source,
                                                       int min_amplitudes) {
+  const CsvTable table = read_csv_table(text);
+  if (!table.header) fail(source, 1, 0, "no header line (the file is empty)");
   std::array<int, 4> index{-1, -1, -1, -1};  // cell index of each required column
-  std::size_t header_cells = 0;
-  bool have_header = false;
+  const std::vector<std::string_view>& header = table.header->cells;
+  const int header_line = table.header->line;
+  for (std::size_t c = 0; c < header.size(); ++c) {
+    for (std::size_t k = 0; k < kColumns.size(); ++k) {
+      if (header[c] == kColumns[k]) {
+        if (index[k] >= 0) {
+          fail(source, header_line, static_cast<int>(c) + 1, "column " + std::string(kColumns[k]) + " appears twice");
+        }
+        index[k] = static_cast<int>(c);
+      }
+    }
+  }
+  for (std::size_t k = 0; k < kColumns.size(); ++k) {
+    if (index[k] < 0) {
+      fail(source, header_line, static_cast<int>(header.size()) + 1,
+           "missing column " + std::string(kColumns[k]) +
+               " (the header must name vpp,frequency_hz,tip_normal_um,tip_tangential_um)");
+    }
+  }
   std::vector<AmplitudeMeasurement> rows;
   int amplitudes = 0;
-  int line_number = 0;
-  int last_line = 0;  // last non-blank, non-comment line
-  std::size_t start = 0;
-  while (start <= text.size()) {
-    const std::size_t newline = text.find('\n', start);
-    const std::string_view raw = text.substr(start, newline == std::string_view::npos ? std::string_view::npos
-                                                                                      : newline - start);
-    start = newline == std::string_view::npos ? text.size() + 1 : newline + 1;
-    ++line_number;
-    const std::string_view line = trim_cell(raw);
-    if (line.empty() || line.front() == '#') continue;
-    last_line = line_number;
-    const std::vector<std::string_view> cells = split_csv_cells(line);
-    if (!have_header) {
-      have_header = true;
-      header_cells = cells.size();
-      for (std::size_t c = 0; c < cells.size(); ++c) {
-        for (std::size_t k = 0; k < kColumns.size(); ++k) {
-          if (cells[c] == kColumns[k]) {
-            if (index[k] >= 0) {
-              fail(source, line_number, static_cast<int>(c) + 1,
-                   "column " + std::string(kColumns[k]) + " appears twice");
-            }
-            index[k] = static_cast<int>(c);
-          }
-        }
-      }
-      for (std::size_t k = 0; k < kColumns.size(); ++k) {
-        if (index[k] < 0) {
-          fail(source, line_number, static_cast<int>(header_cells) + 1,
-               "missing column " + std::string(kColumns[k]) +
-                   " (the header must name vpp,frequency_hz,tip_normal_um,tip_tangential_um)");
-        }
-      }
-      continue;
-    }
-    if (cells.size() != header_cells) {
-      fail(source, line_number, static_cast<int>(std::min(cells.size(), header_cells)) + 1,
-           "expected " + std::to_string(header_cells) + " cells, found " + std::to_string(cells.size()));
+  for (const CsvRow& row : table.rows) {
+    const int line_number = row.line;
+    const std::vector<std::string_view>& cells = row.cells;
+    int count_column = 0;
+    if (const std::string problem = csv_cell_count_problem(table, row, count_column); !problem.empty()) {
+      fail(source, line_number, count_column, problem);
     }
     std::array<std::optional<double>, 4> v;
     for (std::size_t k = 0; k < kColumns.size(); ++k) {
@@ -117,9 +99,8 @@ std::vector<AmplitudeMeasurement> parse_amplitude_csv(std::string_view text, std
     amplitudes += (v[2] ? 1 : 0) + (v[3] ? 1 : 0);
     rows.push_back(m);
   }
-  if (!have_header) fail(source, 1, 0, "no header line (the file is empty)");
   if (amplitudes < min_amplitudes) {
-    fail(source, last_line, 0,
+    fail(source, table.last_content_line(), 0,
          "only " + std::to_string(amplitudes) + " amplitude values; fitting " + std::to_string(min_amplitudes) +
              " parameters needs at least " + std::to_string(min_amplitudes));
   }

@@ -19,7 +19,7 @@ inline constexpr const char* kLogCsvHeader =
 // The electrical columns (the last eight of both the log and a live sweep: docs/host.md), to the
 // wire's resolution (0.1 mA, 0.01 deg, 0.01 W, 0.01 degC); empty cells when the device did not
 // report them. Starts with the separating comma.
-inline std::string format_electrical_cells(const std::optional<ElectricalReading>& e,
+inline std::string format_electrical_cells(const std::optional<protocol::ElectricalValues>& e,
                                            const std::optional<double>& stator_temperature_c) {
   std::string cells;
   if (e) {

@@ -5,11 +5,10 @@
 #include <iterator>
 #include <map>
 #include <set>
-#include <sstream>
 #include <stdexcept>
 #include <utility>
 
-#include "formats/csv_cells.h"
+#include "formats/csv_table.h"
 #include "formats/number_format.h"
 #include "output/plot.h"
 #include "output/value_lists.h"
@@ -89,18 +88,11 @@ std::string format_sweep_csv(const std::vector<SweepRow>& rows) {
 }
 
 std::vector<SweepRow> parse_sweep_csv(const std::string& text, const std::string& source) {
-  std::stringstream in(text);
-  std::string line;
-  if (!std::getline(in, line)) throw std::runtime_error(source + ": empty file");
-  if (!line.empty() && line.back() == '\r') line.pop_back();
-  // Cells as written (CsvCellTrim::none): names and statuses are compared byte for byte.
-  std::vector<std::string> header;
-  for (const std::string_view name : split_csv_cells(line, CsvCellTrim::none)) header.emplace_back(name);
-  auto column = [&](const std::string& name) {
-    for (std::size_t i = 0; i < header.size(); ++i)
-      if (header[i] == name) return static_cast<int>(i);
-    return -1;
-  };
+  // Cells as written (CsvLines::as_written): names and statuses are compared byte for byte.
+  const CsvTable table = read_csv_table(text, CsvLines::as_written);
+  if (!table.header) throw std::runtime_error(source + ": empty file");
+  const std::vector<std::string_view>& header = table.header->cells;
+  auto column = [&](std::string_view name) { return table.column(name); };
   const int cv = column("vpp"), cf = column("frequency_hz"), cl = column("load_n"), cs = column("speed_mm_s"),
             cn = column("tip_normal_um"), ct = column("tip_tangential_um"), cst = column("status"),
             csp = column("speed_spread_mm_s"), ctime = column("time_s"), csweep = column("sweep");
@@ -110,18 +102,17 @@ std::vector<SweepRow> parse_sweep_csv(const std::string& text, const std::string
     throw std::runtime_error(source + ": not a sweep table (header needs vpp, frequency_hz, speed_mm_s)");
   }
   std::vector<SweepRow> rows;
-  int number = 1;
-  while (std::getline(in, line)) {
-    ++number;
-    if (!line.empty() && line.back() == '\r') line.pop_back();
-    if (line.empty()) continue;
-    const std::vector<std::string_view> cells = split_csv_cells(line, CsvCellTrim::none);
+  for (const CsvRow& csv_row : table.rows) {
+    const int number = csv_row.line;
+    const std::vector<std::string_view>& cells = csv_row.cells;
     if (cells.size() != header.size()) {
       throw std::runtime_error(source + " line " + std::to_string(number) + ": " + std::to_string(cells.size()) +
                                " cells, the header has " + std::to_string(header.size()));
     }
     auto cell = [&](int c) { return c >= 0 ? std::string(cells[static_cast<std::size_t>(c)]) : std::string(); };
-    auto where = [&](int c) { return source + " line " + std::to_string(number) + " column " + header[c]; };
+    auto where = [&](int c) {
+      return source + " line " + std::to_string(number) + " column " + std::string(header[static_cast<std::size_t>(c)]);
+    };
     auto value = [&](int c) { return parse_finite_number(cell(c), where(c)); };
     SweepRow row;
     row.vpp = value(cv);

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "formats/name_list.h"
+
 namespace swum::host {
 namespace {
 
@@ -41,17 +43,9 @@ double parse_finite_number(std::string_view text, std::string_view what) {
 
 std::vector<double> parse_number_list(std::string_view text, std::string_view what) {
   std::vector<double> values;
-  std::size_t start = 0;
-  while (true) {
-    const std::size_t comma = text.find(',', start);
-    const std::string_view item = text.substr(start,
-                                              comma == std::string_view::npos ? std::string_view::npos : comma - start);
-    if (trim(item).empty()) {
-      throw std::invalid_argument(std::string(what) + ": empty entry in list " + quoted(text));
-    }
-    values.push_back(parse_finite_number(item, what));
-    if (comma == std::string_view::npos) break;
-    start = comma + 1;
+  for (const std::string_view entry : split_comma_list(text)) {
+    if (entry.empty()) throw std::invalid_argument(std::string(what) + ": empty entry in list " + quoted(text));
+    values.push_back(parse_finite_number(entry, what));
   }
   return values;
 }

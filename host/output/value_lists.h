@@ -11,7 +11,8 @@ namespace swum::host {
 /// Parses a finite number; throws std::invalid_argument naming `what` and the text.
 double parse_finite_number(std::string_view text, std::string_view what);
 
-/// "A,B,C" -> {A,B,C}; every entry finite, at least one. `what` names the option in errors.
+/// "A,B,C" -> {A,B,C} (split as formats/name_list.h: blanks around an entry dropped); every
+/// entry finite, none empty. `what` names the option in errors.
 std::vector<double> parse_number_list(std::string_view text, std::string_view what);
 
 /// "START:STOP:STEP" -> START, START+STEP, ... up to STOP inclusive (within STEP/1e6).

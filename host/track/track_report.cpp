@@ -3,10 +3,11 @@
 #include <algorithm>
 #include <cmath>
 #include <fstream>
-#include <map>
+#include <iterator>
 #include <stdexcept>
 
 #include "formats/csv_cells.h"
+#include "formats/csv_table.h"
 #include "formats/number_format.h"
 
 namespace swum::host {
@@ -21,55 +22,49 @@ double interpolate(const std::vector<double>& x, const std::vector<double>& y, d
   return y[hi - 1] + w * (y[hi] - y[hi - 1]);
 }
 
-// A CSV table with a header: cells by column name, one-line errors naming file:line.
-class CsvTable {
+// A swum track or band CSV read back (CsvLines::hand_written): cells by column name, one-line
+// errors naming file:line.
+class TrackTable {
  public:
-  explicit CsvTable(const std::string& path) : path_(path) {
-    std::ifstream in(path);
+  explicit TrackTable(const std::string& path) : path_(path) {
+    std::ifstream in(path, std::ios::binary);
     if (!in) throw std::runtime_error(path + ": cannot open");
-    std::string line;
-    int number = 0;
-    while (std::getline(in, line)) {
-      ++number;
-      if (line.empty() || line[0] == '#') continue;
-      std::vector<std::string> cells;
-      for (const std::string_view c : split_csv_cells(line)) cells.emplace_back(c);
-      if (header_.empty()) {
-        for (std::size_t i = 0; i < cells.size(); ++i) header_[cells[i]] = i;
-        width_ = cells.size();
-        continue;
+    text_.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+    table_ = read_csv_table(text_);
+    if (!table_.header) throw std::runtime_error(path + ": empty (no header)");
+    const std::size_t width = table_.header->cells.size();
+    for (const CsvRow& row : table_.rows) {
+      if (row.cells.size() != width) {
+        throw std::runtime_error(csv_message(
+            path, row.line, 0, std::to_string(row.cells.size()) + " cells, the header has " + std::to_string(width)));
       }
-      if (cells.size() != width_) {
-        throw std::runtime_error(path + ":" + std::to_string(number) + ": " + std::to_string(cells.size()) +
-                                 " cells, the header has " + std::to_string(width_));
-      }
-      rows_.push_back(std::move(cells));
-      lines_.push_back(number);
     }
-    if (header_.empty()) throw std::runtime_error(path + ": empty (no header)");
   }
-  [[nodiscard]] std::size_t size() const { return rows_.size(); }
+  TrackTable(const TrackTable&) = delete;  // the table views text_
+  TrackTable& operator=(const TrackTable&) = delete;
+  [[nodiscard]] std::size_t size() const { return table_.rows.size(); }
   [[nodiscard]] std::size_t column(const std::string& name) const {
-    const auto it = header_.find(name);
-    if (it == header_.end()) throw std::runtime_error(path_ + ": no column " + name);
-    return it->second;
+    const int index = table_.column(name);
+    if (index < 0) throw std::runtime_error(path_ + ": no column " + name);
+    return static_cast<std::size_t>(index);
   }
-  [[nodiscard]] const std::string& cell(std::size_t row, std::size_t column) const { return rows_[row][column]; }
+  [[nodiscard]] std::string_view cell(std::size_t row, std::size_t column) const {
+    return table_.rows[row].cells[column];
+  }
   [[nodiscard]] double number(std::size_t row, std::size_t column, const std::string& name) const {
     double value = 0.0;
-    if (const char* problem = parse_number_cell(rows_[row][column], value)) {
-      throw std::runtime_error(path_ + ":" + std::to_string(lines_[row]) + ": " + name + " '" + rows_[row][column] +
-                               "' " + problem);
+    const std::string_view text = cell(row, column);
+    if (const char* problem = parse_number_cell(text, value)) {
+      throw std::runtime_error(
+          csv_message(path_, table_.rows[row].line, 0, name + " '" + std::string(text) + "' " + problem));
     }
     return value;
   }
 
  private:
   std::string path_;
-  std::map<std::string, std::size_t> header_;
-  std::size_t width_ = 0;
-  std::vector<std::vector<std::string>> rows_;
-  std::vector<int> lines_;
+  std::string text_;
+  CsvTable table_;
 };
 
 }  // namespace
@@ -142,7 +137,7 @@ TrackRunSummary summarise_track(const TrackSeries& run, const BestSpeedCurve& be
 }
 
 TrackSeries read_track_csv(const std::string& path, const std::string& name) {
-  const CsvTable table(path);
+  const TrackTable table(path);
   TrackSeries run;
   run.name = name;
   const std::size_t time = table.column("time_s"), frequency = table.column("frequency_hz"),
@@ -159,7 +154,7 @@ TrackSeries read_track_csv(const std::string& path, const std::string& name) {
 }
 
 BestSpeedCurve read_band_csv(const std::string& path, double vpp, double load_n) {
-  const CsvTable table(path);
+  const TrackTable table(path);
   const std::size_t v = table.column("vpp"), load = table.column("load_n"), rise = table.column("temperature_rise_k"),
                     decided = table.column("decided"), speed = table.column("speed_mm_s"),
                     frequency = table.column("frequency_hz"), peak = table.column("peak_frequency_hz");
@@ -170,7 +165,7 @@ BestSpeedCurve read_band_csv(const std::string& path, double vpp, double load_n)
   std::vector<Point> points;
   for (std::size_t r = 0; r < table.size(); ++r) {
     if (table.number(r, v, "vpp") != vpp || table.number(r, load, "load_n") != load_n) continue;
-    const std::string& d = table.cell(r, decided);
+    const std::string_view d = table.cell(r, decided);
     if (d != "1" && d != "true") continue;
     points.push_back({table.number(r, rise, "temperature_rise_k"), table.number(r, speed, "speed_mm_s"),
                       table.number(r, frequency, "frequency_hz"), table.number(r, peak, "peak_frequency_hz")});

@@ -103,7 +103,7 @@ std::string check(const TrackRunSettings& s) {
 std::string format_track_row(const TrackRow& r) {
   char electrical[160] = ",,,,";
   if (r.electrical) {
-    const ElectricalReading& e = *r.electrical;
+    const protocol::ElectricalValues& e = *r.electrical;
     std::snprintf(electrical, sizeof electrical, "%.3f,%.3f,%.6f,%.6f,%.4f", e.motional_phase_a_deg, e.phase_a_deg,
                   e.current_a_a, e.current_b_a, e.power_w());
   }

@@ -31,7 +31,7 @@ struct TrackRow {
   TrackMode mode = TrackMode::search;
   double frequency_hz = 0.0;  // driven during the cycle
   double speed_mm_s = 0.0;
-  std::optional<ElectricalReading> electrical;
+  std::optional<protocol::ElectricalValues> electrical;
   std::optional<double> stator_temperature_c;
   int state = 0;
   int fault_code = 0;

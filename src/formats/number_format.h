@@ -1,7 +1,10 @@
-// Numbers as text through printf patterns: the one formatter of the tables, labels and
-// messages of src/ and host/ (every conversion in a pattern takes a double).
+// Numbers as text: through printf patterns, the one formatter of the tables, labels and
+// messages of src/ and host/ (every conversion in a pattern takes a double); and the shortest
+// decimal that reads back as the same double, the one writer of swum-emu's trace files and
+// settings (firmware_sim/core/trace.cpp, firmware_sim/app/emu_app.cpp).
 #pragma once
 
+#include <charconv>
 #include <cstddef>
 #include <cstdio>
 #include <string>
@@ -28,6 +31,22 @@ template <std::size_t Size, typename... Numbers>
 [[nodiscard]] inline std::string format_numbers(const char* pattern, double a, double b = 0.0, double c = 0.0,
                                                 double d = 0.0) {
   return detail::printf_text<256>(pattern, a, b, c, d);
+}
+
+/// Appends the shortest decimal text that reads back (std::from_chars, strtod) as exactly
+/// `value`: std::to_chars without a format ("0.1", "1e+21", "-0", "inf", "nan"); at most 24
+/// characters.
+inline void append_shortest_decimal(std::string& out, double value) {
+  char buffer[32];
+  const auto result = std::to_chars(buffer, buffer + sizeof buffer, value);
+  out.append(buffer, result.ptr);
+}
+
+/// append_shortest_decimal as a string of its own.
+[[nodiscard]] inline std::string shortest_decimal(double value) {
+  std::string text;
+  append_shortest_decimal(text, value);
+  return text;
 }
 
 }  // namespace swum

@@ -7,6 +7,7 @@
 #include <toml++/toml.h>
 
 #include "formats/csv_cells.h"
+#include "formats/number_format.h"
 #include "formats/toml_number.h"
 
 namespace swum {
@@ -109,6 +110,10 @@ MotorParameters parse_motor_parameters(std::string_view toml_text, std::string_v
     }
     return list;
   };
+  // The droop effect's own C0 of files written before it read the stator's (docs/parameters.md,
+  // "One C0"): read, and it must repeat stator.clamped_capacitance_nf.
+  std::optional<double> legacy_droop_c0;
+  std::string legacy_droop_c0_where;
   const auto read_section = [&](const std::string& section, const toml::node& section_node) {
     const auto* table = section_node.as_table();
     if (table == nullptr) {
@@ -116,6 +121,13 @@ MotorParameters parse_motor_parameters(std::string_view toml_text, std::string_v
                            section + "])");
     }
     for (auto&& [key, node] : *table) {
+      if (section == "effects.amplifier_droop" && key.str() == "clamped_capacitance_nf") {
+        ParameterSpec legacy = *find_parameter_spec("stator", "clamped_capacitance_nf");  // its unit and range
+        legacy.section = section;
+        legacy_droop_c0 = read_value(node, legacy, source_name);
+        legacy_droop_c0_where = where(source_name, node.source());
+        continue;
+      }
       const auto* spec = find_parameter_spec(section, key.str());
       if (spec == nullptr) {
         throw ParameterError(where(source_name, node.source()) + ": unknown key " + section + "." +
@@ -143,6 +155,12 @@ MotorParameters parse_motor_parameters(std::string_view toml_text, std::string_v
       }
       read_section(sub_section, sub_node);
     }
+  }
+  if (legacy_droop_c0 && *legacy_droop_c0 != parameters.stator.clamped_capacitance_nf) {
+    throw ParameterError(legacy_droop_c0_where + ": effects.amplifier_droop.clamped_capacitance_nf = " +
+                         format_number(*legacy_droop_c0) + " differs from stator.clamped_capacitance_nf = " +
+                         format_number(parameters.stator.clamped_capacitance_nf) +
+                         ": the droop effect uses the stator's C0; set only [stator] clamped_capacitance_nf");
   }
   validate_parameters(parameters, source_name);
   return parameters;

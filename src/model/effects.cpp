@@ -20,7 +20,7 @@ EffectCoefficients make_effect_coefficients(const MotorParameters& p, const Moda
   if (x.amplifier_droop.enabled) {
     e.droop = true;
     e.source_resistance_ohm = x.amplifier_droop.source_resistance_ohm;
-    e.clamped_capacitance_f = x.amplifier_droop.clamped_capacitance_nf * 1e-9;
+    e.clamped_capacitance_f = p.stator.clamped_capacitance_nf * 1e-9;  // the electrical port's C0
     e.charge_a_q1 = c.a[0].group_a;
     e.charge_a_q2 = c.b[0].group_a;
     e.charge_b_q1 = c.a[0].group_b;

@@ -127,7 +127,8 @@ const std::array kSpecs{
               "Tip lever L1/L of eq. 8: gT = phiB(L) + L1 phiB'(L) (literal: 0.1321)"),
     SWUM_REAL(stator, StatorParameters, clamped_capacitance_nf, "nF", 0.0, 1e6,
               "Clamped capacitance C0 of one phase: the current C0 dV/dt of the electrical port "
-              "besides the motional current (docs/model.md, Electrical port; not in the paper)"),
+              "besides the motional current (docs/model.md, Electrical port; not in the paper); also the "
+              "amplifier_droop effect's C0"),
     // [contact] Table 3
     SWUM_REAL(contact, ContactParameters, preload_n, "N", 0.0, 1e5, "Preload F_P (Table 3)"),
     SWUM_REAL(contact, ContactParameters, stiffness_n_m, "N/m", 0.0, 1e13,
@@ -206,9 +207,7 @@ const std::array kSpecs{
                 "Added to mu_s (eq. 24; result clamped at 0) (free parameter)"),
     SWUM_EFFECT_SWITCH(amplifier_droop, AmplifierDroopEffect, "amplifier droop"),
     SWUM_EFFECT(amplifier_droop, AmplifierDroopEffect, source_resistance_ohm, real, "ohm", 0.0, 1e5,
-                "Amplifier source resistance R_s (free parameter)"),
-    SWUM_EFFECT(amplifier_droop, AmplifierDroopEffect, clamped_capacitance_nf, real, "nF", 0.0, 1e6,
-                "Clamped capacitance C0 of one phase (fixed)"),
+                "Amplifier source resistance R_s (free parameter); C0 is stator.clamped_capacitance_nf"),
 };
 
 #undef SWUM_EFFECT_SWITCH
@@ -345,7 +344,12 @@ std::string render_parameters_markdown() {
          "Equation numbers refer to Li et al. 2019 (MSSP), sections (§) to "
          "[model_spec.md](model_spec.md).\n"
          "The `[effects.*]` tables are the candidate effects of the discrepancy workflow "
-         "([discrepancy.md](discrepancy.md)); all are off by default.\n";
+         "([discrepancy.md](discrepancy.md)); all are off by default.\n"
+         "One C0: the amplifier-droop effect's clamped capacitance is the stator's "
+         "`clamped_capacitance_nf` (the same capacitance of each phase the electrical port sees). "
+         "Files written before the two were one also set `[effects.amplifier_droop] "
+         "clamped_capacitance_nf`: such a key is read when it repeats the stator's value and refused "
+         "when it differs.\n";
   std::string_view section;
   for (const auto& spec : kSpecs) {
     if (spec.section != section) {

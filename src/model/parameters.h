@@ -186,11 +186,12 @@ struct GuideFrictionEffect {
 
 // Amplifier source impedance: per phase V = (V_cmd - R_s I_m)/(1 + j w R_s C0), I_m the
 // motional current a0 q1' + b0 q2' (reciprocity of the linear coupling of eqs. 14-15);
-// applied to the drive amplitude.
+// applied to the drive amplitude. C0 is the stator's clamped capacitance
+// (StatorParameters::clamped_capacitance_nf): the same capacitance of the same phase the
+// electrical port sees, one value for both.
 struct AmplifierDroopEffect {
   bool enabled = false;
-  double source_resistance_ohm = 60.0;   // free: R_s
-  double clamped_capacitance_nf = 10.0;  // fixed: C0 per phase
+  double source_resistance_ohm = 60.0;  // free: R_s
 };
 
 struct EffectParameters {

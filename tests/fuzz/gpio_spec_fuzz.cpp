@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <string>
 
+#include "formats/name_list.h"
 #include "fuzz_check.h"
 #include "transports/gpio_transport.h"
 
@@ -40,12 +41,9 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   }
   FUZZ_CHECK((config.encoder_a < 0) == (config.encoder_b < 0), "'%s': encoder with one line",
              swum::fuzz::printable(text).c_str());
-  // Every NAME=OFFSET item after the chip's colon has a whole decimal offset.
-  std::string_view items = std::string_view(text).substr(text.rfind(':') + 1);
-  while (!items.empty()) {
-    const std::size_t comma = items.find(',');
-    const std::string_view item = items.substr(0, comma);
-    items = comma == std::string_view::npos ? std::string_view{} : items.substr(comma + 1);
+  // Every NAME=OFFSET item after the chip's colon (blanks around it dropped: formats/name_list.h)
+  // has a whole decimal offset.
+  for (const std::string_view item : swum::split_comma_list(std::string_view(text).substr(text.rfind(':') + 1))) {
     FUZZ_CHECK(swum::fuzz::whole_decimal(item.substr(item.find('=') + 1)), "'%s' accepted the offset in '%s'",
                swum::fuzz::printable(text).c_str(), swum::fuzz::printable(item).c_str());
   }

@@ -91,6 +91,11 @@ TEST(SwumCalibrate, BadInputsAreOneLineErrorsNamingWhatAndWhere) {
   expect_one_line_error({"--config", kConfig, "--measured", m, "--free", "contact.preload_n", "--candidates",
                          "contact.preload_n"},
                         "--free and --candidates", out);
+  // Comma lists (docs/host.md, "Comma lists"): the same refusal as every other name list.
+  expect_one_line_error({"--config", kConfig, "--measured", m, "--candidates", "contact.preload_n,,stator.c1111_pa"},
+                        "--candidates: empty name in 'contact.preload_n,,stator.c1111_pa'", out);
+  expect_one_line_error({"--config", kConfig, "--measured", m, "--free", "contact.preload_n,"},
+                        "--free: empty name in 'contact.preload_n,'", out);
   expect_one_line_error({"--config", kConfig, "--measured", m, "--max-free", "0"}, "--max-free: must be >= 1", out);
   expect_one_line_error({"--config", kConfig, "--measured", m, "--starts", "0"}, "--starts: must be >= 1", out);
   expect_one_line_error({"--config", kConfig, "--measured", m, "--max-evaluations", "5"},

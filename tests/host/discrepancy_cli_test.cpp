@@ -93,7 +93,28 @@ TEST(SwumDiscrepancy, BadInputsAreOneLineErrorsWithExitCodes) {
   r = run_swum({"discrepancy", "--config", kConfig, "--measured", few.string(), "--out", scratch("few_out").string(),
                 "--effects", ","});
   EXPECT_EQ(r.status, 2) << r.output;
-  EXPECT_NE(r.output.find("--effects: empty list"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("--effects: empty name in ','"), std::string::npos) << r.output;
+}
+
+// Comma lists follow the one rule of docs/host.md ("Comma lists"): an empty name is refused (it
+// used to be dropped silently here while calibrate refused it), blanks around a name are dropped.
+TEST(SwumDiscrepancy, EmptyNamesInListsAreRefusedBeforeAnyWork) {
+  const fs::path few = scratch("few_names.csv");
+  write(few, "vpp,frequency_hz,load_n,speed_mm_s\n100,40000,0,12\n200,40100,0,30\n");
+  const std::string out = scratch("names_out").string();
+  CliRun r = run_swum(
+      {"discrepancy", "--config", kConfig, "--measured", few.string(), "--out", out, "--effects", "thermal,,wear"});
+  EXPECT_EQ(r.status, 2) << r.output;
+  EXPECT_EQ(r.output, "swum: error: --effects: empty name in 'thermal,,wear'\n");
+  r = run_swum(
+      {"discrepancy", "--config", kConfig, "--measured", few.string(), "--out", out, "--quantities", "speed,"});
+  EXPECT_EQ(r.status, 2) << r.output;
+  EXPECT_EQ(r.output, "swum: error: --quantities: empty name in 'speed,'\n");
+  // " thermal , wear" names thermal and wear: the run goes on to the file's check (two points).
+  r = run_swum(
+      {"discrepancy", "--config", kConfig, "--measured", few.string(), "--out", out, "--effects", " thermal , wear"});
+  EXPECT_EQ(r.status, 1) << r.output;
+  EXPECT_NE(r.output.find("2 distinct operating points"), std::string::npos) << r.output;
 }
 
 TEST(SwumSynth, LinearRepeatsAndNoiseFreeDataAreReproducible) {

@@ -127,8 +127,8 @@ class FakeDevice : public Device {
       // Current in proportion to the voltage, the motional phase crossing 0 at the peak.
       const double current_a = 6e-4 * vpp_out;
       const double motional_deg = std::clamp((peak_hz(vpp_out) - setpoint_.frequency_hz) / 10.0, -90.0, 90.0);
-      t.electrical = ElectricalReading{current_a,    0.98 * current_a, 60.0,           59.0,
-                                       motional_deg, motional_deg,     0.02 * vpp_out, 0.019 * vpp_out};
+      t.electrical = protocol::ElectricalValues{current_a,    0.98 * current_a, 60.0,           59.0,
+                                                motional_deg, motional_deg,     0.02 * vpp_out, 0.019 * vpp_out};
       t.stator_temperature_c = 20.0 + 0.5 * time_s;
     }
     longest_command_gap_s = std::max(longest_command_gap_s, state == 1 ? time_s - last_command_s_ : 0.0);

@@ -94,7 +94,7 @@ TEST(SweepTable, ElectricalMeansOverTheDwellOrEmptyCells) {
 
 TEST(LogTable, ElectricalCellsToTheWiresResolutionOrEmpty) {
   DeviceTelemetry t;
-  t.electrical = ElectricalReading{0.18346, 0.1791, 61.234, 58.7, -4.321, 3.2, 8.76, 8.1};
+  t.electrical = protocol::ElectricalValues{0.18346, 0.1791, 61.234, 58.7, -4.321, 3.2, 8.76, 8.1};
   t.stator_temperature_c = 20.004;
   const std::string row = format_log_row(0.5, t);
   EXPECT_NE(row.find(",0.1835,0.1791,61.23,58.70,-4.32,3.20,16.86,20.00\n"), std::string::npos) << row;

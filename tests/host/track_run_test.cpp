@@ -296,7 +296,7 @@ TEST(TrackRun, RowsHaveFixedPrecisionAndEmptyElectricalCellsWhenAbsent) {
   EXPECT_EQ(format_track_row(row), "7,0.140000,lock,39512.346,-123.457,,,,,,,1,0\n");
   row.stator_temperature_c = 27.12345;
   EXPECT_EQ(format_track_row(row), "7,0.140000,lock,39512.346,-123.457,,,,,,27.123,1,0\n");
-  row.electrical = ElectricalReading{0.24, 0.2352, 60.0, 59.0, -12.3456, -11.0, 8.0, 7.6};
+  row.electrical = protocol::ElectricalValues{0.24, 0.2352, 60.0, 59.0, -12.3456, -11.0, 8.0, 7.6};
   EXPECT_EQ(format_track_row(row),
             "7,0.140000,lock,39512.346,-123.457,-12.346,60.000,0.240000,0.235200,15.6000,27.123,1,0\n");
   row.stator_temperature_c.reset();

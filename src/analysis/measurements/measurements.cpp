@@ -2,13 +2,13 @@
 
 #include <algorithm>
 #include <array>
-#include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <set>
 
 #include "codes.h"  // protocol/: the state and fault codes a log file records
 #include "formats/csv_cells.h"
+#include "formats/csv_table.h"
 #include "formats/number_format.h"
 
 namespace swum {
@@ -39,17 +39,13 @@ class Reader {
   explicit Reader(std::string_view source) : source_(source) {}
 
   [[noreturn]] void fail(int line, int column, const std::string& what) const {
-    std::string message(source_);
-    message += ":" + std::to_string(line);
-    if (column > 0) message += ":" + std::to_string(column);
-    throw MeasurementError(message + ": " + what);
+    throw MeasurementError(csv_message(source_, line, column, what));
   }
 
   std::optional<double> number(std::string_view cell, int line, int column, std::string_view name) const {
-    if (cell.empty()) return std::nullopt;
-    double value = 0.0;
-    if (const char* problem = parse_number_cell(cell, value)) {
-      fail(line, column, "column " + std::string(name) + ": '" + printable_cell(cell) + "' " + problem);
+    std::optional<double> value;
+    if (const std::string problem = csv_number_problem(cell, name, value); !problem.empty()) {
+      fail(line, column, problem);
     }
     return value;
   }
@@ -142,83 +138,74 @@ MeasurementSet parse_csv(std::string_view text, std::string_view source, bool ne
   std::array<int, kControlNames.size()> control;
   control.fill(-1);
   auto control_index = [&](Control c) { return control[static_cast<std::size_t>(c)]; };
-  std::size_t header_cells = 0;
-  bool have_header = false;
+  const CsvTable table = read_csv_table(text);
+  if (!table.header) reader.fail(1, 0, "no header line (the file is empty)");
   MeasurementSet set;
-  int line_number = 0;
   int stretch = -1;  // sweep id of a log's current running stretch
   bool in_stretch = false;
-  std::size_t start = 0;
-  while (start <= text.size()) {
-    const std::size_t newline = text.find('\n', start);
-    const std::string_view raw = text.substr(start, newline == std::string_view::npos ? std::string_view::npos
-                                                                                      : newline - start);
-    start = newline == std::string_view::npos ? text.size() + 1 : newline + 1;
-    ++line_number;
-    const std::string_view line = trim_cell(raw);
-    if (line.empty() || line.front() == '#') continue;
-    const std::vector<std::string_view> cells = split_csv_cells(line);
+  {
+    const int line_number = table.header->line;
+    const std::vector<std::string_view>& cells = table.header->cells;
     const int n = static_cast<int>(cells.size());
-    if (!have_header) {
-      have_header = true;
-      header_cells = cells.size();
-      for (int c = 0; c < n; ++c) {
-        const std::string_view name = cells[static_cast<std::size_t>(c)];
-        const std::string twice = "column " + printable_cell(name) + " appears twice";
-        int k = 0;
-        while (k < kColumnCount && kNames[static_cast<std::size_t>(k)] != name) ++k;
-        if (name == kDeviceTime) k = kTime;
-        if (k < kColumnCount) {
-          const int previous = index[static_cast<std::size_t>(k)];
-          if (previous >= 0) {
-            reader.fail(line_number, c + 1,
-                        cells[static_cast<std::size_t>(previous)] == name
-                            ? twice
-                            : "columns time_s and device_time_s both give the time: keep one");
-          }
-          index[static_cast<std::size_t>(k)] = c;
-          if (k == kTime) set.time_column = std::string(name);
-          continue;
+    for (int c = 0; c < n; ++c) {
+      const std::string_view name = cells[static_cast<std::size_t>(c)];
+      const std::string twice = "column " + printable_cell(name) + " appears twice";
+      int k = 0;
+      while (k < kColumnCount && kNames[static_cast<std::size_t>(k)] != name) ++k;
+      if (name == kDeviceTime) k = kTime;
+      if (k < kColumnCount) {
+        const int previous = index[static_cast<std::size_t>(k)];
+        if (previous >= 0) {
+          reader.fail(line_number, c + 1,
+                      cells[static_cast<std::size_t>(previous)] == name
+                          ? twice
+                          : "columns time_s and device_time_s both give the time: keep one");
         }
-        const auto found = std::find_if(kControlNames.begin(), kControlNames.end(),
-                                        [&](const auto& entry) { return entry.first == name; });
-        if (found != kControlNames.end()) {
-          int& slot = control[static_cast<std::size_t>(found->second)];
-          if (slot >= 0) reader.fail(line_number, c + 1, twice);
-          slot = c;
-          continue;
+        index[static_cast<std::size_t>(k)] = c;
+        if (k == kTime) set.time_column = std::string(name);
+        continue;
+      }
+      const auto found = std::find_if(kControlNames.begin(), kControlNames.end(),
+                                      [&](const auto& entry) { return entry.first == name; });
+      if (found != kControlNames.end()) {
+        int& slot = control[static_cast<std::size_t>(found->second)];
+        if (slot >= 0) reader.fail(line_number, c + 1, twice);
+        slot = c;
+        continue;
+      }
+      if (one_of(kInformationalColumns, name)) {
+        if (std::find(set.ignored_columns.begin(), set.ignored_columns.end(), name) != set.ignored_columns.end()) {
+          reader.fail(line_number, c + 1, twice);
         }
-        if (one_of(kInformationalColumns, name)) {
-          if (std::find(set.ignored_columns.begin(), set.ignored_columns.end(), name) != set.ignored_columns.end()) {
-            reader.fail(line_number, c + 1, twice);
-          }
-          set.ignored_columns.emplace_back(name);
-          continue;
-        }
-        reader.fail(line_number, c + 1, "unknown column '" + printable_cell(name) + "' (" + known_columns() + ")");
+        set.ignored_columns.emplace_back(name);
+        continue;
       }
-      for (int k : {kVpp, kFrequency, kLoad}) {
-        if (index[static_cast<std::size_t>(k)] < 0) {
-          reader.fail(line_number, n + 1,
-                      "missing column " + std::string(kNames[static_cast<std::size_t>(k)]) +
-                          " (required: vpp, frequency_hz, load_n)");
-        }
-      }
-      for (Quantity q : kQuantities) {
-        set.has_quantity[static_cast<std::size_t>(q)] =
-            index[static_cast<std::size_t>(kSpeed) + static_cast<std::size_t>(q)] >= 0;
-      }
-      if (need_values && !set.has_quantity[0] && !set.has_quantity[1] && !set.has_quantity[2]) {
-        reader.fail(line_number, n + 1, "no measured quantity: add speed_mm_s, tip_normal_um or tip_tangential_um");
-      }
-      set.has_time = index[kTime] >= 0;
-      set.sweeps_from_state = index[kSweep] < 0 && control_index(Control::state) >= 0;
-      set.has_sweep = index[kSweep] >= 0 || set.sweeps_from_state;
-      continue;
+      reader.fail(line_number, c + 1, "unknown column '" + printable_cell(name) + "' (" + known_columns() + ")");
     }
-    if (cells.size() != header_cells) {
-      reader.fail(line_number, static_cast<int>(std::min(cells.size(), header_cells)) + 1,
-                  "expected " + std::to_string(header_cells) + " cells, found " + std::to_string(cells.size()));
+    for (int k : {kVpp, kFrequency, kLoad}) {
+      if (index[static_cast<std::size_t>(k)] < 0) {
+        reader.fail(line_number, n + 1,
+                    "missing column " + std::string(kNames[static_cast<std::size_t>(k)]) +
+                        " (required: vpp, frequency_hz, load_n)");
+      }
+    }
+    for (Quantity q : kQuantities) {
+      set.has_quantity[static_cast<std::size_t>(q)] =
+          index[static_cast<std::size_t>(kSpeed) + static_cast<std::size_t>(q)] >= 0;
+    }
+    if (need_values && !set.has_quantity[0] && !set.has_quantity[1] && !set.has_quantity[2]) {
+      reader.fail(line_number, n + 1, "no measured quantity: add speed_mm_s, tip_normal_um or tip_tangential_um");
+    }
+    set.has_time = index[kTime] >= 0;
+    set.sweeps_from_state = index[kSweep] < 0 && control_index(Control::state) >= 0;
+    set.has_sweep = index[kSweep] >= 0 || set.sweeps_from_state;
+  }
+  for (const CsvRow& row : table.rows) {
+    const int line_number = row.line;
+    const std::vector<std::string_view>& cells = row.cells;
+    int count_column = 0;
+    if (const std::string problem = csv_cell_count_problem(table, row, count_column); !problem.empty()) {
+      reader.fail(line_number, count_column, problem);
     }
     // A required cell that must hold a whole number (state, fault_code).
     auto whole_number = [&](int c, std::string_view name) {
@@ -321,9 +308,10 @@ MeasurementSet parse_csv(std::string_view text, std::string_view source, bool ne
     m.source_line = line_number;
     set.rows.push_back(m);
   }
-  if (!have_header) reader.fail(1, 0, "no header line (the file is empty)");
-  if (set.rows.empty() && set.skipped_rows > 0) reader.fail(line_number, 0, "no usable rows: " + left_out_text(set));
-  if (set.rows.empty()) reader.fail(line_number, 0, "no data rows");
+  if (set.rows.empty() && set.skipped_rows > 0) {
+    reader.fail(table.last_line, 0, "no usable rows: " + left_out_text(set));
+  }
+  if (set.rows.empty()) reader.fail(table.last_line, 0, "no data rows");
   return set;
 }
 

@@ -323,6 +323,16 @@ TEST(GpioTransport, SpecParsing) {
   EXPECT_NE(parse_gpio_spec("gpiochip1:a=1", c), "");
   EXPECT_NE(parse_gpio_spec("gpiochip1:bogus=1", c), "");
   EXPECT_NE(parse_gpio_spec("nochip", c), "");
+  // The line list is a comma list (src/formats/name_list.h): blanks around an entry dropped, an
+  // empty entry refused (a trailing comma was accepted before the one splitter).
+  GpioConfig spaced;
+  EXPECT_EQ(parse_gpio_spec("gpiochip1: enable=5 , fault=6", spaced), "");
+  EXPECT_EQ(spaced.enable, 5);
+  EXPECT_EQ(spaced.fault, 6);
+  GpioConfig empty;
+  EXPECT_EQ(parse_gpio_spec("gpiochip1:enable=3,,fault=4", empty), "empty name in 'enable=3,,fault=4'");
+  EXPECT_EQ(parse_gpio_spec("gpiochip1:enable=3,", empty), "empty name in 'enable=3,'");
+  EXPECT_EQ(parse_gpio_spec("gpiochip1:", empty), "empty name in ''");
 }
 
 }  // namespace

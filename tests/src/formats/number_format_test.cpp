@@ -32,5 +32,21 @@ TEST(NumberFormat, TextsAreCappedAsTheCallersAlwaysCappedThem) {
   EXPECT_EQ(format_numbers("%.0f%.0f%.0f", huge, huge, huge).size(), 255u);
 }
 
+// The writer of swum-emu's trace rows and settings: the bytes golden traces hold.
+TEST(NumberFormat, ShortestDecimalReadsBackAsTheSameDouble) {
+  EXPECT_EQ(shortest_decimal(0.1), "0.1");
+  EXPECT_EQ(shortest_decimal(40400.0), "40400");
+  EXPECT_EQ(shortest_decimal(1e21), "1e+21");
+  EXPECT_EQ(shortest_decimal(2.5e-7), "2.5e-07");
+  EXPECT_EQ(shortest_decimal(-0.0), "-0");
+  EXPECT_EQ(shortest_decimal(1.0 / 3.0), "0.3333333333333333");
+  for (const double v : {1.0 / 3.0, 6.02214076e23, -1.5e-300, 1.7976931348623157e308}) {
+    EXPECT_EQ(std::stod(shortest_decimal(v)), v);
+  }
+  std::string row = "a,";
+  append_shortest_decimal(row, 12.5);
+  EXPECT_EQ(row, "a,12.5");
+}
+
 }  // namespace
 }  // namespace swum

@@ -107,6 +107,31 @@ TEST(ParameterFile, UnknownKeyNamesKeyAndLine) {
   EXPECT_NE(msg.find("unknown key"), std::string::npos) << msg;
 }
 
+// One C0 (docs/parameters.md): the droop effect reads the stator's clamped capacitance. Files
+// written before (every key of the table, the effect's C0 among them) still read when the two
+// agree; a file that sets them apart is refused, naming both.
+TEST(ParameterFile, TheDroopEffectsOldC0KeyMustRepeatTheStators) {
+  const std::string old_output = "[stator]\nclamped_capacitance_nf = 12.5\n"
+                                 "[effects.amplifier_droop]\nenabled = true\nclamped_capacitance_nf = 12.5\n";
+  const auto p = parse_motor_parameters(old_output, "old.toml");
+  EXPECT_EQ(p.stator.clamped_capacitance_nf, 12.5);
+  EXPECT_TRUE(p.effects.amplifier_droop.enabled);
+  EXPECT_EQ(parse_motor_parameters("[effects.amplifier_droop]\nclamped_capacitance_nf = 10.0\n", "t")
+                .stator.clamped_capacitance_nf,
+            10.0);  // the default of both
+  EXPECT_EQ(error_of("[effects.amplifier_droop]\nclamped_capacitance_nf = 20\n"),
+            "test.toml:2: effects.amplifier_droop.clamped_capacitance_nf = 20 differs from "
+            "stator.clamped_capacitance_nf = 10: the droop effect uses the stator's C0; set only [stator] "
+            "clamped_capacitance_nf");
+  EXPECT_NE(error_of("[effects.amplifier_droop]\nclamped_capacitance_nf = -1\n")
+                .find("test.toml:2: effects.amplifier_droop.clamped_capacitance_nf"),
+            std::string::npos);
+  // Written today, the key is gone: the stator's is the one C0.
+  const std::string written = format_motor_parameters(p);
+  EXPECT_NE(written.find("clamped_capacitance_nf = 12.5"), std::string::npos) << written;
+  EXPECT_EQ(written.find("clamped_capacitance_nf"), written.rfind("clamped_capacitance_nf")) << written;
+}
+
 TEST(ParameterFile, UnknownSection) {
   const auto msg = error_of("[contakt]\npreload_n = 20\n");
   EXPECT_NE(msg.find("unknown section [contakt]"), std::string::npos) << msg;

@@ -5,6 +5,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include "analysis/steady_state/steady_state.h"
 #include "model/simulator.h"
 
@@ -94,6 +96,22 @@ TEST(Effects, WearAccumulatesTheMoverTravelAndDroopLowersTheDrive) {
   EXPECT_GT(droop, 0.5);
   EXPECT_LT(wear_friction_factor(make_effect_coefficients(p, ModalConstants{}), 1e6),
             1.0 + p.effects.wear.friction_change + 1e-12);
+}
+
+// One C0: the droop's divider 1/|1 + j w R_s C0| takes C0 from the stator (the electrical
+// port's clamped capacitance), so changing it there changes the droop.
+TEST(Effects, DroopUsesTheStatorsClampedCapacitance) {
+  MotorParameters p = jenkins_motor();
+  p.effects.amplifier_droop.enabled = true;
+  p.effects.amplifier_droop.source_resistance_ohm = 500.0;
+  const double w = 2.0 * 3.141592653589793 * 40000.0;
+  for (const double c0_nf : {10.0, 40.0}) {
+    p.stator.clamped_capacitance_nf = c0_nf;
+    const EffectCoefficients e = make_effect_coefficients(p, ModalConstants{});
+    EXPECT_EQ(e.clamped_capacitance_f, c0_nf * 1e-9);
+    const double x = w * 500.0 * c0_nf * 1e-9;
+    EXPECT_DOUBLE_EQ(droop_gain(e, w, 0.0, 1.0, 0.0, 1.0, 0.0, {}, {}), 1.0 / std::sqrt(1.0 + x * x));
+  }
 }
 
 TEST(Effects, StaticEffectsFoldIntoTheParameters) {
