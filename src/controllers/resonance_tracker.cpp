@@ -234,8 +234,11 @@ TrackDecision ResonanceTracker::search_step(const TrackSample& s) {
 
 TrackDecision ResonanceTracker::next(const TrackSample& s) {
   const bool uses_phase = settings_.method == TrackMethod::phase;
-  if (uses_phase && (mode_ == TrackMode::lock || mode_ == TrackMode::approach || mode_ == TrackMode::settle) &&
-      !s.motional_phase_deg) {
+  // Every mode that reads the phase: lock, settle, and the approach down to a set-point (also
+  // after a collapse, in recover, once a set-point is known).
+  const bool reads_phase = mode_ == TrackMode::lock || mode_ == TrackMode::approach || mode_ == TrackMode::settle ||
+                           (mode_ == TrackMode::recover && setpoint_deg_);
+  if (uses_phase && reads_phase && !s.motional_phase_deg) {
     return {frequency_hz_, mode_, {}, TrackStatus::no_phase_reading, collapses_};
   }
   switch (mode_) {

@@ -63,16 +63,17 @@ TEST(OperatingBand, ChecksNameTheOption) {
   EXPECT_NO_THROW(check_band_thermal(coarse_grid({400.0}), test::calibrated_parameters(), "li2019.toml"));
 }
 
+// Nine chains: two tasks of lanes, on the host's pool of two threads.
 TEST(BandRun, OnTwoThreadsGivesTheRowsOfOne) {
   const MotorModel model(test::calibrated_parameters());
-  BandGrid grid = coarse_grid({300.0});
-  grid.loads_n = {0.0, 1.0};
+  BandGrid grid = coarse_grid({200.0, 300.0, 400.0});
+  grid.loads_n = {0.0, 1.0, 0.5};
   std::atomic<int> points{0};  // point_done runs on the workers
   const auto two = run_operating_band(model, grid, 2, [&] { ++points; });
   const auto one = operating_band(model, grid, serial_for, 1);
-  ASSERT_EQ(two.size(), 2u);
-  ASSERT_EQ(one.size(), 2u);
-  EXPECT_EQ(points.load(), 2 * 36);  // two chains of 36 frequencies
+  ASSERT_EQ(two.size(), 9u);
+  ASSERT_EQ(one.size(), 9u);
+  EXPECT_EQ(points.load(), 9 * 36);  // nine chains of 36 frequencies
   for (std::size_t i = 0; i < one.size(); ++i) {
     EXPECT_EQ(one[i].pick.frequency_hz, two[i].pick.frequency_hz);
     EXPECT_EQ(one[i].pick.peak_frequency_hz, two[i].pick.peak_frequency_hz);

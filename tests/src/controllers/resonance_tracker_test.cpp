@@ -172,6 +172,23 @@ TEST(ResonanceTracker, PhaseRecoversFromACollapse) {
   EXPECT_FALSE(plant.collapsed);
 }
 
+// A cycle without a phase reading while recovering to the set-point (e.g. a lost electrical
+// frame) ends the run with a status; it is never read from an empty optional.
+TEST(ResonanceTracker, PhaseRecoveryWithoutThePhaseEndsWithAStatus) {
+  Plant plant{[](double) { return 39450.0; }};
+  ResonanceTracker tracker(settings(TrackMethod::phase));
+  (void)run(tracker, plant, 10.0);
+  ASSERT_TRUE(tracker.phase_setpoint_deg());
+  plant.collapsed = true;
+  const TrackDecision collapsed = tracker.next(plant.sample(tracker.frequency_hz(), 10.0 + kCycleS));
+  ASSERT_EQ(collapsed.mode, TrackMode::recover);
+  TrackSample no_phase = plant.sample(collapsed.frequency_hz, 10.0 + 2 * kCycleS);
+  no_phase.motional_phase_deg.reset();
+  const TrackDecision d = tracker.next(no_phase);
+  EXPECT_EQ(d.status, TrackStatus::no_phase_reading);
+  EXPECT_EQ(d.frequency_hz, collapsed.frequency_hz);
+}
+
 // Ten seconds of running, then the plant knocked onto its lower branch (e.g. a load step) and
 // run on to t = 30 s: the frequency the tracker ends at.
 double collapse_and_run_on(ResonanceTracker& tracker, Plant& plant) {

@@ -91,29 +91,41 @@ TEST(OperatingBand, AWarmerStatorWhoseStiffnessFallsMovesThePeakDown) {
   EXPECT_EQ(plain.front().pick.peak_frequency_hz, cold.pick.peak_frequency_hz);
 }
 
+// Nine chains fill more than one vector of lanes (8), so the band runs as two tasks, here on two
+// threads at once: the rows are those of one thread.
 TEST(OperatingBand, RowsDoNotDependOnTheThreads) {
   const MotorModel model(test::calibrated_parameters());
-  BandGrid grid = coarse_grid({200.0, 400.0});
-  grid.loads_n = {0.0, 1.0};
+  BandGrid grid = coarse_grid({200.0, 300.0, 400.0});
+  grid.loads_n = {0.0, 1.0, 0.5};
   const auto one = operating_band(model, grid, serial_for, 1);
   std::size_t points = 0;
+  std::size_t tasks = 0;
   std::mutex m;
-  const auto two = operating_band(model, grid, test::two_thread_for, 2, [&] {
+  const ParallelFor counted = [&](std::size_t count, const std::function<void(std::size_t)>& body) {
+    tasks = count;
+    test::two_thread_for(count, body);
+  };
+  const auto two = operating_band(model, grid, counted, 2, [&] {
     const std::lock_guard lock(m);
     ++points;
   });
-  EXPECT_EQ(points, 4u * 36u);
-  ASSERT_EQ(one.size(), 4u);
-  ASSERT_EQ(two.size(), 4u);
+  EXPECT_EQ(tasks, 2u);
+  EXPECT_EQ(points, 9u * 36u);
+  ASSERT_EQ(one.size(), 9u);
+  ASSERT_EQ(two.size(), 9u);
   for (std::size_t i = 0; i < one.size(); ++i) {
     EXPECT_EQ(one[i].vpp, two[i].vpp);
     EXPECT_EQ(one[i].load_n, two[i].load_n);
     EXPECT_EQ(one[i].pick.frequency_hz, two[i].pick.frequency_hz);
     EXPECT_EQ(one[i].pick.speed_mm_s, two[i].pick.speed_mm_s);
     EXPECT_EQ(one[i].pick.reason, two[i].pick.reason);
+    ASSERT_EQ(one[i].curve.size(), two[i].curve.size());
+    for (std::size_t k = 0; k < one[i].curve.size(); ++k)
+      EXPECT_EQ(one[i].curve[k].speed_mm_s, two[i].curve[k].speed_mm_s);
   }
   EXPECT_EQ(one[0].vpp, 200.0);
   EXPECT_EQ(one[1].load_n, 1.0);
+  EXPECT_EQ(one[8].vpp, 400.0);
 }
 
 TEST(OperatingBand, SummaryOfUndecidedRowsHasNoBand) {
