@@ -14,8 +14,8 @@
 #include "core/loop_statistics.h"
 #include "core/scenario_player.h"
 #include "core/shared_state.h"
-#include "model/model_faults.h"
-#include "model/simulator.h"
+#include "model/simulation/model_faults.h"
+#include "model/simulation/simulator.h"
 
 namespace swum::emu {
 

@@ -4,7 +4,7 @@
 #include <cmath>
 
 #include "core/scenario_player.h"
-#include "model/effects.h"
+#include "model/machine/effects.h"
 
 namespace swum::emu {
 

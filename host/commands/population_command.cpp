@@ -19,7 +19,7 @@
 #include "commands/command_error.h"
 #include "commands/commands.h"
 #include "formats/spread_file.h"
-#include "model/batch_simulator.h"
+#include "model/simulation/batch_simulator.h"
 #include "offline/motor_config.h"
 #include "offline/offline_sweep.h"
 #include "offline/population_study.h"

@@ -8,7 +8,7 @@
 
 #include "analysis/steady_state/steady_state.h"
 #include "analysis/steady_state/steady_state_batch.h"
-#include "model/batch_simulator.h"
+#include "model/simulation/batch_simulator.h"
 #include "offline/parallel_for.h"
 #include "output/progress_bar.h"
 

@@ -5,7 +5,7 @@
 #include <stdexcept>
 
 #include "formats/number_format.h"
-#include "model/electrical.h"
+#include "model/machine/electrical.h"
 
 namespace swum {
 namespace {

@@ -2,12 +2,12 @@
 // precomputed from them. Built once; shared read-only by simulators and analyses.
 #pragma once
 
-#include "model/contact.h"
-#include "model/effects.h"
-#include "model/modal_constants.h"
-#include "model/mover.h"
+#include "model/machine/contact.h"
+#include "model/machine/effects.h"
+#include "model/machine/mover.h"
+#include "model/machine/stator.h"
+#include "model/modal/modal_constants.h"
 #include "model/parameters.h"
-#include "model/stator.h"
 
 namespace swum {
 

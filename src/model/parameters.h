@@ -123,7 +123,7 @@ struct ModelOptions {
 
 // How the simulator runs the fixed step of the Jenkins contact with the implicit Coulomb guide
 // (the calibrated motor's): fused by hand into one loop (issue 16, ~1.4x faster) or through
-// MotorSplitSystem's generic step; the results agree to rounding (tests/src/model/simulator_test).
+// MotorSplitSystem's generic step; the results agree to rounding (tests/src/model/simulation/simulator_test).
 // Other contact laws always run the generic step.
 enum class StepKernel {
   fused,

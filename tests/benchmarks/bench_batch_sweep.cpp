@@ -13,7 +13,7 @@
 
 #include "analysis/steady_state/steady_state_batch.h"
 #include "formats/parameter_file.h"
-#include "model/batch_simulator.h"
+#include "model/simulation/batch_simulator.h"
 #include "test_paths.h"
 
 namespace {

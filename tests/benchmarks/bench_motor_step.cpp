@@ -15,7 +15,7 @@
 #include <vector>
 
 #include "formats/parameter_file.h"
-#include "model/simulator.h"
+#include "model/simulation/simulator.h"
 #include "test_paths.h"
 
 namespace {
@@ -46,7 +46,7 @@ double thread_cpu_s() {
 // of the batches of this run (a shared machine only ever slows a batch down);
 // real_time_factor = step / (CPU time per step) for that best batch.
 // electrical: the emulator's path, advance(steps, ElectricalSums&) (the phase currents of every
-// 4th step, model/electrical.h), against the plain advance(steps) of the same motor.
+// 4th step, model/machine/electrical.h), against the plain advance(steps) of the same motor.
 void run(benchmark::State& state, const swum::MotorParameters& p, double vpp, double frequency_hz, double load_n = 0.0,
          bool electrical = false) {
   const swum::MotorModel model(p);

@@ -5,9 +5,9 @@
 
 #include <array>
 
-#include "model/modal_constants.h"
+#include "model/machine/stator.h"
+#include "model/modal/modal_constants.h"
 #include "model/parameters.h"
-#include "model/stator.h"
 
 namespace swum {
 

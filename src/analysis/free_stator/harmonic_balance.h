@@ -8,10 +8,10 @@
 #include <span>
 #include <vector>
 
-#include "model/modal_constants.h"
+#include "model/machine/stator.h"
+#include "model/modal/modal_constants.h"
 #include "model/motor_model.h"
 #include "model/parameters.h"
-#include "model/stator.h"
 
 namespace swum {
 
@@ -29,7 +29,7 @@ struct HarmonicBalanceOptions {
   double phase_deg = 90.0;  // V_B ahead of V_A (DriveInput::phase_deg)
   int max_newton_iterations = 40;
   double tolerance_um = 1e-9;  // Newton step (scaled unknowns, micrometres)
-  // The thermal effect's factors (model/effects.h thermal_factors) on the modal stiffness K_i
+  // The thermal effect's factors (model/machine/effects.h thermal_factors) on the modal stiffness K_i
   // and damping C_i of both modes, as the simulator applies them: 1 = the parameter file's.
   double stiffness_factor = 1.0;
   double damping_factor = 1.0;

@@ -10,7 +10,7 @@
 #include <Eigen/Dense>
 
 #include "formats/number_format.h"
-#include "model/modal_constants.h"
+#include "model/modal/modal_constants.h"
 #include "model/motor_model.h"
 
 namespace swum {

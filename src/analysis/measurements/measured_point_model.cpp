@@ -8,8 +8,8 @@
 #include <optional>
 
 #include "analysis/steady_state/steady_state_batch.h"
-#include "model/batch_simulator.h"
 #include "model/motor_model.h"
+#include "model/simulation/batch_simulator.h"
 
 namespace swum {
 namespace {

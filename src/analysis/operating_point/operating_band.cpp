@@ -6,7 +6,7 @@
 
 #include "analysis/steady_state/steady_state.h"
 #include "analysis/steady_state/steady_state_batch.h"
-#include "model/batch_simulator.h"
+#include "model/simulation/batch_simulator.h"
 
 namespace swum {
 namespace {

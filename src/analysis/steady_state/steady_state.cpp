@@ -5,8 +5,8 @@
 #include <limits>
 
 #include "integrators/dormand_prince.h"
-#include "model/motor.h"
-#include "model/simulator.h"
+#include "model/machine/motor.h"
+#include "model/simulation/simulator.h"
 
 namespace swum {
 namespace {
@@ -136,7 +136,7 @@ SteadyStateResult run_to_steady_state(const MotorModel& model, const OperatingPo
     }
     for (std::uint64_t k = 0; traced && k < steps;) {
       // The hot loop up to the next trace sample (the window sums inside it are the same bits
-      // as step() and window.add() one step at a time; tests/src/model/simulator_test.cpp).
+      // as step() and window.add() one step at a time; tests/src/model/simulation/simulator_test.cpp).
       const std::uint64_t chunk = std::min(steps - k, opt.trace_every_steps - total_steps % opt.trace_every_steps);
       if (w != nullptr) sim.advance(chunk, *w);
       else sim.advance(chunk);

@@ -8,7 +8,7 @@
 #include <string>
 
 #include "model/motor_model.h"
-#include "model/window_statistics.h"
+#include "model/simulation/window_statistics.h"
 
 namespace swum {
 

@@ -7,7 +7,7 @@
 #include <limits>
 #include <optional>
 
-#include "model/batch_simulator.h"
+#include "model/simulation/batch_simulator.h"
 
 namespace swum {
 namespace {
