@@ -53,7 +53,7 @@ struct GpioSim : ::testing::Test {
   static bool level_of(const Line& line) {
     bool value = false;
     const GpioResult r = line.get(value);
-    EXPECT_TRUE(r.ok()) << r.message;
+    EXPECT_TRUE(r.ok()) << r.operation << " failed, errno " << r.error_number;
     return value;
   }
   std::string chip, sysfs;
@@ -116,5 +116,6 @@ TEST_F(GpioSim, ClearErrors) {
   const GpioResult no_edges = in->wait_edge(ev, 1ms);  // a status, not an exception: a per-event call
   EXPECT_EQ(no_edges.status, GpioStatus::error);
   EXPECT_EQ(no_edges.error_number, EINVAL);
-  EXPECT_NE(no_edges.message.find("without edge detection"), std::string::npos) << no_edges.message;
+  const std::string text = describe(no_edges, {chip, 7, "t"});
+  EXPECT_NE(text.find("without edge detection"), std::string::npos) << text;
 }
