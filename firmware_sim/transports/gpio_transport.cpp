@@ -149,7 +149,7 @@ void GpioTransport::encoder_loop() {
     }
     const std::int64_t n = monotonic_ns();
     if (next < n - 10'000'000) next = n;  // far behind: no burst
-    const timespec ts{static_cast<time_t>(next / 1'000'000'000), static_cast<long>(next % 1'000'000'000)};
+    const timespec ts = to_timespec(next);
     while (clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &ts, nullptr) == EINTR) {
     }
   }
