@@ -38,18 +38,17 @@ std::string parse_gpio_spec(const std::string& text, GpioConfig& out) {
 
 GpioTransport::GpioTransport(io::GpioLines& lines, GpioConfig config, SharedState& shared)
     : config_(std::move(config)), shared_(shared) {
-  auto line = [&](int offset) { return line_config(offset); };
   if (config_.enable >= 0) {
-    enable_ = lines.request_input(line(config_.enable), io::GpioEdge::both, io::GpioBias::as_is);
+    enable_ = lines.request_input(line_config(config_.enable), io::GpioEdge::both, io::GpioBias::as_is);
     bool level = false;
     if (const io::GpioResult r = enable_->get(level); !r.ok())
-      throw io::GpioError(io::describe(r, line(config_.enable)), r.error_number);
+      throw io::GpioError(io::describe(r, line_config(config_.enable)), r.error_number);
     shared_.enable_line.store(level);
   }
-  if (config_.fault >= 0) fault_ = lines.request_output(line(config_.fault), false);
+  if (config_.fault >= 0) fault_ = lines.request_output(line_config(config_.fault), false);
   if (config_.encoder_a >= 0) {
-    a_ = lines.request_output(line(config_.encoder_a), false);
-    b_ = lines.request_output(line(config_.encoder_b), false);
+    a_ = lines.request_output(line_config(config_.encoder_a), false);
+    b_ = lines.request_output(line_config(config_.encoder_b), false);
   }
 }
 
