@@ -30,13 +30,14 @@ struct FakeGpioLines::State {
     if (l.bias_pull_up) return *l.bias_pull_up;
     return l.chip_pull_up;
   }
-  Line& line(const std::string& chip, unsigned offset, const std::string& what) {
+  // Finds a line without allocating (the per-event calls look their line up each time).
+  Line& line(const std::string& chip, unsigned offset) {
     auto it = chips.find(chip);
     if (it == chips.end()) throw GpioError("no such GPIO chip '" + chip + "'", ENODEV);
     if (offset >= it->second.lines.size()) {
-      throw GpioError(what + "GPIO chip '" + chip + "' line " + std::to_string(offset) +
-                          ": offset out of range, chip " + chip + " [" + it->second.label + "] has " +
-                          std::to_string(it->second.lines.size()) + " lines",
+      throw GpioError("GPIO chip '" + chip + "' line " + std::to_string(offset) + ": offset out of range, chip " +
+                          chip + " [" + it->second.label + "] has " + std::to_string(it->second.lines.size()) +
+                          " lines",
                       EINVAL);
     }
     return it->second.lines[offset];
@@ -63,7 +64,7 @@ class FakeLineBase {
   FakeLineBase(std::shared_ptr<State> s, GpioLineConfig c) : state_(std::move(s)), config_(std::move(c)) {}
   ~FakeLineBase() {
     std::lock_guard lock(state_->mutex);
-    auto& l = state_->line(config_.chip, config_.offset, "");
+    auto& l = state_->line(config_.chip, config_.offset);
     l.consumer.clear();
     l.output = false;
     l.bias_pull_up.reset();
@@ -73,11 +74,12 @@ class FakeLineBase {
 
  protected:
   // The line, for an operation; null (and `failure` filled) as the real adapter fails while a
-  // failure is injected.
+  // failure is injected. `operation` is a string literal: a failure allocates nothing, as the
+  // real adapter's.
   State::Line* operable_line(const char* operation, GpioResult& failure) const {
-    auto& l = state_->line(config_.chip, config_.offset, "");
+    auto& l = state_->line(config_.chip, config_.offset);
     if (!l.failing) return &l;
-    failure = gpio_failure(where(config_) + ": " + operation + ": Input/output error (injected)", EIO);
+    failure = gpio_failure(operation, EIO);
     return nullptr;
   }
   std::shared_ptr<State> state_;
@@ -113,12 +115,11 @@ class FakeInput final : public GpioInputLine, FakeLineBase {
   GpioResult wait_edge(GpioEvent& event, std::chrono::milliseconds timeout) override {
     std::unique_lock lock(state_->mutex);
     GpioResult r;
-    auto* l = operable_line("wait for edges", r);
+    auto* l = operable_line("wait_edge", r);
     if (l == nullptr) return r;
-    if (l->edge == GpioEdge::none)
-      return gpio_failure(where(config_) + ": requested without edge detection, cannot wait for edges", EINVAL);
+    if (l->edge == GpioEdge::none) return gpio_failure(kWaitWithoutEdges, EINVAL);
     if (!state_->changed.wait_for(lock, timeout, [&] { return !l->events.empty(); }))
-      return GpioResult{GpioStatus::timeout, 0, {}};
+      return GpioResult{GpioStatus::timeout, 0, "wait_edge"};
     event = l->events.front();
     l->events.pop_front();
     return r;
@@ -126,7 +127,7 @@ class FakeInput final : public GpioInputLine, FakeLineBase {
 };
 
 State::Line& claim(State& s, const GpioLineConfig& c) {
-  auto& l = s.line(c.chip, c.offset, "");
+  auto& l = s.line(c.chip, c.offset);
   if (!l.consumer.empty()) throw GpioError(where(c) + " is busy (already requested by '" + l.consumer + "')", EBUSY);
   return l;
 }
@@ -165,7 +166,7 @@ std::unique_ptr<GpioInputLine> FakeGpioLines::request_input(const GpioLineConfig
 
 void FakeGpioLines::drive(const std::string& chip, unsigned offset, std::optional<bool> value) {
   std::lock_guard lock(state_->mutex);
-  auto& l = state_->line(chip, offset, "");
+  auto& l = state_->line(chip, offset);
   const bool before = State::level_of(l);
   l.driven = value;
   state_->record_edge(l, before);
@@ -173,7 +174,7 @@ void FakeGpioLines::drive(const std::string& chip, unsigned offset, std::optiona
 
 void FakeGpioLines::set_pull(const std::string& chip, unsigned offset, bool up) {
   std::lock_guard lock(state_->mutex);
-  auto& l = state_->line(chip, offset, "");
+  auto& l = state_->line(chip, offset);
   const bool before = State::level_of(l);
   l.chip_pull_up = up;
   state_->record_edge(l, before);
@@ -181,17 +182,17 @@ void FakeGpioLines::set_pull(const std::string& chip, unsigned offset, bool up) 
 
 bool FakeGpioLines::level(const std::string& chip, unsigned offset) const {
   std::lock_guard lock(state_->mutex);
-  return State::level_of(state_->line(chip, offset, ""));
+  return State::level_of(state_->line(chip, offset));
 }
 
 std::string FakeGpioLines::consumer(const std::string& chip, unsigned offset) const {
   std::lock_guard lock(state_->mutex);
-  return state_->line(chip, offset, "").consumer;
+  return state_->line(chip, offset).consumer;
 }
 
 void FakeGpioLines::fail_operations(const std::string& chip, unsigned offset, bool failing) {
   std::lock_guard lock(state_->mutex);
-  state_->line(chip, offset, "").failing = failing;
+  state_->line(chip, offset).failing = failing;
   state_->changed.notify_all();
 }
 

@@ -10,7 +10,6 @@
 #include <memory>
 #include <stdexcept>
 #include <string>
-#include <utility>
 
 namespace swum::io {
 
@@ -37,17 +36,21 @@ struct GpioEvent {
   std::chrono::nanoseconds timestamp{0};  // kernel event timestamp (fake: steady clock)
 };
 
-// What a per-event line operation came to, as io::CanResult is for a bus call.
+// What a per-event line operation came to, as io::CanResult is for a bus call. Built without
+// allocating (the transport's loops retry a failing line every millisecond): the human text is
+// made only where a failure is reported, by describe().
 enum class GpioStatus {
   ok,       // done (wait_edge: an event arrived)
   timeout,  // wait_edge only: no event within the timeout
-  error,    // the kernel refused (chip gone, line released), or a misuse: errno + text
+  error,    // the kernel refused (chip gone, line released), or a misuse: errno + operation
 };
 
 struct GpioResult {
   GpioStatus status = GpioStatus::ok;
   int error_number = 0;  // errno, when there is one
-  std::string message;   // one line naming the chip and line, for anything but ok
+  // A string literal naming what failed, for anything but ok: the call ("set", "get",
+  // "wait_edge"), or the call and the misuse the adapter refused it for. Never owned.
+  const char* operation = "";
   bool ok() const { return status == GpioStatus::ok; }
 };
 
@@ -68,10 +71,18 @@ class GpioInputLine {
   virtual GpioResult wait_edge(GpioEvent& event, std::chrono::milliseconds timeout) = 0;
 };
 
-// A failed per-event operation, as the adapters report it.
-inline GpioResult gpio_failure(std::string message, int error_number) {
-  return GpioResult{GpioStatus::error, error_number, std::move(message)};
+// A failed per-event operation, as the adapters report it: `operation` must be a string literal.
+constexpr GpioResult gpio_failure(const char* operation, int error_number) {
+  return GpioResult{GpioStatus::error, error_number, operation};
 }
+
+// wait_edge on a line requested with GpioEdge::none: the misuse both adapters refuse (EINVAL).
+inline constexpr const char* kWaitWithoutEdges = "wait_edge (line requested without edge detection)";
+
+// The one line that reports a result on `line`: "GPIO chip 'gpiochip0' line 3: set failed:
+// Input/output error". For the reporting side (an exit report, a load-time error, a test), not
+// for the loops: it allocates.
+std::string describe(const GpioResult& result, const GpioLineConfig& line);
 
 class GpioLines {
  public:

@@ -49,58 +49,56 @@ gpiod::line open_line(const GpioLineConfig& c) {
   throw GpioError(where(c) + ": request failed: " + e.what(), code);
 }
 
-// Both line kinds read a value the same way; libgpiod throws, the caller gets a status.
-GpioResult read_value(const gpiod::line& line, const GpioLineConfig& c, bool& value) {
+// Both line kinds read a value the same way; libgpiod throws, the caller gets a status. The
+// status keeps libgpiod's errno, not its text: no allocation of ours on a failure (describe()
+// makes the text where it is reported).
+GpioResult read_value(const gpiod::line& line, bool& value) {
   try {
     value = line.get_value() != 0;
   } catch (const std::system_error& e) {
-    return gpio_failure(where(c) + ": get failed: " + e.what(), e.code().value());
+    return gpio_failure("get", e.code().value());
   }
   return {};
 }
 
 class GpiodOutput final : public GpioOutputLine {
  public:
-  explicit GpiodOutput(gpiod::line line, GpioLineConfig c) : line_(std::move(line)), config_(std::move(c)) {}
+  explicit GpiodOutput(gpiod::line line) : line_(std::move(line)) {}
   ~GpiodOutput() override { line_.release(); }
   GpioResult set(bool value) override {
     try {
       line_.set_value(value ? 1 : 0);
     } catch (const std::system_error& e) {
-      return gpio_failure(where(config_) + ": set failed: " + e.what(), e.code().value());
+      return gpio_failure("set", e.code().value());
     }
     return {};
   }
-  GpioResult get(bool& value) const override { return read_value(line_, config_, value); }
+  GpioResult get(bool& value) const override { return read_value(line_, value); }
 
  private:
   gpiod::line line_;
-  GpioLineConfig config_;
 };
 
 class GpiodInput final : public GpioInputLine {
  public:
-  GpiodInput(gpiod::line line, GpioLineConfig c, bool events)
-      : line_(std::move(line)), config_(std::move(c)), events_(events) {}
+  GpiodInput(gpiod::line line, bool events) : line_(std::move(line)), events_(events) {}
   ~GpiodInput() override { line_.release(); }
-  GpioResult get(bool& value) const override { return read_value(line_, config_, value); }
+  GpioResult get(bool& value) const override { return read_value(line_, value); }
   GpioResult wait_edge(GpioEvent& event, std::chrono::milliseconds timeout) override {
-    if (!events_)
-      return gpio_failure(where(config_) + ": requested without edge detection, cannot wait for edges", EINVAL);
+    if (!events_) return gpio_failure(kWaitWithoutEdges, EINVAL);
     try {
-      if (!line_.event_wait(timeout)) return GpioResult{GpioStatus::timeout, 0, {}};
+      if (!line_.event_wait(timeout)) return GpioResult{GpioStatus::timeout, 0, "wait_edge"};
       const gpiod::line_event e = line_.event_read();
       event.rising = e.event_type == gpiod::line_event::RISING_EDGE;
       event.timestamp = e.timestamp;
       return {};
     } catch (const std::system_error& e) {
-      return gpio_failure(where(config_) + ": waiting for an edge failed: " + e.what(), e.code().value());
+      return gpio_failure("wait_edge", e.code().value());
     }
   }
 
  private:
   gpiod::line line_;
-  GpioLineConfig config_;
   bool events_;
 };
 
@@ -123,7 +121,7 @@ std::unique_ptr<GpioOutputLine> GpiodLines::request_output(const GpioLineConfig&
   } catch (const std::system_error& e) {
     request_failed(config, line, e);
   }
-  return std::make_unique<GpiodOutput>(std::move(line), config);
+  return std::make_unique<GpiodOutput>(std::move(line));
 }
 
 std::unique_ptr<GpioInputLine> GpiodLines::request_input(const GpioLineConfig& config, GpioEdge edge, GpioBias bias) {
@@ -140,7 +138,7 @@ std::unique_ptr<GpioInputLine> GpiodLines::request_input(const GpioLineConfig& c
   } catch (const std::system_error& e) {
     request_failed(config, line, e);
   }
-  return std::make_unique<GpiodInput>(std::move(line), config, edge != GpioEdge::none);
+  return std::make_unique<GpiodInput>(std::move(line), edge != GpioEdge::none);
 }
 
 }  // namespace swum::io

@@ -16,4 +16,13 @@ inline std::int64_t monotonic_ns() noexcept {
   return static_cast<std::int64_t>(ts.tv_sec) * 1'000'000'000 + ts.tv_nsec;
 }
 
+// A time on that clock (nanoseconds, not negative) as clock_nanosleep(CLOCK_MONOTONIC,
+// TIMER_ABSTIME, ...) takes it.
+inline timespec to_timespec(std::int64_t ns) noexcept {
+  timespec ts{};
+  ts.tv_sec = static_cast<time_t>(ns / 1'000'000'000);
+  ts.tv_nsec = static_cast<long>(ns % 1'000'000'000);
+  return ts;
+}
+
 }  // namespace swum::emu

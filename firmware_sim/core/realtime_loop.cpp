@@ -13,15 +13,6 @@
 
 namespace swum::emu {
 
-namespace {
-timespec to_timespec(std::int64_t ns) {
-  timespec ts{};
-  ts.tv_sec = static_cast<time_t>(ns / 1'000'000'000);
-  ts.tv_nsec = static_cast<long>(ns % 1'000'000'000);
-  return ts;
-}
-}  // namespace
-
 std::string try_realtime(int priority) {
   std::string message;
   sched_param param{};

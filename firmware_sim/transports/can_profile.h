@@ -8,10 +8,15 @@
 // Today's profile is the swum frame set (swum_can_profile.h, docs/protocols.md); a CANopen
 // CiA 301/402 profile (SDO replies, NMT, heartbeat, PDOs) goes behind the same interface.
 //
-// Every call is on a real-time path: no allocation, no throw, no lock; a frame's fate is a
-// status (CanRxResult), never an exception. Threads: receive() runs on the transport's receive
-// thread only, send_periodic() on its transmit thread only, send_telemetry() on one of the two
-// for a whole run (transmit thread on the wall clock, receive thread at each SYNC in lockstep).
+// Every call is on a real-time path: a profile allocates nothing, throws nothing and takes no
+// lock of its own; a frame's fate is a status (CanRxResult), never an exception. What a frame it
+// hands the transport costs is the transport's (CanSender::send): without --record-can, a
+// non-blocking bus send and no lock; with --record-can, also a mutex shared by the receive and
+// transmit threads and a buffered fprintf of one line per frame (so one thread may wait for the
+// other's write, and for write(2) when stdio's buffer fills). Threads: receive() runs on the
+// transport's receive thread only, send_periodic() on its transmit thread only, send_telemetry()
+// on one of the two for a whole run (transmit thread on the wall clock, receive thread at each
+// SYNC in lockstep).
 #pragma once
 
 #include <cstdint>
@@ -24,7 +29,9 @@
 namespace swum::emu {
 
 // Where a profile's frames go: the transport counts and records each one; a full transmit queue
-// drops the frame (counted), a bus error is counted and reported. Never blocks.
+// drops the frame (counted), a bus error is counted and reported. The bus send never waits for
+// the bus (a refused send comes back with io::CanResult's text, which the bus built); under
+// --record-can the frame's line is written under the recording's mutex (above).
 class CanSender {
  public:
   virtual void send(const io::CanFrame& frame) = 0;

@@ -232,7 +232,7 @@ void CanTransport::tx_loop() {
     if (!shared_.can_faults.off()) profile_->send_periodic(now, periodic);
     next += period;
     if (next < now) next = now + period;  // fell behind (e.g. stopped in a debugger): no burst
-    const timespec ts{static_cast<time_t>(next / 1'000'000'000), static_cast<long>(next % 1'000'000'000)};
+    const timespec ts = to_timespec(next);
     while (clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &ts, nullptr) == EINTR) {
     }
   }

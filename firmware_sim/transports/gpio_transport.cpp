@@ -38,17 +38,17 @@ std::string parse_gpio_spec(const std::string& text, GpioConfig& out) {
 
 GpioTransport::GpioTransport(io::GpioLines& lines, GpioConfig config, SharedState& shared)
     : config_(std::move(config)), shared_(shared) {
-  auto line = [&](int offset) { return io::GpioLineConfig{config_.chip, static_cast<unsigned>(offset), "swum-emu"}; };
   if (config_.enable >= 0) {
-    enable_ = lines.request_input(line(config_.enable), io::GpioEdge::both, io::GpioBias::as_is);
+    enable_ = lines.request_input(line_config(config_.enable), io::GpioEdge::both, io::GpioBias::as_is);
     bool level = false;
-    if (const io::GpioResult r = enable_->get(level); !r.ok()) throw io::GpioError(r.message, r.error_number);
+    if (const io::GpioResult r = enable_->get(level); !r.ok())
+      throw io::GpioError(io::describe(r, line_config(config_.enable)), r.error_number);
     shared_.enable_line.store(level);
   }
-  if (config_.fault >= 0) fault_ = lines.request_output(line(config_.fault), false);
+  if (config_.fault >= 0) fault_ = lines.request_output(line_config(config_.fault), false);
   if (config_.encoder_a >= 0) {
-    a_ = lines.request_output(line(config_.encoder_a), false);
-    b_ = lines.request_output(line(config_.encoder_b), false);
+    a_ = lines.request_output(line_config(config_.encoder_a), false);
+    b_ = lines.request_output(line_config(config_.encoder_b), false);
   }
 }
 
@@ -67,12 +67,24 @@ void GpioTransport::stop() {
   shared_.enable_line.store(true);
   if (const auto errors = stats_.line_errors.load(); errors > 0) {
     std::fprintf(stderr, "swum-emu: GPIO: %llu line operations failed (first: %s)\n",
-                 static_cast<unsigned long long>(errors), first_error_.c_str());
+                 static_cast<unsigned long long>(errors), first_error().c_str());
   }
 }
 
-void GpioTransport::line_failed(const io::GpioResult& result) {
-  if (stats_.line_errors.fetch_add(1) == 0) first_error_ = result.message;
+io::GpioLineConfig GpioTransport::line_config(int offset) const {
+  return io::GpioLineConfig{config_.chip, static_cast<unsigned>(offset), "swum-emu"};
+}
+
+std::string GpioTransport::first_error() const {
+  if (first_error_offset_ < 0) return {};
+  return io::describe(first_error_, line_config(first_error_offset_));
+}
+
+void GpioTransport::line_failed(const io::GpioResult& result, int offset) {
+  if (stats_.line_errors.fetch_add(1) == 0) {  // trivially copied: no allocation on the loop
+    first_error_ = result;
+    first_error_offset_ = offset;
+  }
   const timespec pause{0, 1'000'000};  // a failing line is retried at most once per ms
   ::nanosleep(&pause, nullptr);
 }
@@ -87,7 +99,7 @@ void GpioTransport::io_loop() {
       bool level = false;
       if (r.status != io::GpioStatus::error) r = enable_->get(level);  // the level after the event(s)
       if (r.status == io::GpioStatus::error) {
-        line_failed(r);
+        line_failed(r, config_.enable);
         level = false;  // cannot see the input: fail safe, drive off
       }
       shared_.enable_line.store(level);
@@ -99,7 +111,7 @@ void GpioTransport::io_loop() {
       const bool level = shared_.telemetry.load().state == AmpState::fault;
       if (level != fault_level) {
         if (const io::GpioResult r = fault_->set(level); r.ok()) fault_level = level;
-        else line_failed(r);
+        else line_failed(r, config_.fault);
       }
     }
   }
@@ -121,9 +133,13 @@ void GpioTransport::encoder_loop() {
       count += target > count ? 1 : -1;
       const std::int64_t state = ((count % 4) + 4) % 4;
       io::GpioResult r;
+      int offset = config_.encoder_a;
       if (kA[state] != kA[old_state]) r = a_->set(kA[state]);
-      if (r.ok() && kB[state] != kB[old_state]) r = b_->set(kB[state]);
-      if (!r.ok()) line_failed(r);
+      if (r.ok() && kB[state] != kB[old_state]) {
+        offset = config_.encoder_b;
+        r = b_->set(kB[state]);
+      }
+      if (!r.ok()) line_failed(r, offset);
       stats_.encoder_count.store(count);
       stats_.encoder_edges.fetch_add(1);
       next += period;
@@ -132,7 +148,7 @@ void GpioTransport::encoder_loop() {
     }
     const std::int64_t n = monotonic_ns();
     if (next < n - 10'000'000) next = n;  // far behind: no burst
-    const timespec ts{static_cast<time_t>(next / 1'000'000'000), static_cast<long>(next % 1'000'000'000)};
+    const timespec ts = to_timespec(next);
     while (clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &ts, nullptr) == EINTR) {
     }
   }

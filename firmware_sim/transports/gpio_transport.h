@@ -49,13 +49,18 @@ class GpioTransport {
   void start();
   void stop();
   [[nodiscard]] const GpioStats& stats() const { return stats_; }
+  // The first failed line operation, as stop() reports it ("GPIO chip 'gpiochip0' line 3: set
+  // failed: Input/output error"); empty if none. Only after stop().
+  [[nodiscard]] std::string first_error() const;
 
  private:
   void io_loop();
   void encoder_loop();
-  // A line operation that failed: counted (its message kept if it is the first), then a pause,
-  // so that a failing line is retried at most once per ms. The loops go on.
-  void line_failed(const io::GpioResult& result);
+  // A line operation that failed on the line at `offset`: counted (the result kept if it is the
+  // first; its text is made by stop()), then a pause, so that a failing line is retried at most
+  // once per ms. The loops go on; nothing allocates.
+  void line_failed(const io::GpioResult& result, int offset);
+  io::GpioLineConfig line_config(int offset) const;
   GpioConfig config_;
   SharedState& shared_;
   std::unique_ptr<io::GpioInputLine> enable_;
@@ -67,7 +72,8 @@ class GpioTransport {
   GpioStats stats_;
   // Written only by the thread whose failure was the first counted, read by stop() after the
   // threads are joined: no lock on the loops' paths.
-  std::string first_error_;
+  io::GpioResult first_error_;
+  int first_error_offset_ = -1;
 };
 
 }  // namespace swum::emu

@@ -23,6 +23,10 @@
 namespace swum::emu {
 
 namespace rtu = protocol::modbus::rtu;
+// The frame-length rule (rtu::request_length) stops at rtu::kMaxAduLength bytes, the buffer
+// below is libmodbus's largest RTU ADU, and the server hands libmodbus that buffer: one size.
+static_assert(rtu::kMaxAduLength == MODBUS_RTU_MAX_ADU_LENGTH,
+              "protocol/modbus_rtu.h's kMaxAduLength must be libmodbus's MODBUS_RTU_MAX_ADU_LENGTH");
 
 ModbusRtuServer::ModbusRtuServer(const std::string& device, int baud, int unit, SharedState& shared,
                                  AmplifierLimits limits, int frame_timeout_ms)
@@ -120,8 +124,8 @@ void ModbusRtuServer::loop() {
   // Inside a frame a silence this long ends it (Modbus over serial line: 1.5 characters; USB
   // adapters deliver in bursts up to their latency timer, FTDI's 16 ms by default).
   const std::uint64_t gap = std::max<std::uint64_t>(35 * character / 10, 20'000'000ULL);
-  // From its first byte a request has the frame timeout plus the time of a 256-byte frame.
-  const std::uint64_t budget = ms_to_ns(frame_timeout_ms_) + 256 * character;
+  // From its first byte a request has the frame timeout plus the time of a largest frame.
+  const std::uint64_t budget = ms_to_ns(frame_timeout_ms_) + std::uint64_t{rtu::kMaxAduLength} * character;
   std::uint8_t adu[MODBUS_RTU_MAX_ADU_LENGTH];
   std::uint64_t line_errors = 0;
   auto line_failed = [&](int e) {

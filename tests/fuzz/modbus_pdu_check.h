@@ -1,4 +1,4 @@
-// The invariants of one Modbus request PDU as swum-emu serves it (firmware_sim/transports/modbus_server.cpp:
+// The invariants of one Modbus request PDU as swum-emu serves it (firmware_sim/transports/modbus_serve.cpp:
 // parse_request, then decide), shared by the PDU target and the RTU framing target.
 #pragma once
 

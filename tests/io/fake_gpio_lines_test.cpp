@@ -4,6 +4,7 @@
 #include <cerrno>
 #include <thread>
 
+#include "allocation_count.h"
 #include "fake_gpio_lines.h"
 
 using namespace swum::io;
@@ -29,7 +30,7 @@ template <class Line>
 bool level_of(const Line& line) {
   bool value = false;
   const GpioResult r = line.get(value);
-  EXPECT_TRUE(r.ok()) << r.message;
+  EXPECT_TRUE(r.ok()) << r.operation << " failed, errno " << r.error_number;
   return value;
 }
 }  // namespace
@@ -59,7 +60,8 @@ TEST_F(FakeGpio, InputReadsPullAndDrive) {
   const GpioResult no_edges = in->wait_edge(ev, 1ms);  // a status, not an exception: a per-event call
   EXPECT_EQ(no_edges.status, GpioStatus::error);
   EXPECT_EQ(no_edges.error_number, EINVAL);
-  EXPECT_NE(no_edges.message.find("without edge detection"), std::string::npos) << no_edges.message;
+  const std::string text = describe(no_edges, {"gpiochip0", 4, "test"});
+  EXPECT_NE(text.find("without edge detection"), std::string::npos) << text;
 }
 
 TEST_F(FakeGpio, RequestBiasSetsUndrivenLevel) {
@@ -122,7 +124,7 @@ TEST_F(FakeGpio, InjectedFailuresReturnAStatusAndLeaveTheValue) {
   const GpioResult set = out->set(false);
   EXPECT_EQ(set.status, GpioStatus::error);
   EXPECT_EQ(set.error_number, EIO);
-  EXPECT_NE(set.message.find("GPIO chip 'gpiochip0' line 3: set"), std::string::npos) << set.message;
+  EXPECT_EQ(describe(set, {"gpiochip0", 3, "test"}), "GPIO chip 'gpiochip0' line 3: set failed: Input/output error");
   EXPECT_TRUE(gpio.level("gpiochip0", 3));  // not changed
   bool value = false;
   EXPECT_EQ(in->get(value).status, GpioStatus::error);
@@ -134,4 +136,37 @@ TEST_F(FakeGpio, InjectedFailuresReturnAStatusAndLeaveTheValue) {
   EXPECT_TRUE(out->set(false).ok());
   EXPECT_FALSE(gpio.level("gpiochip0", 3));
   EXPECT_TRUE(level_of(*in));
+}
+
+// A failing line's calls allocate nothing: the result names the call with a string literal and
+// keeps the errno; the text is made only where it is reported (describe()), and says what it said.
+TEST_F(FakeGpio, FailuresAllocateNothing) {
+  auto out = gpio.request_output({"gpiochip0", 3, "test"}, false);
+  auto in = gpio.request_input({"gpiochip0", 4, "test"}, GpioEdge::both, GpioBias::as_is);
+  auto plain = gpio.request_input({"gpiochip0", 5, "test"}, GpioEdge::none, GpioBias::as_is);
+  gpio.fail_operations("gpiochip0", 3, true);
+  gpio.fail_operations("gpiochip0", 4, true);
+  GpioResult set, get_out, get_in, wait, misuse;
+  bool value = false;
+  GpioEvent ev;
+  const long before = swum::test::allocation_count();
+  for (int k = 0; k < 1000; ++k) {  // a second of the transport's retries
+    set = out->set(true);
+    get_out = out->get(value);
+    get_in = in->get(value);
+    wait = in->wait_edge(ev, 1000ms);
+    misuse = plain->wait_edge(ev, 1ms);
+  }
+  const long allocated = swum::test::allocation_count() - before;
+  EXPECT_EQ(allocated, 0);
+  for (const GpioResult* r : {&set, &get_out, &get_in, &wait, &misuse}) EXPECT_EQ(r->status, GpioStatus::error);
+  EXPECT_EQ(describe(set, {"gpiochip0", 3, "test"}), "GPIO chip 'gpiochip0' line 3: set failed: Input/output error");
+  EXPECT_EQ(describe(get_out, {"gpiochip0", 3, "test"}),
+            "GPIO chip 'gpiochip0' line 3: get failed: Input/output error");
+  EXPECT_EQ(describe(get_in, {"gpiochip0", 4, "test"}), "GPIO chip 'gpiochip0' line 4: get failed: Input/output error");
+  EXPECT_EQ(describe(wait, {"gpiochip0", 4, "test"}),
+            "GPIO chip 'gpiochip0' line 4: wait_edge failed: Input/output error");
+  EXPECT_EQ(misuse.error_number, EINVAL);
+  EXPECT_EQ(describe(misuse, {"gpiochip0", 5, "test"}),
+            "GPIO chip 'gpiochip0' line 5: wait_edge (line requested without edge detection) failed: Invalid argument");
 }

@@ -24,7 +24,7 @@ std::string read_line(const std::string& path) {
 struct GpioSim : ::testing::Test {
   void SetUp() override {
     const char* env = std::getenv("SWUM_GPIO_SIM");
-    const std::string cfg = env ? env : "/sys/kernel/config/gpio-sim/swum";
+    cfg = env ? env : "/sys/kernel/config/gpio-sim/swum";
     chip = read_line(cfg + "/bank0/chip_name");
     const std::string dev = read_line(cfg + "/dev_name");
     ASSERT_FALSE(chip.empty()) << "gpio-sim chip not configured at " << cfg << " (see tools/vm/gpio-sim-chip)";
@@ -53,10 +53,17 @@ struct GpioSim : ::testing::Test {
   static bool level_of(const Line& line) {
     bool value = false;
     const GpioResult r = line.get(value);
-    EXPECT_TRUE(r.ok()) << r.message;
+    EXPECT_TRUE(r.ok()) << r.operation << " failed, errno " << r.error_number;
     return value;
   }
-  std::string chip, sysfs;
+  // Takes the chip away (gpio-sim's configfs `live`) or brings it back, as a driver unbinding.
+  void set_live(bool live) const {
+    std::ofstream out(cfg + "/live");
+    out << (live ? "1" : "0");
+    out.close();
+    ASSERT_TRUE(out) << "cannot write " << cfg << "/live";
+  }
+  std::string cfg, chip, sysfs;
   GpiodLines gpio;
 };
 }  // namespace
@@ -116,5 +123,34 @@ TEST_F(GpioSim, ClearErrors) {
   const GpioResult no_edges = in->wait_edge(ev, 1ms);  // a status, not an exception: a per-event call
   EXPECT_EQ(no_edges.status, GpioStatus::error);
   EXPECT_EQ(no_edges.error_number, EINVAL);
-  EXPECT_NE(no_edges.message.find("without edge detection"), std::string::npos) << no_edges.message;
+  const std::string text = describe(no_edges, {chip, 7, "t"});
+  EXPECT_NE(text.find("without edge detection"), std::string::npos) << text;
+}
+
+// The kernel refusing a per-event call (the chip removed under requested lines: its ioctls and
+// reads fail with ENODEV) comes back as a status with libgpiod's errno, not as an exception: the
+// adapter's conversion of libgpiod's std::system_error. The chip is made live again afterwards.
+TEST_F(GpioSim, ChipRemovedUnderHeldLinesGivesStatuses) {
+  auto out = gpio.request_output({chip, 2, "swum-test"}, false);
+  auto in = gpio.request_input({chip, 3, "swum-test"}, GpioEdge::both, GpioBias::as_is);
+  ASSERT_TRUE(out->set(true).ok());
+  set_live(false);
+  struct Relive {
+    const GpioSim& sim;
+    ~Relive() { sim.set_live(true); }
+  } relive{*this};
+  GpioResult set, get, wait;
+  bool value = false;
+  GpioEvent ev;
+  EXPECT_NO_THROW(set = out->set(false));
+  EXPECT_NO_THROW(get = in->get(value));
+  EXPECT_NO_THROW(wait = in->wait_edge(ev, 1000ms));  // the waiter wakes up to the gone chip
+  EXPECT_EQ(describe(set, {chip, 2, "swum-test"}), "GPIO chip '" + chip + "' line 2: set failed: No such device");
+  EXPECT_EQ(describe(get, {chip, 3, "swum-test"}), "GPIO chip '" + chip + "' line 3: get failed: No such device");
+  EXPECT_EQ(describe(wait, {chip, 3, "swum-test"}),
+            "GPIO chip '" + chip + "' line 3: wait_edge failed: No such device");
+  for (const GpioResult* r : {&set, &get, &wait}) {
+    EXPECT_EQ(r->status, GpioStatus::error);
+    EXPECT_EQ(r->error_number, ENODEV);
+  }
 }

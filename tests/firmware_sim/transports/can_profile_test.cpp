@@ -115,12 +115,17 @@ TEST(CanProfile, TheProfileReadsAndAnswersTheTransportCounts) {
   EXPECT_EQ(static_cast<CommandSource>(rig.shared.rejects.last_source.load()), CommandSource::can);
 
   ASSERT_TRUE(rig.peer->send(frame(0x123, false, {0x01})).ok());  // outside the profile's filters
+  // A frame the filters pass, sent after 0x123 and answered: once its reply is seen, the node has
+  // read everything sent before it, so a 0x123 that got through would have been counted.
+  ASSERT_TRUE(rig.peer->send(frame(kRequestId, false, {0x2B})).ok());
+  ASSERT_TRUE(rig.receive(kReplyId, reply));
+  EXPECT_EQ(io::to_cansend(reply), "581#2B");
   io::CanFrame f;
   EXPECT_TRUE(rig.receive(kTelemetryId, f));  // the profile's own frames flow
   EXPECT_TRUE(rig.receive(kPeriodicId, f));
   rig.transport->stop();
-  EXPECT_EQ(rig.transport->stats().rx_frames.load(), 3U);  // 0x123 never reached the node
-  EXPECT_EQ(rig.transport->stats().accepted.load(), 2U);
+  EXPECT_EQ(rig.transport->stats().rx_frames.load(), 4U);  // 0x123 never reached the node
+  EXPECT_EQ(rig.transport->stats().accepted.load(), 3U);
   EXPECT_EQ(rig.transport->stats().rejected.load(), 1U);
 }
 

@@ -3,6 +3,8 @@
 
 #include <chrono>
 #include <functional>
+#include <regex>
+#include <string>
 #include <thread>
 
 #include "../emu_test_support.h"
@@ -311,7 +313,15 @@ TEST(GpioTransport, LineErrorsAreCountedAndTheEnableInputFailsSafe) {
   lines.fail_operations("chip0", 1, false);
   EXPECT_TRUE(eventually([&] { return shared.enable_line.load(); }));
   EXPECT_TRUE(eventually([&] { return lines.level("chip0", 1); }));  // set once the line works
+  // The loops kept only the first failure's status; its text is made for the report, here.
+  testing::internal::CaptureStderr();
   gpio.stop();
+  const std::string report = testing::internal::GetCapturedStderr();
+  EXPECT_TRUE(std::regex_match(report, std::regex(R"(swum-emu: GPIO: [0-9]+ line operations failed \(first: )"
+                                                  R"(GPIO chip 'chip0' line [01]: (get|wait_edge|set) failed: )"
+                                                  R"(Input/output error\)\n)")))
+      << report;
+  EXPECT_NE(report.find(gpio.first_error()), std::string::npos) << gpio.first_error();
 }
 
 TEST(GpioTransport, SpecParsing) {

@@ -7,30 +7,15 @@
 
 #include <gtest/gtest.h>
 
-#include <atomic>
 #include <cmath>
-#include <cstdlib>
 #include <functional>
 #include <limits>
-#include <new>
 #include <numbers>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
-// Every allocation of this test binary is counted, so that a test can show a stretch of code
-// allocates nothing (a drive runs the tracker in its real-time tick).
-namespace {
-std::atomic<long> allocations{0};
-}  // namespace
-
-void* operator new(std::size_t size) {
-  ++allocations;
-  if (void* p = std::malloc(size == 0 ? 1 : size)) return p;
-  throw std::bad_alloc();
-}
-void operator delete(void* p) noexcept { std::free(p); }
-void operator delete(void* p, std::size_t) noexcept { std::free(p); }
+#include "allocation_count.h"
 
 namespace swum {
 namespace {
@@ -333,7 +318,7 @@ TEST(ResonanceTracker, DecisionsAllocateNothing) {
     double f = tracker.start().frequency_hz;
     int events = 0;
     TrackStatus last = TrackStatus::ok;
-    const long before = allocations.load();
+    const long before = test::allocation_count();
     for (int cycle = 1; cycle <= 6000 && last == TrackStatus::ok; ++cycle) {
       const double t = cycle * kCycleS;
       if (cycle == 2000 || cycle == 4000) plant.collapsed = true;  // a disturbance
@@ -342,7 +327,7 @@ TEST(ResonanceTracker, DecisionsAllocateNothing) {
       last = d.status;
       if (d.event.kind != TrackEventKind::none) ++events;
     }
-    EXPECT_EQ(allocations.load() - before, 0);
+    EXPECT_EQ(test::allocation_count() - before, 0);
     EXPECT_GE(events, 1);  // at least the peak
     if (method != TrackMethod::fixed) {
       // The second disturbance is one collapse too many: the failure path is covered too (the
