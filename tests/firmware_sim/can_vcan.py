@@ -79,7 +79,11 @@ class Peer:
             if keep_sending:
                 keep_sending()
             latest = self.poll(0.01)
-            if "Status" in latest and "Motion" in latest and predicate(latest):
+            try:
+                matched = "Status" in latest and "Motion" in latest and predicate(latest)
+            except KeyError:  # a frame the predicate reads has not come yet (a poll can end mid-set)
+                matched = False
+            if matched:
                 return latest
             assert not expired(), f"timeout waiting for {what}; last telemetry {latest}"
 
