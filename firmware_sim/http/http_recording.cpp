@@ -5,18 +5,17 @@
 #include <unistd.h>
 
 #include <cerrno>
-#include <charconv>
 #include <chrono>
 #include <cstring>
 #include <exception>
+
+#include "formats/number_format.h"
 
 namespace swum::emu {
 namespace {
 
 void add(std::string& row, double value) {
-  char buffer[32];
-  const auto r = std::to_chars(buffer, buffer + sizeof buffer, value);
-  row.append(buffer, r.ptr);
+  append_shortest_decimal(row, value);
   row += ',';
 }
 void add(std::string& row, std::uint64_t value) {

@@ -9,6 +9,7 @@
 #include "analysis/discrepancy/candidate_effects.h"
 #include "analysis/measurements/synthetic_measurements.h"
 #include "commands/commands.h"
+#include "formats/name_list.h"
 #include "offline/motor_config.h"
 #include "offline/parallel_for.h"
 #include "output/partial_file.h"
@@ -30,12 +31,17 @@ struct SynthCommandOptions {
   double speed_floor_mm_s = 0.0;
   double amplitude_floor_um = 0.0;
   double frequency_jitter_hz = 0.0;
-  std::vector<std::string> quantities;  // empty: all three
+  std::vector<std::string> quantities;  // comma lists, as given (repeatable); none: all three
 };
 
-// "speed,tip_normal" -> which quantity columns to write.
-std::array<bool, kQuantityCount> quantity_selection(const std::vector<std::string>& names) {
-  if (names.empty()) return {true, true, true};
+// "speed, tip_normal" -> which quantity columns to write (parse_name_list: an empty name is
+// refused, blanks around a name dropped, as `swum discrepancy --quantities`).
+std::array<bool, kQuantityCount> quantity_selection(const std::vector<std::string>& lists) {
+  if (lists.empty()) return {true, true, true};
+  std::vector<std::string> names;
+  for (const std::string& list : lists) {
+    for (std::string& name : parse_name_list(list, "--quantities")) names.push_back(std::move(name));
+  }
   std::array<bool, kQuantityCount> chosen{};
   for (const std::string& name : names) {
     const std::optional<Quantity> q = quantity_from_name(name);
@@ -128,8 +134,7 @@ void add_synth_command(CLI::App& app) {
                   "drive frequency error per reading (standard deviation, Hz)")
       ->capture_default_str();
   sub->add_option("--quantities", o->quantities,
-                  "columns to write, comma list of speed, tip_normal, tip_tangential (default: all)")
-      ->delimiter(',');
+                  "columns to write, comma list of speed, tip_normal, tip_tangential (default: all)");
   sub->callback([o] { run_synth(*o); });
 }
 

@@ -1,7 +1,8 @@
 // Numbers as text: through printf patterns, the one formatter of the tables, labels and
 // messages of src/ and host/ (every conversion in a pattern takes a double); and the shortest
-// decimal that reads back as the same double, the one writer of swum-emu's trace files and
-// settings (firmware_sim/core/trace.cpp, firmware_sim/app/emu_app.cpp).
+// decimal that reads back as the same double, the one writer of swum-emu's trace files,
+// settings and HTTP recordings (firmware_sim/core/trace.cpp, firmware_sim/app/emu_app.cpp,
+// firmware_sim/http/http_recording.cpp).
 #pragma once
 
 #include <charconv>
@@ -12,22 +13,27 @@
 namespace swum {
 
 namespace detail {
+// The whole text however long: `Size` is only the stack buffer tried first (the usual
+// case); a longer text (1e60 through %.6f) is printed again into a string of its length.
 template <std::size_t Size, typename... Numbers>
 [[nodiscard]] std::string printf_text(const char* pattern, Numbers... numbers) {
   char buffer[Size];
-  std::snprintf(buffer, sizeof buffer, pattern, numbers...);
-  return buffer;
+  const int length = std::snprintf(buffer, sizeof buffer, pattern, numbers...);
+  if (length < 0) return {};
+  if (static_cast<std::size_t>(length) < sizeof buffer) return std::string(buffer, static_cast<std::size_t>(length));
+  std::string text(static_cast<std::size_t>(length), '\0');
+  std::snprintf(text.data(), text.size() + 1, pattern, numbers...);
+  return text;
 }
 }  // namespace detail
 
 /// One number through a printf `format` (default %.6g: the shortest faithful text for tables
-/// and labels); at most 63 characters.
+/// and labels), never cut.
 [[nodiscard]] inline std::string format_number(double value, const char* format = "%.6g") {
   return detail::printf_text<64>(format, value);
 }
 
-/// A message with up to four numbers (`pattern` uses as many as it needs); at most 255
-/// characters.
+/// A message with up to four numbers (`pattern` uses as many as it needs), never cut.
 [[nodiscard]] inline std::string format_numbers(const char* pattern, double a, double b = 0.0, double c = 0.0,
                                                 double d = 0.0) {
   return detail::printf_text<256>(pattern, a, b, c, d);

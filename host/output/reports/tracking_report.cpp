@@ -1,6 +1,5 @@
 #include "output/reports/tracking_report.h"
 
-#include <cstdio>
 #include <nlohmann/json.hpp>
 
 #include "formats/number_format.h"
@@ -36,10 +35,12 @@ std::string tracking_json(const std::vector<TrackRunSummary>& summaries) {
 std::string tracking_text(const std::vector<TrackRunSummary>& summaries) {
   std::string out = "run      min share  final share  final frequency (Hz)  final margin (Hz)  final rise (K)\n";
   for (const TrackRunSummary& s : summaries) {
-    char line[256];
-    std::snprintf(line, sizeof line, "%-8s %9.3f  %11.3f  %20.1f  %17.1f  %14.1f\n", s.name.c_str(), s.min_share,
-                  s.final_share, s.final_frequency_hz, s.final_margin_hz, s.final_rise_k);
-    out += line;
+    // "%-8s %9.3f  %11.3f  %20.1f  %17.1f  %14.1f\n", however long the run name or the numbers.
+    out += s.name;
+    if (s.name.size() < 8) out.append(8 - s.name.size(), ' ');
+    out += format_numbers(" %9.3f  %11.3f  %20.1f  %17.1f", s.min_share, s.final_share, s.final_frequency_hz,
+                          s.final_margin_hz);
+    out += format_number(s.final_rise_k, "  %14.1f\n");
   }
   return out;
 }

@@ -1,6 +1,5 @@
 // What `swum validate` prints and writes as text (model_spec §8): the paper's facts against the
-// model as a markdown table (stdout and facts.md). Its figures are drawn as the model runs
-// (commands/validate_command.cpp).
+// model as a markdown table (stdout and facts.md). Its figures: validation_plots.h.
 #pragma once
 
 #include <string>

@@ -117,6 +117,33 @@ TEST(SwumDiscrepancy, EmptyNamesInListsAreRefusedBeforeAnyWork) {
   EXPECT_NE(r.output.find("2 distinct operating points"), std::string::npos) << r.output;
 }
 
+// `synth --quantities` reads its list with the same rule as `discrepancy --quantities` (it used
+// to drop an empty name silently and refuse a name with a blank before it as unknown).
+TEST(SwumSynth, QuantityListsFollowTheOneCommaListRule) {
+  const fs::path two = scratch("two_points.csv");
+  write(two, "vpp,frequency_hz,load_n\n100,40000,0\n200,40100,0\n");
+  const fs::path out = scratch("quantities.csv");
+  fs::remove(out);
+  for (const std::string list : {"speed,,tip_normal", "speed,", ",speed", ""}) {
+    const CliRun r = run_swum(
+        {"synth", "--config", kConfig, "--points", two.string(), "--quantities", list, "--out", out.string()});
+    EXPECT_EQ(r.status, 2) << list << ": " << r.output;
+    EXPECT_EQ(r.output, "swum: error: --quantities: empty name in '" + list + "'\n");
+    EXPECT_FALSE(fs::exists(out)) << list;
+  }
+  const CliRun r = run_swum({"synth", "--config", kConfig, "--points", two.string(), "--noise", "0", "--quantities",
+                             " speed, tip_normal ", "--out", out.string()});
+  ASSERT_EQ(r.status, 0) << r.output;
+  const std::string text = swum::test::read_file(out);
+  EXPECT_NE(text.find("\nvpp,frequency_hz,load_n,speed_mm_s,tip_normal_um\n"), std::string::npos) << text;
+  EXPECT_EQ(text.find("tip_tangential"), std::string::npos) << text;
+  // Repeating the option adds to the list, as before.
+  const CliRun repeated = run_swum({"synth", "--config", kConfig, "--points", two.string(), "--noise", "0",
+                                    "--quantities", "speed", "--quantities", "tip_normal", "--out", out.string()});
+  ASSERT_EQ(repeated.status, 0) << repeated.output;
+  EXPECT_EQ(swum::test::read_file(out), text);
+}
+
 TEST(SwumSynth, LinearRepeatsAndNoiseFreeDataAreReproducible) {
   const fs::path a = scratch("a.csv"), b = scratch("b.csv");
   for (const fs::path& p : {a, b}) {

@@ -1,5 +1,5 @@
 // The one number formatter (src/formats/number_format.h) of src/ and host/ tables, labels and
-// messages.
+// messages, and the shortest-decimal writer of swum-emu's trace rows, settings and recordings.
 #include "formats/number_format.h"
 
 #include <gtest/gtest.h>
@@ -26,10 +26,16 @@ TEST(NumberFormat, MessagesTakeUpToFourNumbers) {
   EXPECT_EQ(format_numbers("%.0f/%.0f/%.0f/%.0f", 1.0, 2.0, 3.0, 4.0), "1/2/3/4");
 }
 
-TEST(NumberFormat, TextsAreCappedAsTheCallersAlwaysCappedThem) {
-  volatile double huge = 1e100;  // not a constant: the cap is what is tested, not a warning
-  EXPECT_EQ(format_number(huge, "%.0f").size(), 63u);
-  EXPECT_EQ(format_numbers("%.0f%.0f%.0f", huge, huge, huge).size(), 255u);
+// They were cut at 63 and 255 characters (the callers' old buffers): `swum control --speed-mm-s
+// 1e60` printed a target with its last digits and unit missing.
+TEST(NumberFormat, TextsAreNeverCut) {
+  volatile double huge = 1e100;  // not a constant: no format-truncation warning
+  const std::string digits = format_number(huge, "%.0f");
+  EXPECT_EQ(digits.size(), 101u);
+  EXPECT_EQ(digits.substr(0, 11), "10000000000");
+  EXPECT_EQ(format_number(1e60, "%.6f"), format_number(1e60, "%.0f") + ".000000");
+  EXPECT_EQ(format_numbers("%.0f%.0f%.0f", huge, huge, huge), digits + digits + digits);
+  EXPECT_EQ(format_numbers("%.0f mm/s", huge), digits + " mm/s");
 }
 
 // The writer of swum-emu's trace rows and settings: the bytes golden traces hold.

@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include "formats/number_format.h"
+
 namespace swum::host {
 namespace {
 
@@ -21,6 +23,22 @@ TEST(ControlRunSummary, CyclesTargetModeRecoverableFaultsAndError) {
   EXPECT_EQ(control_run_summary(r, s, false, "c.csv"),
             "2000 cycles at -50.000000 mm/s (wall time, recover none) -> c.csv; mean |error| over the last half "
             "0.123 mm/s; 2 faults, 1 retries\n");
+}
+
+// `--speed-mm-s 1e60` is accepted; its %.6f text (67 characters) was cut at 63, taking the
+// fraction and everything after it.
+TEST(ControlRunSummary, AHugeTargetIsPrintedWhole) {
+  SpeedControlResult r;
+  r.cycles = 3;
+  SpeedControlSettings s;
+  s.target_mm_s = 1e60;
+  s.recoverable_faults.clear();
+  const std::string text = control_run_summary(r, s, true, "c.csv");
+  const std::string digits = format_number(1e60, "%.0f");
+  ASSERT_EQ(digits.size(), 60u);
+  EXPECT_EQ(text, "3 cycles at " + digits +
+                      ".000000 mm/s (lockstep, recover none) -> c.csv; mean |error| over the last half 0.000 mm/s; 0 "
+                      "faults, 0 retries\n");
 }
 
 }  // namespace

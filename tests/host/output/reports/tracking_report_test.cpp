@@ -4,6 +4,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "formats/number_format.h"
+
 namespace swum::host {
 namespace {
 
@@ -24,6 +26,22 @@ TEST(TrackingText, HeaderAndOneAlignedLinePerRun) {
   EXPECT_EQ(tracking_text(summaries()),
             "run      min share  final share  final frequency (Hz)  final margin (Hz)  final rise (K)\n"
             "phase        0.912        0.955               40123.4              150.1            12.0\n");
+}
+
+// The line was printed into 256 bytes: a `--run` name of ~175 characters lost the numbers'
+// end and the line break, and the next run's line ran on.
+TEST(TrackingText, LongRunNamesAndHugeValuesAreNeverCut) {
+  std::vector<TrackRunSummary> runs = summaries();
+  runs[0].name = std::string(300, 'r');
+  runs.push_back(summaries()[0]);
+  runs[1].final_frequency_hz = 1e60;
+  const std::string text = tracking_text(runs);
+  const std::string header =
+      "run      min share  final share  final frequency (Hz)  final margin (Hz)  final rise (K)\n";
+  const std::string numbers = "     0.912        0.955               40123.4              150.1            12.0\n";
+  const std::string huge = format_number(1e60, "%20.1f");
+  EXPECT_EQ(text, header + std::string(300, 'r') + numbers + "phase        0.912        0.955  " + huge +
+                      "              150.1            12.0\n");
 }
 
 TEST(TrackingJson, FinalValuesAndBlocksPerRun) {
