@@ -13,7 +13,7 @@
 #include "offline/band_run.h"
 #include "offline/motor_config.h"
 #include "output/progress_bar.h"
-#include "output/reports/band_report.h"
+#include "output/reports/operating_point/band_report.h"
 #include "output/text_files.h"
 #include "output/value_lists.h"
 

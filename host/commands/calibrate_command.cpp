@@ -22,7 +22,7 @@
 #include "formats/parameter_file.h"
 #include "offline/motor_config.h"
 #include "offline/parallel_for.h"
-#include "output/reports/calibration_report.h"
+#include "output/reports/fit/calibration_report.h"
 #include "output/text_files.h"
 #include "output/value_lists.h"
 

@@ -13,7 +13,7 @@
 #include "device/device_options.h"
 #include "device/stop_signal.h"
 #include "output/partial_file.h"
-#include "output/reports/control_report.h"
+#include "output/reports/device/control_report.h"
 #include "output/value_lists.h"
 
 namespace swum::host {

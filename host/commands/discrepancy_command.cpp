@@ -18,7 +18,7 @@
 #include "formats/parameter_file.h"
 #include "offline/motor_config.h"
 #include "offline/parallel_for.h"
-#include "output/reports/discrepancy_report.h"
+#include "output/reports/fit/discrepancy_report.h"
 #include "output/text_files.h"
 
 namespace swum::host {

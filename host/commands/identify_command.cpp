@@ -14,7 +14,7 @@
 #include "model/motor_model.h"
 #include "offline/motor_config.h"
 #include "output/amplitude_csv.h"
-#include "output/reports/identification_report.h"
+#include "output/reports/model/identification_report.h"
 #include "output/text_files.h"
 
 namespace swum::host {

@@ -14,7 +14,7 @@
 #include "device/stop_signal.h"
 #include "output/log_table.h"
 #include "output/partial_file.h"
-#include "output/reports/log_report.h"
+#include "output/reports/device/log_report.h"
 
 namespace swum::host {
 namespace {

@@ -6,7 +6,7 @@
 #include "commands/commands.h"
 #include "model/motor_model.h"
 #include "offline/motor_config.h"
-#include "output/reports/modes_report.h"
+#include "output/reports/model/modes_report.h"
 
 namespace swum::host {
 namespace {

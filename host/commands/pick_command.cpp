@@ -19,8 +19,8 @@
 #include "offline/motor_config.h"
 #include "offline/offline_sweep.h"
 #include "output/progress_bar.h"
-#include "output/reports/pick_plots.h"
-#include "output/reports/pick_report.h"
+#include "output/reports/operating_point/pick_plots.h"
+#include "output/reports/operating_point/pick_report.h"
 #include "output/text_files.h"
 #include "output/value_lists.h"
 

@@ -26,7 +26,7 @@
 #include "offline/rank_world.h"
 #include "output/partial_file.h"
 #include "output/progress_bar.h"
-#include "output/reports/population_report.h"
+#include "output/reports/operating_point/population_report.h"
 #include "output/text_files.h"
 #include "output/value_lists.h"
 

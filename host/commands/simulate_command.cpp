@@ -9,7 +9,7 @@
 #include "commands/command_error.h"
 #include "commands/commands.h"
 #include "offline/motor_config.h"
-#include "output/reports/simulation_report.h"
+#include "output/reports/model/simulation_report.h"
 #include "output/text_files.h"
 #include "output/value_lists.h"
 

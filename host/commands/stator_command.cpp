@@ -11,7 +11,7 @@
 #include "analysis/free_stator/harmonic_balance.h"
 #include "commands/commands.h"
 #include "offline/motor_config.h"
-#include "output/reports/stator_report.h"
+#include "output/reports/model/stator_report.h"
 #include "output/text_files.h"
 #include "output/value_lists.h"
 

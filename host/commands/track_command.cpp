@@ -11,7 +11,7 @@
 #include "device/device_options.h"
 #include "device/stop_signal.h"
 #include "output/partial_file.h"
-#include "output/reports/track_run_report.h"
+#include "output/reports/device/track_run_report.h"
 #include "track/track_run.h"
 
 namespace swum::host {

@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "commands/commands.h"
-#include "output/reports/tracking_report.h"
+#include "output/reports/device/tracking_report.h"
 #include "track/track_report.h"
 
 namespace swum::host {

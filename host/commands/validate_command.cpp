@@ -13,8 +13,8 @@
 #include "commands/commands.h"
 #include "offline/motor_config.h"
 #include "offline/validation_curves.h"
-#include "output/reports/validation_plots.h"
-#include "output/reports/validation_report.h"
+#include "output/reports/model/validation_plots.h"
+#include "output/reports/model/validation_report.h"
 #include "output/text_files.h"
 
 namespace swum::host {

@@ -1,5 +1,5 @@
 // The curves behind `swum validate`'s paper-style figures (paper Figs. 10-11, 13-16), computed
-// on the model and its linear variant on this machine's cores; output/reports/validation_plots.h
+// on the model and its linear variant on this machine's cores; output/reports/model/validation_plots.h
 // draws them. Each curve holds the points the model reached: a run that diverged is left out.
 #pragma once
 

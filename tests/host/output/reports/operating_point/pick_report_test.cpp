@@ -1,0 +1,78 @@
+#include "output/reports/operating_point/pick_report.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <nlohmann/json.hpp>
+
+namespace swum::host {
+namespace {
+
+// 40 Vpp decided with a naive speed, 60 Vpp decided without one (40.4 kHz outside the sweep),
+// 80 Vpp undecided.
+std::vector<VoltagePick> picks() {
+  PickResult a;
+  a.decided = true;
+  a.reason = "margin 150 Hz";
+  a.frequency_hz = 40150.0;
+  a.speed_mm_s = 120.04;
+  a.peak_frequency_hz = 40000.0;
+  a.margin_hz = 150.0;
+  a.naive_speed_mm_s = 100.0;
+  PickResult b;
+  b.decided = true;
+  b.reason = "r2";
+  b.frequency_hz = 40050.0;
+  b.speed_mm_s = 150.0;
+  b.peak_frequency_hz = 39900.0;
+  b.margin_hz = 150.0;
+  PickResult c;
+  c.reason = "no peak";
+  return {{40.0, a}, {60.0, b}, {80.0, c}};
+}
+
+TEST(PickGainPercent, IsTheGainOverTheNaiveSpeedOrNaN) {
+  EXPECT_NEAR(pick_gain_percent(picks()[0].result), 20.04, 1e-9);
+  EXPECT_TRUE(std::isnan(pick_gain_percent(picks()[1].result)));  // no naive speed
+  EXPECT_TRUE(std::isnan(pick_gain_percent(picks()[2].result)));  // undecided
+}
+
+TEST(PickText, OneLinePerVoltageWithDriftFromTheLowestDecided) {
+  EXPECT_EQ(pick_text(picks()),
+            "    40 Vpp: run at 40150 Hz, 120.0 mm/s (naive 40.4 kHz: 100.0 mm/s, gain +20 %), drift +0 Hz; "
+            "margin 150 Hz\n"
+            "    60 Vpp: run at 40050 Hz, 150.0 mm/s (naive 40.4 kHz: n/a (40.4 kHz outside the sweep)), drift -100 "
+            "Hz; r2\n"
+            "    80 Vpp: undecided: no peak\n");
+}
+
+TEST(PickJson, NumbersOrNullPerVoltage) {
+  const std::string text = pick_json(picks());
+  ASSERT_EQ(text.back(), '\n');
+  const auto j = nlohmann::json::parse(text);
+  ASSERT_EQ(j.size(), 3u);
+  EXPECT_DOUBLE_EQ(j[0]["vpp"].get<double>(), 40.0);
+  EXPECT_DOUBLE_EQ(j[0]["frequency_hz"].get<double>(), 40150.0);
+  EXPECT_NEAR(j[0]["gain_percent"].get<double>(), 20.04, 1e-9);
+  EXPECT_DOUBLE_EQ(j[0]["drift_hz"].get<double>(), 0.0);
+  EXPECT_TRUE(j[1]["naive_speed_mm_s"].is_null());
+  EXPECT_TRUE(j[1]["gain_percent"].is_null());
+  EXPECT_DOUBLE_EQ(j[1]["drift_hz"].get<double>(), -100.0);
+  EXPECT_EQ(j[2]["decided"], false);
+  EXPECT_TRUE(j[2]["frequency_hz"].is_null());
+  EXPECT_TRUE(j[2]["drift_hz"].is_null());
+  EXPECT_EQ(j[2]["reason"], "no peak");
+  std::vector<std::string> keys;
+  const auto ordered = nlohmann::ordered_json::parse(text);
+  for (const auto& [key, value] : ordered[0].items()) keys.push_back(key);
+  EXPECT_EQ(keys, (std::vector<std::string>{"vpp", "decided", "frequency_hz", "speed_mm_s", "naive_speed_mm_s",
+                                            "gain_percent", "peak_frequency_hz", "drift_hz", "margin_hz", "reason"}));
+}
+
+TEST(PickScheduleCsv, DecidedVoltagesOnly) {
+  EXPECT_EQ(pick_schedule_csv(picks()), "vpp,frequency_hz\n40,40150\n60,40050\n");
+  EXPECT_EQ(pick_schedule_csv({}), "vpp,frequency_hz\n");
+}
+
+}  // namespace
+}  // namespace swum::host
