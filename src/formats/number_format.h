@@ -27,6 +27,14 @@ template <std::size_t Size, typename... Numbers>
 }
 }  // namespace detail
 
+/// A line of a table or report through a printf `pattern` with any arguments (numbers, C
+/// strings), never cut: for free text (a reason, a note) where a fixed buffer would lose the end
+/// of the line and its newline.
+template <typename... Arguments>
+[[nodiscard]] std::string printf_string(const char* pattern, Arguments... arguments) {
+  return detail::printf_text<256>(pattern, arguments...);
+}
+
 /// One number through a printf `format` (default %.6g: the shortest faithful text for tables
 /// and labels), never cut.
 [[nodiscard]] inline std::string format_number(double value, const char* format = "%.6g") {

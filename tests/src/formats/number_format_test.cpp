@@ -54,5 +54,14 @@ TEST(NumberFormat, ShortestDecimalReadsBackAsTheSameDouble) {
   EXPECT_EQ(row, "a,12.5");
 }
 
+TEST(PrintfString, ALineOfAnyLengthWithTextAndNumbers) {
+  EXPECT_EQ(printf_string("  %-6s %d %.2f\n", "ab", 7, 1.5), "  ab     7 1.50\n");
+  const std::string long_text(1000, 'n');
+  const std::string line = printf_string("%s: %.6f\n", long_text.c_str(), 1e60);
+  EXPECT_EQ(line.size(), 1000u + 2u + 67u + 1u);  // the double nearest 1e60 has 60 digits, then the point and six
+  EXPECT_EQ(line.substr(0, 1000), long_text);
+  EXPECT_EQ(line.back(), '\n');
+}
+
 }  // namespace
 }  // namespace swum

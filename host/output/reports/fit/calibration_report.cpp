@@ -102,13 +102,13 @@ nlohmann::ordered_json to_json(const CalibrationResult& r, bool measured, double
 std::string parameters_text(const CalibrationResult& r) {
   std::string out;
   for (const CalibratedParameter& p : r.parameters) {
-    char line[512];
+    std::string line;
     if (p.identifiable) {
-      std::snprintf(line, sizeof line, "  %-34s %-12s +- %-9s %s (prior %s)%s\n", p.name.c_str(),
-                    number(p.value).c_str(), number(p.standard_error, "%.2g").c_str(), p.unit.c_str(),
-                    number(p.prior).c_str(), p.at_bound ? "  AT A BOUND" : "");
+      line = printf_string("  %-34s %-12s +- %-9s %s (prior %s)%s\n", p.name.c_str(), number(p.value).c_str(),
+                           number(p.standard_error, "%.2g").c_str(), p.unit.c_str(), number(p.prior).c_str(),
+                           p.at_bound ? "  AT A BOUND" : "");
     } else {
-      std::snprintf(line, sizeof line, "  %-34s not identifiable: %s\n", p.name.c_str(), p.reason.c_str());
+      line = printf_string("  %-34s not identifiable: %s\n", p.name.c_str(), p.reason.c_str());
     }
     out += line;
   }

@@ -103,13 +103,13 @@ std::string discrepancy_summary_text(const DiscrepancyResult& r) {
   for (std::size_t k = 0; k < r.rounds.size(); ++k) {
     out += "round " + std::to_string(k + 1) + ": " + r.rounds[k].verdict + "\n";
     for (const CandidateScore& c : r.rounds[k].candidates) {
-      char line[256];
+      std::string line;
       if (c.skipped) {
-        std::snprintf(line, sizeof line, "  %-16s skipped: %s\n", c.name.c_str(), c.note.c_str());
+        line = printf_string("  %-16s skipped: %s\n", c.name.c_str(), c.note.c_str());
       } else {
-        std::snprintf(line, sizeof line, "  %-16s value %-10s train RMS %-8s held-out RMS %-8s dBIC %+.1f\n",
-                      c.name.c_str(), format_number(c.value, "%.4g").c_str(), percent(c.train_rms).c_str(),
-                      percent(c.held_out_rms).c_str(), c.delta_bic);
+        line = printf_string("  %-16s value %-10s train RMS %-8s held-out RMS %-8s dBIC %+.1f\n", c.name.c_str(),
+                             format_number(c.value, "%.4g").c_str(), percent(c.train_rms).c_str(),
+                             percent(c.held_out_rms).c_str(), c.delta_bic);
       }
       out += line;
     }
@@ -124,10 +124,10 @@ std::string discrepancy_summary_text(const DiscrepancyResult& r) {
   for (Quantity q : kQuantities) {
     const QuantityGap& g = r.gaps[static_cast<std::size_t>(q)];
     if (g.count == 0) continue;
-    char line[256];
-    std::snprintf(line, sizeof line, "  %-18s RMS %-8s -> %-8s max %-8s -> %s\n",
-                  std::string(quantity_column(q)).c_str(), percent(g.rms_before).c_str(), percent(g.rms_after).c_str(),
-                  percent(g.max_before).c_str(), percent(g.max_after).c_str());
+    std::string line;
+    line = printf_string("  %-18s RMS %-8s -> %-8s max %-8s -> %s\n", std::string(quantity_column(q)).c_str(),
+                         percent(g.rms_before).c_str(), percent(g.rms_after).c_str(), percent(g.max_before).c_str(),
+                         percent(g.max_after).c_str());
     out += line;
   }
   out += "conclusion: " + r.conclusion + "\n";

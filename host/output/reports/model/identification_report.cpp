@@ -50,14 +50,14 @@ std::string identification_json(const IdentificationResult& r) { return to_json(
 std::string identification_summary_text(const IdentificationResult& r) {
   std::string out = "parameter          value          std. error   status\n";
   for (const ParameterEstimate& e : r.parameters) {
-    char line[512];
+    std::string line;
     if (e.identifiable) {
-      std::snprintf(line, sizeof line, "%-18s %-14s %-12s identified%s\n", std::string(e.key).c_str(),
-                    format_number(e.value, "%+.5g").c_str(), format_number(e.standard_error, "%.2g").c_str(),
-                    e.significant ? ", significantly non-zero" : ", NOT significantly non-zero");
+      line = printf_string("%-18s %-14s %-12s identified%s\n", std::string(e.key).c_str(),
+                           format_number(e.value, "%+.5g").c_str(), format_number(e.standard_error, "%.2g").c_str(),
+                           e.significant ? ", significantly non-zero" : ", NOT significantly non-zero");
     } else {
-      std::snprintf(line, sizeof line, "%-18s %-14s %-12s not identifiable, kept at prior: %s\n",
-                    std::string(e.key).c_str(), format_number(e.prior, "%+.5g").c_str(), "-", e.reason.c_str());
+      line = printf_string("%-18s %-14s %-12s not identifiable, kept at prior: %s\n", std::string(e.key).c_str(),
+                           format_number(e.prior, "%+.5g").c_str(), "-", e.reason.c_str());
     }
     out += line;
   }

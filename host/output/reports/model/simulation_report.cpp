@@ -52,10 +52,10 @@ std::string simulation_trace_header() {
 }
 
 void append_simulation_trace_row(std::string& csv, const TraceSample& s) {
-  char line[320];
-  std::snprintf(line, sizeof line, "%.9g,%.9g,%.9g,%.9g,%.9g,%.6g,%.6g,%.6g,%.6g,%.9g,%.9g\n", s.time_s, s.q1_m,
-                s.q1_dot_m_s, s.q2_m, s.q2_dot_m_s, s.tip_normal_um, s.tip_tangential_um, s.normal_force_n,
-                s.friction_force_n, s.mover_position_m, s.mover_velocity_m_s);
+  std::string line;
+  line = printf_string("%.9g,%.9g,%.9g,%.9g,%.9g,%.6g,%.6g,%.6g,%.6g,%.9g,%.9g\n", s.time_s, s.q1_m, s.q1_dot_m_s,
+                       s.q2_m, s.q2_dot_m_s, s.tip_normal_um, s.tip_tangential_um, s.normal_force_n, s.friction_force_n,
+                       s.mover_position_m, s.mover_velocity_m_s);
   csv += line;
 }
 

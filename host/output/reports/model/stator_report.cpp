@@ -41,10 +41,10 @@ std::vector<StatorRow> stator_rows(const std::vector<SweepPoint>& sweep) {
 
 std::string stator_csv(const std::vector<StatorRow>& rows) {
   std::string out = "vpp,frequency_hz,branch,stable,tip_normal_um,tip_tangential_um\n";
-  char line[256];
+  std::string line;
   for (const StatorRow& r : rows) {
-    std::snprintf(line, sizeof line, "%.10g,%.10g,%d,%d,%.6f,%.6f\n", r.vpp, r.frequency_hz, r.branch,
-                  r.stable() ? 1 : 0, r.tip_normal_um, r.tip_tangential_um);
+    line = printf_string("%.10g,%.10g,%d,%d,%.6f,%.6f\n", r.vpp, r.frequency_hz, r.branch, r.stable() ? 1 : 0,
+                         r.tip_normal_um, r.tip_tangential_um);
     out += line;
   }
   return out;
@@ -52,10 +52,10 @@ std::string stator_csv(const std::vector<StatorRow>& rows) {
 
 std::string stator_backbone_csv(const std::vector<BackbonePoint>& backbone) {
   std::string out = "vpp,normal_peak_hz,normal_peak_um,tangential_peak_hz,tangential_peak_um\n";
-  char line[256];
+  std::string line;
   for (const BackbonePoint& b : backbone) {
-    std::snprintf(line, sizeof line, "%.10g,%.3f,%.6f,%.3f,%.6f\n", b.vpp, b.normal_peak_hz, b.normal_peak_um,
-                  b.tangential_peak_hz, b.tangential_peak_um);
+    line = printf_string("%.10g,%.3f,%.6f,%.3f,%.6f\n", b.vpp, b.normal_peak_hz, b.normal_peak_um, b.tangential_peak_hz,
+                         b.tangential_peak_um);
     out += line;
   }
   return out;

@@ -107,6 +107,16 @@ TEST(CalibrationSummaryText, ListsEachPartOnItsOwnLine) {
             "conclusion: fitted: stator.zeta1\n");
 }
 
+// A reason longer than any line buffer comes out whole, newline included.
+TEST(CalibrationSummaryText, ALongReasonIsNeverCut) {
+  CalibrationResult r = small_result();
+  const std::string reason(700, 'x');
+  r.parameters[1].reason = reason;
+  const std::string text = calibration_summary_text(r, true);
+  EXPECT_NE(text.find("  contact.mu                         not identifiable: " + reason + "\ntraining RMS"),
+            std::string::npos);
+}
+
 TEST(CalibrationReportMarkdown, HasTheCommandTablesAndFooter) {
   const std::string md = calibration_report_markdown("--config m.toml --facts f.toml", nullptr, small_result(), {},
                                                      2.5);
