@@ -36,9 +36,10 @@ struct GpioEvent {
   std::chrono::nanoseconds timestamp{0};  // kernel event timestamp (fake: steady clock)
 };
 
-// What a per-event line operation came to, as io::CanResult is for a bus call. Built without
-// allocating (the transport's loops retry a failing line every millisecond): the human text is
-// made only where a failure is reported, by describe().
+// What a per-event line operation came to, as io::CanResult is for a bus call. It carries no
+// text of ours (the transport's loops retry a failing line every millisecond): the human text is
+// made only where a failure is reported, by describe(). (The real adapter's libgpiod 1.6 C++
+// calls allocate inside libgpiod: docs/architecture.md, "Errors: one rule".)
 enum class GpioStatus {
   ok,       // done (wait_edge: an event arrived)
   timeout,  // wait_edge only: no event within the timeout

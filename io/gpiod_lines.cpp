@@ -4,6 +4,7 @@
 
 #include <cerrno>
 #include <cstring>
+#include <exception>
 #include <system_error>
 
 namespace swum::io {
@@ -51,12 +52,15 @@ gpiod::line open_line(const GpioLineConfig& c) {
 
 // Both line kinds read a value the same way; libgpiod throws, the caller gets a status. The
 // status keeps libgpiod's errno, not its text: no allocation of ours on a failure (describe()
-// makes the text where it is reported).
+// makes the text where it is reported). libgpiod's C++ calls allocate a line_bulk themselves and
+// may throw std::bad_alloc: every exception becomes a status, none leaves a per-event call.
 GpioResult read_value(const gpiod::line& line, bool& value) {
   try {
     value = line.get_value() != 0;
   } catch (const std::system_error& e) {
     return gpio_failure("get", e.code().value());
+  } catch (const std::exception&) {
+    return gpio_failure("get", ENOMEM);
   }
   return {};
 }
@@ -70,6 +74,8 @@ class GpiodOutput final : public GpioOutputLine {
       line_.set_value(value ? 1 : 0);
     } catch (const std::system_error& e) {
       return gpio_failure("set", e.code().value());
+    } catch (const std::exception&) {
+      return gpio_failure("set", ENOMEM);
     }
     return {};
   }
@@ -94,6 +100,8 @@ class GpiodInput final : public GpioInputLine {
       return {};
     } catch (const std::system_error& e) {
       return gpio_failure("wait_edge", e.code().value());
+    } catch (const std::exception&) {
+      return gpio_failure("wait_edge", ENOMEM);
     }
   }
 

@@ -80,8 +80,7 @@ std::uint64_t character_ns(int baud) { return 10'000'000'000ULL / static_cast<st
 // readable, 0: not (yet), -1: the line failed (hang-up, error; errno set).
 int wait_readable(int fd, std::uint64_t timeout_ns) {
   timeout_ns = std::min<std::uint64_t>(timeout_ns, 200'000'000ULL);
-  const timespec ts{static_cast<time_t>(timeout_ns / 1'000'000'000ULL),
-                    static_cast<long>(timeout_ns % 1'000'000'000ULL)};
+  const timespec ts = to_timespec(static_cast<std::int64_t>(timeout_ns));
   pollfd p{fd, POLLIN, 0};
   const int r = ::ppoll(&p, 1, &ts, nullptr);
   if (r < 0) return errno == EINTR ? 0 : -1;

@@ -40,7 +40,7 @@ bool reply_allowed(SharedState& shared, std::uint8_t function, ModbusStats& stat
       if (ticks > 0) shared.lockstep->advance(ticks);
     } else if (shared.speedup > 0.0) {
       const auto ns = static_cast<long long>(delay_ms * 1e6 / shared.speedup);
-      timespec pause{static_cast<time_t>(ns / 1'000'000'000), static_cast<long>(ns % 1'000'000'000)};
+      timespec pause = to_timespec(ns);
       while (nanosleep(&pause, &pause) != 0 && errno == EINTR) {
       }
     }

@@ -7,6 +7,7 @@
 
 #include "codes.h"
 #include "control/cycle_exchange.h"
+#include "formats/number_format.h"
 
 namespace swum::host {
 namespace {
@@ -132,11 +133,9 @@ const char* action_name(DeviceAction action) {
 std::string format_speed_control_row(const SpeedControlRow& r) {
   char tick[24] = "";
   if (r.tick) std::snprintf(tick, sizeof tick, "%" PRIu64, *r.tick);
-  char line[320];
-  std::snprintf(line, sizeof line, "%" PRIu64 ",%s,%.6f,%.6f,%.6f,%.6f,%.6f,%d,%d,%s\n", r.cycle, tick, r.time_s,
-                r.target_mm_s, r.speed_mm_s, r.vpp_command, r.frequency_hz, r.state, r.fault_code,
-                action_name(r.action));
-  return line;
+  // printf_string: a --speed-mm-s of 1e300 is 308 characters through %.6f; the row is never cut.
+  return printf_string("%" PRIu64 ",%s,%.6f,%.6f,%.6f,%.6f,%.6f,%d,%d,%s\n", r.cycle, tick, r.time_s, r.target_mm_s,
+                       r.speed_mm_s, r.vpp_command, r.frequency_hz, r.state, r.fault_code, action_name(r.action));
 }
 
 SpeedControlResult run_speed_control(Device& device, const SpeedControlSettings& s, const SpeedControlHooks& hooks) {

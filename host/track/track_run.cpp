@@ -7,6 +7,7 @@
 
 #include "codes.h"
 #include "control/cycle_exchange.h"
+#include "formats/number_format.h"
 
 namespace swum::host {
 namespace {
@@ -101,18 +102,17 @@ std::string check(const TrackRunSettings& s) {
 }
 
 std::string format_track_row(const TrackRow& r) {
-  char electrical[160] = ",,,,";
+  // printf_string throughout: a row is never cut, whatever a device reports (%.6f of 1e300).
+  std::string electrical = ",,,,";
   if (r.electrical) {
     const protocol::ElectricalValues& e = *r.electrical;
-    std::snprintf(electrical, sizeof electrical, "%.3f,%.3f,%.6f,%.6f,%.4f", e.motional_phase_a_deg, e.phase_a_deg,
-                  e.current_a_a, e.current_b_a, e.power_w());
+    electrical = printf_string("%.3f,%.3f,%.6f,%.6f,%.4f", e.motional_phase_a_deg, e.phase_a_deg, e.current_a_a,
+                               e.current_b_a, e.power_w());
   }
-  char temperature[32] = "";
-  if (r.stator_temperature_c) std::snprintf(temperature, sizeof temperature, "%.3f", *r.stator_temperature_c);
-  char line[400];
-  std::snprintf(line, sizeof line, "%" PRIu64 ",%.6f,%s,%.3f,%.3f,%s,%s,%d,%d\n", r.cycle, r.time_s, mode_name(r.mode),
-                r.frequency_hz, r.speed_mm_s, electrical, temperature, r.state, r.fault_code);
-  return line;
+  std::string temperature;
+  if (r.stator_temperature_c) temperature = printf_string("%.3f", *r.stator_temperature_c);
+  return printf_string("%" PRIu64 ",%.6f,%s,%.3f,%.3f,%s,%s,%d,%d\n", r.cycle, r.time_s, mode_name(r.mode),
+                       r.frequency_hz, r.speed_mm_s, electrical.c_str(), temperature.c_str(), r.state, r.fault_code);
 }
 
 TrackRunResult run_track(Device& device, const TrackRunSettings& s, const TrackRunHooks& hooks) {

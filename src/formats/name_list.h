@@ -1,6 +1,7 @@
-// Comma lists on a command line: the one splitter of src/, host/ and firmware_sim/ (swum's
-// --free, --candidates, --effects, --quantities; swum-emu's --gpio line list; the items of the
-// number lists of host/output/value_lists.h).
+// Comma lists on a command line: the one splitter of the name and number lists (swum's --free,
+// --candidates, --effects, --quantities; swum-emu's --gpio line list; the items of the number
+// lists of host/output/value_lists.h). The key=value lists of --effect and --inject keep their
+// own parsers (candidate_effects.cpp, scenario.cpp): their items are assignments, not names.
 //
 // Whitespace rule: an entry is what lies between two commas with the blanks (spaces and tabs)
 // around it removed; blanks inside an entry are kept. A name list refuses an empty entry ("a,,b",

@@ -158,6 +158,15 @@ TEST(SpeedControl, RowsHaveFixedPrecision) {
   row.action = DeviceAction::reset_fault;
   EXPECT_EQ(format_speed_control_row(row),
             "12,,0.013000,300.000000,299.987654,151.250000,40000.000000,1,0,reset_fault\n");
+  // A target of 1e300 mm/s (only checked finite) is 308 characters through %.6f: the row keeps
+  // every cell and its newline.
+  row.target_mm_s = 1e300;
+  const std::string huge = format_speed_control_row(row);
+  EXPECT_GT(huge.size(), 320u);
+  const std::string tail = ",151.250000,40000.000000,1,0,reset_fault\n";
+  ASSERT_GT(huge.size(), tail.size());
+  EXPECT_EQ(huge.substr(huge.size() - tail.size()), tail);
+  EXPECT_EQ(std::count(huge.begin(), huge.end(), ','), 9);
 }
 
 }  // namespace

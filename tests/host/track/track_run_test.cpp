@@ -308,6 +308,13 @@ TEST(TrackRun, RowsHaveFixedPrecisionAndEmptyElectricalCellsWhenAbsent) {
   // Every row has the header's cell count.
   const auto cells = [](const std::string& line) { return std::count(line.begin(), line.end(), ',') + 1; };
   EXPECT_EQ(cells(format_track_row(TrackRow{})), cells(kTrackCsvHeader));
+  // Whatever a device reports: a current of 1e300 A is 308 characters through %.6f, and the row
+  // keeps every cell and its newline.
+  row.electrical->current_b_a = 1e300;
+  const std::string huge = format_track_row(row);
+  EXPECT_GT(huge.size(), 310u);  // the electrical cells alone were cut at 159 characters
+  EXPECT_EQ(cells(huge), cells(kTrackCsvHeader));
+  EXPECT_EQ(huge.substr(huge.size() - 5), ",2,4\n");
   EXPECT_EQ(cells(format_track_row(row)), cells(kTrackCsvHeader));
 }
 
