@@ -57,8 +57,6 @@ struct FakeGpioLines::State {
 namespace {
 using State = FakeGpioLines::State;
 
-std::string where(const GpioLineConfig& c) { return "GPIO chip '" + c.chip + "' line " + std::to_string(c.offset); }
-
 class FakeLineBase {
  public:
   FakeLineBase(std::shared_ptr<State> s, GpioLineConfig c) : state_(std::move(s)), config_(std::move(c)) {}
@@ -128,7 +126,8 @@ class FakeInput final : public GpioInputLine, FakeLineBase {
 
 State::Line& claim(State& s, const GpioLineConfig& c) {
   auto& l = s.line(c.chip, c.offset);
-  if (!l.consumer.empty()) throw GpioError(where(c) + " is busy (already requested by '" + l.consumer + "')", EBUSY);
+  if (!l.consumer.empty())
+    throw GpioError(line_name(c) + " is busy (already requested by '" + l.consumer + "')", EBUSY);
   return l;
 }
 

@@ -4,8 +4,12 @@
 
 namespace swum::io {
 
+std::string line_name(const GpioLineConfig& line) {
+  return "GPIO chip '" + line.chip + "' line " + std::to_string(line.offset);
+}
+
 std::string describe(const GpioResult& result, const GpioLineConfig& line) {
-  std::string text = "GPIO chip '" + line.chip + "' line " + std::to_string(line.offset) + ": ";
+  std::string text = line_name(line) + ": ";
   switch (result.status) {
     case GpioStatus::ok: return text + "ok";
     case GpioStatus::timeout: return text + result.operation + " timed out";

@@ -85,6 +85,9 @@ inline constexpr const char* kWaitWithoutEdges = "wait_edge (line requested with
 // for the loops: it allocates.
 std::string describe(const GpioResult& result, const GpioLineConfig& line);
 
+// "GPIO chip 'gpiochip0' line 4": how every message names a line (requests, failures).
+std::string line_name(const GpioLineConfig& line);
+
 class GpioLines {
  public:
   virtual ~GpioLines() = default;

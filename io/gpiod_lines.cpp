@@ -10,8 +10,6 @@
 namespace swum::io {
 namespace {
 
-std::string where(const GpioLineConfig& c) { return "GPIO chip '" + c.chip + "' line " + std::to_string(c.offset); }
-
 gpiod::line open_line(const GpioLineConfig& c) {
   gpiod::chip chip;
   try {
@@ -24,14 +22,14 @@ gpiod::line open_line(const GpioLineConfig& c) {
   if (!chip) throw GpioError("no such GPIO chip '" + c.chip + "'", ENODEV);
   const unsigned lines = chip.num_lines();
   if (c.offset >= lines) {
-    throw GpioError(where(c) + ": offset out of range, chip " + chip.name() + " [" + chip.label() + "] has " +
+    throw GpioError(line_name(c) + ": offset out of range, chip " + chip.name() + " [" + chip.label() + "] has " +
                         std::to_string(lines) + " lines (0.." + std::to_string(lines ? lines - 1 : 0) + ")",
                     EINVAL);
   }
   try {
     return chip.get_line(c.offset);
   } catch (const std::exception& e) {
-    throw GpioError(where(c) + ": " + e.what(), EINVAL);
+    throw GpioError(line_name(c) + ": " + e.what(), EINVAL);
   }
 }
 
@@ -44,10 +42,10 @@ gpiod::line open_line(const GpioLineConfig& c) {
       holder = line.consumer();
     } catch (const std::exception&) {
     }
-    throw GpioError(where(c) + " is busy (already requested" + (holder.empty() ? "" : " by '" + holder + "'") + ")",
+    throw GpioError(line_name(c) + " is busy (already requested" + (holder.empty() ? "" : " by '" + holder + "'") + ")",
                     code);
   }
-  throw GpioError(where(c) + ": request failed: " + e.what(), code);
+  throw GpioError(line_name(c) + ": request failed: " + e.what(), code);
 }
 
 // Both line kinds read a value the same way; libgpiod throws, the caller gets a status. The

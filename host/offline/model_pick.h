@@ -7,7 +7,6 @@
 #include <vector>
 
 #include "analysis/operating_point/operating_point.h"
-#include "output/reports/operating_point/pick_plots.h"
 #include "output/sweep_table.h"
 
 namespace swum::host {

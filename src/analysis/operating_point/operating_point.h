@@ -37,4 +37,10 @@ struct PickResult {
 /// Picks the operating frequency of one curve (any order; duplicates averaged).
 PickResult pick_operating_point(std::vector<CurveSample> samples, const PickOptions& options = {});
 
+// The pick at one drive voltage (swum pick, swum population: a row per voltage).
+struct VoltagePick {
+  double vpp = 0.0;
+  PickResult result;
+};
+
 }  // namespace swum

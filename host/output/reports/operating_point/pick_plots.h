@@ -12,11 +12,6 @@
 
 namespace swum::host {
 
-struct VoltagePick {
-  double vpp = 0.0;
-  PickResult result;
-};
-
 void write_speed_vs_frequency_plot(const std::vector<SweepRow>& sweep, const std::vector<VoltagePick>& picks,
                                    double load_n, const std::filesystem::path& path);
 void write_frequency_vs_voltage_plot(const std::vector<VoltagePick>& picks, double naive_frequency_hz,
