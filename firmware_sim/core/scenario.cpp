@@ -8,6 +8,8 @@
 
 #include <toml++/toml.h>
 
+#include "formats/number_format.h"
+
 namespace swum::emu {
 namespace {
 
@@ -91,12 +93,10 @@ const TypeSpec& spec_of(EventType type) { return type_specs().at(static_cast<std
 
 const KeySpec kAtSpec{.name = "at_s", .min = 0.0, .max = kMaxTime_s};
 
-// Shortest text that reads back as the same double, exponents without '+' and leading zeros
-// ("1e6", "2.5e-7").
-std::string format_number(double value) {
-  char buffer[64];
-  const auto result = std::to_chars(buffer, buffer + sizeof buffer, value);
-  std::string text(buffer, result.ptr);
+// The one shortest-decimal writer (formats/number_format.h), its exponent written as in the
+// scenario files: without '+' and leading zeros ("1e6", "2.5e-7").
+std::string scenario_number(double value) {
+  std::string text = shortest_decimal(value);
   const auto e = text.find('e');
   if (e != std::string::npos) {
     std::size_t digits = e + 1;
@@ -118,7 +118,7 @@ std::string join_names(bool faults_only) {
 }
 
 std::string range_text(const KeySpec& key) {
-  return (key.min_open ? "(" : "[") + format_number(key.min) + ", " + format_number(key.max) + "]";
+  return (key.min_open ? "(" : "[") + scenario_number(key.min) + ", " + scenario_number(key.max) + "]";
 }
 
 // One key's value as written, from a TOML node or from --inject text.
@@ -136,7 +136,7 @@ struct RawValue {
       case Kind::integer: return std::to_string(integer);
       case Kind::floating: {
         // 1.0 shown as "1.0": "count must be an integer, not 1" would contradict itself.
-        auto text = format_number(floating);
+        auto text = scenario_number(floating);
         if (std::isfinite(floating) && text.find_first_of(".e") == std::string::npos) text += ".0";
         return text;
       }
@@ -280,7 +280,7 @@ class EventBuilder {
     if (spec_.type == EventType::load_sine) {
       const double peak_n = std::abs(parameters_.offset_n) + std::abs(parameters_.amplitude_n);
       if (peak_n > kMaxLoad_n) {
-        return "|offset_n| + |amplitude_n| = " + format_number(peak_n) + " exceeds " + format_number(kMaxLoad_n);
+        return "|offset_n| + |amplitude_n| = " + scenario_number(peak_n) + " exceeds " + scenario_number(kMaxLoad_n);
       }
     }
     return {};
@@ -506,16 +506,16 @@ ScenarioEvent make_event(EventType type, const std::vector<std::pair<std::string
 }
 
 std::string format_event(const ScenarioEvent& event) {
-  std::string text = std::string(to_string(event.type)) + "@" + format_number(event.at_s);
+  std::string text = std::string(to_string(event.type)) + "@" + scenario_number(event.at_s);
   const EventParameters& p = event.parameters;
   char separator = ':';
   for (const auto& key : spec_of(event.type).keys) {
     std::string value;
     switch (key.kind) {
-      case ValueKind::number: value = format_number(p.*key.number); break;
+      case ValueKind::number: value = scenario_number(p.*key.number); break;
       case ValueKind::optional_number:
         if (!p.position_um) continue;
-        value = format_number(*p.position_um);
+        value = scenario_number(*p.position_um);
         break;
       case ValueKind::integer: value = std::to_string(p.count); break;
       case ValueKind::phase: value = p.phase == Phase::A ? "A" : "B"; break;

@@ -1,8 +1,9 @@
 // Numbers as text: through printf patterns, the one formatter of the tables, labels and
 // messages of src/ and host/ (every conversion in a pattern takes a double); and the shortest
 // decimal that reads back as the same double, the one writer of swum-emu's trace files,
-// settings and HTTP recordings (firmware_sim/core/trace.cpp, firmware_sim/app/emu_app.cpp,
-// firmware_sim/http/http_recording.cpp).
+// settings, HTTP recordings and scenario texts (firmware_sim/core/trace.cpp,
+// firmware_sim/app/emu_app.cpp, firmware_sim/http/http_recording.cpp, firmware_sim/core/scenario.cpp,
+// which writes its exponents shorter).
 #pragma once
 
 #include <charconv>
