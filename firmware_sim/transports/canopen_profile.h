@@ -25,12 +25,12 @@
 #include <cstdint>
 #include <mutex>
 
-#include "canopen/emcy.h"
-#include "canopen/heartbeat.h"
-#include "canopen/nmt.h"
-#include "canopen/object_dictionary.h"
-#include "canopen/pdo.h"
-#include "canopen/sdo_server.h"
+#include "emcy.h"
+#include "heartbeat.h"
+#include "nmt.h"
+#include "object_dictionary.h"
+#include "pdo.h"
+#include "sdo_server.h"
 #include "core/amplifier.h"
 #include "core/drive_request.h"
 #include "core/shared_state.h"
