@@ -84,8 +84,9 @@ struct EdsEntry {
 };
 
 EdsEntry entry_of(const Section& s) {
-  EdsEntry e{s.at("parametername"), static_cast<std::uint16_t>(number(s.at("datatype"))), lower(s.at("accesstype")),
-             s.at("pdomapping") == "1", s.at("defaultvalue"), std::nullopt};
+  EdsEntry e{s.at("parametername"),     static_cast<std::uint16_t>(number(s.at("datatype"))),
+             lower(s.at("accesstype")), s.at("pdomapping") == "1",
+             s.at("defaultvalue"),      std::nullopt};
   if (s.count("lowlimit")) e.limits = std::make_pair(number(s.at("lowlimit")), number(s.at("highlimit")));
   return e;
 }
@@ -120,9 +121,8 @@ class Eds : public ::testing::Test {
 };
 
 TEST_F(Eds, EveryCompiledObjectIsInTheEdsAsDescribed) {
-  const std::map<std::string, Access> accesses{
-      {"ro", Access::ro}, {"wo", Access::wo}, {"rw", Access::rw}, {"rwr", Access::rw}, {"rww", Access::rw},
-      {"const", Access::const_}};
+  const std::map<std::string, Access> accesses{{"ro", Access::ro},  {"wo", Access::wo},  {"rw", Access::rw},
+                                               {"rwr", Access::rw}, {"rww", Access::rw}, {"const", Access::const_}};
   ASSERT_FALSE(swum_eds_objects().empty());
   for (const ObjectDescription& d : swum_eds_objects()) {
     const std::string where = hex(d.index, d.sub);
@@ -154,7 +154,8 @@ TEST_F(Eds, EveryEdsObjectIsCompiled) {
   ASSERT_GT(entries.size(), 100u);
   ObjectDictionary od(swum_eds_objects(), 1);
   for (const auto& [key, entry] : entries)
-    EXPECT_TRUE(od.find(key.first, key.second)) << hex(key.first, key.second) << " (" << entry.name << ") is not compiled";
+    EXPECT_TRUE(od.find(key.first, key.second))
+        << hex(key.first, key.second) << " (" << entry.name << ") is not compiled";
   EXPECT_EQ(entries.size(), swum_eds_objects().size());
 }
 
@@ -280,15 +281,22 @@ TEST(EdsAndDocs, TheDocsTablesListTheSameObjects) {
   std::set<std::uint16_t> documented, compiled;
   for (const DocRow& row : rows) documented.insert(row.indexes.begin(), row.indexes.end());
   for (const ObjectDescription& d : swum_eds_objects()) compiled.insert(d.index);
-  for (std::uint16_t index : compiled) EXPECT_TRUE(documented.count(index)) << hex(index, 0) << " is not in docs/canopen.md";
-  for (std::uint16_t index : documented) EXPECT_TRUE(compiled.count(index)) << hex(index, 0) << " is only in docs/canopen.md";
+  for (std::uint16_t index : compiled)
+    EXPECT_TRUE(documented.count(index)) << hex(index, 0) << " is not in docs/canopen.md";
+  for (std::uint16_t index : documented)
+    EXPECT_TRUE(compiled.count(index)) << hex(index, 0) << " is only in docs/canopen.md";
 }
 
 TEST(EdsAndDocs, TheDocsRowsOfOneSubIndexAgreeWithTheDictionary) {
-  const std::map<std::string, DataType> types{
-      {"BOOLEAN", DataType::boolean},       {"INTEGER8", DataType::integer8},     {"INTEGER16", DataType::integer16},
-      {"INTEGER32", DataType::integer32},   {"UNSIGNED8", DataType::unsigned8},   {"UNSIGNED16", DataType::unsigned16},
-      {"UNSIGNED32", DataType::unsigned32}, {"REAL32", DataType::real32}, {"VISIBLE_STRING", DataType::visible_string}};
+  const std::map<std::string, DataType> types{{"BOOLEAN", DataType::boolean},
+                                              {"INTEGER8", DataType::integer8},
+                                              {"INTEGER16", DataType::integer16},
+                                              {"INTEGER32", DataType::integer32},
+                                              {"UNSIGNED8", DataType::unsigned8},
+                                              {"UNSIGNED16", DataType::unsigned16},
+                                              {"UNSIGNED32", DataType::unsigned32},
+                                              {"REAL32", DataType::real32},
+                                              {"VISIBLE_STRING", DataType::visible_string}};
   const std::map<std::string, Access> accesses{{"ro", Access::ro}, {"rw", Access::rw}, {"const", Access::const_}};
   const std::regex plain_number(R"(^-?(0x[0-9A-Fa-f]+|[0-9]+)$)");
   const std::regex range(R"(^(-?[0-9]+)\.\.(-?[0-9]+)$)");

@@ -53,7 +53,7 @@ TEST_F(SwumDictionary, FindsTheObjectsOfTheEdsAndNothingElse) {
   EXPECT_FALSE(od.find(0xFFFF, 0xFF));
   EXPECT_TRUE(od.has_index(0x6502));
   EXPECT_FALSE(od.has_index(0x6503));
-  EXPECT_EQ(od.slot(0x1000, 0), 0u);  // the first object
+  EXPECT_EQ(od.slot(0x1000, 0), 0u);             // the first object
   EXPECT_EQ(od.slot(0x6502, 0), od.size() - 1);  // the last
   EXPECT_THROW((void)od.slot(0x1234, 0), std::out_of_range);
   EXPECT_THROW((void)od.slot(0x1018, 9), std::out_of_range);
@@ -135,7 +135,7 @@ TEST_F(SwumDictionary, ReadGivesTheLittleEndianBytesOfTheType) {
 }
 
 TEST_F(SwumDictionary, WriteChecksAccessLengthAndLimits) {
-  EXPECT_EQ(write(od, 0x1000, 0, 1, 4), SdoAbort::read_only);  // ro
+  EXPECT_EQ(write(od, 0x1000, 0, 1, 4), SdoAbort::read_only);     // ro
   EXPECT_EQ(write(od, 0x1008, 0, 0x41, 1), SdoAbort::read_only);  // const string
   EXPECT_EQ(write(od, 0x6041, 0, 0, 2), SdoAbort::read_only);
   EXPECT_EQ(write(od, 0x6040, 0, 0x0F, 3), SdoAbort::length_too_high);
@@ -222,10 +222,10 @@ TEST_F(SwumDictionary, SyncAndEmcyIdentifiersFollowCia301) {
 }
 
 TEST_F(SwumDictionary, ConsumerHeartbeatEntriesWatchEachNodeOnce) {
-  EXPECT_EQ(write(od, 0x1016, 1, 0x000A01F4, 4), SdoAbort::none);  // node 10 every 500 ms
+  EXPECT_EQ(write(od, 0x1016, 1, 0x000A01F4, 4), SdoAbort::none);                     // node 10 every 500 ms
   EXPECT_EQ(write(od, 0x1016, 2, 0x000A03E8, 4), SdoAbort::general_incompatibility);  // node 10 again
-  EXPECT_EQ(write(od, 0x1016, 2, 0x000A0000, 4), SdoAbort::none);  // time 0: the entry is off
-  EXPECT_EQ(write(od, 0x1016, 1, 0x000A03E8, 4), SdoAbort::none);  // the same entry may change
+  EXPECT_EQ(write(od, 0x1016, 2, 0x000A0000, 4), SdoAbort::none);                     // time 0: the entry is off
+  EXPECT_EQ(write(od, 0x1016, 1, 0x000A03E8, 4), SdoAbort::none);                     // the same entry may change
   EXPECT_EQ(write(od, 0x1016, 3, 0x000B03E8, 4), SdoAbort::none);
   EXPECT_EQ(write(od, 0x1016, 4, 0x010B03E8, 4), SdoAbort::value_range);  // bits 24-31 reserved
   EXPECT_EQ(write(od, 0x1016, 4, 0x008003E8, 4), SdoAbort::value_range);  // node 128
@@ -235,14 +235,14 @@ TEST_F(SwumDictionary, ConsumerHeartbeatEntriesWatchEachNodeOnce) {
 TEST_F(SwumDictionary, PdoCommunicationParametersFollowCia301) {
   // COB-ID: fixed while the PDO exists; only 11-bit identifiers outside the restricted ones.
   EXPECT_EQ(write(od, 0x1800, 1, 0x190, 4), SdoAbort::value_range);
-  EXPECT_EQ(write(od, 0x1800, 1, 0x185, 4), SdoAbort::none);  // no change
+  EXPECT_EQ(write(od, 0x1800, 1, 0x185, 4), SdoAbort::none);       // no change
   EXPECT_EQ(write(od, 0x1800, 1, 0x40000185, 4), SdoAbort::none);  // bit 30 (no RTR) alone
   EXPECT_EQ(write(od, 0x1800, 1, 0x80000185, 4), SdoAbort::none);  // invalidate
   EXPECT_EQ(write(od, 0x1800, 1, 0x80000190, 4), SdoAbort::none);
   EXPECT_EQ(write(od, 0x1800, 1, 0xA0000190, 4), SdoAbort::value_range);  // 29-bit
   EXPECT_EQ(write(od, 0x1800, 1, 0x80010190, 4), SdoAbort::value_range);  // bits 11-28
-  EXPECT_EQ(write(od, 0x1800, 1, 0x585, 4), SdoAbort::value_range);  // SDO response identifier
-  EXPECT_EQ(write(od, 0x1800, 1, 0x701, 4), SdoAbort::value_range);  // heartbeat
+  EXPECT_EQ(write(od, 0x1800, 1, 0x585, 4), SdoAbort::value_range);       // SDO response identifier
+  EXPECT_EQ(write(od, 0x1800, 1, 0x701, 4), SdoAbort::value_range);       // heartbeat
   EXPECT_EQ(write(od, 0x1800, 1, 0x190, 4), SdoAbort::none);
   EXPECT_EQ(u32(od, 0x1800, 1), 0x190u);
   EXPECT_EQ(write(od, 0x1400, 1, 0x300, 4), SdoAbort::value_range);  // RPDO alike
@@ -290,14 +290,14 @@ TEST_F(SwumDictionary, MappingEntriesAndCountsThatCannotBeAreRefused) {
   open_mapping(od, 0x1400);
   // step 3 (CiA 301: 0x06020000 or 0x06040041)
   EXPECT_EQ(write(od, 0x1A00, 1, 0x12340020, 4), SdoAbort::no_object);
-  EXPECT_EQ(write(od, 0x1A00, 1, 0x10180920, 4), SdoAbort::no_object);  // 0x1018 has no sub 9
-  EXPECT_EQ(write(od, 0x1A00, 1, 0x00070020, 4), SdoAbort::no_object);  // no dummy entries
+  EXPECT_EQ(write(od, 0x1A00, 1, 0x10180920, 4), SdoAbort::no_object);     // 0x1018 has no sub 9
+  EXPECT_EQ(write(od, 0x1A00, 1, 0x00070020, 4), SdoAbort::no_object);     // no dummy entries
   EXPECT_EQ(write(od, 0x1A00, 1, 0x10000020, 4), SdoAbort::not_mappable);  // device type: PDOMapping=0
   EXPECT_EQ(write(od, 0x1A00, 1, 0x10080000, 4), SdoAbort::not_mappable);  // a string
   EXPECT_EQ(write(od, 0x1600, 1, 0x60410010, 4), SdoAbort::not_mappable);  // RPDO into a read-only object
   EXPECT_EQ(write(od, 0x1A00, 1, 0x60410020, 4), SdoAbort::not_mappable);  // 32 bits of a 16-bit object
   EXPECT_EQ(write(od, 0x1A00, 1, 0x60410008, 4), SdoAbort::not_mappable);  // part of it
-  EXPECT_EQ(write(od, 0x1A00, 1, 0x60400010, 4), SdoAbort::none);  // a TPDO may carry an rw object
+  EXPECT_EQ(write(od, 0x1A00, 1, 0x60400010, 4), SdoAbort::none);          // a TPDO may carry an rw object
   EXPECT_EQ(write(od, 0x1600, 1, 0x60FF0020, 4), SdoAbort::none);
   EXPECT_EQ(write(od, 0x1A00, 1, 0, 4), SdoAbort::none);  // an empty entry
   // step 4 (CiA 301: 0x06020000 or 0x06040042)
