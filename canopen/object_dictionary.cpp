@@ -240,8 +240,9 @@ SdoAbort ObjectDictionary::check_communication_rules(std::size_t slot, std::uint
     return plain_cob_id(raw) && (raw & 0x40000000u) == 0 ? SdoAbort::none : SdoAbort::value_range;
   }
   if (d.index == 0x1014) {
-    // CiA 301 7.5.2.17: the identifier may not change while the EMCY object exists (bit 31 clear).
-    if (!plain_cob_id(raw & ~0x40000000u)) return SdoAbort::value_range;
+    // CiA 301 7.5.2.17: bit 30 reserved; the identifier may not change while the EMCY object
+    // exists (bit 31 clear).
+    if (!plain_cob_id(raw) || (raw & 0x40000000u) != 0) return SdoAbort::value_range;
     const bool valid = (raw & kInvalidBit) == 0;
     if (valid && (old & kInvalidBit) == 0 && (raw & kCanIdMask) != (old & kCanIdMask)) return SdoAbort::value_range;
     if (valid && restricted_can_id(raw & kCanIdMask)) return SdoAbort::value_range;
@@ -255,7 +256,9 @@ SdoAbort ObjectDictionary::check_communication_rules(std::size_t slot, std::uint
     const bool active = (raw & 0xFFFFu) != 0 && node != 0;
     if (active && node > 127) return SdoAbort::value_range;
     if (!active) return SdoAbort::none;
-    for (std::size_t i = slot - d.sub + 1; i < objects_.size() && objects_[i].index == 0x1016; ++i) {
+    std::size_t first = slot;
+    while (first > 0 && objects_[first - 1].index == d.index) --first;
+    for (std::size_t i = first; i < objects_.size() && objects_[i].index == d.index; ++i) {
       if (i == slot || objects_[i].sub == 0) continue;
       const std::uint32_t other = values_[i];
       if ((other & 0xFFFFu) != 0 && ((other >> 16) & 0xFFu) == node) return SdoAbort::general_incompatibility;

@@ -86,11 +86,13 @@ class ObjectDictionary {
   void set(std::size_t slot, std::uint32_t raw);
 
   // A master's write (SDO download, RPDO): access, length (exact for numbers), limits, the CiA
-  // 301 rules of the communication objects the dictionary owns (0x1003, PDO communication and
-  // mapping), then the observer's check; on success stores, calls written(), returns none.
+  // 301 rules of the communication objects the dictionary owns (0x1003, 0x1005, 0x1014, 0x1016,
+  // PDO communication and mapping: docs/canopen.md's table), then the observer's check; on
+  // success stores, calls written(), returns none. A refused write changes nothing.
   SdoAbort write(std::size_t slot, std::span<const std::uint8_t> bytes);
   // A master's read (SDO upload): the value's bytes little-endian into out (numbers:
-  // size_of(type) bytes; strings: see read_string); write_only -> abort.
+  // size_of(type) bytes; a string of at most 4 bytes, a longer one length_too_high: see
+  // read_string); write_only -> abort.
   SdoAbort read(std::size_t slot, std::span<std::uint8_t, 4> out, std::size_t& length) const;
   // The whole text of a readable visible_string (a segmented upload's source): empty + abort
   // when the object is not a readable string.

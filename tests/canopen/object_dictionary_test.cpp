@@ -216,7 +216,8 @@ TEST_F(SwumDictionary, SyncAndEmcyIdentifiersFollowCia301) {
   EXPECT_EQ(write(od, 0x1014, 0, 0x90, 4), SdoAbort::value_range);
   EXPECT_EQ(write(od, 0x1014, 0, 0x80000085, 4), SdoAbort::none);
   EXPECT_EQ(write(od, 0x1014, 0, 0x80000090, 4), SdoAbort::none);
-  EXPECT_EQ(write(od, 0x1014, 0, 0x605, 4), SdoAbort::value_range);  // an SDO identifier (CiA 301 7.3.5)
+  EXPECT_EQ(write(od, 0x1014, 0, 0x605, 4), SdoAbort::value_range);       // an SDO identifier (CiA 301 7.3.5)
+  EXPECT_EQ(write(od, 0x1014, 0, 0xC0000090, 4), SdoAbort::value_range);  // bit 30 reserved
   EXPECT_EQ(write(od, 0x1014, 0, 0x90, 4), SdoAbort::none);
   EXPECT_EQ(u32(od, 0x1014, 0), 0x90u);
 }
