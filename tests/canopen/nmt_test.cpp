@@ -7,22 +7,15 @@
 
 #include <array>
 #include <cstdint>
-#include <initializer_list>
+
+#include "canopen_test_support.h"
 
 namespace swum::canopen {
 namespace {
 
 using protocol::CanFrame;
 
-CanFrame frame(std::uint32_t id, std::initializer_list<std::uint8_t> bytes, bool extended = false) {
-  CanFrame f;
-  f.id = id;
-  f.extended = extended;
-  f.dlc = static_cast<std::uint8_t>(bytes.size());
-  std::size_t i = 0;
-  for (const std::uint8_t b : bytes) f.data[i++] = b;
-  return f;
-}
+using test::frame;
 
 constexpr std::array kCommands{NmtCommand::start, NmtCommand::stop, NmtCommand::enter_pre_operational,
                                NmtCommand::reset_node, NmtCommand::reset_communication};
