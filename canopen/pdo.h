@@ -32,12 +32,13 @@ class Pdos {
   // applied: an event-driven RPDO (type 254/255), written now into the dictionary in mapping
   // order through od.write(), so the application's observer sees it. latched: a synchronous one
   // (type 0-240), written at the next on_sync(). length_error: fewer bytes than the mapping
-  // (nothing written; counted; CiA 301 §7.2.2.2: "PDO not processed due to length error", EMCY
-  // 0x8210, which the caller sends). More bytes than the mapping are allowed: the first bytes are
-  // used (CiA 301 §7.2.2.2 lets the consumer use the mapped part; CANopenNode's CO_PDO.c does the
-  // same and only flags EMCY 0x8220 "PDO length exceeded", which this slave does not send).
-  // refused: a mapped object's write() aborted (a read-only or out-of-range value, or a mapping
-  // the dictionary no longer resolves); the other objects are still written; counted.
+  // (nothing written; counted). CiA 301 §7.2.2 and Table 50: "PDO not processed due to length
+  // error", EMCY 0x8210, which the caller sends. More bytes than the mapping are allowed: the
+  // first bytes are used (CiA 301 §7.2.2 lets the consumer use the mapped part; CANopenNode's
+  // CO_PDO.c does the same and only flags EMCY 0x8220 "PDO length exceeded", which this slave
+  // does not send). refused: a mapped object's write() aborted (a read-only or out-of-range
+  // value: the other objects are still written; counted in refused_writes()), or the mapping no
+  // longer resolves (nothing written; counted in mapping_errors()).
   enum class RpdoStatus { not_rpdo, applied, latched, length_error, refused };
   RpdoStatus receive(const protocol::CanFrame& frame);
 
