@@ -62,7 +62,7 @@ CanopenProfile::CanopenProfile(CanopenProfileConfig config, SharedState& shared)
               : throw std::invalid_argument("CANopen node id must be 1.." + std::to_string(kMaxNodeId))),
       sdo_(od_, config.node),
       pdos_(od_, config.node),
-      emcy_(od_, config.node) {
+      emcy_(od_) {
   auto& s = slots_;
   s.controlword = od_.slot(0x6040, 0);
   s.mode = od_.slot(0x6060, 0);
@@ -329,14 +329,7 @@ co::SdoAbort CanopenProfile::check(std::size_t slot, std::uint32_t raw) {
   if (slot == s.amplitude_set && raw * 1e-3 * config_.vpp_per_terminal_amplitude_v > config_.limits.max_amplitude_vpp)
     return co::SdoAbort::value_too_high;
   if (slot == s.sync_cob_id && raw != 0x80) return co::SdoAbort::value_range;  // SYNC steps lockstep on 0x080
-  for (std::size_t i = 0; i < s.consumer.size(); ++i) {
-    if (slot == s.consumer[i]) {
-      std::array<std::uint32_t, 4> entries{};
-      for (std::size_t k = 0; k < entries.size(); ++k) entries[k] = od_.u32(s.consumer[k]);
-      return co::check_consumer_entry(entries, i, raw);
-    }
-  }
-  return co::SdoAbort::none;
+  return co::SdoAbort::none;  // 0x1016's duplicate node ids: the dictionary's own rule
 }
 
 void CanopenProfile::written(std::size_t slot) {
