@@ -63,8 +63,8 @@ struct QuickStopBehaviour {
 // What decides a step besides the controlword.
 struct Cia402Inputs {
   Cia402Command command = Cia402Command::none;
-  bool fault_reset_edge = false;    // a rising edge of bit 7 since the last step
-  bool fault = false;               // a fault to react to (transition 13)
+  bool fault_reset_edge = false;     // a rising edge of bit 7 since the last step
+  bool fault = false;                // a fault to react to (transition 13)
   bool quick_stop_finished = false;  // quick stop active: the ramp has reached standstill
   std::int16_t quick_stop_option = 2;
   // Quick stop active entered by the device itself (0x6007 = 3): the master's "enable operation"

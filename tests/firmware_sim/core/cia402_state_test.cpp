@@ -14,12 +14,24 @@ using S = Cia402State;
 // CiA 402-2 Table "command coding": every pattern of bits 3-0 with bit 7 clear, and bit 7 set.
 TEST(Cia402Controlword, DecodesEveryCommandOfTheTable) {
   const std::vector<std::pair<std::uint16_t, C>> table = {
-      {0x0006, C::shutdown},         {0x000E, C::shutdown},         {0x0007, C::switch_on},
-      {0x000F, C::enable_operation}, {0x0000, C::disable_voltage},  {0x0001, C::disable_voltage},
-      {0x0004, C::disable_voltage},  {0x0005, C::disable_voltage},  {0x0008, C::disable_voltage},
-      {0x000C, C::disable_voltage},  {0x000D, C::disable_voltage},  {0x0002, C::quick_stop},
-      {0x0003, C::quick_stop},       {0x000A, C::quick_stop},       {0x000B, C::quick_stop},
-      {0x0080, C::none},             {0x0086, C::none},             {0x008F, C::none},
+      {0x0006, C::shutdown},
+      {0x000E, C::shutdown},
+      {0x0007, C::switch_on},
+      {0x000F, C::enable_operation},
+      {0x0000, C::disable_voltage},
+      {0x0001, C::disable_voltage},
+      {0x0004, C::disable_voltage},
+      {0x0005, C::disable_voltage},
+      {0x0008, C::disable_voltage},
+      {0x000C, C::disable_voltage},
+      {0x000D, C::disable_voltage},
+      {0x0002, C::quick_stop},
+      {0x0003, C::quick_stop},
+      {0x000A, C::quick_stop},
+      {0x000B, C::quick_stop},
+      {0x0080, C::none},
+      {0x0086, C::none},
+      {0x008F, C::none},
       {0x010F, C::enable_operation},  // halt (bit 8) is no command of the state machine
       {0x7F76, C::shutdown},          // bits 4-6 and 9-15 are ignored
   };
@@ -251,7 +263,8 @@ TEST(Cia402ErrorCode, EveryFaultCodeHasItsCode) {
 TEST(Cia402Modes, SupportsProfileVelocityAndOpenLoopOnly) {
   EXPECT_TRUE(mode_supported(3));
   EXPECT_TRUE(mode_supported(-1));
-  for (int mode : {0, 1, 2, 4, 6, 7, 8, 9, 10, -2, 127, -128}) EXPECT_FALSE(mode_supported(static_cast<std::int8_t>(mode)));
+  for (int mode : {0, 1, 2, 4, 6, 7, 8, 9, 10, -2, 127, -128})
+    EXPECT_FALSE(mode_supported(static_cast<std::int8_t>(mode)));
 }
 
 TEST(Cia402StateNames, NamesEveryState) {
