@@ -31,6 +31,7 @@
 #include "object_dictionary.h"
 #include "pdo.h"
 #include "sdo_server.h"
+#include "sync.h"
 #include "core/amplifier.h"
 #include "core/drive_request.h"
 #include "core/shared_state.h"

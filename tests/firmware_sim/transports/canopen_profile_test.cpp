@@ -177,6 +177,7 @@ TEST(CanopenProfile, TheDrivesErrorCodeRaisesAnEmcyAndItsClearingTheResetMessage
   Telemetry t;
   t.cia402.error_code = 0x4310;
   t.cia402.statusword = 0x0218;
+  rig.shared.telemetry.store(t);  // what the loop published (an SDO read sees the latest snapshot)
   rig.port.sent.clear();
   rig.profile.send_telemetry(t, RejectSnapshot{}, rig.port);
   auto emcy = rig.port.with_id(0x80 + kNode);
