@@ -92,7 +92,7 @@ run('canopen.vcan.velocity', async () => {
     return dip !== null && reached(v);
   }, RECOVERY_SYNCS, `the speed dipping by ${DIP_UM_S} µm/s after the ${LOAD_N} N load and target reached again`, record);
   const after = trace.slice(-1)[0];
-  const lowest = trace.filter((s) => s.ms > loadMs).reduce((low, s) => (s.velocity < low.velocity ? s : low));
+  const lowest = trace.filter((s) => s.ms >= loadMs).reduce((low, s) => (s.velocity < low.velocity ? s : low));
   const drivenBefore = before[before.length - 1];
   check(after.amplitude !== drivenBefore.amplitude || after.frequency !== drivenBefore.frequency,
     `the speed recovered under ${LOAD_N} N with the drive unchanged (${drivenBefore.amplitude} mV, ${drivenBefore.frequency} mHz)`);
