@@ -10,9 +10,7 @@ namespace swum::emu {
 
 namespace {
 
-double move_toward(double value, double target, double step) {
-  return value + std::clamp(target - value, -step, step);
-}
+double move_toward(double value, double target, double step) { return value + std::clamp(target - value, -step, step); }
 
 // Profile velocity's ramp: the acceleration while the speed's magnitude grows, the deceleration
 // while it shrinks, and through zero at the deceleration down and the acceleration up.
@@ -28,7 +26,8 @@ bool drives(Cia402State state) {
 }
 
 Cia402DriveConfig checked(Cia402DriveConfig c) {
-  if (!(c.tick_hz > 0.0) || !std::isfinite(c.tick_hz)) throw std::invalid_argument("CiA 402 drive: tick rate must be positive");
+  if (!(c.tick_hz > 0.0) || !std::isfinite(c.tick_hz))
+    throw std::invalid_argument("CiA 402 drive: tick rate must be positive");
   if (!(c.control_cycle_s > 0.0 && c.control_cycle_s <= 1.0))
     throw std::invalid_argument("CiA 402 drive: control cycle must be within (0, 1] s");
   if (!(c.vpp_per_terminal_volt > 0.0) || !std::isfinite(c.vpp_per_terminal_volt))
@@ -140,7 +139,8 @@ void Cia402Drive::tick(const DriveRequest& r, Amplifier& amplifier, const Teleme
   if (heartbeat_quick_stop && state_ == Cia402State::quick_stop_active) enable_operation_is_stale_ = true;
   // The amplifier switched off under the drive (its enable line went low): the drive's power
   // is gone, as after "disable voltage".
-  if (drives(state_) && amplifier.state() == AmpState::disabled) enter(Cia402State::switch_on_disabled, amplifier, last, tick);
+  if (drives(state_) && amplifier.state() == AmpState::disabled)
+    enter(Cia402State::switch_on_disabled, amplifier, last, tick);
 
   mode_display_ = mode_supported(r.mode) ? r.mode : kModeNone;
   if (drives(state_)) {
@@ -246,8 +246,8 @@ void Cia402Drive::profile_velocity_cycle(const DriveRequest& r, Amplifier& ampli
   double deceleration_m_s2 = r.profile_deceleration_um_s2 * 1e-6;
   if (quick_stop && quick_stop_behaviour(r.quick_stop_option).ramp == QuickStopRamp::quick_stop_deceleration)
     deceleration_m_s2 = r.quick_stop_deceleration_um_s2 * 1e-6;
-  velocity_demand_m_s_ =
-      ramp(velocity_demand_m_s_, target_m_s, r.profile_acceleration_um_s2 * 1e-6, deceleration_m_s2, cycle_s_);
+  velocity_demand_m_s_ = ramp(velocity_demand_m_s_, target_m_s, r.profile_acceleration_um_s2 * 1e-6, deceleration_m_s2,
+                              cycle_s_);
   quick_stop_finished_ = velocity_demand_m_s_ == 0.0;
   if (velocity_demand_m_s_ != 0.0) direction_ = velocity_demand_m_s_ > 0.0 ? 1.0 : -1.0;
 
@@ -273,8 +273,8 @@ void Cia402Drive::profile_velocity_cycle(const DriveRequest& r, Amplifier& ampli
       TrackSample sample;
       sample.time_s = static_cast<double>(tick) / config_.tick_hz;
       sample.speed_mm_s = direction_ * speed_mm_s;
-      sample.motional_phase_deg =
-          direction_ > 0.0 ? last.electrical.motional_phase_a_deg : last.electrical.motional_phase_b_deg;
+      sample.motional_phase_deg = direction_ > 0.0 ? last.electrical.motional_phase_a_deg
+                                                   : last.electrical.motional_phase_b_deg;
       const TrackDecision d = tracker_.next(sample);
       if (d.status != TrackStatus::ok) {
         start_tracker(config_.tracker.start_hz, setpoint_deg);  // collapsed too often: again from above
@@ -338,8 +338,8 @@ void Cia402Drive::update_flags(const DriveRequest& r, const Amplifier& amplifier
     const double reference_m_s = to_zero ? 0.0 : r.target_velocity_um_s * 1e-6;
     const double window_m_s = r.velocity_window_um_s * 1e-6;
     in_window_ticks_ = std::abs(last.speed_m_s - reference_m_s) <= window_m_s ? in_window_ticks_ + 1 : 0;
-    const auto window_ticks =
-        static_cast<std::uint64_t>(std::llround(r.velocity_window_time_ms * 1e-3 * config_.tick_hz));
+    const auto window_ticks = static_cast<std::uint64_t>(
+        std::llround(r.velocity_window_time_ms * 1e-3 * config_.tick_hz));
     flags_.target_reached = in_window_ticks_ > window_ticks;
     flags_.mode_bit12 = std::abs(last.speed_m_s) <= window_m_s;
   } else {

@@ -43,9 +43,8 @@ struct Cia402DriveConfig {
   double frequency_slew_hz_per_s = 1.0e6;
   double amplitude_slew_vpp_per_s = 1.0e5;
   // The resonance tracker: method phase; its set-point is the request's 0x2031 (the one here
-  // is only checked), its frequency range the amplifier's. It steps once every tracker_cycles control cycles (each step reads a
-  // fresh electrical window) and only while the amplifier drives at least tracker_min_vpp (no
-  // drive, no phase).
+  // is only checked), its frequency range the amplifier's. It steps once every tracker_cycles control cycles (each step
+  // reads a fresh electrical window) and only while the amplifier drives at least tracker_min_vpp (no drive, no phase).
   TrackSettings tracker;
   int tracker_cycles = 1;
   double tracker_min_vpp = 10.0;
