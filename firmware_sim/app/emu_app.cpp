@@ -313,12 +313,14 @@ int run_emulator(const EmuOptions& o) {
     recorder = std::make_unique<TraceRecorder>(o.record_path, trace_settings(o, config_text, scenario));
     core.set_observer(recorder.get());
   }
-  core.tick();  // publish a first snapshot before any transport answers
-
   Transports transports;
   open_modbus(o, *shared, amp.limits, transports);
   open_can(o, *shared, amp.limits, parameters, transports);
   open_gpio(o, *shared, transports);
+  // A first snapshot before any transport answers (none has started): after they are built, so
+  // that a CiA 402 drive (its profile publishes the request when built) has taken its first
+  // transition (not ready to switch on -> switch on disabled) before a master sees a statusword.
+  core.tick();
   std::unique_ptr<HttpApi> api;
   if (http) {
     api = std::make_unique<HttpApi>(*http, *shared, model);

@@ -14,7 +14,7 @@ namespace co = canopen;
 
 namespace {
 
-constexpr std::uint8_t kMaxNodeId = 127;  // CiA 301 §7.3.2: node ids 1..127
+constexpr std::uint8_t kMaxNodeId = 127;  // CiA 301 7.3.2: node ids 1..127
 
 // A physical value in bus units, rounded and held inside the object's type (a value out of the
 // type's range reads as its limit, never as a wrapped number).
@@ -122,7 +122,7 @@ void CanopenProfile::set_nmt(co::NmtState state) {
   nmt_published_.store(state, std::memory_order_relaxed);
 }
 
-// CiA 301 §7.3.2.2: a reset returns the objects of its area to their defaults, the node then
+// CiA 301 7.3.2.2: a reset returns the objects of its area to their defaults, the node then
 // sends its boot-up message and enters pre-operational on its own.
 void CanopenProfile::boot(co::NmtCommand reset, std::int64_t now_ns, CanSender& out) {
   set_nmt(co::NmtState::initialising);
@@ -131,7 +131,7 @@ void CanopenProfile::boot(co::NmtCommand reset, std::int64_t now_ns, CanSender& 
   if (config_.heartbeat_ms >= 0)
     od_.set(slots_.heartbeat_time, static_cast<std::uint32_t>(std::min(config_.heartbeat_ms, 0xFFFF)));
   sdo_.reset();
-  pdos_.reset(now_ns);
+  pdos_.reset(profile_now_ns());
   sync_id_ = od_.u32(slots_.sync_cob_id) & 0x7FF;
   heartbeat_.configure(static_cast<std::uint16_t>(od_.u32(slots_.heartbeat_time)));
   std::array<std::uint32_t, 4> entries{};
@@ -156,7 +156,7 @@ void CanopenProfile::on_nmt(co::NmtCommand command, std::int64_t now_ns, CanSend
     default: break;
   }
   const co::NmtState next = co::next_state(nmt_, command);
-  if (next == co::NmtState::operational && nmt_ != co::NmtState::operational) pdos_.reset(now_ns);
+  if (next == co::NmtState::operational && nmt_ != co::NmtState::operational) pdos_.reset(profile_now_ns());
   set_nmt(next);
 }
 
@@ -170,7 +170,11 @@ void CanopenProfile::on_sync(std::uint8_t counter, std::int64_t now_ns, CanSende
 CanRxResult CanopenProfile::receive(const io::CanFrame& frame, const CanRxTime& time, CanNodePort& node) {
   if (frame.extended) return {};  // CANopen (CiA 301) uses 11-bit identifiers only
   const std::lock_guard lock(mutex_);
-  const std::int64_t now_ns = shared_.lockstep != nullptr ? time.clock_ns : time.receive_ns;
+  // Two clocks: the protocol timeouts a master's own clock measures (SDO, heartbeat) run on the
+  // wall clock; what the process data does (PDO timers, EMCY inhibit) on the node's clock,
+  // emulated time in lockstep, so that a lockstep recording never depends on wall time.
+  const std::int64_t now_ns = time.receive_ns;
+  const std::int64_t process_ns = time.clock_ns;
   if (!booted_) {  // a frame before the first send_periodic(): boot first, as a device does on power-up
     boot(co::NmtCommand::reset_node, now_ns, node);
     booted_ = true;
@@ -197,7 +201,7 @@ CanRxResult CanopenProfile::receive(const io::CanFrame& frame, const CanRxTime& 
       case co::SyncDecode::sync: break;
     }
     write_actuals(shared_.telemetry.load());
-    on_sync(counter, now_ns, node);
+    on_sync(counter, process_ns, node);
     return {CanRxStatus::accepted, Reason::none};
   }
   if (frame.id == 0x600U + config_.node) {  // SDO request
@@ -226,7 +230,7 @@ CanRxResult CanopenProfile::receive(const io::CanFrame& frame, const CanRxTime& 
       counters_.pdo_length_errors.fetch_add(1, std::memory_order_relaxed);
       od_.set(slots_.pdo_length_errors, static_cast<std::uint32_t>(pdos_.length_errors()));
       Sink sink(node);
-      emcy_.raise(0x8210, now_ns, sink);  // CiA 301: PDO not processed due to length error
+      emcy_.raise(0x8210, process_ns, sink);  // CiA 301: PDO not processed due to length error
       return {CanRxStatus::refused, Reason::wrong_length};
     }
     case co::Pdos::RpdoStatus::refused: return {CanRxStatus::refused, Reason::illegal_address};
@@ -243,7 +247,7 @@ void CanopenProfile::write_actuals(const Telemetry& t) {
   put(s.position, to_units(t.position_m, 1e6));
   put(s.velocity, to_units(t.speed_m_s, 1e6));
   put(s.frequency_actual, to_units(t.output.frequency_hz, 1e3));
-  put(s.amplitude_actual, to_units(t.output.vpp / config_.vpp_per_terminal_amplitude_v, 1e3));
+  put(s.amplitude_actual, to_units(t.cia402.terminal_amplitude_v, 1e3));
   put(s.phase_actual, to_units(t.output.phase_deg, 100.0));
   put(s.current_a, to_units(t.electrical.current_a_a, 1e3));
   put(s.current_b, to_units(t.electrical.current_b_a, 1e3));
@@ -265,7 +269,7 @@ void CanopenProfile::send_telemetry(const Telemetry& t, const RejectSnapshot& /*
   const std::int64_t now_ns = profile_now_ns();
   write_actuals(t);
   Sink sink(out);
-  // EMCY (CiA 301 §7.2.7, CiA 402 0x603F): one message for each new error code, the error
+  // EMCY (CiA 301 7.2.7, CiA 402 0x603F): one message for each new error code, the error
   // reset message when it clears. Sent in pre-operational and operational.
   if (t.cia402.error_code != last_error_code_) {
     if (co::emcy_allowed(nmt_)) {
@@ -286,7 +290,7 @@ void CanopenProfile::send_telemetry(const Telemetry& t, const RejectSnapshot& /*
 
 void CanopenProfile::send_periodic(std::int64_t now_ns, CanSender& out) {
   const std::lock_guard lock(mutex_);
-  if (!booted_) {  // power-up: boot-up message, pre-operational (CiA 301 §7.3.2.2)
+  if (!booted_) {  // power-up: boot-up message, pre-operational (CiA 301 7.3.2.2)
     boot(co::NmtCommand::reset_node, now_ns, out);
     booted_ = true;
   }

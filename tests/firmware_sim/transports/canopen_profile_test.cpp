@@ -242,3 +242,42 @@ TEST(CanopenProfile, InLockstepEachTelemetryCallIsTheSyncOfSynchronousPdos) {
 
 }  // namespace
 }  // namespace swum::emu
+
+namespace swum::emu {
+namespace {
+
+// In lockstep the frames carry emulated time (standing still between SYNCs) beside their wall
+// receive time: a segmented upload spread over transmit periods must not time out on the mix.
+TEST(CanopenProfile, ASegmentedUploadInLockstepTimesOutOnTheWallClockOnly) {
+  Rig rig;
+  LockstepClock clock;
+  rig.shared.lockstep = &clock;
+  rig.periodic();
+  auto rx_lockstep = [&](const io::CanFrame& f) {
+    return rig.profile.receive(f, CanRxTime{rig.now_ns, 0}, rig.port);  // emulated time 0
+  };
+  rig.port.sent.clear();
+  rx_lockstep(frame(0x600 + kNode, {0x40, 0x08, 0x10, 0, 0, 0, 0, 0}));
+  std::uint8_t toggle = 0;
+  for (int segment = 0; segment < 8; ++segment) {
+    rig.now_ns += 10'000'000;  // a transmit period of wall time passes between two segments
+    rig.periodic();
+    rx_lockstep(frame(0x600 + kNode, {static_cast<std::uint8_t>(0x60 | toggle), 0, 0, 0, 0, 0, 0, 0}));
+    toggle ^= 0x10;
+  }
+  const auto replies = rig.port.with_id(0x580 + kNode);
+  ASSERT_EQ(replies.size(), 9U);  // initiate + 8 segments of the 53-byte name
+  for (const auto& r : replies) EXPECT_NE(r.data[0], 0x80) << "no abort";
+  EXPECT_NE(replies.back().data[0] & 0x01, 0) << "the last segment says so";
+  // Idle for longer than the SDO timeout on the wall clock: the abort comes then.
+  rx_lockstep(frame(0x600 + kNode, {0x40, 0x08, 0x10, 0, 0, 0, 0, 0}));
+  rig.port.sent.clear();
+  rig.now_ns += 2'000'000'000;
+  rig.periodic();
+  const auto aborts = rig.port.with_id(0x580 + kNode);
+  ASSERT_EQ(aborts.size(), 1U);
+  EXPECT_EQ(abort_code(aborts[0]), 0x05040000U);
+}
+
+}  // namespace
+}  // namespace swum::emu
