@@ -9,11 +9,11 @@ namespace swum::canopen {
 
 namespace {
 
-constexpr std::uint32_t kInvalidBit = 0x80000000u;  // COB-ID bit 31: the object does not exist
+constexpr std::uint32_t kInvalidBit = 0x80000000u;   // COB-ID bit 31: the object does not exist
 constexpr std::uint32_t kExtendedBit = 0x20000000u;  // COB-ID bit 29: 29-bit identifier
 constexpr std::uint32_t kCanIdMask = 0x7FFu;
 constexpr std::uint32_t kReservedIdBits = 0x1FFFF800u;  // bits 11-28: only with a 29-bit identifier
-constexpr std::uint8_t kMaxMappedEntries = 8;            // CiA 301: 8 bytes, byte granularity
+constexpr std::uint8_t kMaxMappedEntries = 8;           // CiA 301: 8 bytes, byte granularity
 constexpr std::uint32_t kMaxPdoBits = 64;
 
 std::uint32_t mask_of(DataType type) {
@@ -67,9 +67,9 @@ bool is_tpdo_mapping(std::uint16_t index) { return index >= 0x1A00 && index <= 0
 // CiA 301 7.3.5 (Table 43): identifiers a PDO or EMCY may not use, as they belong to NMT, SYNC,
 // the default SDO channels, NMT error control and LSS.
 bool restricted_can_id(std::uint32_t id) {
-  return id == 0x000 || (id >= 0x001 && id <= 0x07F) || (id >= 0x101 && id <= 0x180) ||
-         (id >= 0x581 && id <= 0x5FF) || (id >= 0x601 && id <= 0x67F) || (id >= 0x6E0 && id <= 0x6FF) ||
-         (id >= 0x701 && id <= 0x77F) || (id >= 0x780 && id <= 0x7FF);
+  return id == 0x000 || (id >= 0x001 && id <= 0x07F) || (id >= 0x101 && id <= 0x180) || (id >= 0x581 && id <= 0x5FF) ||
+         (id >= 0x601 && id <= 0x67F) || (id >= 0x6E0 && id <= 0x6FF) || (id >= 0x701 && id <= 0x77F) ||
+         (id >= 0x780 && id <= 0x7FF);
 }
 
 // A COB-ID this slave can use: an 11-bit identifier (bits 11-28 clear, no 29-bit frames).
@@ -90,6 +90,33 @@ std::size_t size_of(DataType type) {
     case DataType::visible_string: return 0;
   }
   return 0;
+}
+
+const char* describe(SdoAbort code) {
+  switch (code) {
+    case SdoAbort::none: return "no abort";
+    case SdoAbort::toggle_bit: return "toggle bit not alternated";
+    case SdoAbort::timeout: return "SDO protocol timed out";
+    case SdoAbort::bad_command: return "client/server command specifier not valid or unknown";
+    case SdoAbort::out_of_memory: return "out of memory";
+    case SdoAbort::unsupported_access: return "unsupported access to an object";
+    case SdoAbort::write_only: return "attempt to read a write only object";
+    case SdoAbort::read_only: return "attempt to write a read only object";
+    case SdoAbort::no_object: return "object does not exist in the object dictionary";
+    case SdoAbort::not_mappable: return "object cannot be mapped to the PDO";
+    case SdoAbort::pdo_too_long: return "the number and length of the objects to be mapped would exceed PDO length";
+    case SdoAbort::general_incompatibility: return "general parameter incompatibility";
+    case SdoAbort::length_mismatch: return "data type does not match, length of service parameter does not match";
+    case SdoAbort::length_too_high: return "data type does not match, length of service parameter too high";
+    case SdoAbort::length_too_low: return "data type does not match, length of service parameter too low";
+    case SdoAbort::no_sub_index: return "sub-index does not exist";
+    case SdoAbort::value_range: return "invalid value for parameter (download only)";
+    case SdoAbort::value_too_high: return "value of parameter written too high (download only)";
+    case SdoAbort::value_too_low: return "value of parameter written too low (download only)";
+    case SdoAbort::general: return "general error";
+    case SdoAbort::state: return "data cannot be transferred or stored because of the present device state";
+  }
+  return "unknown abort code";
 }
 
 ObjectDictionary::ObjectDictionary(std::span<const ObjectDescription> objects, std::uint8_t node_id)
@@ -213,8 +240,9 @@ SdoAbort ObjectDictionary::check_communication_rules(std::size_t slot, std::uint
     return plain_cob_id(raw) && (raw & 0x40000000u) == 0 ? SdoAbort::none : SdoAbort::value_range;
   }
   if (d.index == 0x1014) {
-    // CiA 301 7.5.2.17: the identifier may not change while the EMCY object exists (bit 31 clear).
-    if (!plain_cob_id(raw & ~0x40000000u)) return SdoAbort::value_range;
+    // CiA 301 7.5.2.17: bit 30 reserved; the identifier may not change while the EMCY object
+    // exists (bit 31 clear).
+    if (!plain_cob_id(raw) || (raw & 0x40000000u) != 0) return SdoAbort::value_range;
     const bool valid = (raw & kInvalidBit) == 0;
     if (valid && (old & kInvalidBit) == 0 && (raw & kCanIdMask) != (old & kCanIdMask)) return SdoAbort::value_range;
     if (valid && restricted_can_id(raw & kCanIdMask)) return SdoAbort::value_range;
@@ -228,7 +256,9 @@ SdoAbort ObjectDictionary::check_communication_rules(std::size_t slot, std::uint
     const bool active = (raw & 0xFFFFu) != 0 && node != 0;
     if (active && node > 127) return SdoAbort::value_range;
     if (!active) return SdoAbort::none;
-    for (std::size_t i = slot - d.sub + 1; i < objects_.size() && objects_[i].index == 0x1016; ++i) {
+    std::size_t first = slot;
+    while (first > 0 && objects_[first - 1].index == d.index) --first;
+    for (std::size_t i = first; i < objects_.size() && objects_[i].index == d.index; ++i) {
       if (i == slot || objects_[i].sub == 0) continue;
       const std::uint32_t other = values_[i];
       if ((other & 0xFFFFu) != 0 && ((other >> 16) & 0xFFu) == node) return SdoAbort::general_incompatibility;
@@ -260,14 +290,31 @@ SdoAbort ObjectDictionary::check_communication_rules(std::size_t slot, std::uint
   }
   if (is_rpdo_mapping(d.index) || is_tpdo_mapping(d.index)) {
     // CiA 301 7.5.2.36/38, the mapping procedure: invalidate the PDO (COB-ID bit 31), write
-    // sub 0 = 0, write the entries, write sub 0 = n (checked here), validate the PDO.
-    const std::uint16_t communication = static_cast<std::uint16_t>(d.index - 0x200);
-    const bool pdo_valid = (value_at(communication, 1) & kInvalidBit) == 0;
-    if (pdo_valid) return SdoAbort::state;
+    // sub 0 = 0, write the entries (each checked: 0x06020000 or 0x06040041), write sub 0 = n
+    // (the whole mapping checked: 0x06020000 or 0x06040042), validate the PDO. CiA 301 names
+    // no code for a change out of order (PDO valid, or an entry while sub 0 is not 0); as Lely's
+    // stack does, it is 0x06090030, and a write of the value already there is no change.
+    if (raw == old) return SdoAbort::none;
+    const auto communication = static_cast<std::uint16_t>(d.index - 0x200);
+    if ((value_at(communication, 1) & kInvalidBit) == 0) return SdoAbort::value_range;
+    const bool receive = is_rpdo_mapping(d.index);
     if (d.sub == 0) return raw == 0 ? SdoAbort::none : check_pdo_mapping(d.index, static_cast<std::uint8_t>(raw));
-    if (value_at(d.index, 0) != 0) return SdoAbort::state;
-    return SdoAbort::none;
+    if (value_at(d.index, 0) != 0) return SdoAbort::value_range;
+    return raw == 0 ? SdoAbort::none : check_mapping_entry(raw, receive);  // 0: an empty entry
   }
+  return SdoAbort::none;
+}
+
+SdoAbort ObjectDictionary::check_mapping_entry(std::uint32_t entry, bool receive) const {
+  // No dummy entries ([DummyUsage] all 0): an entry names an object of the dictionary.
+  const auto target = find(static_cast<std::uint16_t>(entry >> 16), static_cast<std::uint8_t>(entry >> 8));
+  if (!target) return SdoAbort::no_object;
+  const ObjectDescription& t = objects_[*target];
+  const bool readable = t.access != Access::wo;
+  const bool writable = t.access == Access::rw || t.access == Access::wo;
+  if (!t.pdo_mappable || !(receive ? writable : readable)) return SdoAbort::not_mappable;
+  // Granularity 8, whole objects only: the entry's length is the object's.
+  if ((entry & 0xFFu) != 8 * size_of(t.type)) return SdoAbort::not_mappable;
   return SdoAbort::none;
 }
 
@@ -277,13 +324,7 @@ SdoAbort ObjectDictionary::check_pdo_mapping(std::uint16_t mapping_index, std::u
   std::uint32_t bits = 0;
   for (std::uint8_t sub = 1; sub <= count; ++sub) {
     const std::uint32_t entry = value_at(mapping_index, sub);
-    const auto target = find(static_cast<std::uint16_t>(entry >> 16), static_cast<std::uint8_t>(entry >> 8));
-    if (!target) return SdoAbort::no_object;
-    const ObjectDescription& t = objects_[*target];
-    const bool readable = t.access != Access::wo;
-    const bool writable = t.access == Access::rw || t.access == Access::wo;
-    if (!t.pdo_mappable || !(receive ? writable : readable)) return SdoAbort::not_mappable;
-    if ((entry & 0xFFu) != 8 * size_of(t.type)) return SdoAbort::not_mappable;
+    if (const SdoAbort problem = check_mapping_entry(entry, receive); problem != SdoAbort::none) return problem;
     bits += entry & 0xFFu;
   }
   return bits > kMaxPdoBits ? SdoAbort::pdo_too_long : SdoAbort::none;

@@ -50,6 +50,8 @@ enum class SdoAbort : std::uint32_t { none = 0, toggle_bit = 0x05030000, timeout
   length_too_low = 0x06070013, no_sub_index = 0x06090011, value_range = 0x06090030, value_too_high = 0x06090031,
   value_too_low = 0x06090032, general = 0x08000000, state = 0x08000022 };
 // clang-format on
+// CiA 301's text of the code, for logs and test messages.
+const char* describe(SdoAbort code);
 
 // What the application adds to a write: a veto (e.g. 0x6060 only modes 0, 3, -1) and a notice
 // after it. Called on the per-frame path: neither may throw or block.
@@ -77,18 +79,20 @@ class ObjectDictionary {
   [[nodiscard]] std::size_t size() const;
   [[nodiscard]] std::uint8_t node_id() const { return node_id_; }
 
-  [[nodiscard]] std::uint32_t u32(std::size_t slot) const;         // raw, zero-extended
-  [[nodiscard]] std::int32_t i32(std::size_t slot) const;          // sign-extended per type
+  [[nodiscard]] std::uint32_t u32(std::size_t slot) const;        // raw, zero-extended
+  [[nodiscard]] std::int32_t i32(std::size_t slot) const;         // sign-extended per type
   [[nodiscard]] std::string_view string(std::size_t slot) const;  // visible_string
   // The application's side: no access check, no observer; the value is cut to the type's size.
   void set(std::size_t slot, std::uint32_t raw);
 
   // A master's write (SDO download, RPDO): access, length (exact for numbers), limits, the CiA
-  // 301 rules of the communication objects the dictionary owns (0x1003, PDO communication and
-  // mapping), then the observer's check; on success stores, calls written(), returns none.
+  // 301 rules of the communication objects the dictionary owns (0x1003, 0x1005, 0x1014, 0x1016,
+  // PDO communication and mapping: docs/canopen.md's table), then the observer's check; on
+  // success stores, calls written(), returns none. A refused write changes nothing.
   SdoAbort write(std::size_t slot, std::span<const std::uint8_t> bytes);
   // A master's read (SDO upload): the value's bytes little-endian into out (numbers:
-  // size_of(type) bytes; strings: see read_string); write_only -> abort.
+  // size_of(type) bytes; a string of at most 4 bytes, a longer one length_too_high: see
+  // read_string); write_only -> abort.
   SdoAbort read(std::size_t slot, std::span<std::uint8_t, 4> out, std::size_t& length) const;
   // The whole text of a readable visible_string (a segmented upload's source): empty + abort
   // when the object is not a readable string.
@@ -103,6 +107,7 @@ class ObjectDictionary {
   void reset_range(std::uint16_t first, std::uint16_t last);
   SdoAbort check_communication_rules(std::size_t slot, std::uint32_t raw) const;
   SdoAbort check_pdo_mapping(std::uint16_t mapping_index, std::uint8_t count) const;
+  SdoAbort check_mapping_entry(std::uint32_t entry, bool receive) const;
   [[nodiscard]] std::uint32_t value_at(std::uint16_t index, std::uint8_t sub) const;
 
   std::span<const ObjectDescription> objects_;

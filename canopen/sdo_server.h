@@ -37,6 +37,9 @@ class SdoServer {
  private:
   enum class State : std::uint8_t { idle, downloading, uploading };
 
+  void begin(State state, std::size_t slot, std::uint16_t index, std::uint8_t sub, std::int64_t now_ns);
+  [[nodiscard]] SdoAbort check_segment(State expected, std::uint8_t command) const;
+  bool abort_segment(SdoAbort problem, protocol::CanFrame& response);
   bool answer_abort(std::uint16_t index, std::uint8_t sub, SdoAbort code, protocol::CanFrame& response);
   bool initiate_download(const protocol::CanFrame& request, std::int64_t now_ns, protocol::CanFrame& response);
   bool download_segment(const protocol::CanFrame& request, std::int64_t now_ns, protocol::CanFrame& response);
@@ -53,7 +56,7 @@ class SdoServer {
   std::size_t slot_ = 0;  // the object of the transfer under way
   std::uint16_t index_ = 0;
   std::uint8_t sub_ = 0;
-  bool toggle_ = false;         // the toggle bit the next segment must carry
+  bool toggle_ = false;  // the toggle bit the next segment must carry
   std::int64_t last_frame_ns_ = 0;
   // A download's bytes so far (every writable object is a number of at most 4 bytes) and the
   // size the client indicated (0: none).
