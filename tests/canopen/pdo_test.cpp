@@ -117,7 +117,7 @@ TEST_F(PdoTest, ATpdoBeingRemappedIsNotSent) {
   EXPECT_TRUE(on(0x185).empty());
   // Steps of the procedure refused while the PDO is valid (the dictionary's rule, CiA 301).
   write(od, 0x1800, 1, 0x185, 4);
-  EXPECT_EQ(try_write(od, 0x1A00, 0, 0, 1), SdoAbort::state);
+  EXPECT_EQ(try_write(od, 0x1A00, 0, 0, 1), SdoAbort::value_range);  // docs/canopen.md: 0x06090030
   write(od, 0x1800, 1, 0x80000185, 4);
   write(od, 0x1A00, 0, 0, 1);
   write(od, 0x1800, 1, 0x185, 4);  // valid with no object mapped: nothing to send
