@@ -83,7 +83,7 @@ struct Transports {
   std::unique_ptr<ModbusTcpServer> modbus_tcp;
   std::unique_ptr<ModbusRtuServer> modbus_rtu;
   std::unique_ptr<CanTransport> can;
-  const CanopenProfile* canopen = nullptr;  // owned by `can` with --can-profile cia402
+  const CanopenProfile* canopen = nullptr;   // owned by `can` with --can-profile cia402
   const io::SocketCanBus* can_rx = nullptr;  // owned by `can`; kernel drop counter
   std::unique_ptr<io::GpiodLines> gpio_lines;
   std::unique_ptr<GpioTransport> gpio;
@@ -154,8 +154,7 @@ void open_can(const EmuOptions& o, SharedState& shared, const AmplifierLimits& l
   }
   if (o.can_profile == "cia402") {
     // The amplifier's "vpp" input per volt of terminal amplitude (model_spec.md §11.1).
-    const double vpp_per_v =
-        parameters.options.voltage_convention == VoltageConvention::amplitude ? 1.0 : 2.0;
+    const double vpp_per_v = parameters.options.voltage_convention == VoltageConvention::amplitude ? 1.0 : 2.0;
     auto profile = std::make_unique<CanopenProfile>(canopen_profile_config(o, limits, vpp_per_v), shared);
     t.canopen = profile.get();
     t.can = std::make_unique<CanTransport>(std::move(rx), std::move(tx), std::move(profile), config, shared, limits);

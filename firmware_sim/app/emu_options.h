@@ -28,9 +28,9 @@ namespace swum::emu {
 
 // Each field is one option; defaults are the documented ones.
 struct EmuOptions {
-  std::string config_path;                                            // --config (required): motor parameter file
-  std::string can_interface;                                          // --can; empty: CAN off
-  int can_node = 1;                                                   // --node
+  std::string config_path;           // --config (required): motor parameter file
+  std::string can_interface;         // --can; empty: CAN off
+  int can_node = 1;                  // --node
   std::string can_profile = "swum";  // --can-profile: swum (docs/protocols.md) or cia402 (docs/canopen.md)
   bool heartbeat_given = false;      // --heartbeat-ms given (cia402: overrides 0x1017 at boot)
   std::string modbus_spec = "tcp://127.0.0.1:1502";                   // --modbus: tcp://HOST:PORT, rtu:DEV:BAUD or none

@@ -75,9 +75,15 @@ struct CanRxResult {
 class CanProfile {
  public:
   virtual ~CanProfile() = default;
-  // The frames this profile reads, as kernel receive filters; set once when the transport is
-  // built. Include the SYNC identifier for the lockstep clock to see SYNC frames.
+  // The frames this profile reads, as kernel receive filters; set when the transport is built
+  // (and again when filters_generation() moves). Include the SYNC identifier for the lockstep
+  // clock to see SYNC frames. Never the node's own frames: the transport receives on a socket of
+  // its own, which the kernel's loopback hands every frame the node sends.
   [[nodiscard]] virtual std::span<const io::CanFilter> filters() const = 0;
+  // Filters that move at run time (CANopen: a master changes PDO identifiers and consumed
+  // heartbeats by SDO): the transport compares this number after each receive() and applies
+  // filters() again when it changed. Only receive() may change the filters (one thread).
+  [[nodiscard]] virtual std::uint64_t filters_generation() const { return 0; }
   // One received frame (not an error frame, and not a SYNC that steps the lockstep clock).
   virtual CanRxResult receive(const io::CanFrame& frame, const CanRxTime& time, CanNodePort& node) = 0;
   // The actual values: the frames of one telemetry period on the wall clock, or of one SYNC in

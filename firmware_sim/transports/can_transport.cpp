@@ -85,6 +85,7 @@ CanTransport::CanTransport(std::unique_ptr<io::CanBus> rx_bus, std::unique_ptr<i
   if (!profile_) throw std::invalid_argument("CAN: no profile (the frame set the node speaks)");
   const io::CanResult r = rx_bus_->set_filters(profile_->filters());
   if (!r.ok()) throw std::runtime_error("CAN: cannot set receive filters on " + rx_bus_->name() + ": " + r.message);
+  filters_generation_ = profile_->filters_generation();
 }
 
 CanTransport::~CanTransport() { stop(); }
@@ -156,6 +157,14 @@ void CanTransport::rx_loop() {
                                                                 : stamp.monotonic_ns;
       Port port(*this, true, stamp.monotonic_ns);
       result = profile_->receive(frame, CanRxTime{stamp.monotonic_ns, clock_ns}, port);
+      if (const std::uint64_t g = profile_->filters_generation(); g != filters_generation_) {
+        filters_generation_ = g;  // e.g. an RPDO's new COB-ID: the kernel lets its frames in from now on
+        if (const io::CanResult f = rx_bus_->set_filters(profile_->filters()); !f.ok()) {
+          stats_.rx_errors.fetch_add(1);
+          std::fprintf(stderr, "swum-emu: CAN %s: cannot change the receive filters: %s\n", rx_bus_->name().c_str(),
+                       f.message.c_str());
+        }
+      }
     }
     if (result.status == CanRxStatus::accepted) {
       stats_.accepted.fetch_add(1, std::memory_order_relaxed);

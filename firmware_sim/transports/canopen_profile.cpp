@@ -28,8 +28,7 @@ std::int64_t to_units(double value, double units_per_si) {
 std::uint32_t raw_for(co::DataType type, std::int64_t value) {
   switch (type) {
     case co::DataType::integer8: return static_cast<std::uint8_t>(std::clamp<std::int64_t>(value, -128, 127));
-    case co::DataType::integer16:
-      return static_cast<std::uint16_t>(std::clamp<std::int64_t>(value, -32768, 32767));
+    case co::DataType::integer16: return static_cast<std::uint16_t>(std::clamp<std::int64_t>(value, -32768, 32767));
     case co::DataType::integer32:
       return static_cast<std::uint32_t>(static_cast<std::int32_t>(std::clamp<std::int64_t>(
           value, std::numeric_limits<std::int32_t>::min(), std::numeric_limits<std::int32_t>::max())));
@@ -55,7 +54,6 @@ class CanopenProfile::Sink final : public co::FrameSink {
 CanopenProfile::CanopenProfile(CanopenProfileConfig config, SharedState& shared)
     : config_(config),
       shared_(shared),
-      filters_{io::CanFilter{0, 0, false}},  // every standard frame: the PDO identifiers move by SDO
       od_(co::swum_eds_objects(),
           config.node >= 1 && config.node <= kMaxNodeId
               ? config.node
@@ -107,9 +105,36 @@ CanopenProfile::CanopenProfile(CanopenProfileConfig config, SharedState& shared)
   s.sync_cob_id = od_.slot(0x1005, 0);
   s.heartbeat_time = od_.slot(0x1017, 0);
   for (std::uint8_t i = 0; i < 4; ++i) s.consumer[i] = od_.slot(0x1016, static_cast<std::uint8_t>(i + 1));
+  for (std::uint16_t i = 0; i < 4; ++i) s.rpdo_cob_id[i] = od_.slot(static_cast<std::uint16_t>(0x1400 + i), 1);
+  rebuild_filters();
   od_.set_observer(this);
   request_.active = true;
   publish_request();
+}
+
+void CanopenProfile::rebuild_filters() {
+  std::array<io::CanFilter, 3 + 4 + 4> next{};
+  std::size_t n = 0;
+  next[n++] = io::CanFilter{co::kNmtId, io::kCanStandardIdMax, false};
+  next[n++] = io::CanFilter{sync_id_, io::kCanStandardIdMax, false};
+  next[n++] = io::CanFilter{0x600U + config_.node, io::kCanStandardIdMax, false};
+  for (const std::size_t slot : slots_.consumer) {  // bits 16-23: the consumed node (0: unused)
+    const std::uint32_t node = (od_.u32(slot) >> 16) & 0xFF;
+    if (node >= 1 && node <= kMaxNodeId && node != config_.node && (od_.u32(slot) & 0xFFFF) != 0)
+      next[n++] = io::CanFilter{co::kHeartbeatBaseId + node, io::kCanStandardIdMax, false};
+  }
+  for (const std::size_t slot : slots_.rpdo_cob_id) {  // bit 31: not valid; bit 29: 29-bit (unused)
+    const std::uint32_t cob_id = od_.u32(slot);
+    if ((cob_id & 0xA0000000U) == 0) next[n++] = io::CanFilter{cob_id & 0x7FF, io::kCanStandardIdMax, false};
+  }
+  if (n == filter_count_ && std::equal(next.begin(), next.begin() + static_cast<std::ptrdiff_t>(n), filters_.begin(),
+                                       [](const io::CanFilter& a, const io::CanFilter& b) {
+                                         return a.id == b.id && a.mask == b.mask && a.extended == b.extended;
+                                       }))
+    return;
+  filters_ = next;
+  filter_count_ = n;
+  ++filters_generation_;
 }
 
 std::int64_t CanopenProfile::profile_now_ns() const {
@@ -133,6 +158,7 @@ void CanopenProfile::boot(co::NmtCommand reset, std::int64_t now_ns, CanSender& 
   sdo_.reset();
   pdos_.reset(profile_now_ns());
   sync_id_ = od_.u32(slots_.sync_cob_id) & 0x7FF;
+  if (booted_) rebuild_filters();  // a reset by NMT (receive thread); power-up keeps the defaults
   heartbeat_.configure(static_cast<std::uint16_t>(od_.u32(slots_.heartbeat_time)));
   std::array<std::uint32_t, 4> entries{};
   for (std::size_t i = 0; i < entries.size(); ++i) entries[i] = od_.u32(slots_.consumer[i]);
@@ -204,8 +230,8 @@ CanRxResult CanopenProfile::receive(const io::CanFrame& frame, const CanRxTime& 
     on_sync(counter, process_ns, node);
     return {CanRxStatus::accepted, Reason::none};
   }
-  if (frame.id == 0x600U + config_.node) {  // SDO request
-    if (!co::sdo_allowed(nmt_)) return {};   // stopped: only NMT (CiA 301 Table 83)
+  if (frame.id == 0x600U + config_.node) {    // SDO request
+    if (!co::sdo_allowed(nmt_)) return {};    // stopped: only NMT (CiA 301 Table 83)
     write_actuals(shared_.telemetry.load());  // an SDO read sees the latest snapshot
     protocol::CanFrame response;
     const std::uint64_t aborts_before = sdo_.aborts_sent();
@@ -217,7 +243,7 @@ CanRxResult CanopenProfile::receive(const io::CanFrame& frame, const CanRxTime& 
     }
     return {CanRxStatus::accepted, Reason::none};
   }
-  if (frame.id >= 0x701 && frame.id <= 0x77F) {  // heartbeats of other nodes
+  if (frame.id >= 0x701 && frame.id <= 0x77F && frame.id != 0x700U + config_.node) {  // consumed heartbeats
     consumer_.on_frame(frame, now_ns);
     return {CanRxStatus::accepted, Reason::none};
   }
@@ -239,7 +265,9 @@ CanRxResult CanopenProfile::receive(const io::CanFrame& frame, const CanRxTime& 
 }
 
 void CanopenProfile::write_actuals(const Telemetry& t) {
-  auto put = [this](std::size_t slot, std::int64_t value) { od_.set(slot, raw_for(od_.description(slot).type, value)); };
+  auto put = [this](std::size_t slot, std::int64_t value) {
+    od_.set(slot, raw_for(od_.description(slot).type, value));
+  };
   const auto& s = slots_;
   put(s.statusword, t.cia402.statusword);
   put(s.mode_display, t.cia402.mode_display);
@@ -273,10 +301,8 @@ void CanopenProfile::send_telemetry(const Telemetry& t, const RejectSnapshot& /*
   // reset message when it clears. Sent in pre-operational and operational.
   if (t.cia402.error_code != last_error_code_) {
     if (co::emcy_allowed(nmt_)) {
-      if (t.cia402.error_code != 0)
-        emcy_.raise(t.cia402.error_code, now_ns, sink);
-      else
-        emcy_.clear(now_ns, sink);
+      if (t.cia402.error_code != 0) emcy_.raise(t.cia402.error_code, now_ns, sink);
+      else emcy_.clear(now_ns, sink);
     }
     last_error_code_ = t.cia402.error_code;
   }
@@ -350,6 +376,7 @@ void CanopenProfile::written(std::size_t slot) {
       consumer_.configure(entries);
     }
   }
+  rebuild_filters();
   publish_request();
 }
 

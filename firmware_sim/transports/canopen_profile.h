@@ -25,6 +25,9 @@
 #include <cstdint>
 #include <mutex>
 
+#include "core/amplifier.h"
+#include "core/drive_request.h"
+#include "core/shared_state.h"
 #include "emcy.h"
 #include "heartbeat.h"
 #include "nmt.h"
@@ -32,9 +35,6 @@
 #include "pdo.h"
 #include "sdo_server.h"
 #include "sync.h"
-#include "core/amplifier.h"
-#include "core/drive_request.h"
-#include "core/shared_state.h"
 #include "transports/can_profile.h"
 
 namespace swum::emu {
@@ -61,7 +61,10 @@ class CanopenProfile final : public CanProfile, private canopen::WriteObserver {
   // Throws std::invalid_argument for a node id out of range (load time).
   CanopenProfile(CanopenProfileConfig config, SharedState& shared);
 
-  [[nodiscard]] std::span<const io::CanFilter> filters() const override { return filters_; }
+  // NMT, SYNC, this node's SDO requests, the heartbeats of the consumed nodes and the valid
+  // RPDOs' identifiers: the frames the node acts on, and never its own (can_profile.h).
+  [[nodiscard]] std::span<const io::CanFilter> filters() const override { return {filters_.data(), filter_count_}; }
+  [[nodiscard]] std::uint64_t filters_generation() const override { return filters_generation_; }
   CanRxResult receive(const io::CanFrame& frame, const CanRxTime& time, CanNodePort& node) override;
   void send_telemetry(const Telemetry& t, const RejectSnapshot& rejects, CanSender& out) override;
   void send_periodic(std::int64_t now_ns, CanSender& out) override;
@@ -85,7 +88,10 @@ class CanopenProfile final : public CanProfile, private canopen::WriteObserver {
 
   CanopenProfileConfig config_;
   SharedState& shared_;
-  std::array<io::CanFilter, 1> filters_;
+  void rebuild_filters();  // receive thread (and the constructor) only
+  std::array<io::CanFilter, 3 + 4 + 4> filters_{};
+  std::size_t filter_count_ = 0;
+  std::uint64_t filters_generation_ = 0;
   std::mutex mutex_;
   canopen::ObjectDictionary od_;
   canopen::SdoServer sdo_;
@@ -111,6 +117,7 @@ class CanopenProfile final : public CanProfile, private canopen::WriteObserver {
     std::size_t sdo_aborts, pdo_length_errors, malformed;
     std::size_t sync_cob_id, heartbeat_time;
     std::array<std::size_t, 4> consumer;
+    std::array<std::size_t, 4> rpdo_cob_id;
   } slots_;
 };
 

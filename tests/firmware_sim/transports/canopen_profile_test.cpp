@@ -66,7 +66,8 @@ struct Rig {
 };
 
 std::uint32_t abort_code(const io::CanFrame& f) {
-  return f.data[0] != 0x80 ? 0U : f.data[4] | f.data[5] << 8 | f.data[6] << 16 | static_cast<std::uint32_t>(f.data[7]) << 24;
+  return f.data[0] != 0x80 ? 0U
+                           : f.data[4] | f.data[5] << 8 | f.data[6] << 16 | static_cast<std::uint32_t>(f.data[7]) << 24;
 }
 
 TEST(CanopenProfile, BootsIntoPreOperationalWithABootUpMessageAndAHeartbeat) {
@@ -277,6 +278,45 @@ TEST(CanopenProfile, ASegmentedUploadInLockstepTimesOutOnTheWallClockOnly) {
   const auto aborts = rig.port.with_id(0x580 + kNode);
   ASSERT_EQ(aborts.size(), 1U);
   EXPECT_EQ(abort_code(aborts[0]), 0x05040000U);
+}
+
+}  // namespace
+}  // namespace swum::emu
+
+namespace swum::emu {
+namespace {
+
+bool lets_in(const CanopenProfile& profile, std::uint32_t id) {
+  io::CanFrame f;
+  f.id = id;
+  return io::matches_any(profile.filters(), f);
+}
+
+// The kernel filters follow the dictionary: what the node acts on gets in, its own frames (the
+// transport's receive socket gets them by loopback) never do.
+TEST(CanopenProfile, ReceiveFiltersFollowTheRpdoIdentifiersAndConsumedHeartbeats) {
+  Rig rig;
+  rig.periodic();
+  for (const std::uint32_t id :
+       {0x000U, 0x080U, 0x600U + kNode, 0x200U + kNode, 0x300U + kNode, 0x400U + kNode, 0x500U + kNode})
+    EXPECT_TRUE(lets_in(rig.profile, id)) << std::hex << id;
+  for (const std::uint32_t id : {0x180U + kNode, 0x580U + kNode, 0x700U + kNode, 0x080U + kNode, 0x601U + kNode})
+    EXPECT_FALSE(lets_in(rig.profile, id)) << std::hex << id;
+  const std::uint64_t before = rig.profile.filters_generation();
+  // RPDO1 moved to 0x2A0 by CiA 301's procedure: invalid, new identifier, valid.
+  EXPECT_EQ(abort_code(rig.download(0x1400, 1, 0x80000200U + kNode, 4)), 0U);
+  EXPECT_FALSE(lets_in(rig.profile, 0x200 + kNode));
+  EXPECT_EQ(abort_code(rig.download(0x1400, 1, 0x800002A0U, 4)), 0U);
+  EXPECT_EQ(abort_code(rig.download(0x1400, 1, 0x000002A0U, 4)), 0U);
+  EXPECT_TRUE(lets_in(rig.profile, 0x2A0));
+  EXPECT_EQ(abort_code(rig.download(0x1016, 2, (9U << 16) | 500, 4)), 0U);
+  EXPECT_TRUE(lets_in(rig.profile, 0x709));
+  EXPECT_GT(rig.profile.filters_generation(), before);
+  // Reset communication: the defaults again.
+  rig.rx(frame(0x000, {0x82, kNode}));
+  EXPECT_TRUE(lets_in(rig.profile, 0x200 + kNode));
+  EXPECT_FALSE(lets_in(rig.profile, 0x2A0));
+  EXPECT_FALSE(lets_in(rig.profile, 0x709));
 }
 
 }  // namespace
