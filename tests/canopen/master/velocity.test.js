@@ -25,6 +25,10 @@ const LOAD_AT_S = 0.3;
 const LOAD_N = 1.5;
 const DIP_UM_S = 1000;          // the load must cost at least 1 mm/s before the drive compensates
 const RECOVERY_SYNCS = 250;     // 0.5 s emulated
+const HOLD_SYNCS = 150;         // 0.3 s emulated under the load after the recovery
+const HOLD_CHECK_MS = 150;      // the last of them all in the window with target reached
+const LOAD_DIP_UM_S = 10000;    // the load must show: at least 10 mm/s lost at its lowest (26 seen)
+const EXTRA_AMPLITUDE_MV = 10000;  // and carried by at least 10 V more amplitude (22.7 V seen)
 
 function scenarioFile() {
   const dir = fs.mkdtempSync(path.join(os.tmpdir(), 'swum-canopen-'));
@@ -91,11 +95,19 @@ run('canopen.vcan.velocity', async () => {
     }
     return dip !== null && reached(v);
   }, RECOVERY_SYNCS, `the speed dipping by ${DIP_UM_S} µm/s after the ${LOAD_N} N load and target reached again`, record);
+  // Held: the drive carries the load for HOLD_SYNCS more cycles, the last HOLD_CHECK_MS of
+  // them all inside the window with target reached, on a higher amplitude than before the load.
+  for (let k = 0; k < HOLD_SYNCS; ++k) record(await drive.step());
   const after = trace.slice(-1)[0];
   const lowest = trace.filter((s) => s.ms >= loadMs).reduce((low, s) => (s.velocity < low.velocity ? s : low));
   const drivenBefore = before[before.length - 1];
-  check(after.amplitude !== drivenBefore.amplitude || after.frequency !== drivenBefore.frequency,
-    `the speed recovered under ${LOAD_N} N with the drive unchanged (${drivenBefore.amplitude} mV, ${drivenBefore.frequency} mHz)`);
+  check(lowest.velocity < beforeVelocity - LOAD_DIP_UM_S,
+    `the ${LOAD_N} N load cost only ${((beforeVelocity - lowest.velocity) / 1000).toFixed(1)} mm/s: did it act?`);
+  const held = trace.filter((s) => s.ms > after.ms - HOLD_CHECK_MS);
+  const off = held.find((s) => Math.abs(s.velocity - TARGET_UM_S) > window || !(s.statusword & STATUS.TARGET_REACHED));
+  check(!off, `not held under ${LOAD_N} N: at ${off && off.ms} ms ${off && off.velocity} µm/s, ${off && describe(off.statusword)}`);
+  check(after.amplitude > drivenBefore.amplitude + EXTRA_AMPLITUDE_MV,
+    `the speed held under ${LOAD_N} N without more amplitude (${drivenBefore.amplitude} -> ${after.amplitude} mV)`);
   await stopNode(emu);
-  return `target reached at ${firstReachedMs} ms, ${(beforeVelocity / 1000).toFixed(1)} mm/s before the load, lowest ${(lowest.velocity / 1000).toFixed(1)} mm/s at ${lowest.ms} ms, target reached again at ${after.ms} ms (amplitude ${drivenBefore.amplitude} -> ${after.amplitude} mV)`;
+  return `target reached at ${firstReachedMs} ms, ${(beforeVelocity / 1000).toFixed(1)} mm/s before the load, lowest ${(lowest.velocity / 1000).toFixed(1)} mm/s at ${lowest.ms} ms, target reached again at ${dip === null ? '-' : trace.find((s) => s.ms > lowest.ms && (s.statusword & STATUS.TARGET_REACHED)).ms} ms, held to ${after.ms} ms (amplitude ${drivenBefore.amplitude} -> ${after.amplitude} mV)`;
 });
