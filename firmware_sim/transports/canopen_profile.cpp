@@ -145,6 +145,7 @@ std::int64_t CanopenProfile::profile_now_ns() const {
 void CanopenProfile::set_nmt(co::NmtState state) {
   nmt_ = state;
   nmt_published_.store(state, std::memory_order_relaxed);
+  shared_.canopen_nmt_state.store(static_cast<std::uint8_t>(state), std::memory_order_relaxed);
 }
 
 // CiA 301 7.3.2.2: a reset returns the objects of its area to their defaults, the node then
