@@ -1,6 +1,6 @@
-// The emergency producer (CiA 301 §7.2.7): the EMCY frame (error code, error register, five
-// manufacturer bytes), the error register 0x1001 (§7.5.2.2) and the pre-defined error field 0x1003
-// (§7.5.2.4) it keeps in the dictionary, the COB-ID 0x1014 and the inhibit time 0x1015 it honours.
+// The emergency producer (CiA 301 7.2.7): the EMCY frame (error code, error register, five
+// manufacturer bytes), the error register 0x1001 (7.5.2.2) and the pre-defined error field 0x1003
+// (7.5.2.4) it keeps in the dictionary, the COB-ID 0x1014 and the inhibit time 0x1015 it honours.
 // Pure: times are passed in; no allocation, no exception after construction.
 #pragma once
 
@@ -19,11 +19,11 @@ inline constexpr std::uint16_t kEmcyErrorReset = 0x0000;   // "error reset or no
 inline constexpr std::uint32_t kCobIdNotValid = 1U << 31;  // bit 31 of a COB-ID: the object does not exist
 
 // Bytes 0-1 the code (little-endian), byte 2 the error register, bytes 3-7 the manufacturer's
-// field (§7.2.7); identifier bits 0-10 of cob_id.
+// field (7.2.7); identifier bits 0-10 of cob_id.
 protocol::CanFrame emcy_frame(std::uint32_t cob_id, std::uint16_t error_code, std::uint8_t error_register,
                               std::span<const std::uint8_t, 5> manufacturer);
 
-// The error register bits (0x1001, §7.5.2.2).
+// The error register bits (0x1001, 7.5.2.2).
 namespace error_register {
 inline constexpr std::uint8_t kGeneric = 1U << 0;
 inline constexpr std::uint8_t kCurrent = 1U << 1;
@@ -34,7 +34,7 @@ inline constexpr std::uint8_t kDeviceProfile = 1U << 5;
 inline constexpr std::uint8_t kManufacturer = 1U << 7;
 }  // namespace error_register
 
-// The bits an error code sets: the generic bit always (it is set at any error, §7.5.2.2), and the
+// The bits an error code sets: the generic bit always (it is set at any error, 7.5.2.2), and the
 // bit of the code's class (Table 50): 2xxx current, 3xxx voltage, 4xxx temperature, 8xxx
 // monitoring (communication, protocol: the communication bit), FFxx device specific (the
 // manufacturer bit). 1xxx generic, 5xxx hardware, 6xxx software, 7xxx modules, 9xxx external and

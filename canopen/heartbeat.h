@@ -1,4 +1,4 @@
-// The heartbeat of CiA 301's error control (§7.2.8): this node's producer (0x1017, every
+// The heartbeat of CiA 301's error control (7.2.8): this node's producer (0x1017, every
 // period a frame 0x700 + node with its NMT state) and its consumer (0x1016, up to four other nodes
 // watched, each with a time after which its heartbeat counts as lost). Pure: times are passed in.
 #pragma once
@@ -31,14 +31,14 @@ class HeartbeatProducer {
   std::int64_t next_due_ns_ = 0;
 };
 
-// One sub-index 1-4 of 0x1016: bits 16-23 the node, bits 0-15 the time in ms (§7.5.2.19).
+// One sub-index 1-4 of 0x1016: bits 16-23 the node, bits 0-15 the time in ms (7.5.2.19).
 inline constexpr std::uint8_t consumer_node(std::uint32_t entry) { return static_cast<std::uint8_t>(entry >> 16); }
 inline constexpr std::uint16_t consumer_time_ms(std::uint32_t entry) { return static_cast<std::uint16_t>(entry); }
 
 // The write check a WriteObserver of 0x1016 sub 1-4 makes (the profile installs it): `value` for
 // entries[changed] (0-based: sub-index changed + 1). Refused: reserved bits 24-31 set, or a node
 // id above 127 while the time is not 0 (value_range); the same node already watched by another
-// entry with a time not 0 (general_incompatibility, §7.5.2.19: "0604 0043h"). Otherwise an entry
+// entry with a time not 0 (general_incompatibility, 7.5.2.19: "0604 0043h"). Otherwise an entry
 // with node 0 or time 0 is unused and accepted. (ObjectDictionary::write makes the same check.)
 SdoAbort check_consumer_entry(std::span<const std::uint32_t, 4> entries, std::size_t changed, std::uint32_t value);
 
@@ -50,7 +50,7 @@ class HeartbeatConsumer {
   // until its node's next heartbeat); an unchanged one keeps its state.
   void configure(std::span<const std::uint32_t, kEntries> entries);
   // A heartbeat (or boot-up) frame of a watched node: 0x700 + node, one byte. The first one
-  // starts the monitoring of that node (§7.2.8); frames of other lengths are ignored.
+  // starts the monitoring of that node (7.2.8); frames of other lengths are ignored.
   void on_frame(const protocol::CanFrame& frame, std::int64_t now_ns);
   // The node whose heartbeat has been missing longer than its time, 0 if none: each loss is
   // reported once (one node per call), and that node is not watched again until its next heartbeat.

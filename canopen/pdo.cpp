@@ -45,7 +45,7 @@ Pdos::MappingSlots Pdos::bind_mapping(std::uint16_t index) const {
   return m;
 }
 
-// A mapping entry is index << 16 | sub << 8 | length in bits (CiA 301 §7.5.2.36).
+// A mapping entry is index << 16 | sub << 8 | length in bits (CiA 301 7.5.2.36).
 bool Pdos::resolve(const MappingSlots& mapping, Layout& layout) const {
   layout.count = od_.u32(mapping.count);
   layout.total_bytes = 0;

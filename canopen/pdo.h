@@ -1,6 +1,6 @@
-// The process data objects (CiA 301 §7.2.2): four RPDOs and four TPDOs whose communication
+// The process data objects (CiA 301 7.2.2): four RPDOs and four TPDOs whose communication
 // (0x1400-0x1403, 0x1800-0x1803) and mapping (0x1600-0x1603, 0x1A00-0x1A03) parameters live in the
-// dictionary (§7.5.2.35-38) and are read again at every use, so a remapping by SDO acts on the
+// dictionary (7.5.2.35-38) and are read again at every use, so a remapping by SDO acts on the
 // next frame. Mapped values are packed little-endian by their length (8, 16 or 32 bits), in
 // mapping order. Pure: times are passed in; no allocation, no exception after construction.
 // The caller decides the NMT state: it calls these only in operational (Table 83).
@@ -32,9 +32,9 @@ class Pdos {
   // applied: an event-driven RPDO (type 254/255), written now into the dictionary in mapping
   // order through od.write(), so the application's observer sees it. latched: a synchronous one
   // (type 0-240), written at the next on_sync(). length_error: fewer bytes than the mapping
-  // (nothing written; counted). CiA 301 §7.2.2 and Table 50: "PDO not processed due to length
+  // (nothing written; counted). CiA 301 7.2.2 and Table 50: "PDO not processed due to length
   // error", EMCY 0x8210, which the caller sends. More bytes than the mapping are allowed: the
-  // first bytes are used (CiA 301 §7.2.2 lets the consumer use the mapped part; CANopenNode's
+  // first bytes are used (CiA 301 7.2.2 lets the consumer use the mapped part; CANopenNode's
   // CO_PDO.c does the same and only flags EMCY 0x8220 "PDO length exceeded", which this slave
   // does not send). refused: a mapped object's write() aborted (a read-only or out-of-range
   // value: the other objects are still written; counted in refused_writes()), or the mapping no

@@ -1,4 +1,4 @@
-// The SYNC consumer's decoder (CiA 301 §7.2.5): a frame on the identifier of 0x1005 (bits 0-10;
+// The SYNC consumer's decoder (CiA 301 7.2.5): a frame on the identifier of 0x1005 (bits 0-10;
 // bit 29 set: a 29-bit identifier in bits 0-28), with no data or with one byte, the SYNC counter
 // (1..240 when the producer counts, 0x1019).
 #pragma once

@@ -1,5 +1,5 @@
 // canopen/emcy.h: the EMCY frame byte for byte, the error register bit of each class of code
-// (CiA 301 §7.5.2.2, Table 50), the pre-defined error field 0x1003 shifting (newest in sub 1, at
+// (CiA 301 7.5.2.2, Table 50), the pre-defined error field 0x1003 shifting (newest in sub 1, at
 // most 8), the error reset, the inhibit time 0x1015 (one EMCY waits, a newer replaces it) and the
 // COB-ID 0x1014 (bit 31: no EMCY) on the dictionary generated from config/swum.eds.
 #include "emcy.h"

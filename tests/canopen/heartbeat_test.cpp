@@ -1,7 +1,7 @@
 // canopen/heartbeat.h: the producer's timing (first heartbeat one period after the boot-up, a
 // period change, a stall gives one late frame and no burst, 0 disables) and the consumer's
 // (monitoring from the first heartbeat, each loss reported once, recovery, reconfiguration), and
-// the duplicate check of 0x1016 (CiA 301 §7.5.2.19).
+// the duplicate check of 0x1016 (CiA 301 7.5.2.19).
 #include "heartbeat.h"
 
 #include <gtest/gtest.h>

@@ -1,5 +1,5 @@
 // canopen/nmt.h: the NMT command frame decoded for this node, for all nodes and for others; every
-// state × command transition of CiA 301's NMT state diagram (§7.3.2); the boot-up and heartbeat
+// state × command transition of CiA 301's NMT state diagram (7.3.2); the boot-up and heartbeat
 // frames byte for byte; what each state allows (Table 83).
 #include "nmt.h"
 

@@ -44,7 +44,7 @@ class PdoTest : public ::testing::Test {
     }
     return payloads;
   }
-  // CiA 301 §7.5.2.36/38's procedure, each step an SDO download a master would send: the PDO
+  // CiA 301 7.5.2.36/38's procedure, each step an SDO download a master would send: the PDO
   // made not valid, the mapping emptied, the entries written, their count, the PDO valid again.
   void remap(std::uint16_t communication, std::uint16_t mapping, std::uint32_t cob_id,
              std::initializer_list<std::uint32_t> entries) {

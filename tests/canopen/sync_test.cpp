@@ -1,5 +1,5 @@
 // canopen/sync.h: SYNC frames with and without the counter on 0x1005's identifier, others ignored,
-// longer ones malformed (CiA 301 §7.2.5).
+// longer ones malformed (CiA 301 7.2.5).
 #include "sync.h"
 
 #include <gtest/gtest.h>
