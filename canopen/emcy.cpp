@@ -54,8 +54,8 @@ void EmcyProducer::raise(std::uint16_t error_code, std::int64_t now_ns, FrameSin
   emit(error_code, now_ns, out);
 }
 
-void EmcyProducer::clear(std::int64_t now_ns, FrameSink& out) {
-  od_.set(error_register_slot_, 0);
+void EmcyProducer::clear(std::int64_t now_ns, FrameSink& out, std::uint8_t remaining_register) {
+  od_.set(error_register_slot_, remaining_register);
   emit(kEmcyErrorReset, now_ns, out);
 }
 
@@ -93,7 +93,9 @@ void EmcyProducer::send(std::uint16_t error_code, std::int64_t now_ns, FrameSink
 
 bool EmcyProducer::inhibited(std::int64_t now_ns) const {
   const std::int64_t inhibit_ns = static_cast<std::int64_t>(od_.u32(inhibit_slot_)) * kNsPer100Us;
-  return has_sent_ && now_ns - last_sent_ns_ < inhibit_ns;
+  // No inhibit time: never held (a caller's clock that reads a little earlier than the last send,
+  // e.g. a frame's receive stamp, must not hold an EMCY back either).
+  return inhibit_ns > 0 && has_sent_ && now_ns - last_sent_ns_ < inhibit_ns;
 }
 
 }  // namespace swum::canopen

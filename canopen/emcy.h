@@ -52,9 +52,10 @@ class EmcyProducer {
   // waits (poll sends it); at most one waits: a newer one replaces it (counted in replaced()), so
   // the master sees the latest state, while 0x1003 keeps every code.
   void raise(std::uint16_t error_code, std::int64_t now_ns, FrameSink& out);
-  // Every error is gone: 0x1001 to 0 and the error reset EMCY (code 0x0000 with the register);
-  // 0x1003 keeps its history (a master clears it by writing 0 to sub 0).
-  void clear(std::int64_t now_ns, FrameSink& out);
+  // An error is gone: 0x1001 to the bits of the errors that remain (0: none) and the error
+  // reset EMCY (code 0x0000 with that register, CiA 301 7.2.7); 0x1003 keeps its history (a
+  // master clears it by writing 0 to sub 0).
+  void clear(std::int64_t now_ns, FrameSink& out, std::uint8_t remaining_register = 0);
   // Sends the waiting EMCY once the inhibit time has passed.
   void poll(std::int64_t now_ns, FrameSink& out);
   // NMT reset communication: nothing waits, the inhibit time starts over.

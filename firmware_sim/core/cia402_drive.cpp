@@ -104,7 +104,9 @@ void Cia402Drive::tick(const DriveRequest& r, Amplifier& amplifier, const Teleme
   // Heartbeat loss: CiA 402-2 0x6007 (abort connection option code).
   bool heartbeat_fault = false;
   bool heartbeat_quick_stop = false;
-  if (comm_loss) {
+  // The reaction acts on a running drive only (as drives do, e.g. a master's NMT reset
+  // communication at its own start must not fault a drive at rest): operation enabled.
+  if (comm_loss && state_ == Cia402State::operation_enabled) {
     switch (r.abort_connection_option) {
       case 1: heartbeat_fault = true; break;
       case 2: command = Cia402Command::disable_voltage; break;

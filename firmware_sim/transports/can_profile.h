@@ -8,8 +8,10 @@
 // Today's profile is the swum frame set (swum_can_profile.h, docs/protocols.md); a CANopen
 // CiA 301/402 profile (SDO replies, NMT, heartbeat, PDOs) goes behind the same interface.
 //
-// Every call is on a real-time path: a profile allocates nothing, throws nothing and takes no
-// lock of its own; a frame's fate is a status (CanRxResult), never an exception. What a frame it
+// Every call is on a real-time path: a profile allocates nothing and throws nothing; a frame's
+// fate is a status (CanRxResult), never an exception. A profile whose state both threads change
+// (the CANopen node: its dictionary, NMT state) may hold one lock of its own around a call,
+// bounded (one frame or one snapshot) and never while waiting on the loop. What a frame it
 // hands the transport costs is the transport's (CanSender::send): without --record-can, a
 // non-blocking bus send and no lock; with --record-can, also a mutex shared by the receive and
 // transmit threads and a buffered fprintf of one line per frame (so one thread may wait for the
@@ -93,6 +95,9 @@ class CanProfile {
   // with the monotonic time, except during a scenario's bus-off. Not recorded in lockstep, where
   // the recording is on emulated time.
   virtual void send_periodic(std::int64_t now_ns, CanSender& out) = 0;
+  // How often send_periodic() runs: 0 = every telemetry period (--telemetry-hz); else this
+  // interval, while send_telemetry() keeps the telemetry period.
+  [[nodiscard]] virtual std::int64_t periodic_interval_ns() const { return 0; }
 };
 
 }  // namespace swum::emu

@@ -41,6 +41,13 @@ std::uint32_t raw_for(co::DataType type, std::int64_t value) {
 
 }  // namespace
 
+// Where an EMCY goes in a state that may not send one (stopped): nowhere, while the dictionary
+// still records it (CiA 301: 0x1001 and 0x1003 in every state).
+class DiscardSink final : public co::FrameSink {
+ public:
+  void send(const protocol::CanFrame& /*frame*/) override {}
+};
+
 // A CanSender as the frame sink canopen/'s parts send through.
 class CanopenProfile::Sink final : public co::FrameSink {
  public:
@@ -166,8 +173,24 @@ void CanopenProfile::boot(co::NmtCommand reset, std::int64_t now_ns, CanSender& 
   consumer_.configure(entries);
   emcy_.reset();
   last_error_code_ = 0;
+  pdo_error_active_ = false;
+  // The request's event counters run on across resets: the drive reacts to their changes, so a
+  // counter set back to 0 would read as one more fault reset or heartbeat loss.
+  const std::uint32_t reset_edges = request_.fault_reset_edges;
+  const std::uint32_t comm_losses = request_.comm_loss_events;
   request_ = DriveRequest{};
   request_.active = true;
+  request_.fault_reset_edges = reset_edges;
+  request_.comm_loss_events = comm_losses;
+  // CiA 402 0x6007: reset application and reset communication abort the master's connection (the
+  // drive reacts only while operation is enabled). Not the power-up boot.
+  if (booted_) ++request_.comm_loss_events;
+  last_controlword_ = 0;
+  // 0x2050-0x2052 count since the start, not since the last reset.
+  od_.set(slots_.sdo_aborts, static_cast<std::uint32_t>(counters_.sdo_aborts.load(std::memory_order_relaxed)));
+  od_.set(slots_.pdo_length_errors,
+          static_cast<std::uint32_t>(counters_.pdo_length_errors.load(std::memory_order_relaxed)));
+  od_.set(slots_.malformed, static_cast<std::uint32_t>(counters_.malformed.load(std::memory_order_relaxed)));
   // The drive objects' defaults (the dictionary is the source; DriveRequest's initial values
   // only mirror them), then the request the drive sees.
   publish_request();
@@ -184,6 +207,10 @@ void CanopenProfile::on_nmt(co::NmtCommand command, std::int64_t now_ns, CanSend
   }
   const co::NmtState next = co::next_state(nmt_, command);
   if (next == co::NmtState::operational && nmt_ != co::NmtState::operational) pdos_.reset(profile_now_ns());
+  if (next == co::NmtState::stopped && nmt_ != co::NmtState::stopped) {
+    ++request_.comm_loss_events;  // CiA 402 0x6007: NMT stopped entered
+    request_dirty_ = true;
+  }
   set_nmt(next);
 }
 
@@ -197,6 +224,12 @@ void CanopenProfile::on_sync(std::uint8_t counter, std::int64_t now_ns, CanSende
 CanRxResult CanopenProfile::receive(const io::CanFrame& frame, const CanRxTime& time, CanNodePort& node) {
   if (frame.extended) return {};  // CANopen (CiA 301) uses 11-bit identifiers only
   const std::lock_guard lock(mutex_);
+  const CanRxResult result = handle(frame, time, node);
+  finish(node);
+  return result;
+}
+
+CanRxResult CanopenProfile::handle(const io::CanFrame& frame, const CanRxTime& time, CanNodePort& node) {
   // Two clocks: the protocol timeouts a master's own clock measures (SDO, heartbeat) run on the
   // wall clock; what the process data does (PDO timers, EMCY inhibit) on the node's clock,
   // emulated time in lockstep, so that a lockstep recording never depends on wall time.
@@ -252,12 +285,20 @@ CanRxResult CanopenProfile::receive(const io::CanFrame& frame, const CanRxTime& 
   switch (pdos_.receive(frame)) {
     case co::Pdos::RpdoStatus::not_rpdo: return {};
     case co::Pdos::RpdoStatus::applied:
-    case co::Pdos::RpdoStatus::latched: return {CanRxStatus::accepted, Reason::none};
+    case co::Pdos::RpdoStatus::latched:
+      if (pdo_error_active_) {  // a PDO of the right length again: the length error is gone
+        pdo_error_active_ = false;
+        clear_emcy(co::error_register_bits(last_error_code_), process_ns, node);
+      }
+      return {CanRxStatus::accepted, Reason::none};
     case co::Pdos::RpdoStatus::length_error: {
       counters_.pdo_length_errors.fetch_add(1, std::memory_order_relaxed);
-      od_.set(slots_.pdo_length_errors, static_cast<std::uint32_t>(pdos_.length_errors()));
-      Sink sink(node);
-      emcy_.raise(0x8210, process_ns, sink);  // CiA 301: PDO not processed due to length error
+      od_.set(slots_.pdo_length_errors,
+              static_cast<std::uint32_t>(counters_.pdo_length_errors.load(std::memory_order_relaxed)));
+      if (!pdo_error_active_) {  // CiA 301: PDO not processed due to length error, until one fits
+        pdo_error_active_ = true;
+        raise_emcy(kPdoLengthError, process_ns, node);
+      }
       return {CanRxStatus::refused, Reason::wrong_length};
     }
     case co::Pdos::RpdoStatus::refused: return {CanRxStatus::refused, Reason::illegal_address};
@@ -292,27 +333,56 @@ void CanopenProfile::write_actuals(const Telemetry& t) {
   put(s.compute_p99, static_cast<std::int64_t>(std::min<std::uint64_t>(t.stats.compute_p99_ns, 0xFFFFFFFF)));
 }
 
+// EMCY (CiA 301 7.2.7, CiA 402 0x603F): one message for each new error code of the drive, the
+// error reset message when it clears; 0x1001 holds the bits of the errors in force (the drive's
+// and an RPDO length error). In stopped no EMCY is sent; the dictionary records it all the same.
+void CanopenProfile::update_emcy(std::uint16_t drive_code, std::int64_t now_ns, CanSender& out) {
+  if (drive_code != last_error_code_) {
+    last_error_code_ = drive_code;
+    if (drive_code != 0) {
+      raise_emcy(drive_code, now_ns, out);
+    } else {
+      clear_emcy(pdo_error_active_ ? co::error_register_bits(kPdoLengthError) : 0, now_ns, out);
+    }
+  }
+  Sink sink(out);
+  DiscardSink discard;
+  emcy_.poll(now_ns, co::emcy_allowed(nmt_) ? static_cast<co::FrameSink&>(sink) : discard);
+}
+
+void CanopenProfile::raise_emcy(std::uint16_t code, std::int64_t now_ns, CanSender& out) {
+  Sink sink(out);
+  DiscardSink discard;
+  emcy_.raise(code, now_ns, co::emcy_allowed(nmt_) ? static_cast<co::FrameSink&>(sink) : discard);
+  // The register of what is in force now (raise() adds the new code's bits to the old ones).
+  std::uint8_t bits = co::error_register_bits(last_error_code_);
+  if (pdo_error_active_) bits |= co::error_register_bits(kPdoLengthError);
+  od_.set(slots_.error_register, bits);
+}
+
+void CanopenProfile::clear_emcy(std::uint8_t remaining_register, std::int64_t now_ns, CanSender& out) {
+  Sink sink(out);
+  DiscardSink discard;
+  emcy_.clear(now_ns, co::emcy_allowed(nmt_) ? static_cast<co::FrameSink&>(sink) : discard, remaining_register);
+}
+
+// After a frame or a snapshot: the drive sees the request once, whole (an RPDO's objects
+// together, never half of them).
+void CanopenProfile::finish(CanSender& /*out*/) {
+  if (request_dirty_) publish_request();
+}
+
 void CanopenProfile::send_telemetry(const Telemetry& t, const RejectSnapshot& /*rejects*/, CanSender& out) {
+  // On the wall clock the node's services run in send_periodic() at their own rate; in lockstep
+  // this call is the SYNC (CanTransport::on_sync): everything of the cycle happens at it.
+  if (shared_.lockstep == nullptr) return;
   const std::lock_guard lock(mutex_);
   if (!booted_) return;
   const std::int64_t now_ns = profile_now_ns();
   write_actuals(t);
-  Sink sink(out);
-  // EMCY (CiA 301 7.2.7, CiA 402 0x603F): one message for each new error code, the error
-  // reset message when it clears. Sent in pre-operational and operational.
-  if (t.cia402.error_code != last_error_code_) {
-    if (co::emcy_allowed(nmt_)) {
-      if (t.cia402.error_code != 0) emcy_.raise(t.cia402.error_code, now_ns, sink);
-      else emcy_.clear(now_ns, sink);
-    }
-    last_error_code_ = t.cia402.error_code;
-  }
-  emcy_.poll(now_ns, sink);
-  if (shared_.lockstep != nullptr) {
-    on_sync(0, now_ns, out);  // this call is the SYNC (CanTransport::on_sync)
-  } else if (co::pdo_allowed(nmt_)) {
-    pdos_.poll(now_ns, sink);  // event-driven TPDOs on the wall clock
-  }
+  update_emcy(t.cia402.error_code, now_ns, out);
+  on_sync(0, now_ns, out);
+  finish(out);
 }
 
 void CanopenProfile::send_periodic(std::int64_t now_ns, CanSender& out) {
@@ -331,8 +401,14 @@ void CanopenProfile::send_periodic(std::int64_t now_ns, CanSender& out) {
   }
   if (consumer_.poll(now_ns) != 0) {  // a consumed node's heartbeat is lost: the drive reacts (0x6007)
     ++request_.comm_loss_events;
-    publish_request();
+    request_dirty_ = true;
   }
+  if (shared_.lockstep == nullptr) {  // the wall clock: EMCY and the event-driven TPDOs, every period
+    write_actuals(shared_.telemetry.load());
+    update_emcy(shared_.telemetry.load().cia402.error_code, now_ns, out);
+    if (co::pdo_allowed(nmt_)) pdos_.poll(now_ns, sink);
+  }
+  finish(out);
 }
 
 co::SdoAbort CanopenProfile::check(std::size_t slot, std::uint32_t raw) {
@@ -367,7 +443,8 @@ void CanopenProfile::written(std::size_t slot) {
   const auto& s = slots_;
   if (slot == s.controlword) {
     const std::uint16_t word = static_cast<std::uint16_t>(od_.u32(slot));
-    if ((word & 0x80U) != 0 && (request_.controlword & 0x80U) == 0) ++request_.fault_reset_edges;  // CiA 402: edge
+    if ((word & 0x80U) != 0 && (last_controlword_ & 0x80U) == 0) ++request_.fault_reset_edges;  // CiA 402: edge
+    last_controlword_ = word;
   }
   if (slot == s.heartbeat_time) heartbeat_.configure(static_cast<std::uint16_t>(od_.u32(slot)));
   for (std::size_t i = 0; i < s.consumer.size(); ++i) {
@@ -378,10 +455,12 @@ void CanopenProfile::written(std::size_t slot) {
     }
   }
   rebuild_filters();
-  publish_request();
+  request_dirty_ = true;  // published once the frame is done (finish())
 }
 
 void CanopenProfile::publish_request() {
+  request_dirty_ = false;
+  publications_.fetch_add(1, std::memory_order_relaxed);
   const auto& s = slots_;
   DriveRequest& r = request_;
   r.active = true;

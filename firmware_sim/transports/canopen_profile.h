@@ -68,9 +68,14 @@ class CanopenProfile final : public CanProfile, private canopen::WriteObserver {
   CanRxResult receive(const io::CanFrame& frame, const CanRxTime& time, CanNodePort& node) override;
   void send_telemetry(const Telemetry& t, const RejectSnapshot& rejects, CanSender& out) override;
   void send_periodic(std::int64_t now_ns, CanSender& out) override;
+  // The node's services (heartbeat, SDO timeout, EMCY, event-driven TPDOs) every millisecond,
+  // whatever --telemetry-hz says.
+  [[nodiscard]] std::int64_t periodic_interval_ns() const override { return 1'000'000; }
 
   [[nodiscard]] canopen::NmtState nmt_state() const { return nmt_published_.load(std::memory_order_relaxed); }
   [[nodiscard]] const CanopenCounters& counters() const { return counters_; }
+  // How often the drive request was published (once per frame or snapshot that changed it).
+  [[nodiscard]] std::uint64_t request_publications() const { return publications_.load(std::memory_order_relaxed); }
 
  private:
   class Sink;  // CanSender as canopen::FrameSink
@@ -78,7 +83,12 @@ class CanopenProfile final : public CanProfile, private canopen::WriteObserver {
   canopen::SdoAbort check(std::size_t slot, std::uint32_t raw) override;
   void written(std::size_t slot) override;
 
+  CanRxResult handle(const io::CanFrame& frame, const CanRxTime& time, CanNodePort& node);
   void boot(canopen::NmtCommand reset, std::int64_t now_ns, CanSender& out);  // reset + boot-up
+  void update_emcy(std::uint16_t drive_code, std::int64_t now_ns, CanSender& out);
+  void raise_emcy(std::uint16_t code, std::int64_t now_ns, CanSender& out);
+  void clear_emcy(std::uint8_t remaining_register, std::int64_t now_ns, CanSender& out);
+  void finish(CanSender& out);  // publishes the request when a frame or snapshot changed it
   void on_nmt(canopen::NmtCommand command, std::int64_t now_ns, CanSender& out);
   void on_sync(std::uint8_t counter, std::int64_t now_ns, CanSender& out);
   void write_actuals(const Telemetry& t);
@@ -104,6 +114,11 @@ class CanopenProfile final : public CanProfile, private canopen::WriteObserver {
   bool booted_ = false;
   DriveRequest request_;
   std::uint16_t last_error_code_ = 0;
+  static constexpr std::uint16_t kPdoLengthError = 0x8210;  // CiA 301: PDO not processed, length
+  bool pdo_error_active_ = false;                           // an RPDO was too short; cleared by the next one that fits
+  bool request_dirty_ = false;                              // the request changed since it was last published
+  std::atomic<std::uint64_t> publications_{0};
+  std::uint16_t last_controlword_ = 0;  // for the fault reset's rising edge
   std::uint32_t sync_id_ = 0x80;
   CanopenCounters counters_;
   // Bound slots of the objects the profile reads or writes (load time).

@@ -5,7 +5,7 @@ usage: can_bridge.py IFACE
 
 stdin:  one frame per line to send, in cansend's notation: "ID#HEX" with ID three hex digits
         (standard, 11 bits) or eight (extended, 29 bits) and HEX 0-8 bytes as pairs of hex digits,
-        or "ID#R" for a remote frame. End of input ends the bridge (status 0).
+        or "ID#R" / "ID#Rn" for a remote frame (n: its DLC, 0-8). End of input ends the bridge (status 0).
 stdout: every frame received on IFACE, one "ID#HEX" line each (upper case), flushed at once.
         The bridge's own frames are not echoed (SocketCAN's default: CAN_RAW_RECV_OWN_MSGS off).
 stderr: "can_bridge: listening on IFACE" once the socket is bound (frames sent to the bus from
@@ -27,7 +27,7 @@ CAN_FRAME = struct.Struct("=IB3x8s")
 CAN_EFF_FLAG = 0x80000000
 CAN_RTR_FLAG = 0x40000000
 CAN_ERR_FLAG = 0x20000000
-LINE = re.compile(r"([0-9A-Fa-f]{3}|[0-9A-Fa-f]{8})#(R|(?:[0-9A-Fa-f]{2}){0,8})")
+LINE = re.compile(r"([0-9A-Fa-f]{3}|[0-9A-Fa-f]{8})#(R[0-8]?|(?:[0-9A-Fa-f]{2}){0,8})")
 
 
 def fail(status, message):
@@ -41,7 +41,7 @@ def parse_line(text):
     """'ID#HEX' -> struct can_frame bytes; raises ValueError naming the problem."""
     m = LINE.fullmatch(text)
     if not m:
-        raise ValueError(f"bad frame line {text!r} (expected ID#HEX: 3 or 8 hex digits, '#', 0-8 hex byte pairs or R)")
+        raise ValueError(f"bad frame line {text!r} (expected ID#HEX: 3 or 8 hex digits, '#', 0-8 hex byte pairs, or R with an optional DLC 0-8)")
     can_id = int(m.group(1), 16)
     if len(m.group(1)) == 3:
         if can_id > 0x7FF:
@@ -50,8 +50,8 @@ def parse_line(text):
         if can_id > 0x1FFFFFFF:
             raise ValueError(f"bad frame line {text!r}: an extended identifier is at most 1FFFFFFF")
         can_id |= CAN_EFF_FLAG
-    if m.group(2) == "R":
-        return CAN_FRAME.pack(can_id | CAN_RTR_FLAG, 0, bytes(8))
+    if m.group(2).startswith("R"):
+        return CAN_FRAME.pack(can_id | CAN_RTR_FLAG, int(m.group(2)[1:] or "0"), bytes(8))
     data = bytes.fromhex(m.group(2))
     return CAN_FRAME.pack(can_id, len(data), data.ljust(8, b"\0"))
 

@@ -18,7 +18,7 @@ const SYNCS = 5;
 const codeText = (code) => (code === null ? 'no abort' : hex(code, 8));
 
 run('canopen.vcan.remap', async () => {
-  const { master, emu } = await bootLockstepNode(NODE);
+  const { bus, master, emu } = await bootLockstepNode(NODE);
   const abortsBefore = await master.read(NODE, 0x2050);
   let aborts = 0;
   const expectAbort = async (what, transfer, ...codes) => {
@@ -70,6 +70,25 @@ run('canopen.vcan.remap', async () => {
   await expectAbort('0x60FF = -2000000 (range -1000000..1000000)', master.write(NODE, 0x60FF, 0, -2000000), 0x06090032, 0x06090030);
   await expectAbort('0x6060 = 7 (modes 0, 3, -1)', master.write(NODE, 0x6060, 0, 7), 0x06090030, 0x06090031);
   await expectAbort('0x6083 = 0 (range 1..100000000)', master.write(NODE, 0x6083, 0, 0), 0x06090032, 0x06090030);
+
+  // Malformed frames on the bus itself: an NMT command of one byte (counted in 0x2052), an RPDO
+  // shorter than its mapping (EMCY 0x8210, counted in 0x2051), remote frames on RPDO1's identifier
+  // with a DLC that fits its mapping (not a PDO: the controlword stays). The node answers on.
+  await master.write(NODE, 0x6040, 0, 0x0006);
+  const malformedBefore = await master.read(NODE, 0x2052);
+  const lengthBefore = await master.read(NODE, 0x2051);
+  bus.send({ id: 0x000, data: Buffer.from([0x01]) });
+  const since = bus.now();
+  bus.send({ id: 0x200 + NODE, data: Buffer.from([0x0F]) });
+  await master.waitEmergency(NODE, 0x8210, 5000, since);
+  bus.send({ id: 0x200 + NODE, rtr: true, len: 2 });
+  bus.send({ id: 0x200 + NODE, rtr: true, len: 8 });
+  const malformedAfter = await master.read(NODE, 0x2052);
+  const lengthAfter = await master.read(NODE, 0x2051);
+  check(malformedAfter - malformedBefore === 1, `0x2052 went ${malformedBefore} -> ${malformedAfter} for one NMT frame of one byte`);
+  check(lengthAfter - lengthBefore === 1, `0x2051 went ${lengthBefore} -> ${lengthAfter} for one short RPDO`);
+  const controlword = await master.read(NODE, 0x6040);
+  check(controlword === 0x0006, `0x6040 = ${hex(controlword, 4)} after a short RPDO and two remote frames, expected 0x0006`);
 
   // Nothing refused was stored, and the PDO still has its layout.
   const target = await master.read(NODE, 0x60FF);

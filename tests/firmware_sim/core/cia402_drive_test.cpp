@@ -395,6 +395,20 @@ TEST(Cia402Drive, HeartbeatLossOption1FaultsWith0x8130) {
   EXPECT_LT(b.run_until(reached, 2.0), 0.5);
 }
 
+// 0x6007 reacts on a running drive only: a master's NMT reset communication at its own start
+// (the profile counts it as a connection abort) must not fault a drive at rest.
+TEST(Cia402Drive, AConnectionAbortAtRestChangesNothing) {
+  Bench b;
+  b.request.abort_connection_option = 1;
+  b.tick();
+  ASSERT_EQ(b.statusword(), kSwitchOnDisabled);
+  b.lose_heartbeat();
+  EXPECT_EQ(b.statusword(), kSwitchOnDisabled);
+  EXPECT_EQ(b.cia402().error_code, 0);
+  b.enable_operation(3);  // and the drive still runs
+  EXPECT_EQ(state_bits(b.statusword()), state_bits(kOperationEnabled));
+}
+
 TEST(Cia402Drive, HeartbeatLossOption2DisablesVoltage) {
   Bench b;
   b.request.abort_connection_option = 2;

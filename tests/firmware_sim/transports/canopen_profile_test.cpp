@@ -172,34 +172,120 @@ TEST(CanopenProfile, RpdoOneCarriesTheControlwordOnlyWhenOperational) {
   EXPECT_EQ(rig.profile.counters().pdo_length_errors.load(), 1U);
 }
 
+// On the wall clock the node's services run every transmit period (send_periodic) on the
+// loop's latest snapshot.
 TEST(CanopenProfile, TheDrivesErrorCodeRaisesAnEmcyAndItsClearingTheResetMessage) {
   Rig rig;
   rig.periodic();
   Telemetry t;
   t.cia402.error_code = 0x4310;
   t.cia402.statusword = 0x0218;
-  rig.shared.telemetry.store(t);  // what the loop published (an SDO read sees the latest snapshot)
+  rig.shared.telemetry.store(t);  // what the loop published
   rig.port.sent.clear();
-  rig.profile.send_telemetry(t, RejectSnapshot{}, rig.port);
+  rig.periodic();
   auto emcy = rig.port.with_id(0x80 + kNode);
   ASSERT_EQ(emcy.size(), 1U);
   EXPECT_EQ(emcy[0].dlc, 8);
   EXPECT_EQ(emcy[0].data[0], 0x10);
   EXPECT_EQ(emcy[0].data[1], 0x43);
   EXPECT_NE(emcy[0].data[2] & 0x08, 0) << "error register: temperature";
-  rig.profile.send_telemetry(t, RejectSnapshot{}, rig.port);  // the same code: no second EMCY
+  rig.periodic();  // the same code: no second EMCY
   EXPECT_EQ(rig.port.with_id(0x80 + kNode).size(), 1U);
   const io::CanFrame code = rig.upload(0x603F, 0);
   EXPECT_EQ(code.data[4] | code.data[5] << 8, 0x4310);
   const io::CanFrame history = rig.upload(0x1003, 1);
   EXPECT_EQ(history.data[4] | history.data[5] << 8, 0x4310);
   t.cia402.error_code = 0;
+  rig.shared.telemetry.store(t);
   rig.port.sent.clear();
-  rig.profile.send_telemetry(t, RejectSnapshot{}, rig.port);
+  rig.periodic();
   emcy = rig.port.with_id(0x80 + kNode);
   ASSERT_EQ(emcy.size(), 1U);
   EXPECT_EQ(emcy[0].data[0], 0x00);
   EXPECT_EQ(emcy[0].data[1], 0x00);
+  EXPECT_EQ(emcy[0].data[2], 0x00) << "nothing left in force";
+}
+
+// CiA 301: the error register and history record an error in every NMT state; only the EMCY
+// itself waits for a state that may send it.
+TEST(CanopenProfile, AFaultWhileStoppedIsRecordedWithoutAnEmcy) {
+  Rig rig;
+  rig.periodic();
+  rig.rx(frame(0x000, {0x02, kNode}));  // stopped
+  Telemetry t;
+  t.cia402.error_code = 0x4310;
+  rig.shared.telemetry.store(t);
+  rig.port.sent.clear();
+  rig.periodic();
+  EXPECT_TRUE(rig.port.with_id(0x80 + kNode).empty());
+  rig.rx(frame(0x000, {0x80, kNode}));  // pre-operational: SDO again
+  EXPECT_EQ(rig.upload(0x1001, 0).data[4], 0x09) << "generic + temperature";
+  EXPECT_EQ(rig.upload(0x1003, 0).data[4], 1);
+  const io::CanFrame history = rig.upload(0x1003, 1);
+  EXPECT_EQ(history.data[4] | history.data[5] << 8, 0x4310);
+}
+
+// An RPDO too short for its mapping: EMCY 0x8210 once; the next one that fits clears it with the
+// error reset EMCY, and 0x1001 keeps only what is still in force.
+TEST(CanopenProfile, APdoLengthErrorIsClearedByTheNextPdoThatFits) {
+  Rig rig;
+  rig.periodic();
+  rig.rx(frame(0x000, {0x01, kNode}));
+  rig.port.sent.clear();
+  rig.rx(frame(0x200 + kNode, {0x06}));
+  rig.rx(frame(0x200 + kNode, {0x06}));  // still too short: no second EMCY
+  auto emcy = rig.port.with_id(0x80 + kNode);
+  ASSERT_EQ(emcy.size(), 1U);
+  EXPECT_EQ(emcy[0].data[0] | emcy[0].data[1] << 8, 0x8210);
+  EXPECT_EQ(emcy[0].data[2], 0x11) << "generic + communication";
+  EXPECT_EQ(rig.profile.counters().pdo_length_errors.load(), 2U);
+  rig.port.sent.clear();
+  rig.rx(frame(0x200 + kNode, {0x06, 0x00}));
+  emcy = rig.port.with_id(0x80 + kNode);
+  ASSERT_EQ(emcy.size(), 1U);
+  EXPECT_EQ(emcy[0].data[0] | emcy[0].data[1] << 8, 0x0000);
+  EXPECT_EQ(emcy[0].data[2], 0x00);
+  EXPECT_EQ(rig.upload(0x1001, 0).data[4], 0x00);
+  EXPECT_EQ(rig.shared.drive_request.load().controlword, 0x06);
+}
+
+// A reset keeps the drive's event counters running (a counter set back would read as one more
+// event) and is itself a CiA 402 0x6007 event (reset application / communication, NMT stopped).
+TEST(CanopenProfile, NmtResetsAndStopAreConnectionAbortsAndKeepTheCounters) {
+  Rig rig;
+  rig.periodic();
+  rig.download(0x6040, 0, 0x80, 2);
+  rig.download(0x6040, 0, 0x00, 2);
+  rig.download(0x6040, 0, 0x80, 2);
+  EXPECT_EQ(rig.shared.drive_request.load().fault_reset_edges, 2U);
+  EXPECT_EQ(rig.shared.drive_request.load().comm_loss_events, 0U);
+  rig.rx(frame(0x000, {0x82, kNode}));  // reset communication
+  EXPECT_EQ(rig.shared.drive_request.load().fault_reset_edges, 2U);
+  EXPECT_EQ(rig.shared.drive_request.load().comm_loss_events, 1U);
+  rig.rx(frame(0x000, {0x01, kNode}));
+  rig.rx(frame(0x000, {0x02, kNode}));  // stopped
+  EXPECT_EQ(rig.shared.drive_request.load().comm_loss_events, 2U);
+  rig.rx(frame(0x000, {0x81, kNode}));  // reset node: the drive objects to their defaults too
+  const DriveRequest r = rig.shared.drive_request.load();
+  EXPECT_EQ(r.comm_loss_events, 3U);
+  EXPECT_EQ(r.fault_reset_edges, 2U);
+  EXPECT_EQ(r.controlword, 0);
+  rig.download(0x6040, 0, 0x80, 2);  // an edge again after the reset (controlword 0 now)
+  EXPECT_EQ(rig.shared.drive_request.load().fault_reset_edges, 3U);
+}
+
+// The drive sees an RPDO's objects together: one publication per frame.
+TEST(CanopenProfile, AnRpdosObjectsReachTheDriveTogether) {
+  Rig rig;
+  rig.periodic();
+  rig.rx(frame(0x000, {0x01, kNode}));
+  // RPDO3 by default: controlword + target velocity (docs/canopen.md).
+  const std::uint64_t before = rig.profile.request_publications();
+  rig.rx(frame(0x400 + kNode, {0x0F, 0x00, 0xE0, 0x93, 0x04, 0x00}));  // 300000 um/s
+  EXPECT_EQ(rig.profile.request_publications(), before + 1) << "two objects, one publication";
+  const DriveRequest r = rig.shared.drive_request.load();
+  EXPECT_EQ(r.controlword, 0x0F);
+  EXPECT_EQ(r.target_velocity_um_s, 300000);
 }
 
 TEST(CanopenProfile, ALostConsumedHeartbeatRaisesTheDrivesCommLossOnce) {

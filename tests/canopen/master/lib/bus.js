@@ -24,9 +24,13 @@ function parseFrame(line) {
 }
 
 // { id, data } -> "ID#HEX" (can_bridge.py's stdin): 3 hex digits for a standard identifier.
-function formatFrame({ id, data }) {
+function formatFrame({ id, data, rtr, len }) {
   if (!Number.isInteger(id) || id < 0 || id > 0x1FFFFFFF) {
     throw new RangeError(`CAN identifier ${id} out of range`);
+  }
+  if (rtr) {  // a remote frame: no data, a DLC of its own
+    const ident = id > 0x7FF ? id.toString(16).padStart(8, '0') : id.toString(16).padStart(3, '0');
+    return `${ident.toUpperCase()}#R${len || 0}`;
   }
   const bytes = data || Buffer.alloc(0);
   if (bytes.length > 8) {
