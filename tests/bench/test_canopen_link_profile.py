@@ -171,3 +171,50 @@ def test_peak_to_peak_motor_and_the_amplitude_limit_agree_with_the_profile():
     with pytest.raises(SdoAbort, match=r"0x06090031 \(value of parameter written too high\)"):
         link.sdo.write(link.eds[0x2002, 0], 300001)
     bus.close()
+
+
+class NoEmulator:
+    """Stands for swum-emu's process: the profile on stdio is the node."""
+
+    def __init__(self, binary, args, log_path):
+        self.args = args
+        self.log_path = log_path
+
+    def running(self):
+        return True
+
+    def stop(self):
+        return 0
+
+
+def test_a_bench_over_canopen_captures_each_sync(tmp_path, monkeypatch):
+    """The Bench's own CANopen path (start, the cycles of a Python controller, the samples'
+    time, the command signals, the capture) on the profile; swum-emu's options as it would get them."""
+    from swum_bench import Bench, bench as bench_module, canopen_link
+    buses = []
+
+    def profile_bus(interface, ids):
+        buses.append(ProfileBus(1.0, ids))
+        buses[-1].telemetry(statusword=0x0231)  # ready to switch on, where no drive moves it on from
+        return buses[-1]
+
+    monkeypatch.setattr(bench_module, "Emulator", NoEmulator)
+    monkeypatch.setattr(canopen_link, "RawCanBus", profile_bus)
+
+    class EnableAt100V:
+        def cycle(self, sample):
+            return Command(action="enable" if sample["state"] != 1 else "keep_alive", vpp=100.0)
+
+    bench = Bench(SLAVE, REPO, str(tmp_path), transport="canopen", node=NODE)
+    bench.use(EnableAt100V())
+    bench.step(0.003)
+    assert bench.emulator.args[-6:] == ["--node", str(NODE), "--sync-ticks", "10", "--can-profile", "cia402"]
+    assert [s["time_s"] for s in bench.samples] == [0.0, 0.001, 0.002, 0.003]
+    assert [s["command"] for s in bench.samples] == [2.0, 1.0, 1.0, 1.0]  # 0x06 configured, then 0x0F
+    assert [s["command_vpp"] for s in bench.samples] == [0.0, 100.0, 100.0, 100.0]
+    assert bench.samples[0]["statusword"] == 0x0231 and bench.samples[0]["state"] == 0.0
+    assert buses[0].request()["amplitude_mv"] == 100000
+    with open(bench.save_capture()) as f:
+        header = f.readline()
+    assert header.startswith("time_s,speed_mm_s [mm/s],") and "load_n" not in header
+    bench.close()
