@@ -107,9 +107,10 @@ class RawCanBus:
     """Frames on Python's own SocketCAN socket (as the CAN gate relays them), receiving only the
     given identifiers."""
 
-    def __init__(self, interface, ids):
+    def __init__(self, interface, ids, timeout_s=30.0):
         from .can_gate import open_raw  # socket.AF_CAN: Linux only, imported when used
         self.interface = interface
+        self.timeout_s = timeout_s  # a full transmit queue is waited for this long (a hang guard)
         try:
             self.sock = open_raw(interface, ids)
         except OSError as e:
@@ -123,11 +124,19 @@ class RawCanBus:
                              b"".join(struct.pack("=II", i, mask) for i in ids))
 
     def send(self, can_id, data):
+        """Sends a frame; a full transmit queue is waited for up to the hang guard."""
         from .can_gate import CAN_FRAME
-        try:
-            self.sock.send(CAN_FRAME.pack(can_id, len(data), bytes(data).ljust(8, b"\0")))
-        except OSError as e:
-            raise BenchError(f"CAN {self.interface}: send of 0x{can_id:03X}: {e.strerror or e}") from e
+        frame = CAN_FRAME.pack(can_id, len(data), bytes(data).ljust(8, b"\0"))
+        deadline = time.monotonic() + self.timeout_s
+        while True:
+            try:
+                self.sock.send(frame)
+                return
+            except TimeoutError:
+                if time.monotonic() > deadline:
+                    raise BenchError(f"CAN {self.interface}: the bus took no frame for {self.timeout_s:g} s") from None
+            except OSError as e:
+                raise BenchError(f"CAN {self.interface}: send of 0x{can_id:03X}: {e.strerror or e}") from e
 
     def receive(self, timeout_s):
         """(can_id, data) or None once timeout_s has passed without one."""
@@ -159,7 +168,7 @@ class CanopenLink:
         self.tpdo_ids = {self._cob_id(0x1800 + n - 1): (n, entries) for n, entries in self.tpdos}
         self.sync_id = self.eds.default(0x1005) & 0x7FF
         request_id, response_id = (self.eds.default(0x1200, s) & 0x7FF for s in (1, 2))
-        self.bus = bus if bus is not None else RawCanBus(interface, [BOOT_UP_BASE + node, response_id])
+        self.bus = bus if bus is not None else RawCanBus(interface, [BOOT_UP_BASE + node, response_id], timeout_s)
         self.sdo = SdoClient(self.bus, node, request_id, response_id, timeout_s=timeout_s)
         self.sequencer = cia402.Sequencer()
         self._rpdo_sent = {}  # RPDO COB-ID -> the payload last sent

@@ -125,7 +125,8 @@ def test_commands_reach_the_drive_request_at_the_sync(started):
     bus.telemetry(statusword=0x0240)
     first = link.sync()
     assert first[0x6041] == 0x0240
-    link.send_command(Command(action="enable", frequency_hz=39500.0, vpp=200.0, phase_deg=-90.0), {"statusword": 0x0240})
+    command = Command(action="enable", frequency_hz=39500.0, vpp=200.0, phase_deg=-90.0)
+    link.send_command(command, {"statusword": 0x0240})
     assert bus.request()["controlword"] == 0x06  # synchronous RPDOs act at the next SYNC
     link.sync()
     r = bus.request()
@@ -142,7 +143,8 @@ def test_commands_reach_the_drive_request_at_the_sync(started):
 
 def test_slews_act_at_once_by_sdo(started):
     link, bus = started
-    link.send_command(Command(action="enable", frequency_slew_hz_s=5e5, amplitude_slew_vpp_s=2e4), {"statusword": 0x0240})
+    command = Command(action="enable", frequency_slew_hz_s=5e5, amplitude_slew_vpp_s=2e4)
+    link.send_command(command, {"statusword": 0x0240})
     r = bus.request()
     assert (r["frequency_slew_hz_per_s"], r["amplitude_slew_v_per_s"]) == (500000, 20000)
 
@@ -193,7 +195,7 @@ def test_a_bench_over_canopen_captures_each_sync(tmp_path, monkeypatch):
     from swum_bench import Bench, bench as bench_module, canopen_link
     buses = []
 
-    def profile_bus(interface, ids):
+    def profile_bus(interface, ids, timeout_s):
         buses.append(ProfileBus(1.0, ids))
         buses[-1].telemetry(statusword=0x0231)  # ready to switch on, where no drive moves it on from
         return buses[-1]
