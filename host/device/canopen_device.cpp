@@ -149,8 +149,11 @@ void CanopenDevice::drain() {
   io::CanFrame f;
   for (;;) {
     const io::CanResult r = bus_->receive(f, std::chrono::milliseconds(0));
-    if (r.status == io::CanStatus::timeout) return;
-    if (r.ok()) check_boot_up(f);
+    if (r.ok()) {
+      check_boot_up(f);
+    } else if (r.status != io::CanStatus::error_frame) {
+      return;  // empty (a failing bus is reported by the receive that waits)
+    }
   }
 }
 
