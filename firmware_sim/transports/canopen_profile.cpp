@@ -139,8 +139,14 @@ void CanopenProfile::boot(co::NmtCommand reset, std::int64_t now_ns, CanSender& 
   consumer_.configure(entries);
   emcy_.reset();
   last_error_code_ = 0;
+  // The event counters go on across a reset: the drive reacts to their change, and a count back
+  // at 0 would read as a fault reset edge (or a heartbeat loss) that no master sent.
+  const std::uint32_t fault_reset_edges = request_.fault_reset_edges;
+  const std::uint32_t comm_loss_events = request_.comm_loss_events;
   request_ = DriveRequest{};
   request_.active = true;
+  request_.fault_reset_edges = fault_reset_edges;
+  request_.comm_loss_events = comm_loss_events;
   // The drive objects' defaults (the dictionary is the source; DriveRequest's initial values
   // only mirror them), then the request the drive sees.
   publish_request();

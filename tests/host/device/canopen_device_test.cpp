@@ -403,6 +403,28 @@ TEST(CanopenDevice, ASecondMasterReadsTheDriveBackAndLeavesItRunning) {
   EXPECT_EQ(emu.request().amplitude_mv, 30000U);
 }
 
+TEST(CanopenDevice, ASecondMastersOpeningLeavesAFaultAlone) {
+  // A fault reset edge counted before (the first fault, reset), then a second fault: opening the
+  // node again (NMT reset communication) must not count as another edge.
+  Emulator emu(true, emu::test::scenario_of(
+                         {"over_temperature@0.02", "clear@0.04:fault=over_temperature", "over_temperature@0.08"}));
+  const auto first = open(emu);
+  const DriveSetpoint s{40400.0, 50.0, 90.0, 0.0};
+  DeviceTelemetry t;
+  for (int i = 0; i < 100 && !t.is(protocol::AmpState::fault); ++i)
+    t = first->step(s, {}, DeviceAction::enable, kSyncTicks);
+  ASSERT_TRUE(t.is(protocol::AmpState::fault));
+  for (int i = 0; i < 100 && t.is(protocol::AmpState::fault); ++i)
+    t = first->step(s, {}, DeviceAction::reset_fault, kSyncTicks);
+  for (int i = 0; i < 100 && !t.is(protocol::AmpState::fault); ++i)
+    t = first->step(s, {}, DeviceAction::enable, kSyncTicks);
+  ASSERT_TRUE(t.is(protocol::AmpState::fault));
+  ASSERT_EQ(emu.request().fault_reset_edges, 1U);
+  const auto second = open(emu);
+  for (int i = 0; i < 3; ++i) t = second->read();
+  EXPECT_TRUE(t.is(protocol::AmpState::fault)) << "a reset communication is no fault reset";
+}
+
 TEST(CanopenDevice, ALoadAndSetpointsTheObjectsCannotHoldAreRefused) {
   Emulator emu(true);
   const auto device = open(emu);
