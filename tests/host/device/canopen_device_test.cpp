@@ -118,6 +118,14 @@ std::unique_ptr<CanopenDevice> open(Emulator& emu, const CanopenNode& settings =
   return std::make_unique<CanopenDevice>(emu.network->attach("host"), kNode, settings, kTimeouts);
 }
 
+// Lockstep cycles of `action` until the telemetry shows `state` (at most `cycles`): the last telemetry.
+DeviceTelemetry step_until(CanopenDevice& device, const DriveSetpoint& s, DeviceAction action, protocol::AmpState state,
+                           int cycles, const DriveSlew& slew = {}) {
+  DeviceTelemetry t = device.step(s, slew, action, kSyncTicks);
+  for (int i = 1; i < cycles && !t.is(state); ++i) t = device.step(s, slew, action, kSyncTicks);
+  return t;
+}
+
 TEST(CanopenDevice, OpensTheNodeWithCia301sProcedure) {
   Emulator emu(true);
   const auto device = open(emu);
@@ -214,9 +222,7 @@ TEST(CanopenDevice, LockstepStepsRunWholeSyncCyclesAndTheTelemetryIsTheCores) {
   const auto device = open(emu);
   DriveSetpoint s{40200.0, 120.0, 90.0, 0.0};
   const DriveSlew slew{0.0, 2000.0};
-  DeviceTelemetry t;
-  for (int i = 0; i < 20 && !t.is(protocol::AmpState::enabled); ++i)
-    t = device->step(s, slew, DeviceAction::enable, kSyncTicks);
+  DeviceTelemetry t = step_until(*device, s, DeviceAction::enable, protocol::AmpState::enabled, 20, slew);
   ASSERT_TRUE(t.is(protocol::AmpState::enabled));
   // 0.2 s at 120 V (the 2000 V/s slew reaches it in 60 ms), four cycles per step.
   for (int i = 0; i < 50; ++i) t = device->step(s, slew, DeviceAction::keep_alive, 4 * kSyncTicks);
@@ -339,15 +345,13 @@ TEST(CanopenDevice, AFaultShowsWithItsSwumCodeAndAResetEdgeClearsIt) {
   Emulator emu(true, emu::test::scenario_of({"over_temperature@0.05"}));
   const auto device = open(emu);
   const DriveSetpoint s{40400.0, 80.0, 90.0, 0.0};
-  DeviceTelemetry t;
-  for (int i = 0; i < 200 && !t.is(protocol::AmpState::fault); ++i)
-    t = device->step(s, {}, DeviceAction::enable, kSyncTicks);
+  DeviceTelemetry t = step_until(*device, s, DeviceAction::enable, protocol::AmpState::fault, 200);
   ASSERT_TRUE(t.is(protocol::AmpState::fault));
   EXPECT_EQ(t.fault_code, static_cast<int>(protocol::FaultCode::over_temperature)) << "0x603F 0x4310";
   EXPECT_FALSE(t.drive_on);
   (void)frames(*emu.spy);
-  for (int i = 0; i < 20 && !t.is(protocol::AmpState::disabled); ++i)
-    t = device->step({s.frequency_hz, 0.0, 90.0, 0.0}, {}, DeviceAction::reset_fault, kSyncTicks);
+  t = step_until(*device, {s.frequency_hz, 0.0, 90.0, 0.0}, DeviceAction::reset_fault, protocol::AmpState::disabled,
+                 20);
   EXPECT_TRUE(t.is(protocol::AmpState::disabled));
   EXPECT_EQ(t.fault_code, 0);
   // One rising edge of bit 7, then shutdown towards rest.
@@ -389,9 +393,7 @@ TEST(CanopenDevice, ASecondMasterReadsTheDriveBackAndLeavesItRunning) {
   Emulator emu(true);
   const auto first = open(emu);
   const DriveSetpoint s{40500.0, 30.0, 80.0, 0.0};
-  DeviceTelemetry t;
-  for (int i = 0; i < 20 && !t.is(protocol::AmpState::enabled); ++i)
-    t = first->step(s, {}, DeviceAction::enable, kSyncTicks);
+  DeviceTelemetry t = step_until(*first, s, DeviceAction::enable, protocol::AmpState::enabled, 20);
   ASSERT_TRUE(t.is(protocol::AmpState::enabled));
   // `swum log` opens the node again: reset communication, remapping, but no controlword of its own.
   const auto second = open(emu);
@@ -410,14 +412,10 @@ TEST(CanopenDevice, ASecondMastersOpeningLeavesAFaultAlone) {
                          {"over_temperature@0.02", "clear@0.04:fault=over_temperature", "over_temperature@0.08"}));
   const auto first = open(emu);
   const DriveSetpoint s{40400.0, 50.0, 90.0, 0.0};
-  DeviceTelemetry t;
-  for (int i = 0; i < 100 && !t.is(protocol::AmpState::fault); ++i)
-    t = first->step(s, {}, DeviceAction::enable, kSyncTicks);
+  DeviceTelemetry t = step_until(*first, s, DeviceAction::enable, protocol::AmpState::fault, 100);
   ASSERT_TRUE(t.is(protocol::AmpState::fault));
-  for (int i = 0; i < 100 && t.is(protocol::AmpState::fault); ++i)
-    t = first->step(s, {}, DeviceAction::reset_fault, kSyncTicks);
-  for (int i = 0; i < 100 && !t.is(protocol::AmpState::fault); ++i)
-    t = first->step(s, {}, DeviceAction::enable, kSyncTicks);
+  t = step_until(*first, s, DeviceAction::reset_fault, protocol::AmpState::disabled, 100);
+  t = step_until(*first, s, DeviceAction::enable, protocol::AmpState::fault, 100);
   ASSERT_TRUE(t.is(protocol::AmpState::fault));
   ASSERT_EQ(emu.request().fault_reset_edges, 1U);
   const auto second = open(emu);
