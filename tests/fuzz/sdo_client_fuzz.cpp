@@ -17,6 +17,7 @@
 
 #include "fuzz_check.h"
 #include "sdo_client.h"
+#include "sdo_frame_record.h"
 
 namespace {
 
@@ -27,7 +28,6 @@ using swum::protocol::CanFrame;
 
 constexpr std::uint8_t kNode = 5;
 constexpr std::int64_t kTimeoutNs = 1'000'000'000;
-constexpr std::int64_t kSteps[] = {0, 1'000'000, 600'000'000, 2'000'000'000};
 constexpr std::size_t kBufferSizes[] = {0, 1, 2, 4, 7, 8, 16, 64};
 constexpr std::size_t kDownloadSizes[] = {1, 2, 3, 4, 5, 7, 8, 64};
 constexpr std::uint16_t kIndex = 0x2001;
@@ -132,14 +132,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   SdoClient client(kNode, kTimeoutNs);
   std::int64_t now_ns = 0;
   t.start(client, now_ns);
-  for (std::size_t at = 1; at + 9 <= size; at += 9) {
-    const std::uint8_t flags = data[at];
-    CanFrame response;
-    response.dlc = flags & 0x0F;
-    response.id = (flags & 0x10) != 0 ? 0x586 : 0x585;
-    response.extended = (flags & 0x20) != 0;
-    for (std::size_t i = 0; i < 8; ++i) response.data[i] = data[at + 1 + i];
-    now_ns += kSteps[flags >> 6];
+  for (std::size_t at = 1; at + swum::fuzz::kSdoRecordBytes <= size; at += swum::fuzz::kSdoRecordBytes) {
+    const CanFrame response = swum::fuzz::sdo_record_frame(data + at, 0x585, 0x586, now_ns);
     const bool ours = response.id == 0x585 && !response.extended;
 
     const bool busy = client.busy();
