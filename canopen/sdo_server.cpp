@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <stdexcept>
 
+#include "sdo_frame.h"
+
 namespace swum::canopen {
 
 namespace {
@@ -20,10 +22,6 @@ std::uint16_t index_of(const protocol::CanFrame& frame) {
   return static_cast<std::uint16_t>(frame.data[1] | (frame.data[2] << 8));
 }
 
-void put_u32(protocol::CanFrame& frame, std::size_t at, std::uint32_t value) {
-  for (std::size_t i = 0; i < 4; ++i) frame.data[at + i] = static_cast<std::uint8_t>(value >> (8 * i));
-}
-
 }  // namespace
 
 SdoServer::SdoServer(ObjectDictionary& od, std::uint8_t node_id, std::int64_t timeout_ns)
@@ -32,20 +30,10 @@ SdoServer::SdoServer(ObjectDictionary& od, std::uint8_t node_id, std::int64_t ti
   if (timeout_ns <= 0) throw std::invalid_argument("SDO server: the timeout must be > 0");
 }
 
-protocol::CanFrame SdoServer::blank_response() const {
-  protocol::CanFrame frame;
-  frame.id = response_id_;
-  frame.dlc = 8;
-  return frame;
-}
+protocol::CanFrame SdoServer::blank_response() const { return sdo_frame(response_id_); }
 
 bool SdoServer::answer_abort(std::uint16_t index, std::uint8_t sub, SdoAbort code, protocol::CanFrame& response) {
-  response = blank_response();
-  response.data[0] = 0x80;  // CiA 301 7.2.4.3.17: abort SDO transfer
-  response.data[1] = static_cast<std::uint8_t>(index);
-  response.data[2] = static_cast<std::uint8_t>(index >> 8);
-  response.data[3] = sub;
-  put_u32(response, 4, static_cast<std::uint32_t>(code));
+  response = sdo_abort_frame(response_id_, index, sub, code);
   state_ = State::idle;  // an abort ends the transfer on both sides
   ++aborts_sent_;
   last_abort_ = code;

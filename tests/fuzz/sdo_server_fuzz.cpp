@@ -15,6 +15,7 @@
 
 #include "fuzz_check.h"
 #include "object_dictionary.h"
+#include "sdo_frame_record.h"
 #include "sdo_server.h"
 
 namespace {
@@ -26,7 +27,6 @@ using swum::canopen::SdoAbort;
 using swum::protocol::CanFrame;
 
 constexpr std::uint8_t kNode = 5;
-constexpr std::int64_t kSteps[] = {0, 1'000'000, 600'000'000, 2'000'000'000};
 
 bool known_code(std::uint32_t code) {
   static constexpr std::uint32_t kCodes[] = {0x05030000, 0x05040000, 0x05040001, 0x05040005, 0x06010000,
@@ -120,14 +120,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   for (std::size_t slot = 0; slot < od.size(); ++slot) defaults[slot] = od.u32(slot);
   swum::canopen::SdoServer server(od, kNode);
   std::int64_t now_ns = 0;
-  for (std::size_t at = 0; at + 9 <= size; at += 9) {
-    const std::uint8_t flags = data[at];
-    CanFrame frame;
-    frame.dlc = flags & 0x0F;
-    frame.id = (flags & 0x10) != 0 ? 0x606 : 0x605;
-    frame.extended = (flags & 0x20) != 0;
-    for (std::size_t i = 0; i < 8; ++i) frame.data[i] = data[at + 1 + i];
-    now_ns += kSteps[flags >> 6];
+  for (std::size_t at = 0; at + swum::fuzz::kSdoRecordBytes <= size; at += swum::fuzz::kSdoRecordBytes) {
+    const CanFrame frame = swum::fuzz::sdo_record_frame(data + at, 0x605, 0x606, now_ns);
 
     CanFrame answer;
     std::uint64_t before = server.aborts_sent();

@@ -288,6 +288,19 @@ TEST(CanopenProfile, AnRpdosObjectsReachTheDriveTogether) {
   EXPECT_EQ(r.target_velocity_um_s, 300000);
 }
 
+TEST(CanopenProfile, ResetsKeepTheDrivesEventCounters) {
+  // The drive reacts to a change of these counts: back at 0 after an NMT reset they would read
+  // as a fault reset edge (or a heartbeat loss) no master sent.
+  Rig rig;
+  rig.periodic();
+  rig.download(0x6040, 0, 0x80, 2);
+  EXPECT_EQ(rig.shared.drive_request.load().fault_reset_edges, 1U);
+  for (const std::uint8_t reset : {0x82, 0x81}) {  // reset communication, reset node
+    rig.rx(frame(0x000, {reset, kNode}));
+    EXPECT_EQ(rig.shared.drive_request.load().fault_reset_edges, 1U) << int(reset);
+  }
+}
+
 TEST(CanopenProfile, ALostConsumedHeartbeatRaisesTheDrivesCommLossOnce) {
   Rig rig;
   rig.periodic();
