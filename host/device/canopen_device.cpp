@@ -24,9 +24,9 @@ constexpr int kMinNode = 1;  // CiA 301 7.3.2: node ids 1..127
 constexpr int kMaxNode = 127;
 constexpr std::uint32_t kNmtId = 0x000;
 constexpr std::uint32_t kSyncId = 0x080;
-constexpr std::uint8_t kNmtStart = 0x01;               // CiA 301 7.2.8.3.1: start remote node
-constexpr std::uint8_t kNmtResetCommunication = 0x82;  // reset communication
-constexpr std::uint32_t kHeartbeatBase = 0x700;        // boot-up (0x00) and heartbeat (NMT state)
+constexpr std::uint8_t kNmtStart = 0x01;                // CiA 301 7.2.8.3.1: start remote node
+constexpr std::uint8_t kNmtEnterPreOperational = 0x80;  // enter pre-operational
+constexpr std::uint32_t kHeartbeatBase = 0x700;         // boot-up (0x00) and heartbeat (NMT state)
 constexpr std::uint32_t kSdoResponseBase = 0x580;
 // A CiA 402 exchange walks one transition; enabling from switch on disabled takes three, each
 // shown at the second SYNC after its controlword in lockstep: a lockstep walk gets this many.
@@ -175,7 +175,7 @@ void CanopenDevice::start(const DeviceTimeouts& timeouts) {
   };
   const io::CanResult r = bus_->set_filters(filters);
   if (!r.ok()) throw DeviceError(name() + ": cannot set receive filters: " + r.message);
-  boot(timeouts.connect);
+  reach();
   configure();
   send(frame_of(kNmtId, {kNmtStart, node_}), "NMT start");
   configured_ = true;
@@ -188,25 +188,29 @@ void CanopenDevice::start(const DeviceTimeouts& timeouts) {
   }
 }
 
-// CiA 301 7.2.8.3.1 and 7.3.2.2: reset communication returns the communication objects (0x1000-
-// 0x1FFF) to their defaults, whatever a previous master mapped, and the node announces it with
-// its boot-up message (0x700 + node, one byte 0x00) before it enters pre-operational.
-void CanopenDevice::boot(std::chrono::milliseconds timeout) {
+// The node is reached without a reset: NMT enter pre-operational (SDO works there, also for a
+// node another master stopped) and an SDO read of the device type 0x1000, which only a present
+// node answers. Not reset communication: CiA 402 counts a reset (and NMT stopped) as the
+// master's connection aborted (0x6007), and a running drive would react to a second master's
+// `swum log`; pre-operational is no such event. Whatever a previous master mapped is remapped by
+// CiA 301's procedure in configure().
+void CanopenDevice::reach() {
   drain();
-  send(frame_of(kNmtId, {kNmtResetCommunication, node_}), "NMT reset communication");
-  const auto deadline = Clock::now() + timeout;
-  io::CanFrame f;
-  while (receive_until(*bus_, deadline, f, name()))
-    if (f.id == kHeartbeatBase + node_ && f.dlc == 1 && f.data[0] == 0x00) return;
-  throw DeviceError(name() + ": no boot-up message within " + std::to_string(timeout.count()) +
-                    " ms of NMT reset communication (is swum-emu running with --can " + bus_->name() + " --node " +
-                    std::to_string(node_) + " --can-profile cia402?)");
+  send(frame_of(kNmtId, {kNmtEnterPreOperational, node_}), "NMT enter pre-operational");
+  try {
+    device_type_ = upload(0x1000, 0, "device type");
+  } catch (const DeviceError& e) {
+    if (sdo_.abort_code() != canopen::SdoAbort::timeout) throw;
+    throw DeviceError(name() + ": no answer to an SDO read of the device type within " +
+                      std::to_string(response_timeout_.count()) + " ms (is swum-emu running with --can " +
+                      bus_->name() + " --node " + std::to_string(node_) + " --can-profile cia402?)");
+  }
 }
 
 void CanopenDevice::configure() {
   // CiA 402-2: device type 0x1000 bits 0-15 = 402 (0x0192); 0x6502 bit 16 = the first
   // manufacturer mode, -1.
-  const std::uint32_t type = upload(0x1000, 0, "device type");
+  const std::uint32_t type = device_type_;  // read by reach()
   if ((type & 0xFFFF) != 0x0192)
     throw DeviceError(name() + ": not a CiA 402 drive (device type 0x1000 = " + hex(type, 8) + ", profile " +
                       std::to_string(type & 0xFFFF) + ")");

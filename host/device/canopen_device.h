@@ -3,7 +3,9 @@
 // "The host tool as a master"), in the manufacturer open-loop mode -1, where the host's tools set
 // frequency, amplitude and phase themselves.
 //
-// Opening: NMT reset communication to the node and its boot-up awaited; the device type 0x1000
+// Opening: NMT enter pre-operational to the node (no reset: CiA 402 reads a reset as the master's
+// connection aborted, and a running drive would react to a second master's `swum log`); the
+// node must answer an SDO read of the device type 0x1000
 // (profile 402) and the supported modes 0x6502 (bit 16: mode -1) checked by SDO; 0x6060 = -1; the
 // PDOs of canopen_pdo_layout.h mapped by CiA 301's procedure (COB-ID bit 31 set, count 0, entries,
 // count, transmission type, COB-ID valid); the drive's controlword and set-points read back, so
@@ -50,7 +52,7 @@ std::uint8_t parse_canopen_address(const std::string& address, std::string& inte
 class CanopenDevice final : public Device {
  public:
   // Throws std::invalid_argument for a malformed address or settings, DeviceError when the
-  // interface cannot be opened or the node does not boot, is no CiA 402 drive with mode -1,
+  // interface cannot be opened or the node does not answer, is no CiA 402 drive with mode -1,
   // refuses its configuration or sends no PDOs.
   CanopenDevice(const std::string& address, const CanopenNode& settings, const DeviceTimeouts& timeouts);
   // For tests: any bus (e.g. the in-process fake) and node.
@@ -75,7 +77,7 @@ class CanopenDevice final : public Device {
 
  private:
   void start(const DeviceTimeouts& timeouts);
-  void boot(std::chrono::milliseconds timeout);
+  void reach();  // NMT enter pre-operational, then the node must answer an SDO
   void configure();
   void configure_pdo(const canopen_layout::Pdo& pdo, std::uint16_t communication, std::uint16_t mapping);
   std::uint32_t upload(std::uint16_t index, std::uint8_t sub, const char* what);
@@ -104,7 +106,8 @@ class CanopenDevice final : public Device {
   std::uint16_t controlword_ = 0;
   cia402::State state_ = cia402::State::unknown;  // of the last telemetry
   std::uint64_t syncs_ = 0;
-  bool configured_ = false;  // NMT start sent: a boot-up from now on is a reboot
+  std::uint32_t device_type_ = 0;  // 0x1000, read when the node was reached
+  bool configured_ = false;        // NMT start sent: a boot-up from now on is a reboot
 };
 
 }  // namespace swum::host

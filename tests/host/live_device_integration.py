@@ -376,7 +376,7 @@ def canopen_can():
     check(len(wall) >= 5 and all(r["device_time_s"] == "" and r["state"] == "0" for r in wall), f"wall log {wall[:2]}")
     status, out, err = swum("log", "--canopen", "vcan0:9", "--connect-timeout-ms", "300", "--duration", "1",
                             "--out", os.path.join(OUT, "absent.csv"), timeout=60)
-    check(status == 1 and "no boot-up message" in err, f"absent node: exit {status}, stderr {err!r}")
+    check(status == 1 and "no answer to an SDO read of the device type" in err, f"absent node: exit {status}, stderr {err!r}")
 
 
 if __name__ == "__main__":

@@ -130,14 +130,11 @@ TEST(CanopenDevice, OpensTheNodeWithCia301sProcedure) {
   Emulator emu(true);
   const auto device = open(emu);
   const std::vector<protocol::CanFrame> all = frames(*emu.spy);
-  // NMT reset communication, then the node's boot-up.
-  std::size_t at = 0;
-  while (at < all.size() && !(all[at].id == 0x000 && bytes_of(all[at]) == Bytes{0x82, kNode})) ++at;
-  ASSERT_LT(at, all.size()) << "no NMT reset communication";
-  std::size_t boot = at;
-  while (boot < all.size() && all[boot].id != 0x700 + kNode) ++boot;
-  ASSERT_LT(boot, all.size());
-  EXPECT_EQ(bytes_of(all[boot]), Bytes{0x00});
+  // NMT enter pre-operational (no reset: that would be a connection abort, CiA 402 0x6007).
+  std::size_t boot = 0;
+  while (boot < all.size() && !(all[boot].id == 0x000 && bytes_of(all[boot]) == Bytes{0x80, kNode})) ++boot;
+  ASSERT_LT(boot, all.size()) << "no NMT enter pre-operational";
+  for (const auto& f : all) EXPECT_FALSE(f.id == 0x000 && (f.data[0] == 0x81 || f.data[0] == 0x82)) << "a reset";
   // Every SDO request after it, exactly; no answer was an abort.
   std::vector<Bytes> requests;
   for (std::size_t i = boot; i < all.size(); ++i) {
@@ -461,7 +458,7 @@ TEST(CanopenDevice, ARebootOfTheNodeIsReported) {
   }
 }
 
-TEST(CanopenDevice, NoNodeNoBootUp) {
+TEST(CanopenDevice, NoNodeNoAnswer) {
   auto network = io::FakeCanNetwork::create();
   try {
     CanopenDevice device(network->attach("vcan9"), kNode, {},
@@ -469,7 +466,7 @@ TEST(CanopenDevice, NoNodeNoBootUp) {
     FAIL();
   } catch (const DeviceError& e) {
     EXPECT_STREQ(e.what(),
-                 "canopen vcan9 node 3: no boot-up message within 100 ms of NMT reset communication (is swum-emu "
+                 "canopen vcan9 node 3: no answer to an SDO read of the device type within 100 ms (is swum-emu "
                  "running with --can vcan9 --node 3 --can-profile cia402?)");
   }
 }
