@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 
+#include "cia402.h"
 #include "core/cia402_state.h"
 
 namespace swum::host::cia402 {
@@ -26,8 +27,8 @@ TEST(Cia402Master, ReadsEveryStateTheDriveWrites) {
   for (const auto& [drive, host] : states) {
     // With every flag the drive may add (warning, remote, target reached, internal limit, bits 12-13).
     for (const std::uint16_t flags : {0x0000, 0x0080, 0x0200, 0x0400, 0x0800, 0x1000, 0x2000, 0x3E80}) {
-      const std::uint16_t word = static_cast<std::uint16_t>(emu::state_statusword(drive) | flags);
-      EXPECT_EQ(state_of(word), host) << emu::to_string(drive) << " 0x" << std::hex << word;
+      const std::uint16_t word = static_cast<std::uint16_t>(canopen::state_statusword(drive) | flags);
+      EXPECT_EQ(state_of(word), host) << canopen::to_string(drive) << " 0x" << std::hex << word;
     }
   }
 }
@@ -57,11 +58,11 @@ std::vector<std::uint16_t> walk(emu::Cia402State from, Goal goal, std::uint16_t 
   std::vector<std::uint16_t> words;
   emu::Cia402State state = from;
   std::uint16_t previous = last;
-  for (int i = 0; i < 8 && !reached(state_of(emu::state_statusword(state)), goal); ++i) {
-    const std::uint16_t word = next_controlword(state_of(emu::state_statusword(state)), goal, previous);
+  for (int i = 0; i < 8 && !reached(state_of(canopen::state_statusword(state)), goal); ++i) {
+    const std::uint16_t word = next_controlword(state_of(canopen::state_statusword(state)), goal, previous);
     words.push_back(word);
     emu::Cia402Inputs in;
-    in.command = emu::decode_controlword(word);
+    in.command = canopen::decode_controlword(word);
     in.fault_reset_edge = (word & 0x80) != 0 && (previous & 0x80) == 0;
     state = emu::next_state(state, in).state;
     previous = word;
@@ -124,7 +125,7 @@ TEST(Cia402Master, TheDrivesErrorCodesMapBackToSwumFaults) {
   using protocol::FaultCode;
   for (const FaultCode f : {FaultCode::none, FaultCode::command_timeout, FaultCode::numerical, FaultCode::over_current,
                             FaultCode::over_temperature}) {
-    EXPECT_EQ(fault_code(emu::error_code(f)), static_cast<int>(f)) << protocol::to_string(f);
+    EXPECT_EQ(fault_code(canopen::error_code(f)), static_cast<int>(f)) << protocol::to_string(f);
   }
   EXPECT_EQ(fault_code(0x8130), 0x8130);  // the heartbeat error: no swum fault, kept as it is
   EXPECT_EQ(fault_code(0x1000), 0x1000);
