@@ -39,7 +39,7 @@ struct ElectricalValues {
 
 // The CiA 402 drive's published values (docs/canopen.md "State machine", "Modes"): what the
 // CANopen profile maps into 0x6041, 0x6061, 0x603F, 0x2011 and 0x2030. Values only (protocol/
-// knows nothing of the drive): `state` is the drive's Cia402State as a number.
+// knows nothing of the drive): `state` is the drive's canopen::Cia402State as a number.
 struct Cia402Values {
   bool active = false;                 // a CiA 402 profile drives the amplifier (otherwise the rest is 0)
   std::uint16_t statusword = 0;        // 0x6041

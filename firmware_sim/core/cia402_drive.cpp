@@ -8,6 +8,16 @@
 
 namespace swum::emu {
 
+// The wire codes the drive reads and writes (canopen/cia402.h).
+using canopen::decode_controlword;
+using canopen::error_code;
+using canopen::kControlwordHalt;
+using canopen::kErrorCodeHeartbeat;
+using canopen::kModeNone;
+using canopen::kModeOpenLoop;
+using canopen::kModeProfileVelocity;
+using canopen::mode_supported;
+
 namespace {
 
 double move_toward(double value, double target, double step) { return value + std::clamp(target - value, -step, step); }

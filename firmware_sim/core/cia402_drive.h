@@ -96,7 +96,7 @@ class Cia402Drive {
   std::uint32_t seen_fault_reset_edges_ = 0;
   std::uint32_t seen_comm_loss_events_ = 0;
   bool enable_operation_is_stale_ = false;  // quick stop active entered by a heartbeat loss (0x6007 = 3)
-  std::int8_t mode_ = kModeNone;            // the mode of the last control cycle
+  std::int8_t mode_ = canopen::kModeNone;   // the mode of the last control cycle
   bool mode_started_ = false;               // mode_ has run a cycle since operation was enabled
   std::uint64_t ticks_to_cycle_ = 0;
   // Profile velocity.
@@ -112,7 +112,7 @@ class Cia402Drive {
   double frequency_hz_ = 0.0;
   double amplitude_vpp_ = 0.0;
   bool quick_stop_finished_ = false;
-  std::int8_t mode_display_ = kModeNone;
+  std::int8_t mode_display_ = canopen::kModeNone;
   std::uint64_t in_window_ticks_ = 0;
   // Status flags of the last cycle.
   bool internal_limit_ = false;

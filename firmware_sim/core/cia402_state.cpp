@@ -2,29 +2,6 @@
 
 namespace swum::emu {
 
-const char* to_string(Cia402State state) {
-  switch (state) {
-    case Cia402State::not_ready_to_switch_on: return "not ready to switch on";
-    case Cia402State::switch_on_disabled: return "switch on disabled";
-    case Cia402State::ready_to_switch_on: return "ready to switch on";
-    case Cia402State::switched_on: return "switched on";
-    case Cia402State::operation_enabled: return "operation enabled";
-    case Cia402State::quick_stop_active: return "quick stop active";
-    case Cia402State::fault_reaction_active: return "fault reaction active";
-    case Cia402State::fault: return "fault";
-  }
-  return "?";
-}
-
-Cia402Command decode_controlword(std::uint16_t controlword) {
-  if ((controlword & kControlwordFaultReset) != 0) return Cia402Command::none;
-  const unsigned low = controlword & 0x0FU;  // bits 3-0: enable operation, quick stop, enable voltage, switch on
-  if ((low & 0x2U) == 0) return Cia402Command::disable_voltage;  // xx0x
-  if ((low & 0x4U) == 0) return Cia402Command::quick_stop;       // x01x
-  if ((low & 0x1U) == 0) return Cia402Command::shutdown;         // x110
-  return (low & 0x8U) != 0 ? Cia402Command::enable_operation : Cia402Command::switch_on;
-}
-
 bool quick_stop_option_supported(std::int16_t option) {
   return option == 0 || option == 1 || option == 2 || option == 5 || option == 6;
 }
@@ -99,44 +76,14 @@ Cia402Step next_state(Cia402State state, const Cia402Inputs& in) {
   }
 }
 
-std::uint16_t state_statusword(Cia402State state) {
-  std::uint16_t bits = 0;
-  switch (state) {
-    case Cia402State::not_ready_to_switch_on: bits = 0x0000; break;
-    case Cia402State::switch_on_disabled: bits = 0x0040; break;
-    case Cia402State::ready_to_switch_on: bits = 0x0021 | kStatuswordVoltageEnabled; break;
-    case Cia402State::switched_on: bits = 0x0023 | kStatuswordVoltageEnabled; break;
-    case Cia402State::operation_enabled: bits = 0x0027 | kStatuswordVoltageEnabled; break;
-    case Cia402State::quick_stop_active: bits = 0x0007 | kStatuswordVoltageEnabled; break;
-    // The fault reaction here is "disable the drive function": the output is already off.
-    case Cia402State::fault_reaction_active: bits = 0x000F; break;
-    case Cia402State::fault: bits = 0x0008; break;
-  }
-  return static_cast<std::uint16_t>(bits | kStatuswordRemote);
-}
-
 std::uint16_t statusword(Cia402State state, const Cia402StatusFlags& f) {
-  std::uint16_t word = state_statusword(state);
-  if (f.warning) word |= kStatuswordWarning;
-  if (f.target_reached) word |= kStatuswordTargetReached;
-  if (f.internal_limit) word |= kStatuswordInternalLimit;
-  if (f.mode_bit12) word |= kStatuswordModeBit12;
-  if (f.mode_bit13) word |= kStatuswordModeBit13;
+  std::uint16_t word = canopen::state_statusword(state);
+  if (f.warning) word |= canopen::kStatuswordWarning;
+  if (f.target_reached) word |= canopen::kStatuswordTargetReached;
+  if (f.internal_limit) word |= canopen::kStatuswordInternalLimit;
+  if (f.mode_bit12) word |= canopen::kStatuswordModeBit12;
+  if (f.mode_bit13) word |= canopen::kStatuswordModeBit13;
   return word;
 }
-
-std::uint16_t error_code(protocol::FaultCode fault) {
-  using protocol::FaultCode;
-  switch (fault) {
-    case FaultCode::none: return 0;
-    case FaultCode::over_temperature: return 0x4310;  // excess temperature drive
-    case FaultCode::over_current: return 0x2320;      // short circuit, device output side
-    case FaultCode::numerical: return 0x6100;         // internal software
-    case FaultCode::command_timeout: return 0x8100;   // communication
-  }
-  return kErrorCodeGeneric;
-}
-
-bool mode_supported(std::int8_t mode) { return mode == kModeProfileVelocity || mode == kModeOpenLoop; }
 
 }  // namespace swum::emu

@@ -1,47 +1,20 @@
 // The CiA 402 power drive system's state machine (IEC 61800-7-201, CiA 402-2 "PDS FSA") as pure
-// functions: the controlword's commands, the transitions 0-16, the statusword of each state, the
-// quick stop option code's behaviour (0x605A) and the swum faults' error codes (0x603F). No state
+// functions: the transitions 0-16, the quick stop option code's behaviour (0x605A) and the
+// statusword with the drive's flags. The wire codes (states, statusword coding, controlword
+// commands, modes, error codes) are canopen/cia402.h's, shared with the host's master. No state
 // of its own: Cia402Drive (core/cia402_drive.h) keeps the state and acts on the amplifier.
 #pragma once
 
 #include <array>
 #include <cstdint>
 
-#include "codes.h"
+#include "cia402.h"
 
 namespace swum::emu {
 
-// CiA 402-2 Figure "state machine"; the values are what Cia402Values::state carries.
-enum class Cia402State : std::uint8_t {
-  not_ready_to_switch_on = 0,
-  switch_on_disabled = 1,
-  ready_to_switch_on = 2,
-  switched_on = 3,
-  operation_enabled = 4,
-  quick_stop_active = 5,
-  fault_reaction_active = 6,
-  fault = 7,
-};
-const char* to_string(Cia402State state);
-
-// The controlword's device control commands (CiA 402-2 Table "command coding", bits 7 and 3-0).
-// One code has two names: 0xxx 0111 is "switch on" (transition 3) and "disable operation" (5);
-// 0xxx 1111 is "enable operation" (4, 16) and, from ready to switch on, "switch on + enable
-// operation" (3 + 4). Bit 7 set is no command of its own: a fault reset is its rising edge
-// (DriveRequest::fault_reset_edges), and while it is held no other command is decoded.
-enum class Cia402Command : std::uint8_t {
-  none,              // bit 7 held
-  shutdown,          // 0xxx x110: 2, 6, 8
-  switch_on,         // 0xxx 0111: 3, 5
-  enable_operation,  // 0xxx 1111: 3 + 4, 4, 16
-  disable_voltage,   // 0xxx xx0x: 7, 9, 10, 12
-  quick_stop,        // 0xxx x01x: 7, 10, 11
-};
-[[nodiscard]] Cia402Command decode_controlword(std::uint16_t controlword);
-
-// Controlword bits besides the command (CiA 402-2 "controlword").
-inline constexpr std::uint16_t kControlwordFaultReset = 1U << 7;
-inline constexpr std::uint16_t kControlwordHalt = 1U << 8;
+// The drive speaks the codec's states and commands.
+using canopen::Cia402Command;
+using canopen::Cia402State;
 
 // What a quick stop does (0x605A; CiA 402-2 "quick stop option code"): which deceleration, and
 // whether the drive then leaves quick stop active for switch on disabled (transition 12) or
@@ -87,21 +60,7 @@ struct Cia402Step {
 // edge acts (15).
 [[nodiscard]] Cia402Step next_state(Cia402State state, const Cia402Inputs& inputs);
 
-// Statusword bits besides the state's (CiA 402-2 "statusword").
-inline constexpr std::uint16_t kStatuswordVoltageEnabled = 1U << 4;
-inline constexpr std::uint16_t kStatuswordQuickStop = 1U << 5;  // 0: quick stop active
-inline constexpr std::uint16_t kStatuswordWarning = 1U << 7;
-inline constexpr std::uint16_t kStatuswordRemote = 1U << 9;
-inline constexpr std::uint16_t kStatuswordTargetReached = 1U << 10;
-inline constexpr std::uint16_t kStatuswordInternalLimit = 1U << 11;
-inline constexpr std::uint16_t kStatuswordModeBit12 = 1U << 12;  // profile velocity: speed = 0
-inline constexpr std::uint16_t kStatuswordModeBit13 = 1U << 13;  // profile velocity: max slippage
-// The state's bits 0-3, 5, 6 (CiA 402-2 Table "state coding") with bit 4 voltage enabled set
-// where the amplifier may drive (ready to switch on to quick stop active) and bit 9 remote
-// always set (the controlword is processed): e.g. switch on disabled 0x0240, operation enabled
-// 0x0237, fault 0x0208.
-[[nodiscard]] std::uint16_t state_statusword(Cia402State state);
-
+// The drive's flags besides its state (CiA 402-2 "statusword" bits 7, 10-13).
 struct Cia402StatusFlags {
   bool warning = false;
   bool target_reached = false;
@@ -109,19 +68,7 @@ struct Cia402StatusFlags {
   bool mode_bit12 = false;
   bool mode_bit13 = false;
 };
+// canopen::state_statusword(state) with the flags' bits.
 [[nodiscard]] std::uint16_t statusword(Cia402State state, const Cia402StatusFlags& flags);
-
-// 0x603F / EMCY error codes (CiA 301 Table "emergency error codes", CiA 402-2 Annex): the swum
-// faults of docs/canopen.md "Faults and EMCY codes", 0 for none; a code outside FaultCode gives
-// 0x1000 (generic error).
-[[nodiscard]] std::uint16_t error_code(protocol::FaultCode fault);
-inline constexpr std::uint16_t kErrorCodeGeneric = 0x1000;
-inline constexpr std::uint16_t kErrorCodeHeartbeat = 0x8130;  // a consumed heartbeat lost, 0x6007 = 1
-
-// The modes this drive supports (0x6502: 0x00010004): 3 profile velocity, -1 open loop.
-inline constexpr std::int8_t kModeNone = 0;
-inline constexpr std::int8_t kModeProfileVelocity = 3;
-inline constexpr std::int8_t kModeOpenLoop = -1;
-[[nodiscard]] bool mode_supported(std::int8_t mode);
 
 }  // namespace swum::emu

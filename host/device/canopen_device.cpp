@@ -218,7 +218,7 @@ void CanopenDevice::configure() {
   if ((modes & (1U << 16)) == 0)
     throw DeviceError(name() + ": the drive does not offer the open-loop mode -1 (supported drive modes 0x6502 = " +
                       hex(modes, 8) + ", bit 16 clear)");
-  download(0x6060, 0, 0xFF, 1, "modes of operation = -1");
+  download(0x6060, 0, static_cast<std::uint8_t>(canopen::kModeOpenLoop), 1, "modes of operation = -1");  // 0xFF
   for (const layout::Pdo& pdo : layout::tpdos())
     configure_pdo(pdo, static_cast<std::uint16_t>(0x1800 + pdo.number - 1),
                   static_cast<std::uint16_t>(0x1A00 + pdo.number - 1));
@@ -356,7 +356,7 @@ void CanopenDevice::command(DeviceAction action) {
     if (cia402::reached(state_, goal_)) return;
     // A fault ends only with a reset: the caller sees the state and decides.
     if (goal_ != cia402::Goal::reset && cia402::amp_state(state_) == protocol::AmpState::fault) return;
-    const cia402::State before = state_;
+    const canopen::Cia402State before = state_;
     walk_one();
     (void)sync_and_collect(response_timeout_);
     if (lockstep()) continue;
@@ -416,7 +416,7 @@ DeviceTelemetry CanopenDevice::sync_and_collect(std::chrono::milliseconds timeou
                       " ms");
   }
   DeviceTelemetry t = layout::telemetry_of(actuals, settings_.vpp_per_terminal_volt);
-  state_ = cia402::state_of(actuals.statusword);
+  state_ = canopen::state_of(actuals.statusword);
   if (lockstep()) {
     // Sampled at the SYNC, before the cycle it starts: the host's SYNCs before it are the time.
     t.lockstep = true;

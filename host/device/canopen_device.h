@@ -38,6 +38,7 @@
 #include <string>
 
 #include "can_bus.h"
+#include "cia402.h"
 #include "device/canopen_pdo_layout.h"
 #include "device/cia402_master.h"
 #include "device/device.h"
@@ -104,7 +105,7 @@ class CanopenDevice final : public Device {
   DriveSlew slew_;
   cia402::Goal goal_ = cia402::Goal::none;
   std::uint16_t controlword_ = 0;
-  cia402::State state_ = cia402::State::unknown;  // of the last telemetry
+  canopen::Cia402State state_ = canopen::Cia402State::unknown;  // of the last telemetry
   std::uint64_t syncs_ = 0;
   std::uint32_t device_type_ = 0;  // 0x1000, read when the node was reached
   bool configured_ = false;        // NMT start sent: a boot-up from now on is a reboot

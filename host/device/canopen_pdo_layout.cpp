@@ -3,7 +3,9 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <optional>
 
+#include "cia402.h"
 #include "device/cia402_master.h"
 
 namespace swum::host::canopen_layout {
@@ -83,11 +85,13 @@ std::string decode_tpdo(int number, const protocol::CanFrame& f, Actuals& out) {
 DeviceTelemetry telemetry_of(const Actuals& a, double vpp_per_terminal_volt) {
   DeviceTelemetry t;
   t.received = std::chrono::steady_clock::now();
-  const cia402::State state = cia402::state_of(a.statusword);
-  t.state = static_cast<int>(cia402::amp_state(state));
+  t.state = static_cast<int>(cia402::amp_state(canopen::state_of(a.statusword)));
   // As protocol::drive_on: enabled and driving a non-zero amplitude.
   t.drive_on = t.state == static_cast<int>(protocol::AmpState::enabled) && a.amplitude_mv > 0;
-  t.fault_code = cia402::fault_code(a.error_code);
+  // 0x603F as the swum fault it stands for (docs/canopen.md "Faults and EMCY codes"), any other
+  // code as it is: above 255, so never taken for a swum code (e.g. 0x8130, the heartbeat error).
+  const std::optional<protocol::FaultCode> fault = canopen::fault_of(a.error_code);
+  t.fault_code = fault ? static_cast<int>(*fault) : static_cast<int>(a.error_code);
   t.speed_mm_s = a.velocity_um_s * 1e-3;
   t.position_mm = a.position_um * 1e-3;
   t.frequency_hz = a.frequency_mhz * 1e-3;

@@ -17,6 +17,12 @@
 namespace swum::emu {
 namespace {
 
+using canopen::kControlwordHalt;
+using canopen::kErrorCodeHeartbeat;
+using canopen::kStatuswordInternalLimit;
+using canopen::kStatuswordTargetReached;
+using canopen::kStatuswordWarning;
+
 constexpr std::uint16_t kShutdown = 0x0006;
 constexpr std::uint16_t kSwitchOn = 0x0007;
 constexpr std::uint16_t kEnableOperation = 0x000F;

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 namespace swum::emu {
@@ -10,33 +11,6 @@ namespace {
 
 using C = Cia402Command;
 using S = Cia402State;
-
-// CiA 402-2 Table "command coding": every pattern of bits 3-0 with bit 7 clear, and bit 7 set.
-TEST(Cia402Controlword, DecodesEveryCommandOfTheTable) {
-  const std::vector<std::pair<std::uint16_t, C>> table = {
-      {0x0006, C::shutdown},
-      {0x000E, C::shutdown},
-      {0x0007, C::switch_on},
-      {0x000F, C::enable_operation},
-      {0x0000, C::disable_voltage},
-      {0x0001, C::disable_voltage},
-      {0x0004, C::disable_voltage},
-      {0x0005, C::disable_voltage},
-      {0x0008, C::disable_voltage},
-      {0x000C, C::disable_voltage},
-      {0x000D, C::disable_voltage},
-      {0x0002, C::quick_stop},
-      {0x0003, C::quick_stop},
-      {0x000A, C::quick_stop},
-      {0x000B, C::quick_stop},
-      {0x0080, C::none},
-      {0x0086, C::none},
-      {0x008F, C::none},
-      {0x010F, C::enable_operation},  // halt (bit 8) is no command of the state machine
-      {0x7F76, C::shutdown},          // bits 4-6 and 9-15 are ignored
-  };
-  for (const auto& [word, command] : table) EXPECT_EQ(decode_controlword(word), command) << std::hex << word;
-}
 
 struct Row {
   S from;
@@ -214,26 +188,16 @@ TEST(Cia402QuickStop, Options5And6StayUntilEnableOperationThatIsNotStale) {
   }
 }
 
-// CiA 402-2 Table "state coding" (bits 0-3, 5, 6 under their masks) and this drive's exact words
-// (bit 4 voltage enabled where the amplifier may drive, bit 9 remote always).
-TEST(Cia402Statusword, EachStateHasItsCodingAndItsExactWord) {
-  struct Expected {
-    S state;
-    std::uint16_t mask;
-    std::uint16_t coding;
-    std::uint16_t word;
+// The drive's statusword without flags is the codec's word of its state (canopen/cia402.h,
+// tested in tests/canopen/cia402_test.cpp).
+TEST(Cia402Statusword, WithoutFlagsIsTheStatesWord) {
+  const std::vector<std::pair<S, std::uint16_t>> words = {
+      {S::not_ready_to_switch_on, 0x0200}, {S::switch_on_disabled, 0x0240},
+      {S::ready_to_switch_on, 0x0231},     {S::switched_on, 0x0233},
+      {S::operation_enabled, 0x0237},      {S::quick_stop_active, 0x0217},
+      {S::fault_reaction_active, 0x020F},  {S::fault, 0x0208},
   };
-  const std::vector<Expected> table = {
-      {S::not_ready_to_switch_on, 0x004F, 0x0000, 0x0200}, {S::switch_on_disabled, 0x004F, 0x0040, 0x0240},
-      {S::ready_to_switch_on, 0x006F, 0x0021, 0x0231},     {S::switched_on, 0x006F, 0x0023, 0x0233},
-      {S::operation_enabled, 0x006F, 0x0027, 0x0237},      {S::quick_stop_active, 0x006F, 0x0007, 0x0217},
-      {S::fault_reaction_active, 0x004F, 0x000F, 0x020F},  {S::fault, 0x004F, 0x0008, 0x0208},
-  };
-  for (const Expected& e : table) {
-    EXPECT_EQ(state_statusword(e.state) & e.mask, e.coding) << to_string(e.state);
-    EXPECT_EQ(state_statusword(e.state), e.word) << to_string(e.state);
-    EXPECT_EQ(statusword(e.state, {}), e.word) << to_string(e.state);
-  }
+  for (const auto& [state, word] : words) EXPECT_EQ(statusword(state, {}), word) << to_string(state);
 }
 
 TEST(Cia402Statusword, FlagsSetTheirBits) {
@@ -244,33 +208,6 @@ TEST(Cia402Statusword, FlagsSetTheirBits) {
   EXPECT_EQ(statusword(op, {.mode_bit12 = true}), 0x1237);
   EXPECT_EQ(statusword(op, {.mode_bit13 = true}), 0x2237);
   EXPECT_EQ(statusword(S::fault, {.warning = true, .target_reached = true}), 0x0688);
-}
-
-// docs/canopen.md "Faults and EMCY codes": one code per swum fault.
-TEST(Cia402ErrorCode, EveryFaultCodeHasItsCode) {
-  using protocol::FaultCode;
-  EXPECT_EQ(error_code(FaultCode::none), 0x0000);
-  EXPECT_EQ(error_code(FaultCode::command_timeout), 0x8100);
-  EXPECT_EQ(error_code(FaultCode::numerical), 0x6100);
-  EXPECT_EQ(error_code(FaultCode::over_current), 0x2320);
-  EXPECT_EQ(error_code(FaultCode::over_temperature), 0x4310);
-  EXPECT_EQ(kErrorCodeHeartbeat, 0x8130);
-  // Every value a FaultCode byte can hold: the five above, the generic error for the rest.
-  for (int code = 5; code <= 255; ++code) EXPECT_EQ(error_code(static_cast<FaultCode>(code)), kErrorCodeGeneric);
-  for (int code = 1; code <= 4; ++code) EXPECT_NE(error_code(static_cast<FaultCode>(code)), 0);
-}
-
-TEST(Cia402Modes, SupportsProfileVelocityAndOpenLoopOnly) {
-  EXPECT_TRUE(mode_supported(3));
-  EXPECT_TRUE(mode_supported(-1));
-  for (int mode : {0, 1, 2, 4, 6, 7, 8, 9, 10, -2, 127, -128})
-    EXPECT_FALSE(mode_supported(static_cast<std::int8_t>(mode)));
-}
-
-TEST(Cia402StateNames, NamesEveryState) {
-  EXPECT_STREQ(to_string(S::switch_on_disabled), "switch on disabled");
-  EXPECT_STREQ(to_string(S::fault_reaction_active), "fault reaction active");
-  EXPECT_STREQ(to_string(static_cast<S>(99)), "?");
 }
 
 }  // namespace

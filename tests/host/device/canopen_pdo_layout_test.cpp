@@ -8,6 +8,7 @@
 #include <cmath>
 #include <set>
 
+#include "cia402.h"
 #include "object_dictionary.h"
 
 namespace swum::host::canopen_layout {
@@ -125,6 +126,23 @@ TEST(CanopenPdoLayout, TpdosBecomeTelemetry) {
   EXPECT_EQ(f.state, static_cast<int>(protocol::AmpState::fault));
   EXPECT_EQ(f.fault_code, 4);
   EXPECT_FALSE(f.drive_on);
+}
+
+// 0x603F into DeviceTelemetry's fault code: each swum fault's code (the codec's table, tested
+// both ways in tests/canopen/cia402_test.cpp) as that fault, any other code as it is.
+TEST(CanopenPdoLayout, ErrorCodesBecomeSwumFaultCodesOrStayAsTheyAre) {
+  using protocol::FaultCode;
+  Actuals a;
+  a.statusword = 0x0208;  // fault
+  for (const FaultCode fault : {FaultCode::none, FaultCode::command_timeout, FaultCode::numerical,
+                                FaultCode::over_current, FaultCode::over_temperature}) {
+    a.error_code = canopen::error_code(fault);
+    EXPECT_EQ(telemetry_of(a, 1.0).fault_code, static_cast<int>(fault)) << protocol::to_string(fault);
+  }
+  for (const std::uint16_t code : {0x8130, 0x1000, 0x8210, 0xFFFF}) {  // heartbeat, generic, PDO length, any
+    a.error_code = code;
+    EXPECT_EQ(telemetry_of(a, 1.0).fault_code, code) << std::hex << code;
+  }
 }
 
 TEST(CanopenPdoLayout, ATpdoOfAnotherLengthIsRefused) {
