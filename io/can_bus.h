@@ -25,7 +25,8 @@ using protocol::to_cansend;
 using protocol::validate;
 
 // A receive filter: a frame passes when its identifier kind equals `extended` and
-// (frame.id & mask) == (id & mask). Same semantics as the kernel's CAN_RAW_FILTER.
+// (frame.id & mask) == (id & mask). Same semantics as the kernel's CAN_RAW_FILTER; remote frames
+// (RTR) never pass a filter (SocketCanBus masks them out: no protocol here has any).
 struct CanFilter {
   std::uint32_t id = 0;
   std::uint32_t mask = 0;

@@ -167,7 +167,10 @@ CanResult SocketCanBus::set_filters(std::span<const CanFilter> filters) {
   for (const auto& f : filters) {
     if (auto why = validate(f); !why.empty()) return CanResult{CanStatus::error, EINVAL, why};
     const canid_t width = f.extended ? CAN_EFF_MASK : CAN_SFF_MASK;
-    kf.push_back(can_filter{(f.id & width) | (f.extended ? CAN_EFF_FLAG : 0U), (f.mask & width) | CAN_EFF_FLAG});
+    // CAN_RTR_FLAG in the mask, clear in the identifier: only data frames pass (a remote frame on
+    // a PDO's identifier, legal traffic of other devices, must not read as a PDO of zeros).
+    kf.push_back(
+        can_filter{(f.id & width) | (f.extended ? CAN_EFF_FLAG : 0U), (f.mask & width) | CAN_EFF_FLAG | CAN_RTR_FLAG});
   }
   if (::setsockopt(fd_, SOL_CAN_RAW, CAN_RAW_FILTER, kf.data(),
                    static_cast<socklen_t>(kf.size() * sizeof(can_filter))) < 0) {

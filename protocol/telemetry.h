@@ -37,6 +37,20 @@ struct ElectricalValues {
   [[nodiscard]] double power_w() const { return power_a_w + power_b_w; }  // both phases
 };
 
+// The CiA 402 drive's published values (docs/canopen.md "State machine", "Modes"): what the
+// CANopen profile maps into 0x6041, 0x6061, 0x603F, 0x2011 and 0x2030. Values only (protocol/
+// knows nothing of the drive): `state` is the drive's canopen::Cia402State as a number.
+struct Cia402Values {
+  bool active = false;                 // a CiA 402 profile drives the amplifier (otherwise the rest is 0)
+  std::uint16_t statusword = 0;        // 0x6041
+  std::int8_t mode_display = 0;        // 0x6061
+  std::uint16_t error_code = 0;        // 0x603F
+  std::uint8_t state = 0;              // Cia402State
+  double velocity_demand_m_s = 0.0;    // profile velocity: the ramp's output the speed loop follows
+  double tracking_frequency_hz = 0.0;  // 0x2030: the resonance tracker's frequency (0: not tracked yet)
+  double terminal_amplitude_v = 0.0;   // 0x2011: the amplifier's output as the terminals' amplitude
+};
+
 struct Telemetry {
   std::uint64_t tick = 0;
   double sim_time_s = 0.0;
@@ -59,6 +73,7 @@ struct Telemetry {
   ElectricalValues electrical;
   double stator_temperature_c = 20.0;  // ambient plus the thermal effect's rise (ambient alone without it)
   LoopTiming stats;
+  Cia402Values cia402;
 };
 
 // The last reject reason (any interface) and the running count of rejects.

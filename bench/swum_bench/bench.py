@@ -26,6 +26,7 @@ HANG_GUARD_S = 120.0
 # Scenario events that act on the bench's own link (docs/scenarios.md): a dropped request or a
 # silent bus stalls a lockstep bench instead of testing the controller.
 LINK_EVENTS = ("modbus_drop", "telemetry_silence", "can_bus_off")
+TRANSPORTS = ("modbus", "can", "canopen")
 # An external controller whose steps swum-emu refuses this many times in a row makes no
 # progress: the bench stops waiting for it.
 MAX_REFUSALS_IN_A_ROW = 100
@@ -63,9 +64,16 @@ def _bare(value):
 class Bench:
     def __init__(self, emu_binary, source_dir, artifacts, transport="modbus", config=None, cycle_s=0.001,
                  tick_hz=10000, watchdog_ms=100, emu_args=(), can_interface="vcan0", controller_can_interface="vcan1",
-                 node=1):
-        if transport not in ("modbus", "can"):
-            raise BenchUsageError(f"transport must be 'modbus' or 'can', not {transport!r}")
+                 node=1, canopen_signals=None):
+        if transport not in TRANSPORTS:
+            raise BenchUsageError(f"transport must be one of {', '.join(TRANSPORTS)}, not {transport!r}")
+        if canopen_signals is not None and transport != "canopen":
+            raise BenchUsageError(f"canopen_signals: only with transport canopen (this bench runs over {transport})")
+        canopen_signals = tuple(telemetry.CANOPEN_DEFAULT_SIGNALS if canopen_signals is None else canopen_signals)
+        unknown = [n for n in canopen_signals if n not in dict(telemetry.CANOPEN_TABLE)]
+        if unknown:
+            raise BenchUsageError(f"canopen_signals: {', '.join(map(repr, unknown))} not in the drive's dictionary "
+                                  f"(choose from {', '.join(n for n, _ in telemetry.CANOPEN_TABLE)})")
         if isinstance(tick_hz, bool) or not isinstance(tick_hz, int) or tick_hz <= 0:
             raise BenchUsageError(f"tick_hz must be a positive integer, not {tick_hz!r}")
         ticks = (cycle_s * tick_hz if not isinstance(cycle_s, bool) and isinstance(cycle_s, (int, float))
@@ -85,6 +93,8 @@ class Bench:
         self.can_interface = can_interface
         self.controller_can_interface = controller_can_interface
         self.node = node
+        self.canopen_signals = canopen_signals
+        self._syncs = 0  # SYNCs sent over CANopen: its samples' time
         self.load_n = 0.0
         self.injections = []
         self.scenarios = []
@@ -147,6 +157,9 @@ class Bench:
                 and not callable(getattr(controller, "cycle", None)):
             raise BenchUsageError(f"use: {controller!r} has no cycle(sample) method and is not an ExternalController")
         if isinstance(controller, ExternalController):
+            if self.transport == "canopen":
+                raise BenchUsageError(f"{controller.name}: external controllers cannot run over canopen yet: the "
+                                      "bench has no CANopen gate (docs/testing-controllers.md, Limits)")
             controller.check_transport(self.transport)
         self.controller = controller
         self._command = Command()
@@ -162,7 +175,13 @@ class Bench:
         except TypeError as e:
             raise BenchUsageError(f"command: {e}") from e
         holding_values(command, self.load_n, 0)  # checks the action and the values now
+        self._check_velocity(command)
         self._command = command
+
+    def _check_velocity(self, command):
+        if command.velocity_mm_s is not None and self.transport != "canopen":
+            raise BenchUsageError(f"Command.velocity_mm_s: only over canopen (the drive's profile velocity mode); "
+                                  f"this bench runs over {self.transport}")
 
     # ---- running --------------------------------------------------------------------------
     def start(self):
@@ -189,6 +208,8 @@ class Bench:
         else:
             args += ["--modbus", "none", "--can", self.can_interface, "--node", str(self.node),
                      "--sync-ticks", str(self.cycle_ticks)]
+            if self.transport == "canopen":
+                args += ["--can-profile", "cia402"]
         for path in self.scenarios:
             args += ["--scenario", path]
         for event in self.injections:
@@ -213,6 +234,9 @@ class Bench:
             if external:
                 self._gate = ModbusGate((host, port), self._external_cycle)
                 self._gate.holding = dict(enumerate(self.map.encode_holding(holding)))
+        elif self.transport == "canopen":
+            self._open_canopen_link()
+            self._capture_canopen(self._link.sync(), self._link.command_registers(Command()))
         elif external:
             # The controller's own first SYNC gives the first sample (the state at t = 0).
             from .can_gate import CanGate
@@ -227,6 +251,15 @@ class Bench:
     def _open_can_link(self):
         from .can_link import CanLink
         self._link = CanLink(self.can_interface, self.node, self.source_dir, timeout_s=HANG_GUARD_S)
+
+    def _open_canopen_link(self):
+        from .canopen_link import CanopenLink
+        self._link = CanopenLink(self.can_interface, self.node, self.source_dir, self.config,
+                                 [dict(telemetry.CANOPEN_TABLE)[n] for n in self.canopen_signals],
+                                 emu_args=self.emu_args, timeout_s=HANG_GUARD_S)
+        self._canopen_scales = telemetry.canopen_scales(self._link.eds, self.canopen_signals,
+                                                        self._link.vpp_per_terminal_v)
+        self._link.start()
 
     def _read_holding(self):
         rr = self._link.client.read_holding_registers(0, self.map.holding_count, slave=1)
@@ -263,6 +296,13 @@ class Bench:
         sample, sim_time = telemetry.from_can(values, self.tick_hz)
         self._append(sample, sim_time, holding)
 
+    def _capture_canopen(self, values, sent):
+        # No object holds the emulated time: in lockstep each SYNC is one cycle, and the TPDOs of
+        # the n-th (from 0) were sampled at n cycles (before the cycle it starts).
+        sample = telemetry.from_canopen(values, self._canopen_scales, self._syncs * self.cycle_ticks / self.tick_hz)
+        self._syncs += 1
+        self._append(sample, sample["time_s"], sent)
+
     def _append(self, sample, sim_time, holding):
         if abs(sample["time_s"] - sim_time) > 0.0015:
             raise BenchError(f"the emulator's tick rate is not {self.tick_hz} Hz: tick {sample['tick']:g} "
@@ -280,8 +320,12 @@ class Bench:
         else:
             command = self.controller.cycle(dict(self._last))
         holding = holding_values(command, self.load_n, self.cycle_ticks)
+        self._check_velocity(command)
         try:
-            if self.transport == "modbus":
+            if self.transport == "canopen":
+                sent = self._link.send_command(command, self._last)
+                self._capture_canopen(self._link.sync(), sent)
+            elif self.transport == "modbus":
                 self.map.encode_holding(holding)  # NaN, or beyond what a register holds
                 self._capture(self._link.exchange(holding), holding)
             else:
@@ -418,7 +462,8 @@ class Bench:
         name = getattr(condition, "__name__", "condition")
         raise AssertionError(f"run_until({name}): not true within {timeout_s:g} s of emulated time "
                              f"(from {start:.6f} s to {self.time_s:.6f} s); last sample: "
-                             + ", ".join(f"{k}={self._last[k]:g}" for k in ("speed_mm_s", "state", "fault_code")))
+                             + ", ".join(f"{k}={self._last[k]:g}" for k in ("speed_mm_s", "state", "fault_code")
+                                         if k in self._last))
 
     def signal(self, name):
         """The captured signal `name` (telemetry.NAMES) as a Signal in emulated time."""
@@ -426,11 +471,16 @@ class Bench:
             raise BenchUsageError(f"signal: unknown signal {name!r} (known: {', '.join(telemetry.NAMES[1:])})")
         if not self.samples:
             raise BenchUsageError(f"signal {name}: nothing captured yet (step the bench first)")
+        if name not in self.samples[0]:
+            why = ("not in the drive's dictionary" if name in telemetry.CANOPEN_MISSING
+                   else "not mapped (Bench canopen_signals=)" if self.transport == "canopen" else "CANopen only")
+            raise BenchUsageError(f"signal {name}: not captured over {self.transport} ({why})")
         return Signal(name, telemetry.UNITS[name], [s["time_s"] for s in self.samples],
                       [s[name] for s in self.samples])
 
     def signals(self):
-        return {name: self.signal(name) for name in telemetry.NAMES[1:]}
+        """Every signal the transport captured."""
+        return {name: self.signal(name) for name in telemetry.NAMES[1:] if self.samples and name in self.samples[0]}
 
     def save_capture(self, path=None):
         """Every captured sample as CSV (default: capture.csv in the artifact folder), one column

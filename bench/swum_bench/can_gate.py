@@ -20,12 +20,12 @@ import time
 from .can_link import MODE_ACTION, SYNC_ID, TELEMETRY, frame_decoder, load_dbc
 from .emulator import BenchError
 
-_FRAME = struct.Struct("=IB3x8s")  # struct can_frame (linux/can.h): can_id, len, padding, data
+CAN_FRAME = struct.Struct("=IB3x8s")  # struct can_frame (linux/can.h): can_id, len, padding, data
 _CAN_EFF_FLAG, _CAN_RTR_FLAG = 0x80000000, 0x40000000
 _POLL_S = 0.2  # how often a blocked receive looks at the stop flag
 
 
-def _open(interface, ids):
+def open_raw(interface, ids):
     """A raw CAN socket on `interface` that receives only standard data frames with these ids."""
     sock = socket.socket(socket.AF_CAN, socket.SOCK_RAW, socket.CAN_RAW)
     try:
@@ -40,15 +40,15 @@ def _open(interface, ids):
     return sock
 
 
-def _receive(sock):
+def receive_raw(sock):
     """(can_id, data, the frame's bytes), or None after _POLL_S without a frame."""
     try:
-        frame = sock.recv(_FRAME.size)
+        frame = sock.recv(CAN_FRAME.size)
     except TimeoutError:
         return None
-    if len(frame) != _FRAME.size:
+    if len(frame) != CAN_FRAME.size:
         raise BenchError(f"CAN gate: a frame of {len(frame)} bytes, not a classic CAN frame")
-    can_id, length, data = _FRAME.unpack(frame)
+    can_id, length, data = CAN_FRAME.unpack(frame)
     return can_id, data[:length], frame
 
 
@@ -73,8 +73,8 @@ class CanGate:
         self._telemetry_ids = {ids[name]: name for name in TELEMETRY}
         self._ctrl = self._emu = None
         try:
-            self._ctrl = _open(controller_interface, [SYNC_ID, *self._command_ids])
-            self._emu = _open(emulator_interface, list(self._telemetry_ids))
+            self._ctrl = open_raw(controller_interface, [SYNC_ID, *self._command_ids])
+            self._emu = open_raw(emulator_interface, list(self._telemetry_ids))
         except OSError as e:
             if self._ctrl is not None:
                 self._ctrl.close()
@@ -119,7 +119,7 @@ class CanGate:
     def _run(self):
         try:
             while not self._stop.is_set():
-                received = _receive(self._ctrl)
+                received = receive_raw(self._ctrl)
                 if received is None:
                     self._idle += 1
                     continue
@@ -155,7 +155,7 @@ class CanGate:
         deadline = time.monotonic() + self.timeout_s  # a hang guard, not a measurement
         while True:
             left = deadline - time.monotonic()
-            received = _receive(self._emu) if left > 0 and not self._stop.is_set() else None
+            received = receive_raw(self._emu) if left > 0 and not self._stop.is_set() else None
             if received is None and left > 0 and not self._stop.is_set():
                 continue
             if received is None:

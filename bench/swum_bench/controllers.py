@@ -15,13 +15,16 @@ from .signals import BenchUsageError
 @dataclass
 class Command:
     """One cycle's command: action keep_alive | enable | disable | reset_fault, and the set-points
-    (Modbus holding registers 0-9 / CAN Command + AuxCommand)."""
+    (Modbus holding registers 0-9 / CAN Command + AuxCommand / CANopen RPDOs). velocity_mm_s, over
+    CANopen only: the drive's profile velocity mode (3) with this target, the drive closing the
+    speed loop itself; None (the default) is the open-loop mode -1 with the set-points."""
     action: str = "keep_alive"
     frequency_hz: float = 40000.0
     vpp: float = 0.0
     phase_deg: float = 90.0
     frequency_slew_hz_s: float = 1e6
     amplitude_slew_vpp_s: float = 1e5
+    velocity_mm_s: float = None
 
 
 ACTIONS = {"keep_alive": 0, "enable": 1, "disable": 2, "reset_fault": 3}
@@ -37,6 +40,9 @@ def holding_values(command, load_n, advance_ticks):
         value = getattr(command, field)
         if isinstance(value, bool) or not isinstance(value, (int, float)):
             raise BenchUsageError(f"Command.{field} must be a number, not {value!r}")
+    velocity = command.velocity_mm_s
+    if velocity is not None and (isinstance(velocity, bool) or not isinstance(velocity, (int, float))):
+        raise BenchUsageError(f"Command.velocity_mm_s must be a number or None, not {velocity!r}")
     return {"command": ACTIONS[command.action], "frequency_setpoint": command.frequency_hz,
             "amplitude_setpoint": command.vpp, "phase_setpoint": command.phase_deg, "load_force": load_n,
             "frequency_slew": command.frequency_slew_hz_s, "amplitude_slew": command.amplitude_slew_vpp_s,

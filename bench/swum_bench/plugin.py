@@ -10,7 +10,7 @@ import shutil
 import pytest
 
 from . import attachments
-from .bench import Bench
+from .bench import TRANSPORTS, Bench
 from .controllers import ReferenceController
 from .signals import BenchUsageError
 
@@ -26,8 +26,11 @@ def pytest_addoption(parser):
     group.addoption("--swum-source", default=os.environ.get("SWUM_SOURCE_DIR", os.path.normpath(os.path.join(_HERE, "..", ".."))),
                     help="swum-hil source tree (config/ is read from it)")
     group.addoption("--swum-transport", default=os.environ.get("SWUM_BENCH_TRANSPORT", "modbus"),
-                    choices=("modbus", "can"), help="the bench's link to swum-emu (can: vcan0, lockstep by SYNC)")
-    group.addoption("--swum-can-interface", default="vcan0", help="swum-emu's CAN interface for --swum-transport can")
+                    choices=TRANSPORTS, help="the bench's link to swum-emu (default $SWUM_BENCH_TRANSPORT or modbus; "
+                    "can: the swum frame set on vcan0, lockstep by SYNC; canopen: swum-emu as a CiA 402 drive, the "
+                    "bench its CANopen master, lockstep by SYNC)")
+    group.addoption("--swum-can-interface", default="vcan0",
+                    help="swum-emu's CAN interface for --swum-transport can or canopen")
     group.addoption("--swum-controller-can-interface", default="vcan1",
                     help="the CAN bus an external controller talks on; the bench bridges it to swum-emu's")
     group.addoption("--swum-artifacts", default=None,
@@ -76,7 +79,10 @@ class BenchFactory:
 
     def __call__(self, controller=None, **options):
         transport = options.pop("transport", self._config.getoption("--swum-transport"))
-        if transport == "can" and int(os.environ.get("PYTEST_XDIST_WORKER_COUNT", "1")) > 1:
+        if transport not in TRANSPORTS:
+            raise BenchUsageError(f"--swum-transport (or SWUM_BENCH_TRANSPORT) {transport!r}: not one of "
+                                  f"{', '.join(TRANSPORTS)}")
+        if transport in ("can", "canopen") and int(os.environ.get("PYTEST_XDIST_WORKER_COUNT", "1")) > 1:
             raise BenchUsageError("CAN benches cannot run in parallel on one bus: a CANopen SYNC steps every "
                                   "node on it (run without -n, or give each worker its own bus)")
         index = len(self.benches)

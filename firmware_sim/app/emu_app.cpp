@@ -83,6 +83,7 @@ struct Transports {
   std::unique_ptr<ModbusTcpServer> modbus_tcp;
   std::unique_ptr<ModbusRtuServer> modbus_rtu;
   std::unique_ptr<CanTransport> can;
+  const CanopenProfile* canopen = nullptr;   // owned by `can` with --can-profile cia402
   const io::SocketCanBus* can_rx = nullptr;  // owned by `can`; kernel drop counter
   std::unique_ptr<io::GpiodLines> gpio_lines;
   std::unique_ptr<GpioTransport> gpio;
@@ -132,7 +133,8 @@ void open_modbus(const EmuOptions& o, SharedState& shared, const AmplifierLimits
   }
 }
 
-void open_can(const EmuOptions& o, SharedState& shared, const AmplifierLimits& limits, Transports& t) {
+void open_can(const EmuOptions& o, SharedState& shared, const AmplifierLimits& limits,
+              const MotorParameters& parameters, Transports& t) {
   if (o.can_interface.empty()) return;
   // Separate sockets for receiving (filtered) and sending (no filters needed).
   auto rx = std::make_unique<io::SocketCanBus>(o.can_interface);
@@ -150,8 +152,16 @@ void open_can(const EmuOptions& o, SharedState& shared, const AmplifierLimits& l
       throw std::runtime_error("--record-can " + o.record_can_path + ": " + std::strerror(errno));
     config.can_log = t.can_log;
   }
-  t.can = std::make_unique<CanTransport>(std::move(rx), std::move(tx), config, shared, limits);
-  t.ready += " can=" + o.can_interface + " node=" + std::to_string(o.can_node);
+  if (o.can_profile == "cia402") {
+    // The amplifier's "vpp" input per volt of terminal amplitude (model_spec.md §11.1).
+    const double vpp_per_v = parameters.options.voltage_convention == VoltageConvention::amplitude ? 1.0 : 2.0;
+    auto profile = std::make_unique<CanopenProfile>(canopen_profile_config(o, limits, vpp_per_v), shared);
+    t.canopen = profile.get();
+    t.can = std::make_unique<CanTransport>(std::move(rx), std::move(tx), std::move(profile), config, shared, limits);
+  } else {
+    t.can = std::make_unique<CanTransport>(std::move(rx), std::move(tx), config, shared, limits);
+  }
+  t.ready += " can=" + o.can_interface + " node=" + std::to_string(o.can_node) + " can_profile=" + o.can_profile;
 }
 
 void open_gpio(const EmuOptions& o, SharedState& shared, Transports& t) {
@@ -302,12 +312,14 @@ int run_emulator(const EmuOptions& o) {
     recorder = std::make_unique<TraceRecorder>(o.record_path, trace_settings(o, config_text, scenario));
     core.set_observer(recorder.get());
   }
-  core.tick();  // publish a first snapshot before any transport answers
-
   Transports transports;
   open_modbus(o, *shared, amp.limits, transports);
-  open_can(o, *shared, amp.limits, transports);
+  open_can(o, *shared, amp.limits, parameters, transports);
   open_gpio(o, *shared, transports);
+  // A first snapshot before any transport answers (none has started): after they are built, so
+  // that a CiA 402 drive (its profile publishes the request when built) has taken its first
+  // transition (not ready to switch on -> switch on disabled) before a master sees a statusword.
+  core.tick();
   std::unique_ptr<HttpApi> api;
   if (http) {
     api = std::make_unique<HttpApi>(*http, *shared, model);

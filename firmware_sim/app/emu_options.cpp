@@ -25,6 +25,11 @@ EmuOptions parse_emu_options(int argc, const char* const* argv) {
   app.add_option("--can", o.can_interface, "SocketCAN interface (e.g. vcan0); CAN off when absent");
   app.add_option("--node", o.can_node, "CAN node id")
       ->check(CLI::Range(int{protocol::can::kMinNode}, int{protocol::can::kMaxNode}));
+  app.add_option("--can-profile", o.can_profile,
+                 "with --can: the frames the node speaks: swum (docs/protocols.md) or cia402 (CANopen CiA 301/402, "
+                 "docs/canopen.md)")
+      ->check(CLI::IsMember({"swum", "cia402"}))
+      ->capture_default_str();
   app.add_option("--modbus", o.modbus_spec, "tcp://HOST:PORT (port 0: any free port), rtu:/dev/TTY:BAUD, or none")
       ->capture_default_str();
   app.add_option("--modbus-unit", o.modbus_unit, "Modbus RTU unit id")->check(CLI::Range(1, 247));
@@ -146,6 +151,7 @@ EmuOptions parse_emu_options(int argc, const char* const* argv) {
                                "--modbus-evict-idle-ms",
                                "--can",
                                "--node",
+                               "--can-profile",
                                "--gpio",
                                "--encoder-resolution-um",
                                "--encoder-max-rate",
@@ -167,6 +173,10 @@ EmuOptions parse_emu_options(int argc, const char* const* argv) {
     }
   }
   if (!o.record_can_path.empty() && o.can_interface.empty()) throw EmuOptionError("--record-can: only with --can");
+  if (app.count("--can-profile") > 0 && o.can_interface.empty()) throw EmuOptionError("--can-profile: only with --can");
+  o.heartbeat_given = app.count("--heartbeat-ms") > 0;
+  if (o.can_profile == "cia402" && o.heartbeat_given && o.heartbeat_ms > 65535.0)
+    throw EmuOptionError("--heartbeat-ms: at most 65535 with --can-profile cia402 (0x1017 is UNSIGNED16 ms)");
   if (app.count("--http") > 0 && o.http_spec.empty())
     throw EmuOptionError("--http: empty (expected HOST:PORT, e.g. 127.0.0.1:8080)");
   for (const char* option : {"--http-token", "--http-token-file", "--http-stream-hz", "--http-stream-clients",
@@ -233,6 +243,16 @@ ModbusTcpOptions modbus_tcp_options(const EmuOptions& o) {
   tcp.frame_timeout_ms = o.modbus_frame_timeout_ms;
   tcp.evict_idle_ms = o.modbus_evict_idle_ms;
   return tcp;
+}
+
+CanopenProfileConfig canopen_profile_config(const EmuOptions& o, const AmplifierLimits& limits,
+                                            double vpp_per_terminal_amplitude_v) {
+  CanopenProfileConfig c;
+  c.node = static_cast<std::uint8_t>(o.can_node);
+  c.limits = limits;
+  c.vpp_per_terminal_amplitude_v = vpp_per_terminal_amplitude_v;
+  c.heartbeat_ms = o.heartbeat_given ? static_cast<int>(std::lround(o.heartbeat_ms)) : -1;
+  return c;
 }
 
 CanTransportConfig can_transport_config(const EmuOptions& o) {

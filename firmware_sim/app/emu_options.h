@@ -20,6 +20,7 @@
 #include "core/realtime_loop.h"
 #include "http/http_api.h"
 #include "transports/can_transport.h"
+#include "transports/canopen_profile.h"
 #include "transports/gpio_transport.h"
 #include "transports/modbus_server.h"
 
@@ -27,9 +28,11 @@ namespace swum::emu {
 
 // Each field is one option; defaults are the documented ones.
 struct EmuOptions {
-  std::string config_path;                                            // --config (required): motor parameter file
-  std::string can_interface;                                          // --can; empty: CAN off
-  int can_node = 1;                                                   // --node
+  std::string config_path;           // --config (required): motor parameter file
+  std::string can_interface;         // --can; empty: CAN off
+  int can_node = 1;                  // --node
+  std::string can_profile = "swum";  // --can-profile: swum (docs/protocols.md) or cia402 (docs/canopen.md)
+  bool heartbeat_given = false;      // --heartbeat-ms given (cia402: overrides 0x1017 at boot)
   std::string modbus_spec = "tcp://127.0.0.1:1502";                   // --modbus: tcp://HOST:PORT, rtu:DEV:BAUD or none
   int modbus_unit = 1;                                                // --modbus-unit (RTU)
   int modbus_idle_timeout_ms = ModbusTcpOptions{}.idle_timeout_ms;    // --modbus-idle-timeout-ms
@@ -109,6 +112,10 @@ std::optional<ModbusEndpoint> modbus_endpoint(const EmuOptions& options);
 ModbusTcpOptions modbus_tcp_options(const EmuOptions& options);
 // --node, --telemetry-hz, --heartbeat-ms (used when --can is given).
 CanTransportConfig can_transport_config(const EmuOptions& options);
+// --can-profile cia402: --node (1..127), --heartbeat-ms when given, the limits and the model's
+// voltage convention (the terminal amplitude of 0x2002/0x2011 in the amplifier's "vpp" input).
+CanopenProfileConfig canopen_profile_config(const EmuOptions& options, const AmplifierLimits& limits,
+                                            double vpp_per_terminal_amplitude_v);
 // --gpio, --encoder-resolution-um, --encoder-max-rate (used when --gpio is given).
 GpioConfig gpio_config(const EmuOptions& options);
 // --speedup, --rt, --spin-us, --duration at --tick-hz; statistics published ~10 times a second.

@@ -23,10 +23,14 @@ EmulatorCore::EmulatorCore(const MotorModel& model, CoreConfig config, SharedSta
         if (!(config.tick_hz > 0.0) || !std::isfinite(config.tick_hz))
           throw std::invalid_argument("tick rate must be positive");
         config.amplifier.tick_s = 1.0 / config.tick_hz;
+        config.drive.tick_hz = config.tick_hz;
+        config.drive.limits = config.amplifier.limits;
+        config.drive.vpp_per_terminal_volt = vpp_per_terminal_volt(model.parameters().options.voltage_convention);
         return config;
       }()),
       shared_(shared),
       amplifier_(config_.amplifier),
+      drive_(config_.drive),
       simulator_(model),
       tick_s_(1.0 / config_.tick_hz) {
   const double dt = model.time_step_s();
@@ -68,6 +72,9 @@ const Telemetry& EmulatorCore::tick() {
     if (reason != Reason::none) shared_.rejects.record(reason, command.source);
     telemetry_.last_sequence = command.sequence;
   }
+  // The CiA 402 drive (when a CANopen profile runs it): its commands follow the queue's, so a
+  // trace records them in the order they act.
+  drive_.tick(shared_.drive_request.load(), amplifier_, telemetry_, tick_, observer_);
   // Run-time faults (the HTTP API) join the scenario's timeline at this boundary.
   // At most what the player holds for one tick: the rest stays queued for the next.
   RuntimeEvent event;
@@ -167,6 +174,7 @@ const Telemetry& EmulatorCore::tick() {
   }
   telemetry_.stator_temperature_c = kReferenceAmbientC + simulator_.ambient_offset_k() +
                                     simulator_.state().stator_temperature_rise_k;
+  telemetry_.cia402 = drive_.values(amplifier_.output());
   telemetry_.applied_commands = amplifier_.applied_commands();
   telemetry_.amplifier_rejects = amplifier_.rejected_commands();
   if (conditions_ != nullptr) report_speed(*conditions_);

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "core/amplifier.h"
+#include "core/cia402_drive.h"
 #include "core/loop_statistics.h"
 #include "core/scenario_player.h"
 #include "core/shared_state.h"
@@ -48,6 +49,9 @@ struct CoreConfig {
   double electrical_window_s = 0.001;
   unsigned sample_stride = 4;   // sub-steps between tip-amplitude samples
   bool external_clock = false;  // lockstep: reported in the telemetry
+  // The CiA 402 drive, run while a CANopen profile's request is active (SharedState::drive_request);
+  // its tick rate, amplifier limits and volts conversion are overwritten from the above and the model.
+  Cia402DriveConfig drive;
 };
 
 class EmulatorCore {
@@ -67,6 +71,7 @@ class EmulatorCore {
 
   void set_stats(const LoopStatsSummary& s) { telemetry_.stats = loop_timing(s); }
   [[nodiscard]] const Amplifier& amplifier() const { return amplifier_; }
+  [[nodiscard]] const Cia402Drive& drive() const { return drive_; }
   [[nodiscard]] const Telemetry& telemetry() const { return telemetry_; }
   [[nodiscard]] std::uint64_t ticks() const { return tick_; }
   [[nodiscard]] std::uint64_t steps_per_tick() const { return steps_per_tick_; }
@@ -84,6 +89,7 @@ class EmulatorCore {
   CoreConfig config_;
   SharedState& shared_;
   Amplifier amplifier_;
+  Cia402Drive drive_;
   MotorSimulator simulator_;
   Telemetry telemetry_;
   double tick_s_;

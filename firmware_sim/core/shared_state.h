@@ -8,6 +8,7 @@
 
 #include "core/amplifier.h"
 #include "core/comm_fault_gate.h"
+#include "core/drive_request.h"
 #include "core/lockfree.h"
 #include "core/scenario.h"
 #include "telemetry.h"
@@ -78,6 +79,12 @@ struct SharedState {
   CommandQueue commands;
   LockstepClock* lockstep = nullptr;  // --clock external: who asks for ticks; nullptr: wall time
   Seqlock<Telemetry> telemetry;
+  // The CiA 402 drive's inputs: stored by the CANopen profile, loaded by the loop once per tick.
+  Seqlock<DriveRequest> drive_request;
+  // The CANopen profile's NMT state (canopen::NmtState's value), for the HTTP API and the
+  // dashboard; kNoCanopen when the node speaks no CANopen.
+  static constexpr std::uint8_t kNoCanopen = 0xFF;
+  std::atomic<std::uint8_t> canopen_nmt_state{kNoCanopen};
   RejectLog rejects;
   std::atomic<bool> enable_line{true};  // GPIO transport -> loop
   std::atomic<std::uint64_t> next_sequence{1};

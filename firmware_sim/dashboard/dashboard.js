@@ -127,6 +127,16 @@ function show(s) {
   document.getElementById("state").textContent = s.state;
   document.getElementById("fault").textContent = s.fault;
   document.getElementById("fault-code").textContent = String(s.fault_code);
+  // The CANopen node (--can-profile cia402): its NMT state and the CiA 402 drive's.
+  const co = s.canopen;
+  document.getElementById("canopen-row").hidden = !co;
+  if (co) {
+    const hex = (v) => "0x" + v.toString(16).toUpperCase().padStart(4, "0");
+    document.getElementById("canopen-nmt").textContent = co.nmt;
+    document.getElementById("canopen-state").textContent = co.cia402_state;
+    document.getElementById("canopen-statusword").textContent = hex(co.statusword);
+    document.getElementById("canopen-error").textContent = hex(co.error_code);
+  }
   document.getElementById("sim-time").textContent = fixed(s.sim_time_s, 3);
   document.getElementById("clock").textContent = s.external_clock ? "external (lockstep)" : "internal";
   document.getElementById("step-box").hidden = !s.external_clock;

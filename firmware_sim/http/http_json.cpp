@@ -1,5 +1,8 @@
 #include "http/http_json.h"
 
+#include "core/cia402_state.h"
+#include "nmt.h"
+
 #include <cmath>
 #include <limits>
 #include <utility>
@@ -114,7 +117,22 @@ json loop_json(const protocol::LoopTiming& l) {
           {"compute_max_ns", l.compute_max_ns}};
 }
 
-json state_json(const Telemetry& t, const RejectSnapshot& rejects, const ResonanceEstimate& resonance) {
+// The CiA 402 drive and its NMT state (docs/canopen.md), null when the node speaks no CANopen.
+static json canopen_json(const Telemetry& t, std::uint8_t nmt_state) {
+  if (nmt_state == SharedState::kNoCanopen) return nullptr;
+  const auto& d = t.cia402;
+  return {{"nmt", canopen::to_string(static_cast<canopen::NmtState>(nmt_state))},
+          {"cia402_state", to_string(static_cast<Cia402State>(d.state))},
+          {"statusword", d.statusword},
+          {"error_code", d.error_code},
+          {"mode_display", d.mode_display},
+          {"velocity_demand_m_s", number(d.velocity_demand_m_s)},
+          {"tracking_frequency_hz", number(d.tracking_frequency_hz)},
+          {"terminal_amplitude_v", number(d.terminal_amplitude_v)}};
+}
+
+json state_json(const Telemetry& t, const RejectSnapshot& rejects, const ResonanceEstimate& resonance,
+                std::uint8_t canopen_nmt_state) {
   const auto& s = t.setpoints;
   return {
       {"tick", t.tick},
@@ -155,6 +173,7 @@ json state_json(const Telemetry& t, const RejectSnapshot& rejects, const Resonan
        {{"vpp", resonance.vpp},
         {"normal_peak_hz", number(resonance.normal_peak_hz)},
         {"tangential_peak_hz", number(resonance.tangential_peak_hz)}}},
+      {"canopen", canopen_json(t, canopen_nmt_state)},
   };
 }
 

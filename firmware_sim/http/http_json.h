@@ -37,7 +37,9 @@ nlohmann::json loop_json(const protocol::LoopTiming& loop);
 
 // GET /api/v1/state: every telemetry field (SI units, names as in protocol/telemetry.h), the
 // reject log and the resonance estimate.
-nlohmann::json state_json(const Telemetry& t, const RejectSnapshot& rejects, const ResonanceEstimate& resonance);
+// `canopen_nmt_state`: SharedState::canopen_nmt_state (kNoCanopen: "canopen" is null).
+nlohmann::json state_json(const Telemetry& t, const RejectSnapshot& rejects, const ResonanceEstimate& resonance,
+                          std::uint8_t canopen_nmt_state = SharedState::kNoCanopen);
 
 // GET /api/v1/faults: the types the API accepts (the scenario faults, with their keys and
 // ranges) and the faults in force.

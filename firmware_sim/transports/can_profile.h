@@ -8,8 +8,10 @@
 // Today's profile is the swum frame set (swum_can_profile.h, docs/protocols.md); a CANopen
 // CiA 301/402 profile (SDO replies, NMT, heartbeat, PDOs) goes behind the same interface.
 //
-// Every call is on a real-time path: a profile allocates nothing, throws nothing and takes no
-// lock of its own; a frame's fate is a status (CanRxResult), never an exception. What a frame it
+// Every call is on a real-time path: a profile allocates nothing and throws nothing; a frame's
+// fate is a status (CanRxResult), never an exception. A profile whose state both threads change
+// (the CANopen node: its dictionary, NMT state) may hold one lock of its own around a call,
+// bounded (one frame or one snapshot) and never while waiting on the loop. What a frame it
 // hands the transport costs is the transport's (CanSender::send): without --record-can, a
 // non-blocking bus send and no lock; with --record-can, also a mutex shared by the receive and
 // transmit threads and a buffered fprintf of one line per frame (so one thread may wait for the
@@ -75,9 +77,15 @@ struct CanRxResult {
 class CanProfile {
  public:
   virtual ~CanProfile() = default;
-  // The frames this profile reads, as kernel receive filters; set once when the transport is
-  // built. Include the SYNC identifier for the lockstep clock to see SYNC frames.
+  // The frames this profile reads, as kernel receive filters; set when the transport is built
+  // (and again when filters_generation() moves). Include the SYNC identifier for the lockstep
+  // clock to see SYNC frames. Never the node's own frames: the transport receives on a socket of
+  // its own, which the kernel's loopback hands every frame the node sends.
   [[nodiscard]] virtual std::span<const io::CanFilter> filters() const = 0;
+  // Filters that move at run time (CANopen: a master changes PDO identifiers and consumed
+  // heartbeats by SDO): the transport compares this number after each receive() and applies
+  // filters() again when it changed. Only receive() may change the filters (one thread).
+  [[nodiscard]] virtual std::uint64_t filters_generation() const { return 0; }
   // One received frame (not an error frame, and not a SYNC that steps the lockstep clock).
   virtual CanRxResult receive(const io::CanFrame& frame, const CanRxTime& time, CanNodePort& node) = 0;
   // The actual values: the frames of one telemetry period on the wall clock, or of one SYNC in
@@ -87,6 +95,9 @@ class CanProfile {
   // with the monotonic time, except during a scenario's bus-off. Not recorded in lockstep, where
   // the recording is on emulated time.
   virtual void send_periodic(std::int64_t now_ns, CanSender& out) = 0;
+  // How often send_periodic() runs: 0 = every telemetry period (--telemetry-hz); else this
+  // interval, while send_telemetry() keeps the telemetry period.
+  [[nodiscard]] virtual std::int64_t periodic_interval_ns() const { return 0; }
 };
 
 }  // namespace swum::emu

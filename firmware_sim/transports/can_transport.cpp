@@ -85,6 +85,7 @@ CanTransport::CanTransport(std::unique_ptr<io::CanBus> rx_bus, std::unique_ptr<i
   if (!profile_) throw std::invalid_argument("CAN: no profile (the frame set the node speaks)");
   const io::CanResult r = rx_bus_->set_filters(profile_->filters());
   if (!r.ok()) throw std::runtime_error("CAN: cannot set receive filters on " + rx_bus_->name() + ": " + r.message);
+  filters_generation_ = profile_->filters_generation();
 }
 
 CanTransport::~CanTransport() { stop(); }
@@ -156,6 +157,14 @@ void CanTransport::rx_loop() {
                                                                 : stamp.monotonic_ns;
       Port port(*this, true, stamp.monotonic_ns);
       result = profile_->receive(frame, CanRxTime{stamp.monotonic_ns, clock_ns}, port);
+      if (const std::uint64_t g = profile_->filters_generation(); g != filters_generation_) {
+        filters_generation_ = g;  // e.g. an RPDO's new COB-ID: the kernel lets its frames in from now on
+        if (const io::CanResult f = rx_bus_->set_filters(profile_->filters()); !f.ok()) {
+          stats_.rx_errors.fetch_add(1);
+          std::fprintf(stderr, "swum-emu: CAN %s: cannot change the receive filters: %s\n", rx_bus_->name().c_str(),
+                       f.message.c_str());
+        }
+      }
     }
     if (result.status == CanRxStatus::accepted) {
       stats_.accepted.fetch_add(1, std::memory_order_relaxed);
@@ -220,15 +229,25 @@ void CanTransport::send_telemetry() {
 }
 
 void CanTransport::tx_loop() {
-  const auto period = static_cast<std::int64_t>(1e9 / (config_.telemetry_hz > 0 ? config_.telemetry_hz : 100.0));
+  const auto telemetry_period = static_cast<std::int64_t>(1e9 /
+                                                          (config_.telemetry_hz > 0 ? config_.telemetry_hz : 100.0));
+  // The loop runs at the profile's own interval when it has one (CANopen's services), else at
+  // the telemetry period; the telemetry keeps its period either way.
+  const std::int64_t interval = profile_->periodic_interval_ns();
+  const std::int64_t period = interval > 0 ? interval : telemetry_period;
   std::int64_t next = monotonic_ns();
+  std::int64_t next_telemetry = next;
   // Lockstep: telemetry goes out at each SYNC (on_sync), never on the wall clock.
   const bool periodic_telemetry = config_.telemetry_hz > 0 && shared_.lockstep == nullptr;
   // The profile's wall-clock frames; in lockstep they stay out of the recording (emulated time).
   Port periodic(*this, shared_.lockstep == nullptr);
   while (!stopping_.load(std::memory_order_relaxed)) {
-    if (periodic_telemetry) send_telemetry();
     const std::int64_t now = monotonic_ns();
+    if (periodic_telemetry && now >= next_telemetry) {
+      send_telemetry();
+      next_telemetry += telemetry_period;
+      if (next_telemetry < now) next_telemetry = now + telemetry_period;  // fell behind: no burst
+    }
     if (!shared_.can_faults.off()) profile_->send_periodic(now, periodic);
     next += period;
     if (next < now) next = now + period;  // fell behind (e.g. stopped in a debugger): no burst

@@ -111,6 +111,7 @@ class CanTransport {
   std::thread rx_thread_, tx_thread_;
   CanStats stats_;
   Histogram receive_age_;
+  std::uint64_t filters_generation_ = 0;  // receive thread: the profile's filters last applied
 };
 
 }  // namespace swum::emu

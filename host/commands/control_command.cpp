@@ -44,7 +44,7 @@ void run_control(ControlOptions& o) {
   s.cycle_s = o.cycle_ms * 1e-3;
   s.recoverable_faults = parse_fault_codes(o.recover);
   StopSignal stop;
-  const auto device = open_device(o.device.address, o.device.timeouts());
+  const auto device = o.device.open(s.tick_hz);
   PartialFile out(o.out_path, kSpeedControlCsvHeader);
   SpeedControlHooks hooks;
   hooks.on_row = [&out](const SpeedControlRow& row) { out.append(format_speed_control_row(row)); };

@@ -21,6 +21,7 @@ namespace {
 
 struct LogOptions {
   DeviceOptions device;
+  double tick_hz = 10000.0;  // --tick-hz: lockstep (--canopen --sync-ticks)
   double duration_s = 10.0;
   double rate_hz = 100.0;
   std::string out_path;
@@ -32,7 +33,7 @@ void run_log(const LogOptions& o) {
   if (!(o.rate_hz >= 0.01 && o.rate_hz <= 10000.0))
     throw std::invalid_argument("--rate-hz: must be within 0.01..10000");
   StopSignal stop;
-  const auto device = open_device(o.device.address, o.device.timeouts());
+  const auto device = o.device.open(o.tick_hz);
   // Each row is written as it arrives (one write(2) each) to OUT.partial, renamed to OUT when
   // the log ends (--duration or Ctrl-C); a killed run or a device error leaves OUT.partial.
   PartialFile out(o.out_path, kLogCsvHeader);
@@ -103,7 +104,7 @@ void run_log(const LogOptions& o) {
 void add_log_command(CLI::App& app) {
   auto o = std::make_shared<LogOptions>();
   CLI::App* sub = app.add_subcommand("log", "Log a live device's telemetry to CSV (passive: sends no commands)");
-  add_device_options(*sub, o->device);
+  add_device_options(*sub, o->device, &o->tick_hz);
   sub->add_option("--duration", o->duration_s, "seconds to log")->capture_default_str();
   sub->add_option("--rate-hz", o->rate_hz, "poll rate for polled protocols (Modbus); CAN logs every frame set")
       ->capture_default_str();

@@ -31,6 +31,7 @@ struct PickCommandOptions {
   std::string sweep_path;
   std::string config_path;
   DeviceOptions device;
+  double tick_hz = 10000.0;  // --tick-hz: lockstep (--canopen --sync-ticks)
   std::string vpp_list;
   double load_n = 0.0;
   double margin_hz = 0.0;
@@ -52,9 +53,10 @@ class Source {
   explicit Source(const PickCommandOptions& o) : o_(o) {
     const int sources = !o.sweep_path.empty() + !o.config_path.empty() + !o.device.address.empty();
     if (sources != 1)
-      throw std::invalid_argument("give exactly one source: --sweep, --config or a device (--modbus / --can)");
+      throw std::invalid_argument(
+          "give exactly one source: --sweep, --config or a device (--modbus / --can / --canopen)");
     if (!o.config_path.empty()) model_ = std::make_unique<MotorModel>(load_motor_parameters(o.config_path));
-    if (!o.device.address.empty()) device_ = open_device(o.device.address, o.device.timeouts());
+    if (!o.device.address.empty()) device_ = o.device.open(o.tick_hz);
   }
   bool measures() const { return model_ || device_; }
   std::string describe() const {
@@ -188,7 +190,7 @@ void add_pick_command(CLI::App& app) {
                                      "Operating frequency per voltage (from a sweep table, the model or a device)");
   sub->add_option("--sweep", o->sweep_path, "sweep CSV (swum sweep --out)");
   sub->add_option("--config", o->config_path, "motor parameter file: sweep the model offline first");
-  add_device_options(*sub, o->device);
+  add_device_options(*sub, o->device, &o->tick_hz);
   sub->add_option("--vpp", o->vpp_list, "voltages, comma list (Vpp)")->required();
   sub->add_option("--load", o->load_n, "load of the rows to use / to sweep at (N)")->capture_default_str();
   sub->add_option("--margin-hz", o->margin_hz, "minimum margin above the peak (Hz)")->capture_default_str();

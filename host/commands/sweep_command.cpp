@@ -1,5 +1,5 @@
 // `swum sweep`: steady speed over voltages x frequencies x loads, either from the model
-// (--config, all cores) or measured on a live device (--modbus / --can, docs/host.md).
+// (--config, all cores) or measured on a live device (--modbus / --can / --canopen, docs/host.md).
 #include <algorithm>
 #include <cstdio>
 #include <memory>
@@ -25,6 +25,7 @@ namespace {
 struct SweepOptions {
   std::string config_path;
   DeviceOptions device;
+  double tick_hz = 10000.0;  // --tick-hz: lockstep (--canopen --sync-ticks)
   std::string vpp_list;
   std::string frequency_range;
   std::string load_list = "0";
@@ -127,7 +128,7 @@ void run_device_sweep(const SweepOptions& o, const DeviceSweepPlan& plan) {
     return;
   }
   const StopSignal stop;
-  const auto device = open_device(o.device.address, o.device.timeouts());
+  const auto device = o.device.open(o.tick_hz);
   PartialFile file = open_sweep_partial(o.out_path, header, kept, keep);
   ProgressBar progress("sweep " + device->name(), planned.size() - keep);
   std::vector<SweepRow> rows = kept.rows;
@@ -160,7 +161,7 @@ void run_sweep(const SweepOptions& o) {
   if (o.jobs < 0) throw std::invalid_argument("--jobs: must be >= 1 (0 = all cores)");
   const bool live = !o.device.address.empty();
   if (live == !o.config_path.empty()) {
-    throw std::invalid_argument("give either --config (model) or a device (--modbus / --can)");
+    throw std::invalid_argument("give either --config (model) or a device (--modbus / --can / --canopen)");
   }
   if (!live) {
     run_model_sweep(o, grid);
@@ -184,7 +185,7 @@ void add_sweep_command(CLI::App& app) {
   CLI::App* sub = app.add_subcommand("sweep",
                                      "Steady speed over voltages x frequencies x loads (model or live device)");
   sub->add_option("--config", o->config_path, "motor parameter file (TOML): sweep the model offline");
-  add_device_options(*sub, o->device);
+  add_device_options(*sub, o->device, &o->tick_hz);
   sub->add_option("--vpp", o->vpp_list, "drive voltages, comma list (V peak-to-peak)")->required();
   sub->add_option("--frequency", o->frequency_range, "START:STOP:STEP or one value (Hz); swept downward on a device")
       ->required();

@@ -48,7 +48,7 @@ void run_track_command(TrackOptions& o) {
   const std::string problem = check(s);
   if (!problem.empty()) throw std::invalid_argument(problem);
   StopSignal stop;
-  const auto device = open_device(o.device.address, o.device.timeouts());
+  const auto device = o.device.open(s.tick_hz);
   PartialFile out(o.out_path, kTrackCsvHeader);
   TrackPlotSeries series;
   TrackRunHooks hooks;

@@ -14,6 +14,7 @@
 
 #include "can_codec.h"
 #include "can_telemetry_decode.h"
+#include "device/can_receive.h"
 #include "socketcan_bus.h"
 
 namespace swum::host {
@@ -209,19 +210,8 @@ DeviceTelemetry CanDevice::receive_set() {
   protocol::ElectricalValues electrical;
   double stator_temperature_c = 0.0;
   const auto deadline = std::chrono::steady_clock::now() + response_timeout_;
-  for (;;) {
-    const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline -
-                                                                            std::chrono::steady_clock::now());
-    if (left.count() <= 0) break;
-    io::CanFrame f;
-    const io::CanResult r = bus_->receive(f, left);
-    if (r.status == io::CanStatus::timeout) break;
-    if (r.status == io::CanStatus::error_frame) {
-      const io::CanErrorInfo e = io::decode_error_frame(f);
-      if (e.bus_off) throw DeviceError(name() + ": controller is bus-off (" + e.describe() + ")");
-      continue;  // warnings, arbitration: the bus keeps going
-    }
-    if (!r.ok()) throw DeviceError(name() + ": receive failed: " + r.message);
+  io::CanFrame f;
+  while (receive_until(*bus_, deadline, f, name())) {
     if (f.id == ids.status) {
       can::StatusFields s;
       if (can::decode_status(f, s) != protocol::Reason::none) continue;

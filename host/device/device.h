@@ -1,5 +1,6 @@
 // A live amplifier as the host tool sees it: a narrow command / telemetry interface with one
-// adapter per protocol (Modbus: modbus_device.cpp, CAN: can_device.cpp). The sweep and log
+// adapter per protocol (Modbus: modbus_device.cpp, CAN: can_device.cpp, CANopen CiA 402:
+// canopen_device.cpp). The sweep and log
 // code only talks to this interface, so tests can drive it with a fake and a real board that
 // speaks docs/protocols.md drops in for swum-emu.
 #pragma once
@@ -89,7 +90,7 @@ struct DeviceTelemetry {
 class Device {
  public:
   virtual ~Device() = default;
-  // "modbus tcp://127.0.0.1:1502", "can vcan0 node 1".
+  // "modbus tcp://127.0.0.1:1502", "can vcan0 node 1", "canopen vcan0 node 3".
   virtual std::string name() const = 0;
   virtual void set_drive(const DriveSetpoint& setpoint) = 0;
   virtual void set_slew(double frequency_hz_per_s, double vpp_per_s) = 0;
@@ -112,11 +113,27 @@ struct DeviceTimeouts {
   std::chrono::milliseconds response{500};
 };
 
-// Where the device is: exactly one of the two forms of the command line.
+// What a CANopen master is told of a swum CiA 402 node because its bus does not carry it
+// (docs/canopen.md, "The host tool as a master"): no CiA 402 object says whether the node runs in
+// lockstep, how long its SYNC cycle is, or how its amplifier reads a voltage.
+struct CanopenNode {
+  // swum-emu --clock external --sync-ticks N: the node is in lockstep, N ticks per SYNC; 0: it
+  // runs on the wall clock.
+  std::uint32_t sync_ticks = 0;
+  double tick_hz = 10000.0;  // its --tick-hz: in lockstep a SYNC is sync_ticks / tick_hz of device time
+  // The amplifier's "vpp" input (DriveSetpoint::vpp, what Modbus and the swum CAN frames carry)
+  // per volt of terminal amplitude, 0x2002/0x2011's unit: the motor's voltage_convention (1
+  // amplitude, as config/li2019.toml; 2 peak_to_peak).
+  double vpp_per_terminal_volt = 1.0;
+};
+
+// Where the device is: exactly one of the three forms of the command line.
 struct DeviceAddress {
-  std::string modbus;  // tcp://HOST:PORT or rtu:DEVICE:BAUD
-  std::string can;     // IFACE[:NODE]
-  bool empty() const { return modbus.empty() && can.empty(); }
+  std::string modbus;   // tcp://HOST:PORT or rtu:DEVICE:BAUD
+  std::string can;      // IFACE[:NODE] (the swum frame set)
+  std::string canopen;  // IFACE:NODE (a CiA 402 drive)
+  CanopenNode canopen_node;
+  bool empty() const { return modbus.empty() && can.empty() && canopen.empty(); }
 };
 
 // Opens and checks the connection (the device must answer within the timeouts).

@@ -14,7 +14,7 @@ import os
 
 import pytest
 
-from swum_bench import Bench, BenchUsageError, Command, ExternalController, Injection
+from swum_bench import Bench, BenchUsageError, Command, ExternalController, Injection, telemetry
 from swum_bench.controllers import ACTIONS, holding_values
 
 NO_EMULATOR = "/nonexistent/swum-emu"
@@ -54,12 +54,63 @@ def test_defaults(bench, tmp_path):
 
 @pytest.mark.parametrize("transport", ["udp", "Modbus", "", None])
 def test_bad_transport(tmp_path, transport):
-    with pytest.raises(BenchUsageError, match=r"transport must be 'modbus' or 'can', not "):
+    with pytest.raises(BenchUsageError, match=r"transport must be one of modbus, can, canopen, not "):
         Bench(NO_EMULATOR, SOURCE, str(tmp_path), transport=transport)
 
 
 def test_can_transport_accepted(make_bench):
     assert make_bench(transport="can").transport == "can"
+
+
+def test_canopen_transport_and_its_signals(make_bench):
+    assert make_bench(transport="canopen").canopen_signals == telemetry.CANOPEN_DEFAULT_SIGNALS
+    assert make_bench(transport="canopen", canopen_signals=["temperature_c"]).canopen_signals == ("temperature_c",)
+
+
+@pytest.mark.parametrize("kwargs, pattern", [
+    (dict(transport="canopen", canopen_signals=["load_n", "speed"]),
+     r"canopen_signals: 'load_n', 'speed' not in the drive's dictionary \(choose from speed_mm_s, "),
+    (dict(transport="can", canopen_signals=["speed_mm_s"]),
+     r"canopen_signals: only with transport canopen \(this bench runs over can\)"),
+])
+def test_canopen_signals_refused(tmp_path, kwargs, pattern):
+    with pytest.raises(BenchUsageError, match=pattern):
+        Bench(NO_EMULATOR, SOURCE, str(tmp_path), **kwargs)
+
+
+def test_external_controllers_cannot_run_over_canopen(make_bench):
+    bench = make_bench(transport="canopen")
+    with pytest.raises(BenchUsageError, match=r"^ctrl: external controllers cannot run over canopen yet: the bench "
+                                              r"has no CANopen gate"):
+        bench.use(ExternalController(["ctrl", "{can}"]))
+
+
+@pytest.mark.parametrize("transport", ["modbus", "can"])
+def test_velocity_command_only_over_canopen(make_bench, transport):
+    bench = make_bench(transport=transport)
+    with pytest.raises(BenchUsageError, match=rf"Command.velocity_mm_s: only over canopen .*runs over {transport}$"):
+        bench.command("enable", velocity_mm_s=100.0)
+    make_bench(transport="canopen").command("enable", velocity_mm_s=100.0)
+
+
+def test_velocity_must_be_a_number_or_none():
+    with pytest.raises(BenchUsageError, match=r"Command.velocity_mm_s must be a number or None, not '1'"):
+        holding_values(Command(velocity_mm_s="1"), 0.0, 0)
+
+
+def test_a_signal_the_transport_does_not_carry(make_bench):
+    bench = make_bench(transport="canopen")
+    bench.samples = [{"time_s": 0.0, "speed_mm_s": 1.0}]
+    with pytest.raises(BenchUsageError, match=r"signal load_n: not captured over canopen \(not in the drive's "
+                                              r"dictionary\)"):
+        bench.signal("load_n")
+    with pytest.raises(BenchUsageError, match=r"signal temperature_c: not captured over canopen \(not mapped "):
+        bench.signal("temperature_c")
+    assert list(bench.signals()) == ["speed_mm_s"]
+    modbus = make_bench()
+    modbus.samples = [{"time_s": 0.0, "speed_mm_s": 1.0}]
+    with pytest.raises(BenchUsageError, match=r"signal statusword: not captured over modbus \(CANopen only\)"):
+        modbus.signal("statusword")
 
 
 @pytest.mark.parametrize("cycle_s, tick_hz, ticks", [(0.001, 10000, 10), (0.0001, 10000, 1), (0.002, 20000, 40),

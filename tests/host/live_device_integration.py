@@ -3,6 +3,7 @@
 processes): Modbus TCP on 127.0.0.1 always, CAN on vcan0 in the guest tier.
 
   live_device_integration.py pick_modbus | sweep_log_modbus | interrupt_modbus | errors | rtu_modbus | pick_can
+                             | canopen_can
 
 The picked frequencies must match the model's own offline optimum (the same `swum pick` rule on
 an offline sweep of the same grid) within one sweep step plus the larger reported margin, fall
@@ -318,9 +319,70 @@ def pick_can():
     check(status == 1 and "no answer from node 6" in err, f"absent node: exit {status}, stderr {err!r}")
 
 
+def canopen_can():
+    """`swum sweep` and `swum log` with --canopen (swum as the CANopen master of a CiA 402 drive,
+    docs/canopen.md "The host tool as a master") against swum-emu --can-profile cia402 on vcan0:
+    in lockstep (each SYNC one 1 ms cycle) the sweep's speeds equal the Modbus path's at the same
+    points; a log in lockstep advances one cycle per row; a log on the wall clock; an absent node."""
+    grid = ["--vpp", "150", "--frequency", "40300:40500:200"]
+    timing = ["--settle-ms", "80", "--dwell-ms", "40"]
+    slow = ["--connect-timeout-ms", "20000", "--timeout-ms", "20000"]  # a TCG guest's latency
+    # The Modbus path first (free-running swum-emu on loopback, its own clock for settle and dwell).
+    modbus_csv, canopen_csv = os.path.join(OUT, "canopen_modbus.csv"), os.path.join(OUT, "canopen.csv")
+    with Emulator("--speedup", "0", *EMU_ARGS) as emu:
+        status, out, err = swum("sweep", "--modbus", f"tcp://{emu.host}:{emu.port}", *grid, *timing, "--out",
+                                modbus_csv, timeout=600)
+    check(status == 0, f"Modbus sweep failed ({status}): {err}")
+    lockstep = ["--clock", "external", "--sync-ticks", "10", "--heartbeat-ms", "0"]
+    with Emulator("--can", "vcan0", "--node", "3", "--can-profile", "cia402", *lockstep, modbus="none"):
+        status, out, err = swum("sweep", "--canopen", "vcan0:3", "--sync-ticks", "10", *grid, *timing, *slow,
+                                "--out", canopen_csv, timeout=600)
+        check(status == 0, f"CANopen sweep failed ({status}): {err}\n{out}")
+        log_csv = os.path.join(OUT, "canopen_log.csv")
+        status, out, err = swum("log", "--canopen", "vcan0:3", "--sync-ticks", "10", "--duration", "1", "--rate-hz",
+                                "50", *slow, "--out", log_csv, timeout=120)
+        check(status == 0, f"CANopen log failed ({status}): {err}")
+    with open(modbus_csv) as f:
+        modbus = {float(r["frequency_hz"]): r for r in csv.DictReader(f)}
+    with open(canopen_csv) as f:
+        rows = list(csv.DictReader(f))
+    check([float(r["frequency_hz"]) for r in rows] == [40500.0, 40300.0], f"CANopen sweep points {rows}")
+    for r in rows:
+        m = modbus[float(r["frequency_hz"])]
+        check(r["status"] == "ok" and m["status"] == "ok", f"status: CANopen {r['status']}, Modbus {m['status']}")
+        can_speed, modbus_speed = float(r["speed_mm_s"]), float(m["speed_mm_s"])
+        print(f"{r['frequency_hz']} Hz at 150 V: CANopen {can_speed:.2f} mm/s, Modbus {modbus_speed:.2f} mm/s")
+        check(modbus_speed > 20.0, f"the Modbus path's motor does not run: {m}")
+        check(abs(can_speed - modbus_speed) <= max(2.0, 0.03 * modbus_speed),
+              f"{r['frequency_hz']} Hz: CANopen {can_speed} vs Modbus {modbus_speed} mm/s")
+        # Not mapped into the TPDOs: the electrical port's cells stay empty; the temperature is there.
+        check(r["current_a_a"] == "" and r["stator_temperature_c"] != "", f"CANopen sweep cells {r}")
+    with open(log_csv) as f:
+        log = list(csv.DictReader(f))
+    check(len(log) >= 10, f"{len(log)} log rows in 1 s")
+    times = [float(r["device_time_s"]) for r in log]
+    check(all(abs(b - a - 0.001) < 1e-9 for a, b in zip(times, times[1:])),
+          f"a lockstep log row is one SYNC cycle of 1 ms: {times[:5]}")
+    # The sweep left the drive off at its last frequency: the log sees it so.
+    check(all(r["state"] == "0" and float(r["frequency_hz"]) == 40300.0 for r in log), f"log rows {log[:2]}")
+    # The wall clock: a read is one SYNC, no device clock on the bus.
+    with Emulator("--can", "vcan0", "--node", "4", "--can-profile", "cia402", "--speedup", "0", modbus="none"):
+        wall_csv = os.path.join(OUT, "canopen_wall.csv")
+        status, out, err = swum("log", "--canopen", "vcan0:4", "--duration", "1", "--rate-hz", "20", *slow,
+                                "--out", wall_csv, timeout=120)
+        check(status == 0, f"wall-clock CANopen log failed ({status}): {err}")
+    with open(wall_csv) as f:
+        wall = list(csv.DictReader(f))
+    check(len(wall) >= 5 and all(r["device_time_s"] == "" and r["state"] == "0" for r in wall), f"wall log {wall[:2]}")
+    status, out, err = swum("log", "--canopen", "vcan0:9", "--connect-timeout-ms", "300", "--duration", "1",
+                            "--out", os.path.join(OUT, "absent.csv"), timeout=60)
+    check(status == 1 and "no answer to an SDO read of the device type" in err, f"absent node: exit {status}, stderr {err!r}")
+
+
 if __name__ == "__main__":
     scenario = sys.argv[1] if len(sys.argv) > 1 else ""
-    functions = {f.__name__: f for f in (pick_modbus, sweep_log_modbus, interrupt_modbus, errors, rtu_modbus, pick_can)}
+    functions = {f.__name__: f for f in (pick_modbus, sweep_log_modbus, interrupt_modbus, errors, rtu_modbus, pick_can,
+                                         canopen_can)}
     if scenario not in functions:
         sys.exit(f"usage: {sys.argv[0]} {'|'.join(functions)}")
     functions[scenario]()

@@ -554,3 +554,25 @@ TEST(EmuOptions, HttpHasNoEffectWithReplay) {
 
 }  // namespace
 }  // namespace swum::emu
+
+namespace swum::emu {
+namespace {
+
+// --can-profile: swum by default, cia402 on request, nothing else; only with --can; cia402's
+// heartbeat is 0x1017 (UNSIGNED16 ms) and --heartbeat-ms sets it only when given.
+TEST(EmuOptions, CanProfileIsSwumOrCia402AndOnlyWithCan) {
+  EXPECT_EQ(parse_with_config({"--can", "vcan0"}).can_profile, "swum");
+  const EmuOptions o = parse_with_config({"--can", "vcan0", "--can-profile", "cia402"});
+  EXPECT_EQ(o.can_profile, "cia402");
+  EXPECT_FALSE(o.heartbeat_given);
+  EXPECT_EQ(canopen_profile_config(o, AmplifierLimits{}, 1.0).heartbeat_ms, -1);  // the EDS default
+  const EmuOptions h = parse_with_config({"--can", "vcan0", "--can-profile", "cia402", "--heartbeat-ms", "250"});
+  EXPECT_EQ(canopen_profile_config(h, AmplifierLimits{}, 1.0).heartbeat_ms, 250);
+  EXPECT_NE(cli_exit({"--config", kConfig, "--can", "vcan0", "--can-profile", "canopen"}).exit_code(), 0);
+  EXPECT_EQ(parse_error({"--can-profile", "cia402"}), "--can-profile: only with --can");
+  EXPECT_EQ(parse_error({"--can", "vcan0", "--can-profile", "cia402", "--heartbeat-ms", "70000"}),
+            "--heartbeat-ms: at most 65535 with --can-profile cia402 (0x1017 is UNSIGNED16 ms)");
+}
+
+}  // namespace
+}  // namespace swum::emu

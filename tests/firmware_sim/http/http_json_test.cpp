@@ -4,6 +4,9 @@
 // clear, the step request and the one-line error body.
 #include "http/http_json.h"
 
+#include "core/cia402_state.h"
+#include "nmt.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -89,7 +92,8 @@ TEST(HttpJson, StateHasEveryTopLevelKeyAndTheNestedOnes) {
                                           "divergences",
                                           "rejects",
                                           "loop",
-                                          "resonance"};
+                                          "resonance",
+                                          "canopen"};
   std::set<std::string> keys;
   for (const auto& [key, value] : j.items()) keys.insert(key);
   EXPECT_EQ(keys, expected);
@@ -120,6 +124,25 @@ TEST(HttpJson, StateCarriesTheValuesInSiUnits) {
   EXPECT_EQ(j["loop"]["lateness_p99_ns"], 4200);
   EXPECT_EQ(j["state"], to_string(AmpState::fault));
   EXPECT_FALSE(j["drive_on"].get<bool>());  // in fault, 0 Vpp
+}
+
+// The CANopen node's NMT state and CiA 402 drive (docs/canopen.md): null without CANopen.
+TEST(HttpJson, StateCarriesTheCanopenNodeWhenThereIsOne) {
+  Telemetry t = sample_telemetry();
+  EXPECT_TRUE(state_json(t, {}, {})["canopen"].is_null());
+  t.cia402.active = true;
+  t.cia402.state = static_cast<std::uint8_t>(Cia402State::fault);
+  t.cia402.statusword = 0x0208;
+  t.cia402.error_code = 0x4310;
+  t.cia402.mode_display = 3;
+  const json j = state_json(t, {}, {}, static_cast<std::uint8_t>(canopen::NmtState::operational));
+  EXPECT_EQ(j["canopen"]["nmt"], "operational");
+  EXPECT_EQ(j["canopen"]["cia402_state"], to_string(Cia402State::fault));
+  EXPECT_EQ(j["canopen"]["statusword"], 0x0208);
+  EXPECT_EQ(j["canopen"]["error_code"], 0x4310);
+  EXPECT_EQ(j["canopen"]["mode_display"], 3);
+  EXPECT_EQ(state_json(t, {}, {}, static_cast<std::uint8_t>(canopen::NmtState::pre_operational))["canopen"]["nmt"],
+            "pre-operational");
 }
 
 TEST(HttpJson, StateFaultCodeIsTheWireNumberBesideTheName) {

@@ -65,8 +65,8 @@ INSTANTIATE_TEST_SUITE_P(
                                "swum: error: --phase-deg: only with --method phase\n"},
                       BadTrack{{"--vpp", "400"},
                                2,
-                               "swum: error: no device: give --modbus tcp://HOST:PORT | rtu:DEVICE:BAUD or --can "
-                               "IFACE[:NODE]\n"},
+                               "swum: error: no device: give --modbus tcp://HOST:PORT | rtu:DEVICE:BAUD, --can "
+                               "IFACE[:NODE] or --canopen IFACE:NODE\n"},
                       BadTrack{{"--modbus", kNoDevice}, 2, "swum: error: --vpp is required (see swum --help)\n"},
                       BadTrack{{"--modbus", kNoDevice, "--vpp", "400", "--bogus"},
                                2,
