@@ -43,7 +43,11 @@ def check(condition, message):
 
 
 def emulator():
-    return Emulator("--clock", "external", "--duration", "100000", config=THERMAL)
+    # Connection timeouts far above a stall of this loaded machine (the test measures tracking;
+    # the connection rules have their own tests, emu.modbus.lockout.*): beside the guest tier
+    # the server's 500 ms frame/reply timeout once closed a lockstep step's connection.
+    return Emulator("--clock", "external", "--duration", "100000", "--modbus-frame-timeout-ms", "10000",
+                    "--modbus-idle-timeout-ms", "60000", config=THERMAL)
 
 
 # Lockstep: time is emulated, so the link's wall-time limits are hang guards only. At swum's
