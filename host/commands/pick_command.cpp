@@ -209,7 +209,7 @@ void add_pick_command(CLI::App& app) {
   sub->add_option("--margin-hz", o->margin_hz, "minimum margin above the peak (Hz), as swum band")
       ->capture_default_str();
   sub->add_flag("--json", o->json, "JSON list on stdout");
-  sub->add_option("--schedule", o->schedule_path, "write vpp,frequency_hz CSV");
+  sub->add_option("--schedule", o->schedule_path, "write vpp,load_n,frequency_hz CSV");
   sub->add_option("--plot-dir", o->plot_dir,
                   "write speed_vs_frequency.png, frequency_vs_vpp.png, speed_vs_load.png here");
   sub->add_option(
