@@ -16,6 +16,7 @@
 #include "analysis/calibration/calibration_detail.h"
 #include "analysis/fit/parameter_fit.h"
 #include "analysis/steady_state/operating_curves.h"
+#include "analysis/steady_state/parabola_peak.h"
 #include "formats/number_format.h"
 
 namespace swum {

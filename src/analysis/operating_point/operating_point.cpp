@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "analysis/steady_state/operating_curves.h"
+#include "analysis/steady_state/parabola_peak.h"
 #include "formats/number_format.h"
 
 namespace swum {
@@ -150,6 +150,9 @@ PickResult pick_operating_point(std::vector<CurveSample> samples, const PickOpti
   // the margin is never less than asked), its speed interpolated between the measured points
   // either side on the branch above the peak.
   r.frequency_hz = std::ceil(r.peak_frequency_hz + r.margin_hz - 1e-6);
+  if (!(r.frequency_hz - r.peak_frequency_hz >= r.margin_hz - 0.5)) {  // frequencies far beyond any motor's
+    return undecided(r, format_numbers("frequencies too large to resolve a margin of %.0f Hz", r.margin_hz));
+  }
   int above = -1;
   for (int i = peak + 1; i < n; ++i) {
     if (!s[i].ok) break;

@@ -24,19 +24,6 @@ std::vector<double> evenly_spaced(double start, double stop, double step) {
   return values;
 }
 
-double parabola_peak_hz(double fb, double yb, double f0, double y0, double fa, double ya) {
-  const double below = f0 - fb, above = fa - f0;
-  if (!(below > 0.0 && above > 0.0)) return f0;
-  // Divided differences: the parabola's slope at the midpoints and its second derivative.
-  const double slope_below = (y0 - yb) / below, slope_above = (ya - y0) / above;
-  const double curvature = 2.0 * (slope_above - slope_below) / (below + above);
-  if (!std::isfinite(curvature) || !(curvature < 0.0)) return f0;
-  // Slope at f0: the parabola's derivative there, from the two divided differences.
-  const double slope_at_f0 = (slope_below * above + slope_above * below) / (below + above);
-  const double offset = std::clamp(-slope_at_f0 / curvature, -0.5 * below, 0.5 * above);
-  return f0 + offset;
-}
-
 namespace {
 
 // The forward speed at each frequency (0 when the point diverged or did not move forward), all

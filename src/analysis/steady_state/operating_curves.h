@@ -35,14 +35,6 @@ struct SpeedPeak {
 /// softening resonance jumps down there), then refined on a grid of step/4 within one
 /// coarse step either side. Lobes below the collapse (a second regime under the stator
 /// resonance, not reported by the paper) are not part of that resonance and are ignored.
-/// The frequency of a speed peak located finer than its grid: the vertex of the parabola through
-/// the best grid point (f0, y0) and its neighbours below (fb, yb) and above (fa, ya), any spacing,
-/// kept within half a spacing of f0 (where the grid says the peak is: y0 is the best of the three,
-/// so the vertex lies there unless noise bends the parabola the wrong way). f0 itself when the
-/// three points do not bend down (a flat top, a non-finite speed). Shared by the operating point
-/// (pick_operating_point) and `swum calibrate --facts`' peak frequency.
-[[nodiscard]] double parabola_peak_hz(double fb, double yb, double f0, double y0, double fa, double ya);
-
 [[nodiscard]] SpeedPeak frequency_of_max_speed(const MotorModel& model, double vpp, double start_hz, double stop_hz,
                                                double step_hz, double load_n = 0.0);
 
