@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "analysis/operating_point/operating_point.h"
 #include "commands/command_error.h"
 #include "commands/commands.h"
 #include "offline/band_run.h"
@@ -25,8 +26,8 @@ struct BandOptions {
   std::string vpp_list;
   std::string load_list = "0";
   std::string rise_list = "0";
-  double margin_hz = 100.0;
-  std::string frequency_range = "38000:41500:25";
+  double margin_hz = kDefaultMarginHz;  // the operating point's defaults (operating_point.h), as swum pick
+  std::string frequency_range = kDefaultFrequencyGrid;
   std::string out_path;
   bool json = false;
   int jobs = 0;

@@ -1,6 +1,7 @@
-// `swum pick (--sweep CSV | --config F | --modbus/--can DEVICE) --vpp LIST`: the operating
-// frequency per voltage by pick_operating_point, from a sweep table, an offline model sweep or
-// a live sweep of a device; optional schedule, JSON and plots (docs/host.md).
+// `swum pick (--sweep CSV | --config F | --modbus/--can DEVICE) --vpp LIST [--load LIST]`: the
+// operating frequency per voltage and load by pick_operating_point, from a sweep table, an
+// offline model down-sweep (the curve swum band takes) or a live sweep of a device; optional
+// schedule, JSON and plots (docs/host.md).
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
@@ -33,14 +34,14 @@ struct PickCommandOptions {
   DeviceOptions device;
   double tick_hz = 10000.0;  // --tick-hz: lockstep (--canopen --sync-ticks)
   std::string vpp_list;
-  double load_n = 0.0;
-  double margin_hz = 0.0;
+  std::string load_list = "0";
+  double margin_hz = kDefaultMarginHz;
   bool json = false;
   std::string schedule_path;
   std::string plot_dir;
   std::string save_sweep_path;
   // Sources that measure (model or device).
-  std::string frequency_range = "39000:41000:50";
+  std::string frequency_range = kDefaultFrequencyGrid;
   std::string plot_loads = "0,0.5,1,1.5,2,2.5,3";
   double settle_ms = 50.0;
   double dwell_ms = 50.0;
@@ -69,7 +70,11 @@ class Source {
   void measure(const std::vector<double>& voltages, const std::vector<double>& frequencies,
                const std::vector<double>& loads, std::vector<SweepRow>& rows) {
     if (model_) {
-      const auto measured = sweep_model(*model_, OfflineGrid{voltages, frequencies, loads});
+      // The operating point's curve: one continuous down-sweep per (voltage, load), as a device
+      // sweeps and as swum band takes it (down_sweep_chain).
+      OfflineGrid grid{voltages, frequencies, loads};
+      grid.down_sweep = true;
+      const auto measured = sweep_model(*model_, grid);
       rows.insert(rows.end(), measured.begin(), measured.end());
       return;
     }
@@ -115,13 +120,18 @@ void report(const PickCommandOptions& o, const std::vector<VoltagePick>& picks) 
   if (!o.schedule_path.empty()) write_text_file_atomically(o.schedule_path, pick_schedule_csv(picks));
 }
 
+// The figures at the first --load (its picks only).
 void write_plots(const PickCommandOptions& o, Source& source, const std::vector<SweepRow>& sweep,
-                 const std::vector<VoltagePick>& picks, const PickOptions& options) {
+                 const std::vector<VoltagePick>& all_picks, double load_n, const PickOptions& options) {
+  std::vector<VoltagePick> picks;
+  for (const VoltagePick& p : all_picks) {
+    if (p.load_n == load_n) picks.push_back(p);
+  }
   const std::filesystem::path dir(o.plot_dir);
   std::error_code error;
   std::filesystem::create_directories(dir, error);
   if (error) throw CommandError("cannot create " + o.plot_dir + ": " + error.message());
-  write_speed_vs_frequency_plot(sweep, picks, o.load_n, dir / "speed_vs_frequency.png");
+  write_speed_vs_frequency_plot(sweep, picks, load_n, dir / "speed_vs_frequency.png");
   write_frequency_vs_voltage_plot(picks, options.naive_frequency_hz, dir / "frequency_vs_vpp.png");
   // Fig. 16: speed vs load at the picked and the naive frequency; measured when the source
   // can measure, else taken from the table's rows at other loads (when it has them).
@@ -147,9 +157,10 @@ void write_plots(const PickCommandOptions& o, Source& source, const std::vector<
 
 void run_pick(const PickCommandOptions& o) {
   const std::vector<double> voltages = parse_number_list(o.vpp_list, "--vpp");
+  const std::vector<double> loads = parse_number_list(o.load_list, "--load");
   if (!(o.margin_hz >= 0.0 && o.margin_hz <= 10000.0))
     throw std::invalid_argument("--margin-hz: must be within 0..10000");
-  OfflineGrid grid{voltages, {40000.0}, {o.load_n}};
+  OfflineGrid grid{voltages, {40000.0}, loads};
   const bool measuring = o.sweep_path.empty();
   if (measuring) grid.frequencies_hz = parse_range_or_value(o.frequency_range, "--frequency");
   check_grid(grid);  // every bad value named before a device or a file is touched
@@ -159,7 +170,7 @@ void run_pick(const PickCommandOptions& o) {
   std::vector<SweepRow> sweep;
   if (source.measures()) {
     try {
-      source.measure(voltages, grid.frequencies_hz, {o.load_n}, sweep);
+      source.measure(voltages, grid.frequencies_hz, loads, sweep);
     } catch (...) {
       if (!o.save_sweep_path.empty() && !sweep.empty()) {
         write_text_file_atomically(o.save_sweep_path, format_sweep_csv(sweep));
@@ -174,11 +185,11 @@ void run_pick(const PickCommandOptions& o) {
   }
   PickOptions options;
   options.min_margin_hz = o.margin_hz;
-  const std::vector<VoltagePick> picks = pick_voltages(sweep, voltages, o.load_n, options, source.describe());
+  const std::vector<VoltagePick> picks = pick_voltages(sweep, voltages, loads, options, source.describe());
   const bool any_undecided = std::any_of(picks.begin(), picks.end(),
                                          [](const VoltagePick& p) { return !p.result.decided; });
   report(o, picks);
-  if (!o.plot_dir.empty()) write_plots(o, source, sweep, picks, options);
+  if (!o.plot_dir.empty()) write_plots(o, source, sweep, picks, loads.front(), options);
   if (any_undecided) throw CommandError("no frequency picked for some voltages (see reason)", kExitFailure);
 }
 
@@ -192,13 +203,18 @@ void add_pick_command(CLI::App& app) {
   sub->add_option("--config", o->config_path, "motor parameter file: sweep the model offline first");
   add_device_options(*sub, o->device, &o->tick_hz);
   sub->add_option("--vpp", o->vpp_list, "voltages, comma list (Vpp)")->required();
-  sub->add_option("--load", o->load_n, "load of the rows to use / to sweep at (N)")->capture_default_str();
-  sub->add_option("--margin-hz", o->margin_hz, "minimum margin above the peak (Hz)")->capture_default_str();
+  sub->add_option("--load", o->load_list,
+                  "loads, comma list: the rows to use / to sweep at (N); a pick per voltage and load")
+      ->capture_default_str();
+  sub->add_option("--margin-hz", o->margin_hz, "minimum margin above the peak (Hz), as swum band")
+      ->capture_default_str();
   sub->add_flag("--json", o->json, "JSON list on stdout");
-  sub->add_option("--schedule", o->schedule_path, "write vpp,frequency_hz CSV");
+  sub->add_option("--schedule", o->schedule_path, "write vpp,load_n,frequency_hz CSV");
   sub->add_option("--plot-dir", o->plot_dir,
                   "write speed_vs_frequency.png, frequency_vs_vpp.png, speed_vs_load.png here");
-  sub->add_option("--frequency", o->frequency_range, "model/device: START:STOP:STEP to sweep (Hz)")
+  sub->add_option(
+         "--frequency", o->frequency_range,
+         "model/device: START:STOP:STEP, swept from STOP down to START per voltage and load (Hz), as swum band")
       ->capture_default_str();
   sub->add_option("--plot-loads", o->plot_loads, "model/device: loads for speed_vs_load.png (N)")
       ->capture_default_str();

@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "analysis/operating_point/operating_point.h"
 #include "analysis/studies/population.h"
 #include "commands/command_error.h"
 #include "commands/commands.h"
@@ -39,9 +40,9 @@ struct PopulationOptions {
   std::uint64_t motors = 0;
   std::uint64_t seed = 1;
   std::string vpp_list;
-  std::string frequency_range = "39000:41000:50";
+  std::string frequency_range = kDefaultFrequencyGrid;  // the operating point's defaults, as swum pick
   double load_n = 0.0;
-  double margin_hz = 0.0;
+  double margin_hz = kDefaultMarginHz;
   double yield = 0.95;
   unsigned threads = 0;
   std::string out_path;

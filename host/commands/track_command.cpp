@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "analysis/operating_point/operating_point.h"
 #include "commands/command_error.h"
 #include "commands/commands.h"
 #include "device/device_options.h"
@@ -91,6 +92,7 @@ void add_track_command(CLI::App& app) {
       ->capture_default_str();
   sub->add_option("--method", o->method, "phase (PLL on the motional phase), speed (search), fixed (cold pick held)")
       ->capture_default_str();
+  t.margin_hz = kDefaultMarginHz;  // the operating point's default margin (operating_point.h), as swum pick and band
   sub->add_option("--margin-hz", t.margin_hz, "operating point above the speed peak (Hz)")->capture_default_str();
   o->phase_option = sub->add_option("--phase-deg", o->phase_deg,
                                     "phase method: motional phase set-point (deg, -90..30); default: measured at "

@@ -30,14 +30,17 @@ std::vector<CurveSample> curve_at(const std::vector<SweepRow>& rows, double vpp,
 }
 
 std::vector<VoltagePick> pick_voltages(const std::vector<SweepRow>& rows, const std::vector<double>& voltages,
-                                       double load_n, const PickOptions& options, const std::string& source) {
+                                       const std::vector<double>& loads_n, const PickOptions& options,
+                                       const std::string& source) {
   std::vector<VoltagePick> picks;
   for (double v : voltages) {
-    const auto curve = curve_at(rows, v, load_n);
-    if (curve.empty()) {
-      throw CommandError(source + ": no rows at " + std::to_string(v) + " Vpp and " + std::to_string(load_n) + " N");
+    for (double load_n : loads_n) {
+      const auto curve = curve_at(rows, v, load_n);
+      if (curve.empty()) {
+        throw CommandError(source + ": no rows at " + std::to_string(v) + " Vpp and " + std::to_string(load_n) + " N");
+      }
+      picks.push_back({v, pick_operating_point(curve, options), load_n});
     }
-    picks.push_back({v, pick_operating_point(curve, options)});
   }
   return picks;
 }

@@ -15,9 +15,11 @@ namespace swum::host {
 /// not measured (a device timeout) are holes, not collapses, and are left out.
 std::vector<CurveSample> curve_at(const std::vector<SweepRow>& rows, double vpp, double load_n);
 
-/// pick_operating_point on the curve of every voltage, in the order given. Throws CommandError
-/// "<source>: no rows at V Vpp and L N" when a voltage has no row.
+/// pick_operating_point on the curve of every (voltage, load), voltage-major in the orders given
+/// (the order of swum band's rows). Throws CommandError "<source>: no rows at V Vpp and L N" when
+/// a pair has no row.
 std::vector<VoltagePick> pick_voltages(const std::vector<SweepRow>& rows, const std::vector<double>& voltages,
-                                       double load_n, const PickOptions& options, const std::string& source);
+                                       const std::vector<double>& loads_n, const PickOptions& options,
+                                       const std::string& source);
 
 }  // namespace swum::host

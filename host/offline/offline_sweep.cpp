@@ -6,6 +6,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "analysis/operating_point/operating_band.h"
 #include "analysis/steady_state/steady_state.h"
 #include "analysis/steady_state/steady_state_batch.h"
 #include "model/simulation/batch_simulator.h"
@@ -114,7 +115,46 @@ void sweep_model(const MotorModel& model, const OfflineGrid& grid, std::vector<S
   });
 }
 
+namespace {
+
+// Each (voltage, load) as one down-sweep chain (down_sweep_chain: the curve `swum band` takes at
+// rise 0), the chains of a task in the SIMD lanes of a batch as operating_band runs them; the
+// rows in grid order.
+std::vector<SweepRow> sweep_model_down(const MotorModel& model, const OfflineGrid& grid) {
+  std::vector<SweepRow> rows = model_sweep_points(grid);
+  const std::size_t per_curve = grid.frequencies_hz.size();
+  std::vector<std::size_t> order(per_curve);  // chain position -> index in the grid's frequencies
+  for (std::size_t k = 0; k < per_curve; ++k) order[k] = k;
+  std::stable_sort(order.begin(), order.end(),
+                   [&](std::size_t a, std::size_t b) { return grid.frequencies_hz[a] > grid.frequencies_hz[b]; });
+  std::vector<OperatingChain> chains;
+  for (double v : grid.voltages) {
+    for (double load : grid.loads_n)
+      chains.push_back(down_sweep_chain(grid.frequencies_hz, v, load, 0.0, grid.phase_deg));
+  }
+  ProgressBar progress("sweep", grid.progress ? rows.size() : 0);
+  const unsigned jobs = static_cast<unsigned>(std::max(grid.jobs, 0));
+  const std::size_t batches = (chains.size() + BatchSimulator::kLanePadding - 1) / BatchSimulator::kLanePadding;
+  const std::size_t tasks = std::clamp<std::size_t>(batches, 1, parallel_threads(jobs));
+  const std::size_t per_task = (chains.size() + tasks - 1) / tasks;
+  make_parallel_for(jobs)(tasks, [&](std::size_t task) {
+    const std::size_t begin = std::min(chains.size(), task * per_task);
+    const std::size_t end = std::min(chains.size(), begin + per_task);
+    const std::span<const OperatingChain> mine(chains.data() + begin, end - begin);
+    auto done = [&](std::size_t chain, std::size_t k, const SteadyStateResult& r) {
+      SweepRow& row = rows[(begin + chain) * per_curve + order[k]];
+      row = row_of(row, r);
+      progress.advance();
+    };
+    (void)run_chains_to_steady_state(model, mine, {}, kDefaultBatchLanes, done);
+  });
+  return rows;
+}
+
+}  // namespace
+
 std::vector<SweepRow> sweep_model(const MotorModel& model, const OfflineGrid& grid) {
+  if (grid.down_sweep) return sweep_model_down(model, grid);
   std::vector<SweepRow> rows = model_sweep_points(grid);
   sweep_model(model, grid, rows, 0, {});
   return rows;

@@ -1,6 +1,8 @@
 // The offline counterpart of the live sweep: the model's steady speed at every
-// (voltage, load, frequency) point, each from rest (run_to_steady_state's procedure), on all
-// cores, the points of each worker in the SIMD lanes of a batch (steady_state_batch.h).
+// (voltage, load, frequency) point, each from rest (run_to_steady_state's procedure), or each
+// (voltage, load) as one continuous down-sweep (down_sweep_chain, as a device sweeps and as the
+// operating point's curves are taken), on all cores, the points of each worker in the SIMD lanes
+// of a batch (steady_state_batch.h).
 #pragma once
 
 #include <cstddef>
@@ -19,6 +21,9 @@ struct OfflineGrid {
   double phase_deg = 90.0;
   int jobs = 0;          // 0 = all cores
   bool progress = true;  // a progress bar on a terminal (off when the sweep is one of many)
+  // true: each (voltage, load) is one continuous down-sweep at the cold motor (the operating
+  // point's curve: swum pick --config, swum population); false: every point from rest.
+  bool down_sweep = false;
 };
 
 // Throws std::invalid_argument naming the option (--vpp, --frequency, --load, --phase) of a
@@ -26,7 +31,8 @@ struct OfflineGrid {
 // phase -180..180 deg, every value finite.
 void check_grid(const OfflineGrid& grid);
 
-// Rows in (voltage, load, frequency) order; failed points have ok = false and a status.
+// Rows in (voltage, load, frequency) order; failed points have ok = false and a status. With
+// grid.down_sweep a row's point started from the state of the next higher frequency's.
 std::vector<SweepRow> sweep_model(const MotorModel& model, const OfflineGrid& grid);
 
 // The grid's points in that order, not yet computed.

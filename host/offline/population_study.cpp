@@ -36,10 +36,11 @@ MotorOutcome run_population_motor(const PopulationStudy& study, std::uint64_t mo
   }
   const MotorModel model(parameters);
   OfflineGrid grid{study.voltages, study.frequencies_hz, {study.load_n}};
-  grid.jobs = 1;          // motors are the parallel unit
-  grid.progress = false;  // one bar for the study (population_command), not one per motor
+  grid.jobs = 1;           // motors are the parallel unit
+  grid.progress = false;   // one bar for the study (population_command), not one per motor
+  grid.down_sweep = true;  // the operating point's curve, as swum pick --config takes it
   const std::vector<SweepRow> rows = sweep_model(model, grid);
-  for (const VoltagePick& p : pick_voltages(rows, study.voltages, study.load_n, study.pick, name)) {
+  for (const VoltagePick& p : pick_voltages(rows, study.voltages, {study.load_n}, study.pick, name)) {
     VoltageOutcome v;
     v.vpp = p.vpp;
     v.decided = p.result.decided;

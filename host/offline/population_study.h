@@ -1,6 +1,6 @@
 // One motor of `swum population` (docs/population.md): its parameters drawn from the study's
 // counter-based stream, the model swept over the grid and the operating frequency picked per
-// voltage exactly as `swum pick --config` does (sweep_model, then pick_voltages).
+// voltage exactly as `swum pick --config` does (sweep_model's down-sweeps, then pick_voltages).
 #pragma once
 
 #include <cstdint>

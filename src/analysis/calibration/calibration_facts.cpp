@@ -16,6 +16,7 @@
 #include "analysis/calibration/calibration_detail.h"
 #include "analysis/fit/parameter_fit.h"
 #include "analysis/steady_state/operating_curves.h"
+#include "analysis/steady_state/parabola_peak.h"
 #include "formats/number_format.h"
 
 namespace swum {
@@ -55,10 +56,7 @@ double peak_frequency(const MotorModel& model, const Fact& f) {
   const double h = f.search_hz[2] / 4.0;
   const std::vector<double> s = speeds(model, {point(f.vpp, peak.frequency_hz - h, f.load_n),
                                                point(f.vpp, peak.frequency_hz + h, f.load_n)});
-  const double curvature = s[0] - 2.0 * peak.speed_mm_s + s[1];
-  if (!std::isfinite(curvature) || !(curvature < 0.0)) return peak.frequency_hz;
-  const double offset = std::clamp(0.5 * h * (s[0] - s[1]) / curvature, -0.5 * h, 0.5 * h);
-  return peak.frequency_hz + offset;
+  return parabola_peak_hz(peak.frequency_hz - h, s[0], peak.frequency_hz, peak.speed_mm_s, peak.frequency_hz + h, s[1]);
 }
 
 // The lowest voltage whose speed exceeds the threshold: a 10 V grid, three bisections of the

@@ -11,24 +11,6 @@
 namespace swum {
 namespace {
 
-// The down-sweep of one (voltage, load, rise): frequencies from high to low, each point from the
-// state the previous one left (run_chains_to_steady_state), the slow states frozen at the rise.
-OperatingChain down_sweep(const BandGrid& grid, double vpp, double load_n, double rise_k) {
-  std::vector<double> frequencies = grid.frequencies_hz;
-  std::sort(frequencies.begin(), frequencies.end(), std::greater<>());
-  OperatingChain chain;
-  for (double f : frequencies) {
-    OperatingPoint point;
-    point.vpp = vpp;
-    point.frequency_hz = f;
-    point.load_n = load_n;
-    point.stator_temperature_rise_k = rise_k;
-    point.freeze_slow_states = true;
-    chain.push_back(point);
-  }
-  return chain;
-}
-
 // A point that blew up is a collapse for the pick, as in a model sweep (model_pick.h); an
 // unsettled one is a measured speed.
 CurveSample sample_of(const OperatingPoint& point, const SteadyStateResult& r) {
@@ -50,6 +32,23 @@ void widen(std::optional<FrequencyRange>& range, double f) {
 
 }  // namespace
 
+OperatingChain down_sweep_chain(std::vector<double> frequencies_hz, double vpp, double load_n, double rise_k,
+                                double phase_deg) {
+  std::sort(frequencies_hz.begin(), frequencies_hz.end(), std::greater<>());
+  OperatingChain chain;
+  for (double f : frequencies_hz) {
+    OperatingPoint point;
+    point.vpp = vpp;
+    point.frequency_hz = f;
+    point.load_n = load_n;
+    point.phase_deg = phase_deg;
+    point.stator_temperature_rise_k = rise_k;
+    point.freeze_slow_states = true;
+    chain.push_back(point);
+  }
+  return chain;
+}
+
 std::vector<BandRow> operating_band(const MotorModel& model, const BandGrid& grid, const ParallelFor& parallel,
                                     std::size_t tasks, const BandPointDone& point_done) {
   std::vector<BandRow> rows;
@@ -58,7 +57,7 @@ std::vector<BandRow> operating_band(const MotorModel& model, const BandGrid& gri
     for (double load : grid.loads_n) {
       for (double rise : grid.temperature_rises_k) {
         rows.push_back(BandRow{v, load, rise, {}, {}});
-        chains.push_back(down_sweep(grid, v, load, rise));
+        chains.push_back(down_sweep_chain(grid.frequencies_hz, v, load, rise));
       }
     }
   }

@@ -13,6 +13,7 @@
 
 #include "analysis/operating_point/operating_point.h"
 #include "analysis/steady_state/parallel_for.h"
+#include "analysis/steady_state/steady_state_batch.h"
 #include "model/motor_model.h"
 
 namespace swum {
@@ -21,9 +22,17 @@ struct BandGrid {
   std::vector<double> voltages;
   std::vector<double> loads_n{0.0};
   std::vector<double> temperature_rises_k{0.0};
-  std::vector<double> frequencies_hz;  // any order: each chain runs them from the highest down
-  double margin_hz = 100.0;            // PickOptions::min_margin_hz
+  std::vector<double> frequencies_hz;   // any order: each chain runs them from the highest down
+  double margin_hz = kDefaultMarginHz;  // PickOptions::min_margin_hz
 };
+
+// How every model curve of the operating point is taken (`swum band`, `swum pick --config`,
+// `swum population`), as a device sweep takes it and an operator approaches a softening
+// resonance: one continuous down-sweep, the frequencies from the highest to the lowest, each
+// point from the state the previous one left (the first from rest), the slow states frozen at
+// `rise_k` over ambient (0: the cold motor).
+OperatingChain down_sweep_chain(std::vector<double> frequencies_hz, double vpp, double load_n, double rise_k = 0.0,
+                                double phase_deg = 90.0);
 
 // One chain's curve and its pick.
 struct BandRow {

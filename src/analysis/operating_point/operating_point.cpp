@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "analysis/steady_state/parabola_peak.h"
 #include "formats/number_format.h"
 
 namespace swum {
@@ -129,6 +130,14 @@ PickResult pick_operating_point(std::vector<CurveSample> samples, const PickOpti
                                        r.grid_step_hz));
   }
 
+  // The peak finer than the grid: the vertex of the parabola through the best point and its
+  // neighbours on the branch (parabola_peak_hz, as `swum calibrate --facts` locates a peak). When
+  // the point below the best one has collapsed, the branch ends at the best point: it stays.
+  r.peak_frequency_hz = peak > lowest
+                            ? parabola_peak_hz(s[peak - 1].frequency_hz, s[peak - 1].speed_mm_s, s[peak].frequency_hz,
+                                               s[peak].speed_mm_s, s[peak + 1].frequency_hz, s[peak + 1].speed_mm_s)
+                            : s[peak].frequency_hz;
+
   // Margin on the high side: at least one grid step (the jump lies somewhere between the
   // peak and the next point below) and at least the distance over which the quadratic
   // flank above the peak drops by 2 x noise (the peak could be anywhere in there).
@@ -137,22 +146,32 @@ PickResult pick_operating_point(std::vector<CurveSample> samples, const PickOpti
   const double curvature = 2.0 * ((y2 - y1) / (f2 - f1) - (y1 - y0) / (f1 - f0)) / (f2 - f0);
   const double noise_width = curvature < 0.0 ? std::sqrt(4.0 * r.noise_mm_s / -curvature) : r.grid_step_hz;
   r.margin_hz = std::max({options.min_margin_hz, r.grid_step_hz, noise_width});
-  int chosen = -1;
+  // The operating frequency: peak + margin, up to the next whole hertz (an oscillator's setting;
+  // the margin is never less than asked), its speed interpolated between the measured points
+  // either side on the branch above the peak.
+  r.frequency_hz = std::ceil(r.peak_frequency_hz + r.margin_hz - 1e-6);
+  if (!(r.frequency_hz - r.peak_frequency_hz >= r.margin_hz - 0.5)) {  // frequencies far beyond any motor's
+    return undecided(r, format_numbers("frequencies too large to resolve a margin of %.0f Hz", r.margin_hz));
+  }
+  int above = -1;
   for (int i = peak + 1; i < n; ++i) {
-    if (s[i].ok && s[i].frequency_hz >= f0 + r.margin_hz - 1e-6 * r.grid_step_hz) {
-      chosen = i;
+    if (!s[i].ok) break;
+    if (s[i].frequency_hz >= r.frequency_hz) {
+      above = i;
       break;
     }
   }
-  if (chosen < 0) {
+  if (above < 0) {
     return undecided(r, format_numbers("margin of %.0f Hz above the peak at %.0f Hz runs past the top of the sweep",
-                                       r.margin_hz, f0));
+                                       r.margin_hz, r.peak_frequency_hz));
   }
+  const CurveSample& a = s[above - 1];
+  const CurveSample& b = s[above];
+  r.speed_mm_s = a.speed_mm_s +
+                 (b.speed_mm_s - a.speed_mm_s) * (r.frequency_hz - a.frequency_hz) / (b.frequency_hz - a.frequency_hz);
   r.decided = true;
-  r.frequency_hz = s[chosen].frequency_hz;
-  r.speed_mm_s = s[chosen].speed_mm_s;
-  r.reason = format_numbers("peak %.4g mm/s at %.0f Hz; +%.0f Hz margin (grid step %.0f Hz", r.peak_speed_mm_s, f0,
-                            r.margin_hz, r.grid_step_hz);
+  r.reason = format_numbers("peak %.4g mm/s at %.0f Hz; +%.0f Hz margin (grid step %.0f Hz", r.peak_speed_mm_s,
+                            r.peak_frequency_hz, r.margin_hz, r.grid_step_hz);
   r.reason += format_numbers(", noise width %.0f Hz)", noise_width);
   r.reason += r.collapse_hz ? format_numbers("; collapses at %.0f Hz", *r.collapse_hz)
                             : std::string("; no collapse seen");

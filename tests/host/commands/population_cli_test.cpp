@@ -40,6 +40,29 @@ std::vector<std::vector<std::string>> csv_rows(const std::string& text) {
   return rows;
 }
 
+// One operating point (issue 34): with every default (grid, margin) a motor without spread is picked
+// as `swum pick --config` and `swum band` pick it, to the bit.
+TEST(SwumPopulation, WithTheDefaultsPicksAsSwumPickAndBand) {
+  const std::string spreads = write_scratch("zero_defaults.toml",
+                                            "[contact]\npreload_n = { distribution = \"normal\", sigma = 0 }\n");
+  const auto out = swum::test::scratch_path("population", "zero_defaults.csv");
+  const auto summary = swum::test::scratch_path("population", "zero_defaults.json");
+  auto r = run_swum({"population", "--config", kConfig, "--spreads", spreads, "--motors", "1", "--vpp", "350", "--out",
+                     out.string(), "--summary", summary.string()});
+  ASSERT_EQ(r.status, 0) << r.output;
+  const auto s = nlohmann::json::parse(swum::test::read_file(summary));
+  const auto& v = s.at("voltages").at(0);
+  ASSERT_EQ(v.at("decided").get<int>(), 1) << s.dump();
+  r = run_swum({"pick", "--config", kConfig, "--vpp", "350", "--json"});
+  ASSERT_EQ(r.status, 0) << r.output;
+  const double pick = nlohmann::json::parse(r.output).at(0).at("frequency_hz").get<double>();
+  r = run_swum({"band", "--config", kConfig, "--vpp", "350", "--json"});
+  ASSERT_EQ(r.status, 0) << r.output;
+  const double band = nlohmann::json::parse(r.output).at("rows").at(0).at("frequency_hz").get<double>();
+  EXPECT_EQ(v.at("frequency_hz").at("min").get<double>(), pick) << s.dump();
+  EXPECT_EQ(pick, band);
+}
+
 TEST(SwumPopulation, ZeroSpreadReproducesSwumPickConfigExactly) {
   const std::string spreads = write_scratch("zero.toml",
                                             "[contact]\npreload_n = { distribution = \"normal\", sigma = 0 }\n");

@@ -9,12 +9,12 @@
 namespace swum::host {
 namespace {
 
-// Drift: from the peak of the lowest decided voltage.
-double drift_base_hz(const std::vector<VoltagePick>& picks) {
+// Drift: from the peak of the lowest decided voltage at the same load.
+double drift_base_hz(const std::vector<VoltagePick>& picks, double load_n) {
   double base = NAN;
   double base_vpp = INFINITY;
   for (const auto& p : picks) {
-    if (p.result.decided && p.vpp < base_vpp) {
+    if (p.result.decided && p.load_n == load_n && p.vpp < base_vpp) {
       base_vpp = p.vpp;
       base = p.result.peak_frequency_hz;
     }
@@ -30,17 +30,18 @@ double pick_gain_percent(const PickResult& r) {
 }
 
 std::string pick_text(const std::vector<VoltagePick>& picks) {
-  const double base = drift_base_hz(picks);
   std::string out;
-  for (const auto& [v, r] : picks) {
+  for (const auto& [v, r, load_n] : picks) {
+    const double base = drift_base_hz(picks, load_n);
+    const std::string at = format_numbers("%6g Vpp, %g N", v, load_n);
     if (!r.decided) {
-      out += format_number(v, "%6g") + " Vpp: undecided: " + r.reason + "\n";
+      out += at + ": undecided: " + r.reason + "\n";
       continue;
     }
     const std::string naive = r.naive_speed_mm_s ? format_numbers("%.1f mm/s, gain %+.0f %%", *r.naive_speed_mm_s,
                                                                   pick_gain_percent(r))
                                                  : "n/a (40.4 kHz outside the sweep)";
-    out += format_numbers("%6g Vpp: run at %.0f Hz, %.1f mm/s", v, r.frequency_hz, r.speed_mm_s) +
+    out += at + format_numbers(": run at %.0f Hz, %.1f mm/s", r.frequency_hz, r.speed_mm_s) +
            " (naive 40.4 kHz: " + naive + "), drift " + format_number(r.peak_frequency_hz - base, "%+.0f") + " Hz; " +
            r.reason + "\n";
   }
@@ -48,11 +49,12 @@ std::string pick_text(const std::vector<VoltagePick>& picks) {
 }
 
 std::string pick_json(const std::vector<VoltagePick>& picks) {
-  const double base = drift_base_hz(picks);
   nlohmann::ordered_json list = nlohmann::ordered_json::array();
-  for (const auto& [v, r] : picks) {
+  for (const auto& [v, r, load_n] : picks) {
+    const double base = drift_base_hz(picks, load_n);
     nlohmann::ordered_json j;
     j["vpp"] = v;
+    j["load_n"] = load_n;
     j["decided"] = r.decided;
     j["frequency_hz"] = number_or_null(r.decided, r.frequency_hz);
     j["speed_mm_s"] = number_or_null(r.decided, r.speed_mm_s);
@@ -68,9 +70,10 @@ std::string pick_json(const std::vector<VoltagePick>& picks) {
 }
 
 std::string pick_schedule_csv(const std::vector<VoltagePick>& picks) {
-  std::string schedule = "vpp,frequency_hz\n";
-  for (const auto& [v, r] : picks) {
-    if (r.decided) schedule += format_number(v) + "," + format_number(r.frequency_hz) + "\n";
+  std::string schedule = "vpp,load_n,frequency_hz\n";
+  for (const auto& [v, r, load_n] : picks) {
+    if (r.decided)
+      schedule += format_number(v) + "," + format_number(load_n) + "," + format_number(r.frequency_hz) + "\n";
   }
   return schedule;
 }

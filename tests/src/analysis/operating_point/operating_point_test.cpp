@@ -23,16 +23,46 @@ std::vector<CurveSample> peak_curve(double f0, double h, double w, double step =
   return c;
 }
 
-TEST(PickOperatingPoint, CleanPeakGetsOneStepMarginAboveThePeak) {
+TEST(PickOperatingPoint, CleanPeakGetsTheDefaultMarginAboveThePeak) {
   const auto r = pick_operating_point(peak_curve(40000.0, 300.0, 300.0));
   ASSERT_TRUE(r.decided) << r.reason;
-  EXPECT_DOUBLE_EQ(r.peak_frequency_hz, 40000.0);
+  EXPECT_NEAR(r.peak_frequency_hz, 40000.0, 1e-6);  // symmetric about a grid point: the vertex is on it
   EXPECT_DOUBLE_EQ(r.grid_step_hz, 50.0);
-  EXPECT_GE(r.frequency_hz, 40050.0);
-  EXPECT_LE(r.frequency_hz, 40100.0);
-  EXPECT_GT(r.speed_mm_s, 0.9 * 300.0);
+  EXPECT_DOUBLE_EQ(r.margin_hz, swum::kDefaultMarginHz);
+  EXPECT_DOUBLE_EQ(r.frequency_hz, 40100.0);
+  // Interpolated between the points at 40100 and 40150: here the measured one.
+  EXPECT_NEAR(r.speed_mm_s, 300.0 / (1.0 + std::pow(100.0 / 300.0, 2)), 1e-9);
   ASSERT_TRUE(r.naive_speed_mm_s.has_value());
   EXPECT_NEAR(*r.naive_speed_mm_s, 300.0 / (1.0 + std::pow(400.0 / 300.0, 2)), 1e-9);
+}
+
+TEST(PickOperatingPoint, WithoutAUserMarginTheGridStepIsTheFloor) {
+  swum::PickOptions o;
+  o.min_margin_hz = 0.0;
+  const auto r = pick_operating_point(peak_curve(40000.0, 300.0, 300.0), o);
+  ASSERT_TRUE(r.decided) << r.reason;
+  EXPECT_GE(r.margin_hz, 50.0);
+  EXPECT_LE(r.margin_hz, 100.0);
+  EXPECT_DOUBLE_EQ(r.frequency_hz, std::ceil(r.peak_frequency_hz + r.margin_hz - 1e-6));
+  EXPECT_GT(r.speed_mm_s, 0.9 * 300.0);
+}
+
+// A parabolic top between grid points: the peak is located off the grid (the vertex through the
+// best point and its neighbours), so a 50 Hz and a 25 Hz grid give the same operating frequency.
+std::vector<CurveSample> parabola_curve(double f0, double step) {
+  std::vector<CurveSample> c;
+  for (double f = 39300.0; f <= 40600.0 + 1e-9; f += step) c.push_back({f, 300.0 - 2e-4 * (f - f0) * (f - f0)});
+  return c;
+}
+
+TEST(PickOperatingPoint, ThePeakIsLocatedFinerThanTheGrid) {
+  for (double step : {50.0, 25.0, 10.0}) {
+    const auto r = pick_operating_point(parabola_curve(40012.0, step));
+    ASSERT_TRUE(r.decided) << step << ": " << r.reason;
+    EXPECT_NEAR(r.peak_frequency_hz, 40012.0, 1e-6) << step;
+    EXPECT_DOUBLE_EQ(r.frequency_hz, 40112.0) << step;
+    EXPECT_NEAR(r.speed_mm_s, 300.0 - 2e-4 * 100.0 * 100.0, 2e-4 * step * step / 4.0) << step;  // linear between points
+  }
 }
 
 TEST(PickOperatingPoint, SofteningCurveWithJumpStaysAboveTheCollapse) {
@@ -56,7 +86,7 @@ TEST(PickOperatingPoint, UserMarginIsAFloor) {
   o.min_margin_hz = 175.0;
   const auto r = pick_operating_point(peak_curve(40000.0, 300.0, 300.0), o);
   ASSERT_TRUE(r.decided) << r.reason;
-  EXPECT_DOUBLE_EQ(r.frequency_hz, 40200.0);
+  EXPECT_DOUBLE_EQ(r.frequency_hz, 40175.0);
 }
 
 TEST(PickOperatingPoint, FlatNoisyCurveIsRefused) {
@@ -78,11 +108,15 @@ TEST(PickOperatingPoint, NoisyPeakIsRefused) {
 }
 
 TEST(PickOperatingPoint, MeasuredSpreadWidensTheMargin) {
+  swum::PickOptions o;
+  o.min_margin_hz = 0.0;  // the noise term alone
   auto c = peak_curve(40000.0, 300.0, 300.0);
+  const auto clean = pick_operating_point(c, o);
   for (auto& p : c) p.spread_mm_s = 4.0;
-  const auto r = pick_operating_point(c);
+  const auto r = pick_operating_point(c, o);
   ASSERT_TRUE(r.decided) << r.reason;
   EXPECT_GT(r.margin_hz, 50.0);
+  EXPECT_GT(r.margin_hz, clean.margin_hz);
 }
 
 TEST(PickOperatingPoint, SinglePointIsRefused) {
