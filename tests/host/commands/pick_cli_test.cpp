@@ -16,8 +16,8 @@ const std::string kConfig = swum::test::source_path("config/li2019.toml");
 TEST(SwumPick, PicksLowerFrequencyAtHigherVoltageWithAGainOverNaive) {
   const auto sweep = swum::test::scratch_path("pick", "sweep.csv");
   const auto schedule = swum::test::scratch_path("pick", "schedule.csv");
-  auto r = run_swum(
-      {"sweep", "--config", kConfig, "--vpp", "100,300,400", "--frequency", "39300:40600:50", "--out", sweep.string()});
+  auto r = run_swum({"sweep", "--config", kConfig, "--vpp", "100,300,400", "--frequency-hz", "39300:40600:50", "--out",
+                     sweep.string()});
   ASSERT_EQ(r.status, 0) << r.output;
   r = run_swum({"pick", "--sweep", sweep.string(), "--vpp", "100,300,400", "--json", "--schedule", schedule.string()});
   ASSERT_EQ(r.status, 0) << r.output;
@@ -41,7 +41,7 @@ TEST(SwumPick, PicksLowerFrequencyAtHigherVoltageWithAGainOverNaive) {
 TEST(SwumPick, RefusesATooCoarseSweepWithAReason) {
   const auto sweep = swum::test::scratch_path("pick", "coarse.csv");
   auto r = run_swum(
-      {"sweep", "--config", kConfig, "--vpp", "100", "--frequency", "39300:40600:400", "--out", sweep.string()});
+      {"sweep", "--config", kConfig, "--vpp", "100", "--frequency-hz", "39300:40600:400", "--out", sweep.string()});
   ASSERT_EQ(r.status, 0) << r.output;
   r = run_swum({"pick", "--sweep", sweep.string(), "--vpp", "100"});
   EXPECT_EQ(r.status, 1) << r.output;
