@@ -70,6 +70,7 @@ QUANTITY_WORDS = {
 }
 
 
+HELP_COLUMN = 30  # where CLI11's help puts an option's description
 TYPE = r"[A-Z][A-Z0-9_]*(?=[:= ]|$)"  # CLI11's type name: TEXT, FLOAT, INT, UINT, MS...
 
 
@@ -101,9 +102,12 @@ def parse_help(text):
         m = re.match(r"^  (-\S+)(.*)$", line)
         if m:
             names = m.group(1).split(",")
-            parts = re.split(r"\s{2,}", m.group(2).strip(), maxsplit=1)
-            spec = parts[0] if parts else ""
-            help_text = parts[1] if len(parts) > 1 else ""
+            # CLI11 pads the name, type and constraints to column 30 and starts the description
+            # there, or on the next line when they are longer.
+            if len(line) > HELP_COLUMN and line[HELP_COLUMN - 1] == " " and line[HELP_COLUMN] != " ":
+                spec, help_text = line[len(m.group(1)) + 2:HELP_COLUMN].strip(), line[HELP_COLUMN:].strip()
+            else:
+                spec, help_text = m.group(2).strip(), ""
             if not help_text and not re.match(TYPE, spec) and not spec.startswith(("Excludes", "Needs")):
                 spec, help_text = "", spec  # a flag: its description only
             options.append(Option(names, spec, help_text))
@@ -263,6 +267,7 @@ Options:
   --frequency-hz TEXT REQUIRED
                               START:STOP:STEP or one value (Hz); swept downward on a device
   --load TEXT=0               loads, comma list (N)
+  --temperature-rise-k TEXT=0 stator temperature rises over ambient, comma list (K, 0..300)
   --jobs INT                  worker threads, model only (default: all cores)
   --dwell-ms FLOAT=50         device: sampling window per point (device time, ms)
   --resume                    continue the unfinished sweep
@@ -309,6 +314,8 @@ def self_test():
                       (["--frequency-hz"], "TEXT REQUIRED",
                        "START:STOP:STEP or one value (Hz); swept downward on a device"),
                       (["--load"], "TEXT=0", "loads, comma list (N)"),
+                      (["--temperature-rise-k"], "TEXT=0",
+                       "stator temperature rises over ambient, comma list (K, 0..300)"),
                       (["--jobs"], "INT", "worker threads, model only (default: all cores)"),
                       (["--dwell-ms"], "FLOAT=50", "device: sampling window per point (device time, ms)"),
                       (["--resume"], "", "continue the unfinished sweep")]

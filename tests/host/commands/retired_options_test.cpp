@@ -26,8 +26,8 @@ TEST(RetiredOptions, FoundAloneOrWithAValue) {
 }
 
 TEST(RetiredOptions, NewSpellingsAndLongerNamesAreNotRetired) {
-  const std::vector<std::string> args{"--frequency-hz", "40000", "--duration-s=1", "--drive-phase-deg", "90",
-                                      "--frequencyx", "--plot-dir", "p"};
+  const std::vector<std::string> args{
+      "--frequency-hz", "40000", "--duration-s=1", "--drive-phase-deg", "90", "--frequencyx", "--plot-dir", "p"};
   EXPECT_EQ(find_retired_option(args), nullptr);
   EXPECT_EQ(retired_option_message("swum sweep", args), "");
 }
