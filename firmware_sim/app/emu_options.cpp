@@ -18,7 +18,8 @@ namespace swum::emu {
 
 namespace {
 
-// Option spellings swum-emu no longer accepts (issue 34, "One name per idea"): old, new, why. Not
+// Option spellings swum-emu no longer accepts (issue 34, "One name per idea"): old, new (empty:
+// removed), why. Not
 // aliases: a command line holding one fails with one line naming the new spelling. swum's table is
 // host/commands/retired_options.cpp; tests/host/cli_vocabulary.py checks both against --help.
 struct RetiredEmuOption {
@@ -37,14 +38,17 @@ constexpr RetiredEmuOption kRetiredEmuOptions[] = {
     {"--encoder-max-rate", "--encoder-max-rate-hz", "every rate carries its unit"},
 };
 
-// "--old was renamed --new (why)" for the first retired spelling in argv (alone or as --old=V).
+// "--old was renamed --new (why)" ("--old was removed (why)") for the first retired spelling in
+// argv (alone or as --old=V).
 std::string retired_emu_option(int argc, const char* const* argv) {
   for (int i = 1; i < argc; ++i) {
     const std::string_view arg = argv[i];
     for (const RetiredEmuOption& r : kRetiredEmuOptions) {
       const std::string_view old = r.old_spelling;
       if (arg == old || (arg.starts_with(old) && arg.size() > old.size() && arg[old.size()] == '='))
-        return std::string(old) + " was renamed " + r.new_spelling + " (" + r.why + ")";
+        return std::string(old) +
+               (*r.new_spelling == '\0' ? std::string(" was removed") : std::string(" was renamed ") + r.new_spelling) +
+               " (" + r.why + ")";
     }
   }
   return {};

@@ -6,8 +6,8 @@ namespace swum::host {
 
 namespace {
 
-// One row per retired spelling: old, new, why. The voltage names follow the vocabulary of
-// issue 34 as well (the terminal amplitude in V); add their rows here.
+// One row per retired spelling: old, new (empty: removed, nothing replaces it), why. The voltage
+// names follow the vocabulary of issue 34 as well (the terminal amplitude in V); add their rows here.
 constexpr std::array kRetired{
     RetiredOption{"--frequency", "--frequency-hz", "every frequency option carries its unit"},
     RetiredOption{"--duration", "--duration-s", "every duration option carries its unit"},
@@ -29,21 +29,24 @@ bool spells(std::string_view arg, std::string_view option) {
 
 std::span<const RetiredOption> retired_options() { return kRetired; }
 
-const RetiredOption* find_retired_option(std::span<const std::string> args) {
+const RetiredOption* find_retired_option(std::span<const std::string> args, std::span<const RetiredOption> table) {
   for (const std::string& arg : args) {
     if (arg == "--") return nullptr;  // what follows is not an option
-    for (const RetiredOption& retired : kRetired) {
+    for (const RetiredOption& retired : table) {
       if (spells(arg, retired.old_spelling)) return &retired;
     }
   }
   return nullptr;
 }
 
-std::string retired_option_message(std::string_view program, std::span<const std::string> args) {
-  const RetiredOption* retired = find_retired_option(args);
+std::string retired_option_message(std::string_view program, std::span<const std::string> args,
+                                   std::span<const RetiredOption> table) {
+  const RetiredOption* retired = find_retired_option(args, table);
   if (retired == nullptr) return {};
-  return std::string(program) + ": " + std::string(retired->old_spelling) + " was renamed " +
-         std::string(retired->new_spelling) + " (" + std::string(retired->why) + ")";
+  const std::string what = retired->new_spelling.empty() ? " was removed"
+                                                         : " was renamed " + std::string(retired->new_spelling);
+  return std::string(program) + ": " + std::string(retired->old_spelling) + what + " (" + std::string(retired->why) +
+         ")";
 }
 
 }  // namespace swum::host

@@ -4,8 +4,8 @@ and `swum-emu --help` of the built binaries and fails on
 
   (a) a retired spelling still offered (the tables of host/commands/retired_options.cpp and
       firmware_sim/app/emu_options.cpp), a retired spelling whose new spelling nobody offers, or
-      a retired spelling the binary does not answer with "OLD was renamed NEW" and a non-zero
-      status;
+      a retired spelling the binary does not answer with "OLD was renamed NEW" (a row without a
+      new spelling: "OLD was removed") and a non-zero status;
   (b) a synonym pair: two names of one group of SYNONYM_GROUPS offered anywhere (in one command
       or across commands);
   (c) a unit mismatch: one option name whose unit (from the name's suffix, e.g. -hz, -ms, or the
@@ -161,7 +161,7 @@ def check(programs, retired):
     for table, old, new in retired:
         if old in offered:
             problems.append(f"(a) {old} is retired ({table}: renamed {new}) but offered by {', '.join(offered[old])}")
-        if new not in offered:
+        if new and new not in offered:
             problems.append(f"(a) {table}: {old} was renamed {new}, which no command offers")
     # (b) synonym pairs
     for idea, group in SYNONYM_GROUPS:
@@ -201,7 +201,7 @@ def read_retired_tables():
         with open(os.path.join(SOURCE_DIR, path)) as f:
             text = f.read()
         table = re.search(r"(?:kRetired|kRetiredEmuOptions\[\])[ =]*\{(.*?)\n\};", text, re.S)
-        found = re.findall(r'\{"(--[a-z0-9-]+)", "(--[a-z0-9-]+)", "', table.group(1) if table else "")
+        found = re.findall(r'\{"(--[a-z0-9-]+)", "((?:--[a-z0-9-]+)?)", "', table.group(1) if table else "")
         if not found:
             raise SystemExit(f"cli_vocabulary: no retired spellings found in {path} (has the table moved?)")
         rows += [(f"{program}: {path}", old, new) for old, new in found]
@@ -243,12 +243,13 @@ def check_answers(programs, retired):
     problems = []
     for table, old, new in retired:
         program = "swum-emu" if table.startswith("swum-emu") else next(
-            (p for p, opts in programs.items() if p != "swum-emu" and any(new in o.names for o in opts)), None)
+            (p for p, opts in programs.items() if p != "swum-emu" and any(new in o.names for o in opts)),
+            None if new else "swum sweep")  # a removed option: any command answers it
         if program is None:
             continue  # reported by check (a)
         argv = [SWUM_EMU] if program == "swum-emu" else [SWUM, program.split(" ", 1)[1]]
         result = run(argv + [old, "1"])
-        expected = f"{old} was renamed {new}"
+        expected = f"{old} was renamed {new}" if new else f"{old} was removed"
         lines = result.stderr.splitlines()
         if result.returncode == 0 or len(lines) != 1 or expected not in lines[0] or not lines[0].startswith(program):
             problems.append(f"(a) `{program} {old} 1` answered status {result.returncode}, stderr {result.stderr!r}; "

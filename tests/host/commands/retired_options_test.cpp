@@ -40,11 +40,18 @@ TEST(RetiredOptions, TheFirstRetiredSpellingIsNamedInOneLine) {
   EXPECT_EQ(message.find('\n'), std::string::npos);
 }
 
+TEST(RetiredOptions, ARowWithoutANewSpellingSaysRemoved) {
+  const RetiredOption table[] = {{"--voltage-convention", "", "the drive's objects are terminal amplitudes"}};
+  const std::vector<std::string> args{"--voltage-convention=amplitude"};
+  EXPECT_EQ(retired_option_message("swum log", args, table),
+            "swum log: --voltage-convention was removed (the drive's objects are terminal amplitudes)");
+}
+
 TEST(RetiredOptions, EveryRowIsARenameWithAReason) {
   std::set<std::string_view> olds;
   for (const RetiredOption& r : retired_options()) {
     EXPECT_TRUE(r.old_spelling.starts_with("--")) << r.old_spelling;
-    EXPECT_TRUE(r.new_spelling.starts_with("--")) << r.new_spelling;
+    EXPECT_TRUE(r.new_spelling.empty() || r.new_spelling.starts_with("--")) << r.new_spelling;
     EXPECT_NE(r.old_spelling, r.new_spelling);
     EXPECT_FALSE(r.why.empty()) << r.old_spelling;
     EXPECT_TRUE(olds.insert(r.old_spelling).second) << r.old_spelling << " twice";
