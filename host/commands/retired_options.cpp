@@ -19,6 +19,7 @@ constexpr std::array kRetired{
     RetiredOption{"--window-ms", "--dwell-ms", "the sampling window per point, as swum sweep and pick name it"},
     RetiredOption{"--min-hz", "--min-frequency-hz", "frequency bounds named alike in swum and swum-emu"},
     RetiredOption{"--max-hz", "--max-frequency-hz", "frequency bounds named alike in swum and swum-emu"},
+    RetiredOption{"--phase-gain", "--phase-gain-hz-per-deg", "a gain carries its unit"},
 };
 
 bool spells(std::string_view arg, std::string_view option) {

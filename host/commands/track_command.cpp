@@ -102,7 +102,8 @@ void add_track_command(CLI::App& app) {
   sub->add_option("--search-step-hz", t.search_step_hz, "frequency step of a speed search")->capture_default_str();
   sub->add_option("--probe-interval-s", t.probe_interval_s, "speed method: time between searches")
       ->capture_default_str();
-  sub->add_option("--phase-gain", t.phase_gain_hz_per_deg, "phase method: Hz per degree of error per cycle")
+  sub->add_option("--phase-gain-hz-per-deg", t.phase_gain_hz_per_deg,
+                  "phase method: frequency step per degree of phase error per cycle (Hz/deg)")
       ->capture_default_str();
   sub->add_option("--recovery-hz", t.recovery_hz, "jump above the operating point after a collapse")
       ->capture_default_str();

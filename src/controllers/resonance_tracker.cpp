@@ -100,7 +100,7 @@ std::string check(const TrackSettings& s) {
   if (!(s.direction == 1.0 || s.direction == -1.0)) return "direction: must be +1 or -1";
   if (s.max_collapses < 0 || s.max_collapses > 1000) return "--max-collapses: outside 0..1000";
   if (!(s.phase_gain_hz_per_deg > 0.0 && s.phase_gain_hz_per_deg <= 1000.0))
-    return bad("--phase-gain", s.phase_gain_hz_per_deg, "(0, 1000]");
+    return bad("--phase-gain-hz-per-deg", s.phase_gain_hz_per_deg, "(0, 1000]");
   if (!(s.max_step_hz > 0.0 && s.max_step_hz <= 5000.0)) return bad("--max-step-hz", s.max_step_hz, "(0, 5000]");
   if (!(s.approach_step_hz > 0.0 && s.approach_step_hz <= 5000.0))
     return bad("--approach-step-hz", s.approach_step_hz, "(0, 5000]");

@@ -53,11 +53,11 @@ SYNONYM_GROUPS = [
 ]
 
 # Units: an option name's suffix (longest first) and the words a help text states them with.
-NAME_UNITS = [("hz-per-s", "Hz/s"), ("v-per-s", "V/s"), ("vpp-per-s", "Vpp/s"), ("mm-s", "mm/s"), ("hz", "Hz"),
+NAME_UNITS = [("hz-per-s", "Hz/s"), ("hz-per-deg", "Hz/deg"), ("v-per-s", "V/s"), ("vpp-per-s", "Vpp/s"), ("mm-s", "mm/s"), ("hz", "Hz"),
               ("ms", "ms"), ("us", "us"), ("s", "s"), ("deg", "deg"), ("n", "N"), ("v", "V"), ("vpp", "Vpp"),
               ("k", "K"), ("c", "degC"), ("um", "um"), ("mm", "mm"), ("bytes", "bytes"), ("cycles", "cycles"),
               ("ticks", "ticks")]
-HELP_UNITS = {"Hz": "Hz", "kHz": "kHz", "Hz/s": "Hz/s", "ms": "ms", "s": "s", "us": "us", "µs": "us", "N": "N",
+HELP_UNITS = {"Hz": "Hz", "kHz": "kHz", "Hz/s": "Hz/s", "Hz/deg": "Hz/deg", "ms": "ms", "s": "s", "us": "us", "µs": "us", "N": "N",
               "V": "V", "Vpp": "Vpp", "V peak-to-peak": "Vpp", "V/s": "V/s", "Vpp/s": "Vpp/s", "deg": "deg",
               "degrees": "deg", "K": "K", "degC": "degC", "°C": "degC", "mm/s": "mm/s", "um": "um", "µm": "um",
               "mm": "mm", "m": "m", "A": "A", "mA": "mA"}
@@ -328,7 +328,7 @@ def self_test():
         if help_unit(text) != unit:
             failures.append(f"help_unit({text!r}) = {help_unit(text)!r}, expected {unit!r}")
     for name, unit in [("--frequency-slew-hz-per-s", "Hz/s"), ("--speed-mm-s", "mm/s"), ("--skip-s", "s"),
-                       ("--max-load-n", "N"), ("--amplitude-v", "V"), ("--load", None), ("--modbus", None)]:
+                       ("--phase-gain-hz-per-deg", "Hz/deg"), ("--max-load-n", "N"), ("--amplitude-v", "V"), ("--load", None), ("--modbus", None)]:
         if name_unit(name) != unit:
             failures.append(f"name_unit({name!r}) = {name_unit(name)!r}, expected {unit!r}")
     problems = check(clean, CLEAN_RETIRED)
