@@ -5,10 +5,13 @@
 #include <cstdio>
 #include <exception>
 #include <stdexcept>
+#include <string>
+#include <vector>
 
 #include "analysis/measurements/measurements.h"
 #include "commands/command_error.h"
 #include "commands/commands.h"
+#include "commands/retired_options.h"
 #include "model/parameters.h"
 
 int main(int argc, char** argv) {
@@ -39,6 +42,20 @@ int main(int argc, char** argv) {
   } catch (const CLI::CallForAllHelp& e) {
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
+    // A retired spelling explains itself, whatever CLI11 stumbled on first (often the missing
+    // new spelling of a required option).
+    const std::vector<std::string> args(argv + 1, argv + argc);
+    std::string program = "swum";
+    for (const std::string& arg : args) {
+      if (!app.get_subcommands([&arg](const CLI::App* sub) { return sub->get_name() == arg; }).empty()) {
+        program += " " + arg;
+        break;
+      }
+    }
+    if (const std::string retired = retired_option_message(program, args); !retired.empty()) {
+      std::fprintf(stderr, "%s\n", retired.c_str());
+      return kExitUsage;
+    }
     std::fprintf(stderr, "swum: error: %s (see swum --help)\n", e.what());
     return kExitUsage;
   } catch (const std::invalid_argument& e) {

@@ -52,8 +52,8 @@ def vpp_per_terminal_volt(config_path):
 
 
 def amplifier_limits(source_dir, emu_args=()):
-    """{option: value} of the amplifier's set-point limits (--frequency-min, --frequency-max,
-    --amplitude-max): config/modbus_registers.json names them with their defaults ("--frequency-min
+    """{option: value} of the amplifier's set-point limits (--min-frequency-hz, --max-frequency-hz,
+    --amplitude-max): config/modbus_registers.json names them with their defaults ("--min-frequency-hz
     (30000)"), and emu_args may set them. swum-emu refuses a set-point beyond them in an RPDO
     without an answer on the bus, so the bench checks them before it sends."""
     import json
@@ -260,8 +260,8 @@ class CanopenLink:
         mode = MODE_OPEN_LOOP if velocity is None else MODE_PROFILE_VELOCITY
         # Units from the objects' names in the EDS: mHz, mV (terminal amplitude), 0.01 deg, um/s.
         frequency = self._count(0x2001, command.frequency_hz, 1e3, "frequency_hz")
-        self._check_limit("--frequency-min", command.frequency_hz, "Hz", above=False)
-        self._check_limit("--frequency-max", command.frequency_hz, "Hz", above=True)
+        self._check_limit("--min-frequency-hz", command.frequency_hz, "Hz", above=False)
+        self._check_limit("--max-frequency-hz", command.frequency_hz, "Hz", above=True)
         amplitude = self._count(0x2002, command.vpp, 1e3 / self.vpp_per_terminal_v, "vpp")
         self._check_limit("--amplitude-max", command.vpp, "Vpp", above=True)
         phase = self._count(0x2003, command.phase_deg, 100.0, "phase_deg")

@@ -12,7 +12,7 @@
 
 namespace swum::emu {
 
-// Runs the emulator until SIGINT/SIGTERM or the end of --duration, then prints the exit report
+// Runs the emulator until SIGINT/SIGTERM or the end of --duration-s, then prints the exit report
 // to stdout and returns 0. Start-up failures (config file, option values, a port in use, no such
 // CAN interface or GPIO chip) throw with one line of text; nothing has been printed to stdout
 // then. Blocks SIGINT/SIGTERM in the calling thread: call it before starting any thread.
@@ -21,7 +21,7 @@ int run_emulator(const EmuOptions& options);
 // What the exit report shows, taken after the loop and the transports stopped. The transport
 // counters are those of the transports that ran (nullptr: not configured).
 struct ExitStatistics {
-  bool stopped_by_signal = false;  // otherwise --duration ran out
+  bool stopped_by_signal = false;  // otherwise --duration-s ran out
   double emulated_s = 0.0;
   double wall_s = 0.0;
   AmpState state = AmpState::disabled;

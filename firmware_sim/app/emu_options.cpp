@@ -7,12 +7,54 @@
 #include <cstdlib>
 #include <fstream>
 #include <sstream>
+#include <string>
+#include <string_view>
 #include <tuple>
 
 #include "app/milliseconds.h"
 #include "can_codec.h"
 
 namespace swum::emu {
+
+namespace {
+
+// Option spellings swum-emu no longer accepts (issue 34, "One name per idea"): old, new (empty:
+// removed), why. Not
+// aliases: a command line holding one fails with one line naming the new spelling. swum's table is
+// host/commands/retired_options.cpp; tests/host/cli_vocabulary.py checks both against --help.
+struct RetiredEmuOption {
+  const char* old_spelling;
+  const char* new_spelling;
+  const char* why;
+};
+constexpr RetiredEmuOption kRetiredEmuOptions[] = {
+    {"--frequency", "--frequency-hz", "every frequency option carries its unit"},
+    {"--phase", "--drive-phase-deg", "the drive phase (B ahead of A), named as in swum"},
+    {"--duration", "--duration-s", "every duration option carries its unit"},
+    {"--frequency-min", "--min-frequency-hz", "frequency bounds named alike in swum and swum-emu"},
+    {"--frequency-max", "--max-frequency-hz", "frequency bounds named alike in swum and swum-emu"},
+    {"--load-max", "--max-load-n", "limits named max-QUANTITY-UNIT"},
+    {"--frequency-slew", "--frequency-slew-hz-per-s", "every slew limit carries its unit"},
+    {"--encoder-max-rate", "--encoder-max-rate-hz", "every rate carries its unit"},
+};
+
+// "--old was renamed --new (why)" ("--old was removed (why)") for the first retired spelling in
+// argv (alone or as --old=V).
+std::string retired_emu_option(int argc, const char* const* argv) {
+  for (int i = 1; i < argc; ++i) {
+    const std::string_view arg = argv[i];
+    for (const RetiredEmuOption& r : kRetiredEmuOptions) {
+      const std::string_view old = r.old_spelling;
+      if (arg == old || (arg.starts_with(old) && arg.size() > old.size() && arg[old.size()] == '='))
+        return std::string(old) +
+               (*r.new_spelling == '\0' ? std::string(" was removed") : std::string(" was renamed ") + r.new_spelling) +
+               " (" + r.why + ")";
+    }
+  }
+  return {};
+}
+
+}  // namespace
 
 EmuOptions parse_emu_options(int argc, const char* const* argv) {
   EmuOptions o;
@@ -51,11 +93,11 @@ EmuOptions parse_emu_options(int argc, const char* const* argv) {
   app.add_option("--encoder-resolution-um", o.encoder_resolution_um, "encoder: mover travel per count")
       ->check(CLI::PositiveNumber)
       ->capture_default_str();
-  app.add_option("--encoder-max-rate", o.encoder_max_rate_hz, "encoder: max edges per second")
+  app.add_option("--encoder-max-rate-hz", o.encoder_max_rate_hz, "encoder: max edges per second (Hz)")
       ->check(CLI::Range(1.0, 1e6))
       ->capture_default_str();
-  app.add_option("--tick-hz", o.tick_hz, "loop rate")->check(CLI::Range(100.0, 100000.0))->capture_default_str();
-  app.add_option("--duration", o.duration_s, "stop after S emulated seconds (0: run until SIGINT/SIGTERM)")
+  app.add_option("--tick-hz", o.tick_hz, "loop rate (Hz)")->check(CLI::Range(100.0, 100000.0))->capture_default_str();
+  app.add_option("--duration-s", o.duration_s, "stop after this many emulated seconds (s; 0: run until SIGINT/SIGTERM)")
       ->check(CLI::NonNegativeNumber);
   app.add_option("--speedup", o.speedup, "run K times faster than wall time; 0 = as fast as possible")
       ->check(CLI::NonNegativeNumber)
@@ -63,27 +105,28 @@ EmuOptions parse_emu_options(int argc, const char* const* argv) {
   app.add_option("--watchdog-ms", o.watchdog_ms, "command timeout while enabled (emulated ms; 0 = off)")
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
-  app.add_option("--telemetry-hz", o.telemetry_hz, "CAN telemetry rate (0 = off)")
+  app.add_option("--telemetry-hz", o.telemetry_hz, "CAN telemetry rate (Hz; 0 = off)")
       ->check(CLI::Range(0.0, 2000.0))
       ->capture_default_str();
-  app.add_option("--heartbeat-ms", o.heartbeat_ms, "CAN heartbeat period (0 = off)")
+  app.add_option("--heartbeat-ms", o.heartbeat_ms, "CAN heartbeat period (ms; 0 = off)")
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
-  app.add_option("--frequency-min", o.frequency_min_hz, "lowest accepted frequency setpoint (Hz)")
+  app.add_option("--min-frequency-hz", o.frequency_min_hz, "lowest accepted frequency setpoint (Hz)")
       ->capture_default_str();
-  app.add_option("--frequency-max", o.frequency_max_hz, "highest accepted frequency setpoint (Hz)")
+  app.add_option("--max-frequency-hz", o.frequency_max_hz, "highest accepted frequency setpoint (Hz)")
       ->capture_default_str();
   app.add_option("--amplitude-max", o.amplitude_max_vpp, "highest accepted amplitude setpoint (Vpp)")
       ->capture_default_str();
-  app.add_option("--load-max", o.load_max_n, "largest accepted |load force| (N)")->capture_default_str();
-  app.add_option("--frequency-slew", o.frequency_slew_hz_per_s, "frequency slew limit (Hz/s; 0 = none)")
+  app.add_option("--max-load-n", o.load_max_n, "largest accepted |load force| (N)")->capture_default_str();
+  app.add_option("--frequency-slew-hz-per-s", o.frequency_slew_hz_per_s, "frequency slew limit (Hz/s; 0 = none)")
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
   app.add_option("--amplitude-slew", o.amplitude_slew_vpp_per_s, "amplitude slew limit (Vpp/s; 0 = none)")
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
-  app.add_option("--frequency", o.frequency_hz, "initial frequency setpoint (Hz)")->capture_default_str();
-  app.add_option("--phase", o.phase_deg, "initial phase setpoint (deg)")->capture_default_str();
+  app.add_option("--frequency-hz", o.frequency_hz, "initial frequency setpoint (Hz)")->capture_default_str();
+  app.add_option("--drive-phase-deg", o.phase_deg, "initial drive phase setpoint, B ahead of A (deg)")
+      ->capture_default_str();
   app.add_option("--http", o.http_spec,
                  "HOST:PORT: serve the control API and the live dashboard there (port 0: any free port; "
                  "docs/http-api.md); off when absent");
@@ -135,6 +178,9 @@ EmuOptions parse_emu_options(int argc, const char* const* argv) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
+    if (std::string retired = retired_emu_option(argc, argv);
+        !retired.empty() && !dynamic_cast<const CLI::Success*>(&e))
+      throw EmuOptionError(retired);
     std::ostringstream out;
     std::ostringstream err;
     const int exit_code = app.exit(e, out, err);
@@ -154,12 +200,12 @@ EmuOptions parse_emu_options(int argc, const char* const* argv) {
                                "--can-profile",
                                "--gpio",
                                "--encoder-resolution-um",
-                               "--encoder-max-rate",
+                               "--encoder-max-rate-hz",
                                "--telemetry-hz",
                                "--heartbeat-ms",
                                "--sync-ticks",
                                "--clock",
-                               "--duration",
+                               "--duration-s",
                                "--speedup",
                                "--spin-us",
                                "--rt",
@@ -204,7 +250,7 @@ EmuOptions parse_emu_options(int argc, const char* const* argv) {
 }
 
 AmplifierConfig amplifier_config(const EmuOptions& o) {
-  if (o.frequency_min_hz > o.frequency_max_hz) throw EmuOptionError("--frequency-min is above --frequency-max");
+  if (o.frequency_min_hz > o.frequency_max_hz) throw EmuOptionError("--min-frequency-hz is above --max-frequency-hz");
   AmplifierConfig amp;
   amp.limits.min_frequency_hz = o.frequency_min_hz;
   amp.limits.max_frequency_hz = o.frequency_max_hz;
@@ -225,7 +271,7 @@ AmplifierConfig amplifier_config(const EmuOptions& o) {
   initial.frequency_hz = amp.frequency_hz;
   initial.phase_deg = amp.phase_deg;
   if (validate(initial, amp.limits) != Reason::none)
-    throw EmuOptionError("initial --frequency / --phase outside the accepted limits");
+    throw EmuOptionError("initial --frequency-hz / --drive-phase-deg outside the accepted limits");
   return amp;
 }
 

@@ -4,7 +4,7 @@
 //
 // Errors are exceptions with one line of text (main prints "swum-emu: TEXT", exit status 1):
 // parse_emu_options() throws for the values CLI11 does not check itself (--modbus-*-ms), the
-// conversions for bad or conflicting values (--frequency-min/max, initial --frequency/--phase,
+// conversions for bad or conflicting values (--min/--max-frequency-hz, initial --frequency-hz/--drive-phase-deg,
 // --modbus, --gpio). run_emulator() calls each conversion where it needs the part, after reading
 // the --config file, so that with several mistakes the same one is reported first as before
 // the split.
@@ -40,22 +40,22 @@ struct EmuOptions {
   int modbus_evict_idle_ms = ModbusTcpOptions{}.evict_idle_ms;        // --modbus-evict-idle-ms
   std::string gpio_spec;                                         // --gpio: CHIP:enable=N,fault=M[,a=K,b=L]; empty: off
   double encoder_resolution_um = 10.0;                           // --encoder-resolution-um
-  double encoder_max_rate_hz = 20000.0;                          // --encoder-max-rate
+  double encoder_max_rate_hz = 20000.0;                          // --encoder-max-rate-hz
   double tick_hz = 10000.0;                                      // --tick-hz
-  double duration_s = 0.0;                                       // --duration (emulated); 0: until SIGINT/SIGTERM
+  double duration_s = 0.0;                                       // --duration-s (emulated); 0: until SIGINT/SIGTERM
   double speedup = 1.0;                                          // --speedup (factor); 0: as fast as possible
   double spin_us = 0.0;                                          // --spin-us
   double watchdog_ms = 100.0;                                    // --watchdog-ms (emulated); 0: off
   double telemetry_hz = 100.0;                                   // --telemetry-hz (CAN); 0: off
   double heartbeat_ms = 1000.0;                                  // --heartbeat-ms (CAN); 0: off
-  double frequency_min_hz = AmplifierLimits{}.min_frequency_hz;  // --frequency-min
-  double frequency_max_hz = AmplifierLimits{}.max_frequency_hz;  // --frequency-max
+  double frequency_min_hz = AmplifierLimits{}.min_frequency_hz;  // --min-frequency-hz
+  double frequency_max_hz = AmplifierLimits{}.max_frequency_hz;  // --max-frequency-hz
   double amplitude_max_vpp = AmplifierLimits{}.max_amplitude_vpp;                // --amplitude-max
-  double load_max_n = AmplifierLimits{}.max_abs_load_n;                          // --load-max
-  double frequency_slew_hz_per_s = AmplifierConfig{}.frequency_slew_hz_per_s;    // --frequency-slew
+  double load_max_n = AmplifierLimits{}.max_abs_load_n;                          // --max-load-n
+  double frequency_slew_hz_per_s = AmplifierConfig{}.frequency_slew_hz_per_s;    // --frequency-slew-hz-per-s
   double amplitude_slew_vpp_per_s = AmplifierConfig{}.amplitude_slew_vpp_per_s;  // --amplitude-slew
-  double frequency_hz = AmplifierConfig{}.frequency_hz;                          // --frequency (initial)
-  double phase_deg = AmplifierConfig{}.phase_deg;                                // --phase (initial)
+  double frequency_hz = AmplifierConfig{}.frequency_hz;                          // --frequency-hz (initial)
+  double phase_deg = AmplifierConfig{}.phase_deg;                                // --drive-phase-deg (initial)
   bool external_clock = false;          // --clock external: lockstep (time advances only when a controller steps it)
   int sync_ticks = 10;                  // --sync-ticks: ticks per CAN SYNC in lockstep
   std::string scenario_path;            // --scenario; empty: none
@@ -104,7 +104,7 @@ class EmuCliExit : public std::runtime_error {
 EmuOptions parse_emu_options(int argc, const char* const* argv);
 
 // The options in each part's terms (SI units). Throw EmuOptionError for bad values.
-// --frequency-min/max/--amplitude-max/--load-max, slews (the limits raised to admit them),
+// --min/--max-frequency-hz, --amplitude-max,/--max-load-n, slews (the limits raised to admit them),
 // initial setpoints (checked against the limits), --watchdog-ms.
 AmplifierConfig amplifier_config(const EmuOptions& options);
 // --modbus; nullopt for "none".
@@ -116,13 +116,13 @@ CanTransportConfig can_transport_config(const EmuOptions& options);
 // voltage convention (the terminal amplitude of 0x2002/0x2011 in the amplifier's "vpp" input).
 CanopenProfileConfig canopen_profile_config(const EmuOptions& options, const AmplifierLimits& limits,
                                             double vpp_per_terminal_amplitude_v);
-// --gpio, --encoder-resolution-um, --encoder-max-rate (used when --gpio is given).
+// --gpio, --encoder-resolution-um, --encoder-max-rate-hz (used when --gpio is given).
 GpioConfig gpio_config(const EmuOptions& options);
-// --speedup, --rt, --spin-us, --duration at --tick-hz; statistics published ~10 times a second.
+// --speedup, --rt, --spin-us, --duration-s at --tick-hz; statistics published ~10 times a second.
 LoopConfig loop_config(const EmuOptions& options);
 // --http and the --http-* options; nullopt when --http is not given. Reads --http-token-file.
 std::optional<HttpConfig> http_config(const EmuOptions& options);
-// --duration at --tick-hz (--clock external).
+// --duration-s at --tick-hz (--clock external).
 LockstepConfig lockstep_config(const EmuOptions& options);
 
 }  // namespace swum::emu

@@ -19,7 +19,7 @@ class LockstepClock {
  public:
   // Transport side: run `ticks` more ticks (after every command this thread queued before the
   // call) and wait until they are done. False when the emulator stops first (the ticks are not
-  // all run: --duration reached, SIGTERM).
+  // all run: --duration-s reached, SIGTERM).
   bool advance(std::uint64_t ticks);
 
   // Loop side: wait until more ticks are asked for than `done`; the total asked for so far, or 0
@@ -42,7 +42,7 @@ class LockstepClock {
 };
 
 struct LockstepConfig {
-  std::uint64_t max_ticks = 0;  // --duration; 0 = until stop
+  std::uint64_t max_ticks = 0;  // --duration-s; 0 = until stop
 };
 
 // The loop of the external clock: runs EmulatorCore::tick() only for ticks asked for. Loop timing

@@ -161,7 +161,7 @@ void HttpApi::start() {
     listen_ended_cv_.notify_all();
   });
   // Server::stop() does nothing before the server runs: wait, so that a stop right after the
-  // start (a short --duration, an early SIGTERM) is not lost.
+  // start (a short --duration-s, an early SIGTERM) is not lost.
   for (int i = 0; i < 5000 && !server_->is_running(); ++i) {
     {
       const std::lock_guard lock(listen_mutex_);

@@ -38,7 +38,7 @@ void run_band(const BandOptions& o) {
   grid.voltages = parse_number_list(o.vpp_list, "--vpp");
   grid.loads_n = parse_number_list(o.load_list, "--load");
   grid.temperature_rises_k = parse_number_list(o.rise_list, "--temperature-rise-k");
-  grid.frequencies_hz = parse_range_or_value(o.frequency_range, "--frequency");
+  grid.frequencies_hz = parse_range_or_value(o.frequency_range, "--frequency-hz");
   grid.margin_hz = o.margin_hz;
   check_band_grid(grid, o.jobs);  // every bad value named before the file is read
   const MotorParameters parameters = load_motor_parameters(o.config_path);
@@ -75,7 +75,7 @@ void add_band_command(CLI::App& app) {
       ->capture_default_str();
   sub->add_option("--margin-hz", o->margin_hz, "minimum margin above the peak (Hz), as swum pick")
       ->capture_default_str();
-  sub->add_option("--frequency", o->frequency_range,
+  sub->add_option("--frequency-hz", o->frequency_range,
                   "START:STOP:STEP (Hz); every chain runs it from STOP down to START (default: 41500 down to 38000 Hz "
                   "in 25 Hz steps)")
       ->capture_default_str();

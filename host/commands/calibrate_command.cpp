@@ -44,7 +44,7 @@ struct CalibrateCommandOptions {
   int max_evaluations = CalibrationOptions{}.max_evaluations;
   // The measurement protocol of each predicted point (PredictionOptions::measurement_protocol).
   double settle_ms = 1e3 * PredictionOptions::measurement_protocol().settle_s;
-  double window_ms = 1e3 * PredictionOptions::measurement_protocol().window_s;
+  double dwell_ms = 1e3 * PredictionOptions::measurement_protocol().window_s;
   bool no_trade_offs = false;
   bool json = false;
   int jobs = 0;
@@ -64,7 +64,7 @@ std::string command_line(const CalibrateCommandOptions& o) {
     c += " --max-evaluations " + std::to_string(o.max_evaluations);
   }
   if (o.settle_ms != d.settle_ms) c += " --settle-ms " + format_number(o.settle_ms, "%g");
-  if (o.window_ms != d.window_ms) c += " --window-ms " + format_number(o.window_ms, "%g");
+  if (o.dwell_ms != d.dwell_ms) c += " --dwell-ms " + format_number(o.dwell_ms, "%g");
   if (o.no_trade_offs) c += " --no-trade-offs";
   return c;
 }
@@ -78,11 +78,11 @@ void run_calibrate_command(const CalibrateCommandOptions& o) {
   if (o.starts < 1) throw std::invalid_argument("--starts: must be >= 1");
   if (o.max_evaluations < 10) throw std::invalid_argument("--max-evaluations: must be >= 10");
   if (!(o.settle_ms >= 0.0 && o.settle_ms <= 10000.0)) throw std::invalid_argument("--settle-ms: must be in 0..10000");
-  if (!(o.window_ms >= 1.0 && o.window_ms <= 10000.0)) throw std::invalid_argument("--window-ms: must be in 1..10000");
+  if (!(o.dwell_ms >= 1.0 && o.dwell_ms <= 10000.0)) throw std::invalid_argument("--dwell-ms: must be in 1..10000");
   CalibrationOptions options;
   options.prediction.steady.settle_s = 1e-3 * o.settle_ms;
-  options.prediction.steady.window_s = 1e-3 * o.window_ms;
-  options.prediction.steady.max_s = 1e-3 * (o.settle_ms + o.window_ms);
+  options.prediction.steady.window_s = 1e-3 * o.dwell_ms;
+  options.prediction.steady.max_s = 1e-3 * (o.settle_ms + o.dwell_ms);
   options.max_free = o.max_free;
   options.starts = o.starts;
   options.max_evaluations = o.max_evaluations;
@@ -192,10 +192,10 @@ void add_calibrate_command(CLI::App& app) {
   sub->add_option("--max-evaluations", o->max_evaluations, "with --facts: cost evaluations per fit")
       ->capture_default_str();
   sub->add_option("--settle-ms", o->settle_ms,
-                  "with --measured: each predicted point settles this long (match the sweep's --settle-ms)")
+                  "with --measured: each predicted point settles this long (ms; match the sweep's --settle-ms)")
       ->capture_default_str();
-  sub->add_option("--window-ms", o->window_ms,
-                  "with --measured: and is averaged over this window (match the sweep's --dwell-ms)")
+  sub->add_option("--dwell-ms", o->dwell_ms,
+                  "with --measured: and is averaged over this window (ms; match the sweep's --dwell-ms)")
       ->capture_default_str();
   sub->add_flag("--no-trade-offs", o->no_trade_offs, "with --facts: do not push failing facts or trace fronts");
   sub->add_option("--out", o->out_path, "fitted parameter file (TOML)")->required();

@@ -80,9 +80,9 @@ void add_control_command(CLI::App& app) {
       "control", "Closed-loop speed control of a live device (amplitude PI; lockstep with swum-emu --clock external)");
   add_device_options(*sub, o->device);
   sub->add_option("--speed-mm-s", s.target_mm_s, "target speed (mm/s); the sign is the direction")->required();
-  sub->add_option("--frequency-hz", s.frequency_hz, "fixed drive frequency (e.g. the one `swum pick` chose)")
+  sub->add_option("--frequency-hz", s.frequency_hz, "fixed drive frequency (Hz; e.g. the one `swum pick` chose)")
       ->capture_default_str();
-  sub->add_option("--duration-s", s.duration_s, "run length (device time in lockstep)")->capture_default_str();
+  sub->add_option("--duration-s", s.duration_s, "run length (s; device time in lockstep)")->capture_default_str();
   sub->add_option("--cycle-ms", o->cycle_ms, "control cycle (ms)")->capture_default_str();
   sub->add_option("--tick-hz", s.tick_hz, "lockstep: the device's tick rate (checked against its clock)")
       ->capture_default_str();

@@ -28,14 +28,14 @@ struct LogOptions {
 };
 
 void run_log(const LogOptions& o) {
-  if (!(o.duration_s > 0.0)) throw std::invalid_argument("--duration: must be > 0");
-  if (!(o.duration_s <= 1e7)) throw std::invalid_argument("--duration: must be <= 1e7 s");
+  if (!(o.duration_s > 0.0)) throw std::invalid_argument("--duration-s: must be > 0");
+  if (!(o.duration_s <= 1e7)) throw std::invalid_argument("--duration-s: must be <= 1e7 s");
   if (!(o.rate_hz >= 0.01 && o.rate_hz <= 10000.0))
     throw std::invalid_argument("--rate-hz: must be within 0.01..10000");
   StopSignal stop;
   const auto device = o.device.open(o.tick_hz);
   // Each row is written as it arrives (one write(2) each) to OUT.partial, renamed to OUT when
-  // the log ends (--duration or Ctrl-C); a killed run or a device error leaves OUT.partial.
+  // the log ends (--duration-s or Ctrl-C); a killed run or a device error leaves OUT.partial.
   PartialFile out(o.out_path, kLogCsvHeader);
   using Clock = std::chrono::steady_clock;
   const auto start = Clock::now();
@@ -86,7 +86,7 @@ void run_log(const LogOptions& o) {
         missing += behind;
         next += behind * std::chrono::duration_cast<Clock::duration>(period);
       }
-      // Wait for the next poll in short naps: Ctrl-C and the end of --duration end it at once.
+      // Wait for the next poll in short naps: Ctrl-C and the end of --duration-s end it at once.
       while (Clock::now() < next && Clock::now() < end && !StopSignal::requested()) {
         std::this_thread::sleep_for(std::min<Clock::duration>(next - Clock::now(), std::chrono::milliseconds(20)));
       }
@@ -105,7 +105,7 @@ void add_log_command(CLI::App& app) {
   auto o = std::make_shared<LogOptions>();
   CLI::App* sub = app.add_subcommand("log", "Log a live device's telemetry to CSV (passive: sends no commands)");
   add_device_options(*sub, o->device, &o->tick_hz);
-  sub->add_option("--duration", o->duration_s, "seconds to log")->capture_default_str();
+  sub->add_option("--duration-s", o->duration_s, "how long to log (s)")->capture_default_str();
   sub->add_option("--rate-hz", o->rate_hz, "poll rate for polled protocols (Modbus); CAN logs every frame set")
       ->capture_default_str();
   sub->add_option("--out", o->out_path, "output CSV")->required();

@@ -162,7 +162,7 @@ void run_pick(const PickCommandOptions& o) {
     throw std::invalid_argument("--margin-hz: must be within 0..10000");
   OfflineGrid grid{voltages, {40000.0}, loads};
   const bool measuring = o.sweep_path.empty();
-  if (measuring) grid.frequencies_hz = parse_range_or_value(o.frequency_range, "--frequency");
+  if (measuring) grid.frequencies_hz = parse_range_or_value(o.frequency_range, "--frequency-hz");
   check_grid(grid);  // every bad value named before a device or a file is touched
   if (measuring) check_plan(Source::plan_for(o, grid.voltages, grid.frequencies_hz, grid.loads_n));
   StopSignal stop;
@@ -213,7 +213,7 @@ void add_pick_command(CLI::App& app) {
   sub->add_option("--plot-dir", o->plot_dir,
                   "write speed_vs_frequency.png, frequency_vs_vpp.png, speed_vs_load.png here");
   sub->add_option(
-         "--frequency", o->frequency_range,
+         "--frequency-hz", o->frequency_range,
          "model/device: START:STOP:STEP, swept from STOP down to START per voltage and load (Hz), as swum band")
       ->capture_default_str();
   sub->add_option("--plot-loads", o->plot_loads, "model/device: loads for speed_vs_load.png (N)")

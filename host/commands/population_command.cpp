@@ -44,7 +44,7 @@ struct PopulationOptions {
   double load_n = 0.0;
   double margin_hz = kDefaultMarginHz;
   double yield = 0.95;
-  unsigned threads = 0;
+  unsigned jobs = 0;
   std::string out_path;
   std::string summary_path;
   bool json = false;
@@ -59,10 +59,10 @@ PopulationStudy prepare(const PopulationOptions& o) {
   if (!(o.margin_hz >= 0.0 && o.margin_hz <= 10000.0)) {
     throw std::invalid_argument("--margin-hz: must be within 0..10000");
   }
-  if (o.threads > 1024) throw std::invalid_argument("--threads: must be within 0..1024");
+  if (o.jobs > 1024) throw std::invalid_argument("--jobs: must be within 0..1024");
   PopulationStudy study;
   study.voltages = parse_number_list(o.vpp_list, "--vpp");
-  study.frequencies_hz = parse_range_or_value(o.frequency_range, "--frequency");
+  study.frequencies_hz = parse_range_or_value(o.frequency_range, "--frequency-hz");
   study.load_n = o.load_n;
   check_grid(OfflineGrid{study.voltages, study.frequencies_hz, {study.load_n}});
   for (std::size_t a = 0; a < study.voltages.size(); ++a) {
@@ -138,7 +138,7 @@ void run_population(const PopulationOptions& o) {
     if (world.root()) rows.emplace(*file, 0);
     ProgressBar progress("motors", world.root() ? study->motors : 0);
     world.for_each(
-        study->motors, world.threads(o.threads),
+        study->motors, world.threads(o.jobs),
         [&](std::size_t i) { return encode_motor_outcome(run_population_motor(*study, i)); },
         [&](std::size_t i, std::string bytes) {
           MotorOutcome outcome = decode_motor_outcome(bytes);
@@ -181,14 +181,14 @@ void add_population_command(CLI::App& app) {
       ->check(CLI::NonNegativeNumber)  // CLI11 reads "-1" into an unsigned as 2^64 - 1
       ->capture_default_str();
   sub->add_option("--vpp", o->vpp_list, "voltages, comma list (Vpp)")->required();
-  sub->add_option("--frequency", o->frequency_range, "START:STOP:STEP swept per motor and voltage (Hz)")
+  sub->add_option("--frequency-hz", o->frequency_range, "START:STOP:STEP swept per motor and voltage (Hz)")
       ->capture_default_str();
   sub->add_option("--load", o->load_n, "load (N)")->capture_default_str();
   sub->add_option("--margin-hz", o->margin_hz, "minimum margin above the peak (Hz), as swum pick")
       ->capture_default_str();
   sub->add_option("--yield", o->yield, "share of motors the oscillator range must cover, (0, 1]")
       ->capture_default_str();
-  sub->add_option("--threads", o->threads, "threads per process (0: the cores, shared by the ranks on a machine)")
+  sub->add_option("--jobs", o->jobs, "worker threads per process (0: all cores, shared by the ranks on a machine)")
       ->capture_default_str();
   sub->add_option("--out", o->out_path, "per-motor CSV (rows in OUT.partial until the study completes)")->required();
   sub->add_option("--summary", o->summary_path, "also write the summary JSON here");

@@ -31,15 +31,15 @@ struct SimulateOptions {
 void run_simulate(const SimulateOptions& o) {
   OperatingPoint point;
   point.vpp = parse_finite_number(o.vpp, "--vpp");
-  point.frequency_hz = parse_finite_number(o.frequency_hz, "--frequency");
+  point.frequency_hz = parse_finite_number(o.frequency_hz, "--frequency-hz");
   point.load_n = parse_finite_number(o.load_n, "--load");
-  point.phase_deg = parse_finite_number(o.phase_deg, "--phase");
+  point.phase_deg = parse_finite_number(o.phase_deg, "--drive-phase-deg");
   if (point.vpp < 0.0) throw std::invalid_argument("--vpp: must be >= 0, got " + o.vpp);
   if (point.frequency_hz < 1000.0 || point.frequency_hz > 200000.0) {
-    throw std::invalid_argument("--frequency: must be within 1000..200000 Hz, got " + o.frequency_hz);
+    throw std::invalid_argument("--frequency-hz: must be within 1000..200000 Hz, got " + o.frequency_hz);
   }
   if (std::abs(point.phase_deg) > 180.0) {
-    throw std::invalid_argument("--phase: must be within -180..180 degrees, got " + o.phase_deg);
+    throw std::invalid_argument("--drive-phase-deg: must be within -180..180 degrees, got " + o.phase_deg);
   }
 
   const MotorModel model(load_motor_parameters(o.config_path));
@@ -47,9 +47,9 @@ void run_simulate(const SimulateOptions& o) {
   if (!o.duration_s.empty()) {
     // At most this long: stop as soon as two windows agree (the real-time factor below counts
     // the simulated time actually run).
-    const double duration_s = parse_finite_number(o.duration_s, "--duration");
+    const double duration_s = parse_finite_number(o.duration_s, "--duration-s");
     if (duration_s <= 0.0 || duration_s > 10.0) {
-      throw std::invalid_argument("--duration: must be within (0, 10] s, got " + o.duration_s);
+      throw std::invalid_argument("--duration-s: must be within (0, 10] s, got " + o.duration_s);
     }
     options = steady_state_options_within(duration_s);
   }
@@ -82,14 +82,15 @@ void add_simulate_command(CLI::App& app) {
   CLI::App* sub = app.add_subcommand("simulate", "Run one operating point to steady state");
   sub->add_option("--config", o->config_path, "motor parameter file (TOML)")->required();
   sub->add_option("--vpp", o->vpp, "drive voltage (V peak-to-peak)")->required();
-  sub->add_option("--frequency", o->frequency_hz, "drive frequency (Hz)")->required();
+  sub->add_option("--frequency-hz", o->frequency_hz, "drive frequency (Hz)")->required();
   sub->add_option("--load", o->load_n, "external load force on the mover (N)")->capture_default_str();
-  sub->add_option("--phase", o->phase_deg, "phase of B relative to A (deg); sign = direction")->capture_default_str();
-  sub->add_option("--duration", o->duration_s,
+  sub->add_option("--drive-phase-deg", o->phase_deg, "phase of B relative to A (deg); sign = direction")
+      ->capture_default_str();
+  sub->add_option("--duration-s", o->duration_s,
                   "run at most this long (s), stopping when two windows agree (default 0.1)");
   sub->add_option("--trace", o->trace_path, "write a CSV trace of the run");
   sub->add_flag("--whole-duration", o->whole_duration,
-                "run all of --duration even once two windows agree (timing, slow transients); the result is the last "
+                "run all of --duration-s even once two windows agree (timing, slow transients); the result is the last "
                 "window");
   sub->add_flag("--json", o->json, "print one JSON object");
   sub->callback([o] { run_simulate(*o); });

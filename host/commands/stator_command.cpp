@@ -36,13 +36,13 @@ std::filesystem::path sibling(const std::filesystem::path& path, const std::stri
 
 void run_stator(const StatorOptions& o) {
   const std::vector<double> voltages = parse_number_list(o.vpp_list, "--vpp");
-  const std::vector<double> frequencies = parse_range_or_value(o.frequency_range, "--frequency");
+  const std::vector<double> frequencies = parse_range_or_value(o.frequency_range, "--frequency-hz");
   for (double v : voltages) {
     if (v < 0.0) throw std::invalid_argument("--vpp: voltages must be >= 0");
   }
   for (double f : frequencies) {
     if (f < 1000.0 || f > 200000.0) {
-      throw std::invalid_argument("--frequency: must be within 1000..200000 Hz");
+      throw std::invalid_argument("--frequency-hz: must be within 1000..200000 Hz");
     }
   }
   const MotorModel model(load_motor_parameters(o.config_path));
@@ -88,7 +88,7 @@ void add_stator_command(CLI::App& app) {
       "stator", "Free-stator tip amplitudes by harmonic balance: all branches, stability, backbone");
   sub->add_option("--config", o->config_path, "motor parameter file (TOML)")->required();
   sub->add_option("--vpp", o->vpp_list, "drive voltages, comma list (V peak-to-peak)")->required();
-  sub->add_option("--frequency", o->frequency_range, "START:STOP:STEP or one value (Hz)")->required();
+  sub->add_option("--frequency-hz", o->frequency_range, "START:STOP:STEP or one value (Hz)")->required();
   auto* json = sub->add_flag("--json", o->json, "print one JSON object (rows and backbone)");
   auto* out = sub->add_option("--out", o->out_path,
                               "output CSV (default: stdout) with columns "

@@ -74,14 +74,14 @@ void run_model_sweep(const SweepOptions& o, const OfflineGrid& grid) {
   SweepKept kept;
   if (o.resume) {
     kept = read_sweep_partial(o.out_path, header, rows);
-    // Another --config or --phase gives other numbers at the same points: the last row, computed
+    // Another --config or --drive-phase-deg gives other numbers at the same points: the last row, computed
     // again, must come out the same to the last digit.
     if (!kept.rows.empty()) {
       const std::size_t last = kept.rows.size() - 1;
       if (format_sweep_row(kModelSweep, run_model_point(model, rows[last], grid.phase_deg)) !=
           kept.lines[last + 1] + "\n") {
         throw CommandError("--resume: the last row of " + partial_path(o.out_path).string() +
-                           " is not what this sweep computes at that point (other --config or --phase?)");
+                           " is not what this sweep computes at that point (other --config or --drive-phase-deg?)");
       }
     }
     std::copy(kept.rows.begin(), kept.rows.end(), rows.begin());
@@ -153,7 +153,7 @@ void run_device_sweep(const SweepOptions& o, const DeviceSweepPlan& plan) {
 void run_sweep(const SweepOptions& o) {
   OfflineGrid grid;
   grid.voltages = parse_number_list(o.vpp_list, "--vpp");
-  grid.frequencies_hz = parse_range_or_value(o.frequency_range, "--frequency");
+  grid.frequencies_hz = parse_range_or_value(o.frequency_range, "--frequency-hz");
   grid.loads_n = parse_number_list(o.load_list, "--load");
   grid.phase_deg = o.phase_deg;
   grid.jobs = o.jobs;
@@ -187,10 +187,10 @@ void add_sweep_command(CLI::App& app) {
   sub->add_option("--config", o->config_path, "motor parameter file (TOML): sweep the model offline");
   add_device_options(*sub, o->device, &o->tick_hz);
   sub->add_option("--vpp", o->vpp_list, "drive voltages, comma list (V peak-to-peak)")->required();
-  sub->add_option("--frequency", o->frequency_range, "START:STOP:STEP or one value (Hz); swept downward on a device")
+  sub->add_option("--frequency-hz", o->frequency_range, "START:STOP:STEP or one value (Hz); swept downward on a device")
       ->required();
   sub->add_option("--load", o->load_list, "loads, comma list (N)")->capture_default_str();
-  sub->add_option("--phase", o->phase_deg, "phase of B ahead of A (deg)")->capture_default_str();
+  sub->add_option("--drive-phase-deg", o->phase_deg, "phase of B ahead of A (deg)")->capture_default_str();
   sub->add_option("--jobs", o->jobs, "worker threads, model only (default: all cores)");
   sub->add_option("--settle-ms", o->settle_ms, "device: wait after each frequency step (device time, ms)")
       ->capture_default_str();

@@ -40,7 +40,8 @@ void run_track_command(TrackOptions& o) {
   TrackRunSettings& s = o.settings;
   s.tracker.method = parse_method(o.method);
   if (o.phase_option->count() > 0) {
-    if (s.tracker.method != TrackMethod::phase) throw std::invalid_argument("--phase-deg: only with --method phase");
+    if (s.tracker.method != TrackMethod::phase)
+      throw std::invalid_argument("--motional-phase-deg: only with --method phase");
     s.tracker.phase_setpoint_deg = o.phase_deg;
   }
   s.cycle_s = o.cycle_ms * 1e-3;
@@ -88,22 +89,23 @@ void add_track_command(CLI::App& app) {
       "track", "Hold a live device a margin above its drifting resonance (by motional phase or speed)");
   add_device_options(*sub, o->device);
   sub->add_option("--vpp", o->settings.vpp, "drive amplitude (Vpp)")->required();
-  sub->add_option("--duration-s,--duration", o->settings.duration_s, "run length (device time in lockstep)")
+  sub->add_option("--duration-s", o->settings.duration_s, "run length (s; device time in lockstep)")
       ->capture_default_str();
   sub->add_option("--method", o->method, "phase (PLL on the motional phase), speed (search), fixed (cold pick held)")
       ->capture_default_str();
   t.margin_hz = kDefaultMarginHz;  // the operating point's default margin (operating_point.h), as swum pick and band
   sub->add_option("--margin-hz", t.margin_hz, "operating point above the speed peak (Hz)")->capture_default_str();
-  o->phase_option = sub->add_option("--phase-deg", o->phase_deg,
+  o->phase_option = sub->add_option("--motional-phase-deg", o->phase_deg,
                                     "phase method: motional phase set-point (deg, -90..30); default: measured at "
                                     "peak + margin after one cold speed search");
   sub->add_option("--start-hz", t.start_hz, "the approach starts here, above the resonance")->capture_default_str();
-  sub->add_option("--min-hz", t.min_hz, "never drive below")->capture_default_str();
-  sub->add_option("--max-hz", t.max_hz, "never drive above")->capture_default_str();
+  sub->add_option("--min-frequency-hz", t.min_hz, "never drive below (Hz)")->capture_default_str();
+  sub->add_option("--max-frequency-hz", t.max_hz, "never drive above (Hz)")->capture_default_str();
   sub->add_option("--search-step-hz", t.search_step_hz, "frequency step of a speed search")->capture_default_str();
   sub->add_option("--probe-interval-s", t.probe_interval_s, "speed method: time between searches")
       ->capture_default_str();
-  sub->add_option("--phase-gain", t.phase_gain_hz_per_deg, "phase method: Hz per degree of error per cycle")
+  sub->add_option("--phase-gain-hz-per-deg", t.phase_gain_hz_per_deg,
+                  "phase method: frequency step per degree of phase error per cycle (Hz/deg)")
       ->capture_default_str();
   sub->add_option("--recovery-hz", t.recovery_hz, "jump above the operating point after a collapse")
       ->capture_default_str();
@@ -113,7 +115,7 @@ void add_track_command(CLI::App& app) {
   sub->add_option("--vpp-slew", o->settings.slew.vpp_per_s,
                   "amplitude slew limit written to the device (Vpp/s, 0 = none)")
       ->capture_default_str();
-  sub->add_option("--frequency-slew", o->settings.slew.frequency_hz_per_s,
+  sub->add_option("--frequency-slew-hz-per-s", o->settings.slew.frequency_hz_per_s,
                   "frequency slew limit written to the device (Hz/s, 0 = none)")
       ->capture_default_str();
   sub->add_option("--max-collapses", o->settings.tracker.max_collapses,
@@ -123,7 +125,7 @@ void add_track_command(CLI::App& app) {
   sub->add_option("--tick-hz", o->settings.tick_hz, "lockstep: the device's tick rate (checked against its clock)")
       ->capture_default_str();
   sub->add_option("--out", o->out_path, "output CSV, one row per cycle")->required();
-  sub->add_option("--plots", o->plot_dir, "directory for track_frequency/speed/temperature/phase.png");
+  sub->add_option("--plot-dir", o->plot_dir, "directory for track_frequency/speed/temperature/phase.png");
   sub->callback([o] { run_track_command(*o); });
 }
 

@@ -63,7 +63,7 @@ void add_track_report_command(CLI::App& app) {
   sub->add_option("--ambient-c", o->ambient_c, "ambient temperature of the runs (degC)")->capture_default_str();
   sub->add_option("--skip-s", o->skip_s, "leave out the start (acquisition)")->capture_default_str();
   sub->add_option("--block-s", o->block_s, "length of the averaging blocks")->capture_default_str();
-  sub->add_option("--plots", o->plot_dir, "directory for tracking_share/frequency/speed/temperature.png");
+  sub->add_option("--plot-dir", o->plot_dir, "directory for tracking_share/frequency/speed/temperature.png");
   sub->add_flag("--json", o->json, "per run: shares, blocks, final values as JSON");
   sub->callback([o] { run_report(*o); });
 }

@@ -59,9 +59,9 @@ void check_grid(const OfflineGrid& grid) {
     }
   };
   check(grid.voltages, 0.0, 10000.0, "--vpp", "0..10000 Vpp");
-  check(grid.frequencies_hz, 1000.0, 200000.0, "--frequency", "1000..200000 Hz");
+  check(grid.frequencies_hz, 1000.0, 200000.0, "--frequency-hz", "1000..200000 Hz");
   check(grid.loads_n, -1000.0, 1000.0, "--load", "-1000..1000 N");
-  check({grid.phase_deg}, -180.0, 180.0, "--phase", "-180..180 deg");
+  check({grid.phase_deg}, -180.0, 180.0, "--drive-phase-deg", "-180..180 deg");
 }
 
 std::vector<SweepRow> model_sweep_points(const OfflineGrid& grid) {

@@ -26,7 +26,7 @@ struct OfflineGrid {
   bool down_sweep = false;
 };
 
-// Throws std::invalid_argument naming the option (--vpp, --frequency, --load, --phase) of a
+// Throws std::invalid_argument naming the option (--vpp, --frequency-hz, --load, --drive-phase-deg) of a
 // value no sweep can use: voltages 0..10000 Vpp, frequencies 1000..200000 Hz, |load| <= 1000 N,
 // phase -180..180 deg, every value finite.
 void check_grid(const OfflineGrid& grid);

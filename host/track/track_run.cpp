@@ -92,7 +92,7 @@ std::string check(const TrackRunSettings& s) {
     return "--duration-s: must be at least one cycle and <= 1e6 s";
   if (!(s.tick_hz > 0.0 && s.tick_hz <= 1e6)) return "--tick-hz: must be in (0, 1e6]";
   if (!(s.slew.frequency_hz_per_s >= 0.0 && s.slew.frequency_hz_per_s <= 1e9))
-    return "--frequency-slew: must be in 0..1e9 Hz/s";
+    return "--frequency-slew-hz-per-s: must be in 0..1e9 Hz/s";
   if (!(s.slew.vpp_per_s >= 0.0 && s.slew.vpp_per_s <= 1e9)) return "--vpp-slew: must be in 0..1e9 Vpp/s";
   if (s.tracker.method == TrackMethod::phase && s.drive_phase_deg < 0.0)
     return "--method phase: only the forward drive (--drive-phase-deg > 0) is characterised: phase A's motional "

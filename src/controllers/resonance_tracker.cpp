@@ -16,7 +16,7 @@ const char* peak_reason_text(PeakReason why) {
   switch (why) {
     case PeakReason::speed_fell: return "the speed fell below the best";
     case PeakReason::no_higher_speed: return "no higher speed in the last steps";
-    case PeakReason::min_hz_reached: return "--min-hz reached";
+    case PeakReason::min_hz_reached: return "--min-frequency-hz reached";
   }
   return "?";
 }
@@ -83,8 +83,9 @@ std::string check(const TrackSettings& s) {
   };
   if (!(s.margin_hz >= 0.0 && s.margin_hz <= 5000.0)) return bad("--margin-hz", s.margin_hz, "0..5000");
   if (!(s.min_hz >= 1000.0 && s.max_hz <= 200000.0 && s.min_hz < s.max_hz))
-    return "--min-hz/--max-hz: need 1000 <= min < max <= 200000";
-  if (!(s.start_hz >= s.min_hz && s.start_hz <= s.max_hz)) return bad("--start-hz", s.start_hz, "--min-hz..--max-hz");
+    return "--min-frequency-hz/--max-frequency-hz: need 1000 <= min < max <= 200000";
+  if (!(s.start_hz >= s.min_hz && s.start_hz <= s.max_hz))
+    return bad("--start-hz", s.start_hz, "--min-frequency-hz..--max-frequency-hz");
   if (!(s.search_step_hz > 0.0 && s.search_step_hz <= 1000.0))
     return bad("--search-step-hz", s.search_step_hz, "(0, 1000]");
   if (s.search_dwell_cycles < 1 || s.search_dwell_cycles > 1000) return "--search-dwell-cycles: outside 1..1000";
@@ -94,12 +95,12 @@ std::string check(const TrackSettings& s) {
     return bad("--probe-interval-s", s.probe_interval_s, "(0, 1e5]");
   if (s.settle_cycles < 1 || s.settle_cycles > 10000) return "--settle-cycles: outside 1..10000";
   if (s.phase_setpoint_deg && !(*s.phase_setpoint_deg >= -90.0 && *s.phase_setpoint_deg <= kMaxPhaseSetpointDeg))
-    return bad("--phase-deg", *s.phase_setpoint_deg,
+    return bad("--motional-phase-deg", *s.phase_setpoint_deg,
                "-90..30 (above +30 deg the motional phase lies below the speed peak)");
   if (!(s.direction == 1.0 || s.direction == -1.0)) return "direction: must be +1 or -1";
   if (s.max_collapses < 0 || s.max_collapses > 1000) return "--max-collapses: outside 0..1000";
   if (!(s.phase_gain_hz_per_deg > 0.0 && s.phase_gain_hz_per_deg <= 1000.0))
-    return bad("--phase-gain", s.phase_gain_hz_per_deg, "(0, 1000]");
+    return bad("--phase-gain-hz-per-deg", s.phase_gain_hz_per_deg, "(0, 1000]");
   if (!(s.max_step_hz > 0.0 && s.max_step_hz <= 5000.0)) return bad("--max-step-hz", s.max_step_hz, "(0, 5000]");
   if (!(s.approach_step_hz > 0.0 && s.approach_step_hz <= 5000.0))
     return bad("--approach-step-hz", s.approach_step_hz, "(0, 5000]");
@@ -196,7 +197,7 @@ bool ResonanceTracker::collapsed(const TrackSample& s) const {
     const bool phase_collapsed = s.motional_phase_deg &&
                                  std::abs(wrap_phase_deg(*s.motional_phase_deg - *setpoint_deg_)) >
                                      settings_.phase_collapse_deg;
-    // With --phase-deg the speed is never read (a board without a speed sensor): the phase only.
+    // With --motional-phase-deg the speed is never read (a board without a speed sensor): the phase only.
     return phase_collapsed || (!settings_.phase_setpoint_deg && speed_collapsed);
   }
   return speed_collapsed;

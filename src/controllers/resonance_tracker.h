@@ -13,7 +13,7 @@
 //             the peak both ways.
 //  * phase  - a phase-locked loop on the motional current's phase of phase A (C0 compensated,
 //             what a board with a parallel inductor or a bridge measures): holds the phase the
-//             motor shows at peak + margin. The set-point comes from --phase-deg, or from one
+//             motor shows at peak + margin. The set-point comes from --motional-phase-deg, or from one
 //             cold speed search at the start; after that the speed is never read.
 //  * fixed  - the baseline: one cold speed search, then the frequency held.
 // Collapse (the speed below a share of the last good speed, or for phase the phase off its

@@ -244,8 +244,8 @@ def test_velocity_command_selects_profile_velocity(started):
 
 @pytest.mark.parametrize("fields, pattern", [
     (dict(vpp=600.5), r"600.5 Vpp is above the amplifier's --amplitude-max 600"),
-    (dict(frequency_hz=29999.0), r"29999.0 Hz is below the amplifier's --frequency-min 30000"),
-    (dict(frequency_hz=50001.0), r"50001.0 Hz is above the amplifier's --frequency-max 50000"),
+    (dict(frequency_hz=29999.0), r"29999.0 Hz is below the amplifier's --min-frequency-hz 30000"),
+    (dict(frequency_hz=50001.0), r"50001.0 Hz is above the amplifier's --max-frequency-hz 50000"),
     (dict(vpp=-1.0), r"0x2002 sub 0 .*: -1000 is outside 0..4294967295"),
     (dict(phase_deg=181.0), r"0x2003 sub 0 .*: 18100 is outside -18000..18000"),
     (dict(vpp=float("nan")), r"0x2002 .*: vpp nan is not a finite number"),
@@ -260,8 +260,8 @@ def test_what_the_drive_would_refuse_silently_is_refused_before_sending(started,
 
 
 def test_amplifier_limits_given_to_swum_emu_are_the_ones_checked(eds):
-    link, _ = make_link(eds, emu_args=["--amplitude-max", "300", "--frequency-min=35000"])
-    assert link.limits == {"--frequency-min": 35000.0, "--frequency-max": 50000.0, "--amplitude-max": 300.0}
+    link, _ = make_link(eds, emu_args=["--amplitude-max", "300", "--min-frequency-hz=35000"])
+    assert link.limits == {"--min-frequency-hz": 35000.0, "--max-frequency-hz": 50000.0, "--amplitude-max": 300.0}
 
 
 def test_a_missing_tpdo_is_a_bench_error_naming_it(started):

@@ -62,7 +62,7 @@ def enable(ready):
 def run(seconds, clients, rate_hz, rt):
     """One swum-emu run of `seconds`; returns (lateness p99 us, overrun %, events received)."""
     proc = subprocess.Popen([EMU, "--config", CONFIG, "--modbus", "tcp://127.0.0.1:0", "--http", "127.0.0.1:0",
-                             "--duration", str(seconds), "--watchdog-ms", "0"] + (["--rt"] if rt else []),
+                             "--duration-s", str(seconds), "--watchdog-ms", "0"] + (["--rt"] if rt else []),
                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     ready = proc.stdout.readline()
     match = re.search(r"http=http://127\.0\.0\.1:(\d+)", ready)

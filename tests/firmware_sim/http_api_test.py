@@ -1817,9 +1817,9 @@ def test_fault_queued_before_a_step_is_in_force_after_it(lockstep_api):
 
 
 def test_step_ends_with_the_run(emulator_factory):
-    emu, api = emulator_factory("--clock", "external", "--duration", "0.01")
+    emu, api = emulator_factory("--clock", "external", "--duration-s", "0.01")
     reply = api.post("/api/v1/step", {"ticks": 1000})
-    # --duration 0.01 at 10 kHz is 100 ticks: a 1000-tick step cannot complete.
+    # --duration-s 0.01 at 10 kHz is 100 ticks: a 1000-tick step cannot complete.
     assert reply.status == 503, reply
     assert assert_error_body(reply) == "the emulator stopped before the ticks ran"
     assert emu.wait(timeout=30) == 0, emu.stderr

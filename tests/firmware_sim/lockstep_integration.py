@@ -162,7 +162,7 @@ def long_step():
 
 
 def end_of_run():
-    with Emulator("--clock", "external", "--duration", "0.05") as emu:  # 500 ticks
+    with Emulator("--clock", "external", "--duration-s", "0.05") as emu:  # 500 ticks
         s = Stepper(emu)
         assert not s.step(1, 100.0, 400).isError()
         w = s.step(0, 100.0, 200)  # 100 of them run, then the emulator stops
@@ -170,7 +170,7 @@ def end_of_run():
         s.close()
         assert emu.wait() == 0
         assert "after 0.050 s emulated" in emu.output, emu.output
-    print("end of run: a step beyond --duration is answered with exception 04")
+    print("end of run: a step beyond --duration-s is answered with exception 04")
 
 
 def scenario_refused():

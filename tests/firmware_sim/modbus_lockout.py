@@ -325,7 +325,7 @@ def scenario_options():
         assert option in lines[0] and f"'{value}'" in lines[0], lines
     # Good values start (and the defaults are as documented).
     with Emulator("--modbus-idle-timeout-ms", "0", "--modbus-frame-timeout-ms", "86400000",
-                  "--modbus-evict-idle-ms", "0", "--duration", "0.01", "--speedup", "0") as emu:
+                  "--modbus-evict-idle-ms", "0", "--duration-s", "0.01", "--speedup", "0") as emu:
         assert emu.wait() == 0
     help_text = subprocess.run([EMU, "--help"], capture_output=True, text=True, timeout=30).stdout
     for option, default in [("--modbus-idle-timeout-ms", 10000), ("--modbus-frame-timeout-ms", 500),

@@ -122,7 +122,7 @@ def case_modes(run):
 
 
 def case_stator(run):
-    grid = ["--config", CONFIG, "--vpp", "100,400", "--frequency", "38600:39600:200"]
+    grid = ["--config", CONFIG, "--vpp", "100,400", "--frequency-hz", "38600:39600:200"]
     backbone = run.path("backbone.csv")
     csv_out = run.swum("stator", *grid, "--backbone", backbone)
     return {"stator.json": run.swum("stator", *grid, "--json").stdout,
@@ -149,7 +149,7 @@ def case_pick_undecided(run):
 
 def case_sweep_model(run):
     out = run.path("sweep.csv")
-    r = run.swum("sweep", "--config", CONFIG, "--vpp", "200,300", "--frequency", "39800:40000:100", "--load", "0,0.5",
+    r = run.swum("sweep", "--config", CONFIG, "--vpp", "200,300", "--frequency-hz", "39800:40000:100", "--load", "0,0.5",
                  "--jobs", "1", "--out", out)
     text = read(out)
     return {"sweep_model.header.txt": header_lines(text),
@@ -179,12 +179,14 @@ def case_errors(run):
     """Exit status and message of usage errors a restructured main() must keep."""
     calls = [[], ["nosuch"], ["modes"], ["modes", "--config", "nothere.toml"], ["modes", "--config", CONFIG, "--bogus"],
              ["pick", "--sweep", f"{INPUTS}/pick_sweep.csv", "--vpp", "250"],
-             ["sweep", "--config", CONFIG, "--vpp", "100", "--frequency", "40000"],
+             ["sweep", "--config", CONFIG, "--vpp", "100", "--frequency-hz", "40000"],
              ["log", "--out", run.path("x.csv")],
-             ["sweep", "--config", CONFIG, "--modbus", "tcp://127.0.0.1:1", "--vpp", "100", "--frequency", "40000",
+             ["sweep", "--config", CONFIG, "--modbus", "tcp://127.0.0.1:1", "--vpp", "100", "--frequency-hz", "40000",
               "--out", run.path("y.csv")],
-             ["sweep", "--modbus", "tcp://127.0.0.1:1", "--vpp", "100", "--frequency", "40000", "--out", run.path("z.csv")],
-             ["pick", "--sweep", f"{INPUTS}/missing.csv", "--vpp", "100"]]
+             ["sweep", "--modbus", "tcp://127.0.0.1:1", "--vpp", "100", "--frequency-hz", "40000", "--out", run.path("z.csv")],
+             ["pick", "--sweep", f"{INPUTS}/missing.csv", "--vpp", "100"],
+             # a retired spelling (issue 34): one line naming the new one, before the missing --out
+             ["sweep", "--config", CONFIG, "--vpp", "100", "--frequency", "40000"]]
     lines = []
     for args in calls:
         r = run.swum(*args, expect=None)
@@ -230,9 +232,9 @@ def case_live_modbus(run):
         ready = re.sub(r"modbus=tcp://127\.0\.0\.1:\d+", "modbus=tcp://127.0.0.1:PORT", emu.ready)
         ready = re.sub(r"pid=\d+", "pid=PID", ready)
         log = run.path("log.csv")
-        run.swum("log", "--modbus", emu.endpoint, *link, "--duration", "0.2", "--out", log)
+        run.swum("log", "--modbus", emu.endpoint, *link, "--duration-s", "0.2", "--out", log)
         sweep = run.path("live_sweep.csv")
-        r = run.swum("sweep", "--modbus", emu.endpoint, *link, "--vpp", "100,150", "--frequency", "40000:40200:100",
+        r = run.swum("sweep", "--modbus", emu.endpoint, *link, "--vpp", "100,150", "--frequency-hz", "40000:40200:100",
                      "--settle-ms", "5", "--dwell-ms", "5", "--out", sweep)
         log_text, sweep_text = read(log), read(sweep)
     cells = {len(l.split(",")) for l in log_text.splitlines()}

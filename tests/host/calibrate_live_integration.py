@@ -42,7 +42,7 @@ OUT = tempfile.mkdtemp(prefix="swum-calibrate-live-")
 # live_device_integration.py (a shared CI machine can stall the client for a while).
 EMU_ARGS = ["--speedup", "4", "--watchdog-ms", "5000"]
 NOISE = ["--inject", "speed_noise@0:sigma_mm_s=3"]
-GRID = ["--vpp", "150,250,350", "--frequency", "39200:41000:100", "--load", "0,2"]
+GRID = ["--vpp", "150,250,350", "--frequency-hz", "39200:41000:100", "--load", "0,2"]
 POINTS_PER_CURVE = 19
 CURVES = 3 * 2
 # The model predicts each point as the sweep took it: settle 50 ms, average 50 ms (swum sweep's
@@ -51,7 +51,7 @@ CURVES = 3 * 2
 # make up the lag (0.14 kg, on its bound, in 8 of 13 runs). With the protocol matched the mass
 # is determined (the mover's inertia sets the transient within each 50 ms settle) and lands
 # within its standard error of 0.2 kg; it is not among the free parameters here.
-PROTOCOL = ["--settle-ms", "50", "--window-ms", "50"]
+PROTOCOL = ["--settle-ms", "50", "--dwell-ms", "50"]
 PROTOCOL_ALLOWANCE = 0.01  # relative; see the module docstring
 MAX_GAP_FRACTION = 0.30
 

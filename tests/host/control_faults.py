@@ -32,7 +32,7 @@ def run(name, injections, *control_args, duration_s=0.6, emu_args=()):
     """swum-emu --clock external with the injections, swum control for duration_s: (status,
     stdout, stderr, rows, emulator output)."""
     out = os.path.join(OUT, name + ".csv")
-    args = ["--clock", "external", "--duration", "5", *emu_args]
+    args = ["--clock", "external", "--duration-s", "5", *emu_args]
     for i in injections:
         args += ["--inject", i]
     with Emulator(*args) as emu:
@@ -217,7 +217,7 @@ def can_deterministic():
             if hog else []
         out, trace = os.path.join(OUT, name + ".csv"), os.path.join(OUT, name + ".trace.csv")
         args = ["--can", "vcan0", "--node", "1", "--clock", "external", "--sync-ticks", "10", "--heartbeat-ms", "0",
-                "--duration", "5", "--record", trace]
+                "--duration-s", "5", "--record", trace]
         for i in scenario:
             args += ["--inject", i]
         try:

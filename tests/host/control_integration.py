@@ -46,7 +46,7 @@ def control(emu, out, *extra, duration_s=DURATION_S):
 def lockstep_run(name):
     """One run against a fresh lockstep emulator: the bytes of --out."""
     out = os.path.join(OUT, name + ".csv")
-    with Emulator("--clock", "external", "--duration", "5") as emu:
+    with Emulator("--clock", "external", "--duration-s", "5") as emu:
         status, stdout, stderr = control(emu, out)
         emu.stop()
     check(status == 0, f"{name}: swum control exited {status}: {stderr}")
@@ -89,12 +89,12 @@ def scenario_lockstep():
 
 def scenario_errors():
     out = os.path.join(OUT, "wall.csv")
-    with Emulator("--duration", "30") as emu:
+    with Emulator("--duration-s", "30") as emu:
         status, stdout, stderr = control(emu, out, duration_s=0.2)
         emu.stop()
     check(status == 0, f"wall-time run exited {status}: {stderr}")
     check("wall time" in stdout and "not reproducible" in stderr, f"wall-time run not reported: {stdout!r} {stderr!r}")
-    with Emulator("--clock", "external", "--duration", "5") as emu:
+    with Emulator("--clock", "external", "--duration-s", "5") as emu:
         status, _, stderr = control(emu, out, "--tick-hz", "20000")
         emu.stop()
     check(status == 1 and "--tick-hz 20000.000000 does not match the device" in stderr, f"{status} {stderr!r}")

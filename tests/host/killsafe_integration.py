@@ -36,14 +36,14 @@ DEVICE_HEADER = ("vpp,frequency_hz,load_n,time_s,sweep,speed_mm_s,tip_normal_um,
 # Big enough for about a second on two cores (a model point takes ~4 ms of CPU on the scalar
 # path, ~0.5 ms in the SIMD lanes of a batch, issue 16), so the kill lands after the first row
 # and well before the last.
-MODEL_GRID = ["--vpp", "100,150,200,250,300,350,400", "--frequency", "39000:41000:25", "--load", "0,1", "--jobs", "2"]
+MODEL_GRID = ["--vpp", "100,150,200,250,300,350,400", "--frequency-hz", "39000:41000:25", "--load", "0,1", "--jobs", "2"]
 # The same voltages and loads every 200 Hz (154 points instead of 1134): where a point costs
 # far more (the sanitizer build: MODEL_GRID takes ~15 s there, and the test runs it about three
 # times), this grid alone already takes the second the race needs. The uninterrupted run
 # decides: this grid if it took at least MIN_RUN_S of wall time, else MODEL_GRID (in the Release
 # build, where this one takes ~0.3 s: a third of a second more than before). Either way the kill
 # and the interrupt land in a run of about a second or more.
-SMALL_MODEL_GRID = ["--vpp", "100,150,200,250,300,350,400", "--frequency", "39000:41000:200", "--load", "0,1",
+SMALL_MODEL_GRID = ["--vpp", "100,150,200,250,300,350,400", "--frequency-hz", "39000:41000:200", "--load", "0,1",
                     "--jobs", "2"]
 MIN_RUN_S = 1.0
 
@@ -219,7 +219,7 @@ def model_kill_resume():
 
 
 def resume_errors():
-    grid = ["--vpp", "100", "--frequency", "40000:40200:100"]
+    grid = ["--vpp", "100", "--frequency-hz", "40000:40200:100"]
     reference = path("small.csv")
     status, _, err = swum("sweep", "--config", CONFIG, *grid, "--out", reference)
     check(status == 0, f"small sweep: exit {status}: {err}")
@@ -244,12 +244,12 @@ def resume_errors():
     one_line_error(status, err, ["--resume", "none.csv.partial"], "device --resume without a partial")
 
     two_rows = MODEL_HEADER + rows[0] + "\n" + rows[1] + "\n"
-    with_partial(two_rows, "sweep", "--config", CONFIG, "--vpp", "120", "--frequency", "40000:40200:100", "--resume",
+    with_partial(two_rows, "sweep", "--config", CONFIG, "--vpp", "120", "--frequency-hz", "40000:40200:100", "--resume",
                  words=["row 1", "--vpp"], what="--resume over another grid")
-    with_partial(two_rows, "sweep", "--config", CONFIG, "--vpp", "100", "--frequency", "40100", "--resume",
-                 words=["2 rows", "--frequency"], what="--resume over a smaller grid")
-    with_partial(two_rows, "sweep", "--config", CONFIG, *grid, "--phase", "60", "--resume",
-                 words=["last row", "--phase"], what="--resume with another --phase")
+    with_partial(two_rows, "sweep", "--config", CONFIG, "--vpp", "100", "--frequency-hz", "40100", "--resume",
+                 words=["2 rows", "--frequency-hz"], what="--resume over a smaller grid")
+    with_partial(two_rows, "sweep", "--config", CONFIG, *grid, "--drive-phase-deg", "60", "--resume",
+                 words=["last row", "--drive-phase-deg"], what="--resume with another --drive-phase-deg")
     with_partial(DEVICE_HEADER, "sweep", "--config", CONFIG, *grid, "--resume",
                  words=["header", "device"], what="model --resume of a device sweep")
     with_partial(two_rows, "sweep", "--modbus", "tcp://127.0.0.1:1", *grid, "--resume",
@@ -304,7 +304,7 @@ def log_kill_modbus():
         device = f"tcp://{emu.host}:{emu.port}"
         for sig in (signal.SIGKILL, signal.SIGINT):
             out = path(f"log_{sig.name}.csv")
-            proc = start("log", "--modbus", device, *LINK, "--duration", "120", "--rate-hz", "200", "--out", out)
+            proc = start("log", "--modbus", device, *LINK, "--duration-s", "120", "--rate-hz", "200", "--out", out)
             wait_for_rows(out + ".partial", 5, proc, seconds=60)
             status, stdout, err = kill(proc, sig)
             if sig == signal.SIGKILL:
@@ -327,7 +327,7 @@ def log_kill_modbus():
 def device_resume_modbus():
     # The settle and dwell of the live tests: repeated runs agree within 0.5 % (a 20 ms settle
     # leaves points near the softening peak unsettled: runs differ by up to 16 %).
-    grid = ["--vpp", "150,300", "--frequency", "39600:40600:100", "--settle-ms", "60", "--dwell-ms", "30"]
+    grid = ["--vpp", "150,300", "--frequency-hz", "39600:40600:100", "--settle-ms", "60", "--dwell-ms", "30"]
     curve = 11
     with Emulator("--speedup", "1", *EMU_ARGS) as emu:
         device = ["--modbus", f"tcp://{emu.host}:{emu.port}", *LINK]

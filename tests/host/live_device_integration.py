@@ -88,7 +88,7 @@ def png(path):
 
 
 def pick_modbus():
-    grid = ["--vpp", "100,200,300,400", "--frequency", "39000:41000:50"]
+    grid = ["--vpp", "100,200,300,400", "--frequency-hz", "39000:41000:50"]
     with Emulator("--speedup", "4", *EMU_ARGS) as emu:
         device = f"tcp://{emu.host}:{emu.port}"
         sweep_csv = os.path.join(OUT, "live_sweep.csv")
@@ -118,7 +118,7 @@ def read_state(emu):
 
 
 def sweep_log_modbus():
-    grid = ["--vpp", "150,350", "--frequency", "39600:40600:100"]
+    grid = ["--vpp", "150,350", "--frequency-hz", "39600:40600:100"]
     with Emulator("--speedup", "4", *EMU_ARGS) as emu:
         device = f"tcp://{emu.host}:{emu.port}"
         live_csv, offline_csv = os.path.join(OUT, "live.csv"), os.path.join(OUT, "offline.csv")
@@ -160,7 +160,7 @@ def sweep_log_modbus():
         print(f"live sweep within {100 * worst:.2f} % of the model at every point")
 
         log_csv = os.path.join(OUT, "log.csv")
-        status, out, err = swum("log", "--modbus", device, "--duration", "1", "--rate-hz", "200", "--out", log_csv)
+        status, out, err = swum("log", "--modbus", device, "--duration-s", "1", "--rate-hz", "200", "--out", log_csv)
         check(status == 0, f"log failed: {err}")
         with open(log_csv) as f:
             rows = list(csv.DictReader(f))
@@ -179,7 +179,7 @@ def interrupt_modbus():
     with Emulator("--speedup", "1", *EMU_ARGS) as emu:
         out_csv = os.path.join(OUT, "interrupted.csv")
         proc = subprocess.Popen([SWUM, "sweep", "--modbus", f"tcp://{emu.host}:{emu.port}", "--vpp", "300",
-                                 "--frequency", "39000:41000:10", "--out", out_csv],
+                                 "--frequency-hz", "39000:41000:10", "--out", out_csv],
                                 stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
         c = ModbusTcpClient(emu.host, port=emu.port, timeout=5)
         check(c.connect(), "pymodbus connect")
@@ -219,15 +219,15 @@ def errors():
     port = s.getsockname()[1]
     s.close()
     cases = [
-        (["sweep", "--modbus", f"tcp://127.0.0.1:{port}", "--vpp", "100", "--frequency", "40000", "--out",
+        (["sweep", "--modbus", f"tcp://127.0.0.1:{port}", "--vpp", "100", "--frequency-hz", "40000", "--out",
           os.path.join(OUT, "x.csv")], 1, "cannot connect"),
-        (["sweep", "--modbus", "udp://x", "--vpp", "100", "--frequency", "40000", "--out", os.path.join(OUT, "x.csv")],
+        (["sweep", "--modbus", "udp://x", "--vpp", "100", "--frequency-hz", "40000", "--out", os.path.join(OUT, "x.csv")],
          2, "expected tcp://HOST:PORT"),
-        (["log", "--can", "nosuchcan0", "--duration", "1", "--out", os.path.join(OUT, "x.csv")], 1, "nosuchcan0"),
-        (["log", "--can", "vcan0:300", "--duration", "1", "--out", os.path.join(OUT, "x.csv")], 2, "node must be"),
+        (["log", "--can", "nosuchcan0", "--duration-s", "1", "--out", os.path.join(OUT, "x.csv")], 1, "nosuchcan0"),
+        (["log", "--can", "vcan0:300", "--duration-s", "1", "--out", os.path.join(OUT, "x.csv")], 2, "node must be"),
         (["log", "--modbus", "tcp://127.0.0.1:1", "--can", "vcan0", "--out", os.path.join(OUT, "x.csv")], 2, "excludes"),
         (["pick", "--vpp", "100"], 2, "exactly one source"),
-        (["sweep", "--vpp", "100", "--frequency", "40000", "--out", os.path.join(OUT, "x.csv")], 2, "either --config"),
+        (["sweep", "--vpp", "100", "--frequency-hz", "40000", "--out", os.path.join(OUT, "x.csv")], 2, "either --config"),
     ]
     for args, want_status, want_text in cases:
         status, out, err = swum(*args, timeout=60)
@@ -238,7 +238,7 @@ def errors():
     srv.bind(("127.0.0.1", 0))
     srv.listen(1)
     status, out, err = swum("log", "--modbus", f"tcp://127.0.0.1:{srv.getsockname()[1]}", "--timeout-ms", "200",
-                            "--duration", "1", "--out", os.path.join(OUT, "x.csv"), timeout=60)
+                            "--duration-s", "1", "--out", os.path.join(OUT, "x.csv"), timeout=60)
     srv.close()
     check(status == 1 and "no answer" in err, f"silent device: exit {status}, stderr {err!r}")
     print(f"ok: silent device -> {status}: {err.strip()}")
@@ -268,7 +268,7 @@ def rtu_modbus():
     try:
         with Emulator("--speedup", "2", *EMU_ARGS, modbus=f"rtu:{os.ttyname(emu_slave)}:115200"):
             device = f"rtu:{os.ttyname(host_slave)}:115200"
-            grid = ["--vpp", "250", "--frequency", "40000:40300:100"]
+            grid = ["--vpp", "250", "--frequency-hz", "40000:40300:100"]
             live_csv, offline_csv = os.path.join(OUT, "rtu.csv"), os.path.join(OUT, "rtu_offline.csv")
             status, out, err = swum("sweep", "--modbus", device, *grid, "--timeout-ms", "2000", "--out", live_csv)
             check(status == 0, f"RTU sweep failed ({status}): {err}")
@@ -289,7 +289,7 @@ def rtu_modbus():
 
 
 def pick_can():
-    grid = ["--vpp", "100,400", "--frequency", "39200:40700:50"]
+    grid = ["--vpp", "100,400", "--frequency-hz", "39200:40700:50"]
     # The offline pick first, before swum-emu runs: at --speedup 0 the emulator takes a whole
     # vCPU of the guest, and the model sweep on all cores beside it took about ten times as long.
     offline = offline_picks(grid)
@@ -305,7 +305,7 @@ def pick_can():
         # (kAliveResyncNs, on its monotonic clock off lockstep), so at least that long after the
         # first session's last frame.
         time.sleep(max(0.0, first_session_end + 1.2 - time.monotonic()))
-        status, out, err = swum("sweep", "--can", "vcan0:5", "--vpp", "200", "--frequency", "40300:40400:100",
+        status, out, err = swum("sweep", "--can", "vcan0:5", "--vpp", "200", "--frequency-hz", "40300:40400:100",
                                 "--connect-timeout-ms", "5000", "--timeout-ms", "2000",
                                 "--out", os.path.join(OUT, "second.csv"), timeout=600)
         check(status == 0, f"second CAN session failed ({status}): {err}")
@@ -314,7 +314,7 @@ def pick_can():
             rows = list(csv.DictReader(f))
         check(all(float(r["current_a_a"]) > 0 and float(r["power_w"]) > 0 and r["stator_temperature_c"] != ""
                   for r in rows), f"CAN sweep electrical cells {[[r[k] for k in ELECTRICAL] for r in rows]}")
-    status, out, err = swum("log", "--can", "vcan0:6", "--connect-timeout-ms", "300", "--duration", "1",
+    status, out, err = swum("log", "--can", "vcan0:6", "--connect-timeout-ms", "300", "--duration-s", "1",
                             "--out", os.path.join(OUT, "x.csv"), timeout=60)
     check(status == 1 and "no answer from node 6" in err, f"absent node: exit {status}, stderr {err!r}")
 
@@ -324,7 +324,7 @@ def canopen_can():
     docs/canopen.md "The host tool as a master") against swum-emu --can-profile cia402 on vcan0:
     in lockstep (each SYNC one 1 ms cycle) the sweep's speeds equal the Modbus path's at the same
     points; a log in lockstep advances one cycle per row; a log on the wall clock; an absent node."""
-    grid = ["--vpp", "150", "--frequency", "40300:40500:200"]
+    grid = ["--vpp", "150", "--frequency-hz", "40300:40500:200"]
     timing = ["--settle-ms", "80", "--dwell-ms", "40"]
     slow = ["--connect-timeout-ms", "20000", "--timeout-ms", "20000"]  # a TCG guest's latency
     # The Modbus path first (free-running swum-emu on loopback, its own clock for settle and dwell).
@@ -339,7 +339,7 @@ def canopen_can():
                                 "--out", canopen_csv, timeout=600)
         check(status == 0, f"CANopen sweep failed ({status}): {err}\n{out}")
         log_csv = os.path.join(OUT, "canopen_log.csv")
-        status, out, err = swum("log", "--canopen", "vcan0:3", "--sync-ticks", "10", "--duration", "1", "--rate-hz",
+        status, out, err = swum("log", "--canopen", "vcan0:3", "--sync-ticks", "10", "--duration-s", "1", "--rate-hz",
                                 "50", *slow, "--out", log_csv, timeout=120)
         check(status == 0, f"CANopen log failed ({status}): {err}")
     with open(modbus_csv) as f:
@@ -368,13 +368,13 @@ def canopen_can():
     # The wall clock: a read is one SYNC, no device clock on the bus.
     with Emulator("--can", "vcan0", "--node", "4", "--can-profile", "cia402", "--speedup", "0", modbus="none"):
         wall_csv = os.path.join(OUT, "canopen_wall.csv")
-        status, out, err = swum("log", "--canopen", "vcan0:4", "--duration", "1", "--rate-hz", "20", *slow,
+        status, out, err = swum("log", "--canopen", "vcan0:4", "--duration-s", "1", "--rate-hz", "20", *slow,
                                 "--out", wall_csv, timeout=120)
         check(status == 0, f"wall-clock CANopen log failed ({status}): {err}")
     with open(wall_csv) as f:
         wall = list(csv.DictReader(f))
     check(len(wall) >= 5 and all(r["device_time_s"] == "" and r["state"] == "0" for r in wall), f"wall log {wall[:2]}")
-    status, out, err = swum("log", "--canopen", "vcan0:9", "--connect-timeout-ms", "300", "--duration", "1",
+    status, out, err = swum("log", "--canopen", "vcan0:9", "--connect-timeout-ms", "300", "--duration-s", "1",
                             "--out", os.path.join(OUT, "absent.csv"), timeout=60)
     check(status == 1 and "no answer to an SDO read of the device type" in err, f"absent node: exit {status}, stderr {err!r}")
 

@@ -29,7 +29,7 @@ OUT = tempfile.mkdtemp(prefix="swum-population-")
 # 39000 Hz: on the way down (the operating point's curve) the softer motors' 400 Vpp peaks lie
 # below 39300 Hz, where a sweep from rest at each point had collapsed earlier.
 STUDY = ["--config", "config/li2019.toml", "--spreads", "config/population.toml", "--seed", "5",
-         "--vpp", "200,400", "--frequency", "39000:40600:100", "--yield", "0.5"]
+         "--vpp", "200,400", "--frequency-hz", "39000:40600:100", "--yield", "0.5"]
 
 
 def path(name):
@@ -50,17 +50,17 @@ def population(name, *extra, launcher=(), env=None):
 
 
 def mpirun_np2():
-    two_threads = population("threads2", "--threads", "2")
-    one_thread = population("threads1", "--threads", "1")
+    two_threads = population("threads2", "--jobs", "2")
+    one_thread = population("threads1", "--jobs", "1")
     env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1")
     mpirun = os.environ.get("MPIRUN", "mpirun")
-    ranks = population("np2", "--threads", "1", launcher=(mpirun, "-np", "2", "--oversubscribe"), env=env)
+    ranks = population("np2", "--jobs", "1", launcher=(mpirun, "-np", "2", "--oversubscribe"), env=env)
     csv_text, summary, stdout = two_threads
     rows = whole_rows(csv_text, 1)
     check(len(rows) == 6, f"{len(rows)} rows")
     check([r.split(",")[0] for r in rows] == [str(i) for i in range(6)], "rows in motor order")
     check(json.loads(summary)["motors"] == 6, "summary")
-    for name, other in (("--threads 1", one_thread), ("mpirun -np 2", ranks)):
+    for name, other in (("--jobs 1", one_thread), ("mpirun -np 2", ranks)):
         check(other[0] == csv_text, f"{name}: the per-motor file differs from the 2-thread run's")
         check(other[1] == summary, f"{name}: the summary differs from the 2-thread run's")
         check(other[2] == stdout, f"{name}: the printed summary differs: {other[2]!r}")
@@ -68,7 +68,7 @@ def mpirun_np2():
 
 
 def kill_study():
-    study = [SWUM, "population", *STUDY, "--motors", "8", "--threads", "2"]
+    study = [SWUM, "population", *STUDY, "--motors", "8", "--jobs", "2"]
     reference = path("reference.csv")
     run([*study, "--out", reference])
     expected = read(reference)
@@ -85,7 +85,7 @@ def kill_study():
     print(f"ok: SIGKILL: {kept} of 8 motors kept in {partial}, each equal to the uninterrupted run's")
     # Motor i is a function of (seed, i): a smaller study is the bigger one's first rows.
     smaller = path("smaller.csv")
-    run([SWUM, "population", *STUDY, "--motors", "3", "--threads", "2", "--out", smaller])
+    run([SWUM, "population", *STUDY, "--motors", "3", "--jobs", "2", "--out", smaller])
     check(whole_rows(read(smaller), 1) == whole_rows(expected, 1)[:3], "--motors 3 is not the first 3 rows of 8")
     print("ok: --motors 3 gives the first 3 rows of --motors 8")
 

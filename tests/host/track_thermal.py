@@ -46,7 +46,7 @@ def emulator():
     # Connection timeouts far above a stall of this loaded machine (the test measures tracking;
     # the connection rules have their own tests, emu.modbus.lockout.*): beside the guest tier
     # the server's 500 ms frame/reply timeout once closed a lockstep step's connection.
-    return Emulator("--clock", "external", "--duration", "100000", "--modbus-frame-timeout-ms", "10000",
+    return Emulator("--clock", "external", "--duration-s", "100000", "--modbus-frame-timeout-ms", "10000",
                     "--modbus-idle-timeout-ms", "60000", config=THERMAL)
 
 
@@ -70,7 +70,7 @@ def ten_minutes():
     methods = ["phase", "speed", "fixed"]
     emus = [emulator() for _ in methods]
     try:
-        procs = {m: subprocess.Popen(track_command(e, m, os.path.join(OUT, f"track_{m}.csv"), DURATION_S, "--plots",
+        procs = {m: subprocess.Popen(track_command(e, m, os.path.join(OUT, f"track_{m}.csv"), DURATION_S, "--plot-dir",
                                                    os.path.join(OUT, f"plots_{m}")),
                                      stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
                  for m, e in zip(methods, emus)}
@@ -95,7 +95,7 @@ def ten_minutes():
         check(all(r["state"] == "1" for r in rows), f"{m}: the drive was not on throughout")
         check(all(r["motional_phase_a_deg"] != "" for r in rows), f"{m}: electrical port missing")
     report = subprocess.run([SWUM, "track-report", "--band", os.path.join(OUT, "band.csv"), "--vpp", str(VPP),
-                             "--skip-s", "30", "--block-s", "30", "--plots", OUT, "--json",
+                             "--skip-s", "30", "--block-s", "30", "--plot-dir", OUT, "--json",
                              *[a for m in methods for a in ("--run", f"{m}={os.path.join(OUT, f'track_{m}.csv')}")]],
                             capture_output=True, text=True, timeout=120)
     check(report.returncode == 0, f"swum track-report: {report.stderr}")

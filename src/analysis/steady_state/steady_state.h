@@ -76,7 +76,7 @@ struct SteadyStateResult {
   MotorState final_state;  // where the run ended (fixed-step solver only): the next point of a sweep starts here
 };
 
-// Options of a run of at most duration_s (swum simulate --duration): the default settle and
+// Options of a run of at most duration_s (swum simulate --duration-s): the default settle and
 // window, shrunk so that at least two windows fit, and the default agreement criterion. The run
 // stops as soon as two consecutive windows agree; it takes duration_s only if they never do.
 [[nodiscard]] SteadyStateOptions steady_state_options_within(double duration_s);

@@ -18,7 +18,7 @@ const std::string kThermalConfig = swum::test::source_path("config/li2019_therma
 TEST(SwumBand, WritesTheRowsAndPrintsTheBand) {
   const auto out = swum::test::scratch_path("band", "band.csv");
   std::filesystem::remove(out);
-  auto r = run_swum({"band", "--config", kConfig, "--vpp", "100,400", "--frequency", "39000:40500:50", "--out",
+  auto r = run_swum({"band", "--config", kConfig, "--vpp", "100,400", "--frequency-hz", "39000:40500:50", "--out",
                      out.string(), "--jobs", "2"});
   ASSERT_EQ(r.status, 0) << r.output;
   EXPECT_EQ(r.output.rfind("operating band 39546 .. 40395 Hz (849 Hz wide)", 0), 0u) << r.output;
@@ -33,8 +33,8 @@ TEST(SwumBand, WritesTheRowsAndPrintsTheBand) {
 }
 
 TEST(SwumBand, JsonHasTheSummaryAndTheRowsOverTemperatureRises) {
-  auto r = run_swum({"band", "--config", kThermalConfig, "--vpp", "400", "--temperature-rise-k", "0,50", "--frequency",
-                     "38750:40000:50", "--json"});
+  auto r = run_swum({"band", "--config", kThermalConfig, "--vpp", "400", "--temperature-rise-k", "0,50",
+                     "--frequency-hz", "38750:40000:50", "--json"});
   ASSERT_EQ(r.status, 0) << r.output;
   const auto j = nlohmann::json::parse(r.output);
   EXPECT_EQ(j.at("decided"), 2);
@@ -55,7 +55,7 @@ TEST(SwumBand, JsonHasTheSummaryAndTheRowsOverTemperatureRises) {
 }
 
 TEST(SwumBand, AnUndecidedRowIsReportedAndFailsTheRun) {
-  auto r = run_swum({"band", "--config", kConfig, "--vpp", "100", "--frequency", "39000:40000:50"});
+  auto r = run_swum({"band", "--config", kConfig, "--vpp", "100", "--frequency-hz", "39000:40000:50"});
   EXPECT_EQ(r.status, 1) << r.output;
   EXPECT_NE(r.output.find("no operating band: no row decided\n"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("100 Vpp, 0 N, 0 K rise: speed is highest at the top of the sweep"), std::string::npos);
@@ -107,9 +107,9 @@ INSTANTIATE_TEST_SUITE_P(
                       BadBand{{"--config", kConfig, "--vpp", "100", "--margin-hz", "-5"},
                               2,
                               "swum: error: --margin-hz: must be within 0..10000\n"},
-                      BadBand{{"--config", kConfig, "--vpp", "100", "--frequency", "40500:39000:50"},
+                      BadBand{{"--config", kConfig, "--vpp", "100", "--frequency-hz", "40500:39000:50"},
                               2,
-                              "swum: error: --frequency: STOP in '40500:39000:50' is below START\n"},
+                              "swum: error: --frequency-hz: STOP in '40500:39000:50' is below START\n"},
                       BadBand{{"--config", kConfig, "--vpp", "100", "--jobs", "-1"},
                               2,
                               "swum: error: --jobs: must be within 0..1024 (0 = all cores)\n"},

@@ -203,7 +203,7 @@ TEST(SwumCalibrate, FitsThePreloadOfASynthesisedSweepAndHoldsE311AtItsPrior) {
   EXPECT_NE(text.find("\n#   contact.preload_n = "), std::string::npos) << text.substr(0, 600);
   EXPECT_NE(text.find("\n#   stator.e311_c_per_v_m = "), std::string::npos) << text.substr(0, 600);
   const CliRun sim = run_swum(
-      {"simulate", "--config", fitted.string(), "--vpp", "200", "--frequency", "40200", "--json"});
+      {"simulate", "--config", fitted.string(), "--vpp", "200", "--frequency-hz", "40200", "--json"});
   EXPECT_EQ(sim.status, 0) << sim.output;
 
   // The report directory: report.md, summary.json (the same object) and the plots.

@@ -58,7 +58,7 @@ TEST(SwumDiscrepancy, NamesAHiddenGuideFrictionAndWritesTheReport) {
   }
   // The augmented config re-reads and runs.
   const CliRun sim = run_swum(
-      {"simulate", "--config", (out / "augmented.toml").string(), "--vpp", "200", "--frequency", "40500", "--json"});
+      {"simulate", "--config", (out / "augmented.toml").string(), "--vpp", "200", "--frequency-hz", "40500", "--json"});
   EXPECT_EQ(sim.status, 0) << sim.output;
 }
 

@@ -19,8 +19,8 @@ const std::string kConfig = swum::test::source_path("config/li2019.toml");
 TEST(SwumPick, PicksLowerFrequencyAtHigherVoltageWithAGainOverNaive) {
   const auto sweep = swum::test::scratch_path("pick", "sweep.csv");
   const auto schedule = swum::test::scratch_path("pick", "schedule.csv");
-  auto r = run_swum(
-      {"sweep", "--config", kConfig, "--vpp", "100,300,400", "--frequency", "39300:40600:50", "--out", sweep.string()});
+  auto r = run_swum({"sweep", "--config", kConfig, "--vpp", "100,300,400", "--frequency-hz", "39300:40600:50", "--out",
+                     sweep.string()});
   ASSERT_EQ(r.status, 0) << r.output;
   r = run_swum({"pick", "--sweep", sweep.string(), "--vpp", "100,300,400", "--json", "--schedule", schedule.string()});
   ASSERT_EQ(r.status, 0) << r.output;
@@ -44,7 +44,7 @@ TEST(SwumPick, PicksLowerFrequencyAtHigherVoltageWithAGainOverNaive) {
 TEST(SwumPick, RefusesATooCoarseSweepWithAReason) {
   const auto sweep = swum::test::scratch_path("pick", "coarse.csv");
   auto r = run_swum(
-      {"sweep", "--config", kConfig, "--vpp", "100", "--frequency", "39300:40600:400", "--out", sweep.string()});
+      {"sweep", "--config", kConfig, "--vpp", "100", "--frequency-hz", "39300:40600:400", "--out", sweep.string()});
   ASSERT_EQ(r.status, 0) << r.output;
   r = run_swum({"pick", "--sweep", sweep.string(), "--vpp", "100"});
   EXPECT_EQ(r.status, 1) << r.output;
@@ -84,7 +84,7 @@ void expect_pick_equals_band(const std::vector<std::string>& extra) {
 
 TEST(SwumPick, GivesBandsFrequencyForTheSameMotorVoltageLoadAndMargin) {
   expect_pick_equals_band({});
-  expect_pick_equals_band({"--margin-hz", "150", "--frequency", "39000:41000:50"});
+  expect_pick_equals_band({"--margin-hz", "150", "--frequency-hz", "39000:41000:50"});
 }
 
 // The refined peak makes the answer hardly depend on the grid: a 50 Hz grid (the old pick default)
@@ -94,7 +94,7 @@ TEST(SwumPick, TheOperatingFrequencyHardlyDependsOnTheGrid) {
   const auto fine = run_swum({"pick", "--config", kConfig, "--vpp", "100,300,400", "--json"});
   ASSERT_EQ(fine.status, 0) << fine.output;
   const auto coarse = run_swum(
-      {"pick", "--config", kConfig, "--vpp", "100,300,400", "--frequency", "39000:41000:50", "--json"});
+      {"pick", "--config", kConfig, "--vpp", "100,300,400", "--frequency-hz", "39000:41000:50", "--json"});
   ASSERT_EQ(coarse.status, 0) << coarse.output;
   const auto a = nlohmann::json::parse(fine.output);
   const auto b = nlohmann::json::parse(coarse.output);

@@ -69,9 +69,9 @@ TEST(SwumPopulation, ZeroSpreadReproducesSwumPickConfigExactly) {
   const auto out = swum::test::scratch_path("population", "zero.csv");
   const auto summary = swum::test::scratch_path("population", "zero.json");
   auto r = run_swum({"population", "--config", kConfig, "--spreads", spreads, "--motors", "2", "--vpp", "300",
-                     "--frequency", kGrid, "--out", out.string(), "--summary", summary.string()});
+                     "--frequency-hz", kGrid, "--out", out.string(), "--summary", summary.string()});
   ASSERT_EQ(r.status, 0) << r.output;
-  r = run_swum({"pick", "--config", kConfig, "--vpp", "300", "--frequency", kGrid, "--json"});
+  r = run_swum({"pick", "--config", kConfig, "--vpp", "300", "--frequency-hz", kGrid, "--json"});
   ASSERT_EQ(r.status, 0) << r.output;
   const auto pick = nlohmann::json::parse(r.output).at(0);
   const auto s = nlohmann::json::parse(swum::test::read_file(summary));
@@ -100,7 +100,7 @@ TEST(SwumPopulation, OperatingFrequencySpreadGrowsWithTheStiffnessSpread) {
         name + ".toml", "[stator]\ntarget_l1_frequency_hz = { distribution = \"normal\", sigma = " + sigma + " }\n");
     const auto out = swum::test::scratch_path("population", name + ".csv");
     const auto r = run_swum({"population", "--config", kConfig, "--spreads", spreads, "--motors", "5", "--vpp", "300",
-                             "--frequency", "39000:41000:50", "--seed", "3", "--yield", "0.6", "--json", "--out",
+                             "--frequency-hz", "39000:41000:50", "--seed", "3", "--yield", "0.6", "--json", "--out",
                              out.string()});
     EXPECT_EQ(r.status, 0) << r.output;
     return std::pair{nlohmann::json::parse(r.output.substr(r.output.find('{'))), csv_rows(swum::test::read_file(out))};
@@ -138,7 +138,7 @@ TEST(SwumPopulation, RejectedDrawsAreRecordedAndCountAgainstTheYield) {
                       "length_mm = { distribution = \"uniform\", min = 5.0, max = 5.6 }\n");
   const auto out = swum::test::scratch_path("population", "rejects.csv");
   const auto r = run_swum({"population", "--config", explicit_config, "--spreads", spreads, "--motors", "6", "--vpp",
-                           "300", "--frequency", "40000", "--out", out.string()});
+                           "300", "--frequency-hz", "40000", "--out", out.string()});
   EXPECT_EQ(r.status, 1) << r.output;  // one frequency: nothing can be picked, no yield
   EXPECT_NE(r.output.find("no oscillator range reaches 95 % yield"), std::string::npos) << r.output;
   int rejected = 0;
@@ -171,9 +171,9 @@ TEST(SwumPopulation, BadInputIsAOneLineErrorNamingWhatAndWhere) {
       {{"--vpp", "100,100"}, 2, "--vpp: a voltage is given twice"},
       {{"--vpp", "100,100.00005"}, 2, "--vpp: a voltage is given twice"},  // one curve to the pick
       {{"--seed", "-1"}, 2, "--seed"},
-      {{"--frequency", "41000:39000:50"}, 2, "--frequency"},
+      {{"--frequency-hz", "41000:39000:50"}, 2, "--frequency-hz"},
       {{"--margin-hz", "-1"}, 2, "--margin-hz"},
-      {{"--threads", "5000"}, 2, "--threads"},
+      {{"--jobs", "5000"}, 2, "--jobs"},
       {{"--spreads", bad}, 1, bad + ":3: contact.preload_n: sigma -2 is negative"},
       {{"--spreads", "/nonexistent/spreads.toml"}, 1, "/nonexistent/spreads.toml"},
       {{"--config", "/nonexistent/motor.toml"}, 1, "/nonexistent/motor.toml"},

@@ -48,7 +48,7 @@ TEST(SwumStator, CsvHasTheContractColumnsAndEveryBranch) {
   const fs::path out = scratch("stator.csv");
   fs::remove(out);
   const CliRun r = swum_run(
-      {"stator", "--config", kLiteral, "--vpp", "400", "--frequency", "39000:39500:250", "--out", out.string()});
+      {"stator", "--config", kLiteral, "--vpp", "400", "--frequency-hz", "39000:39500:250", "--out", out.string()});
   ASSERT_EQ(r.status, 0) << r.output;
   const std::string csv = slurp(out);
   EXPECT_EQ(csv.substr(0, csv.find('\n')), "vpp,frequency_hz,branch,stable,tip_normal_um,tip_tangential_um");
@@ -59,7 +59,7 @@ TEST(SwumStator, CsvHasTheContractColumnsAndEveryBranch) {
 }
 
 TEST(SwumStator, JsonHasRowsAndTheSofteningBackbone) {
-  const CliRun r = swum_run({"stator", "--config", kLiteral, "--vpp", "50,400", "--frequency", "39500", "--json"});
+  const CliRun r = swum_run({"stator", "--config", kLiteral, "--vpp", "50,400", "--frequency-hz", "39500", "--json"});
   ASSERT_EQ(r.status, 0) << r.output;
   const auto j = nlohmann::json::parse(r.output);
   ASSERT_EQ(j.at("rows").size(), 2u);
@@ -75,7 +75,7 @@ TEST(SwumStator, PlotWritesBothAxes) {
   const fs::path png = scratch("stator.png");
   fs::remove(png);
   fs::remove(scratch("stator_normal.png"));
-  const CliRun r = swum_run({"stator", "--config", kLiteral, "--vpp", "100,400", "--frequency", "38500:40000:50",
+  const CliRun r = swum_run({"stator", "--config", kLiteral, "--vpp", "100,400", "--frequency-hz", "38500:40000:50",
                              "--plot", png.string(), "--out", scratch("s.csv").string()});
   ASSERT_EQ(r.status, 0) << r.output;
   EXPECT_GT(fs::file_size(png), 1000u);

@@ -1,5 +1,5 @@
 // `swum track` and `swum track-report` on the real binary: the one-line errors with their exit
-// statuses (bad --method, --phase-deg without the phase method, no device, a device that does not
+// statuses (bad --method, --motional-phase-deg without the phase method, no device, a device that does not
 // answer; --run without '=', missing files, a band that does not cover the run), and
 // track-report's text and JSON on small hand-written files. The runs on a live device are in
 // track_thermal.py.
@@ -54,26 +54,27 @@ TEST_P(SwumTrackRejects, WithOneLineAndWritesNothing) {
 
 INSTANTIATE_TEST_SUITE_P(
     BadInput, SwumTrackRejects,
-    ::testing::Values(BadTrack{{"--modbus", kNoDevice, "--vpp", "400", "--method", "x"},
-                               2,
-                               "swum: error: --method: x: expected phase, speed or fixed\n"},
-                      BadTrack{{"--modbus", kNoDevice, "--vpp", "400", "--method", "speed", "--phase-deg", "-10"},
-                               2,
-                               "swum: error: --phase-deg: only with --method phase\n"},
-                      BadTrack{{"--modbus", kNoDevice, "--vpp", "400", "--method", "fixed", "--phase-deg", "-10"},
-                               2,
-                               "swum: error: --phase-deg: only with --method phase\n"},
-                      BadTrack{{"--vpp", "400"},
-                               2,
-                               "swum: error: no device: give --modbus tcp://HOST:PORT | rtu:DEVICE:BAUD, --can "
-                               "IFACE[:NODE] or --canopen IFACE:NODE\n"},
-                      BadTrack{{"--modbus", kNoDevice}, 2, "swum: error: --vpp is required (see swum --help)\n"},
-                      BadTrack{{"--modbus", kNoDevice, "--vpp", "400", "--bogus"},
-                               2,
-                               "swum: error: The following argument was not expected: --bogus (see swum --help)\n"},
-                      // A device that does not answer: exit 1, nothing written.
-                      BadTrack{{"--modbus", kNoDevice, "--vpp", "400"}, 1, kRefused},
-                      BadTrack{{"--modbus", kNoDevice, "--vpp", "400", "--method", "speed"}, 1, kRefused}));
+    ::testing::Values(
+        BadTrack{{"--modbus", kNoDevice, "--vpp", "400", "--method", "x"},
+                 2,
+                 "swum: error: --method: x: expected phase, speed or fixed\n"},
+        BadTrack{{"--modbus", kNoDevice, "--vpp", "400", "--method", "speed", "--motional-phase-deg", "-10"},
+                 2,
+                 "swum: error: --motional-phase-deg: only with --method phase\n"},
+        BadTrack{{"--modbus", kNoDevice, "--vpp", "400", "--method", "fixed", "--motional-phase-deg", "-10"},
+                 2,
+                 "swum: error: --motional-phase-deg: only with --method phase\n"},
+        BadTrack{{"--vpp", "400"},
+                 2,
+                 "swum: error: no device: give --modbus tcp://HOST:PORT | rtu:DEVICE:BAUD, --can "
+                 "IFACE[:NODE] or --canopen IFACE:NODE\n"},
+        BadTrack{{"--modbus", kNoDevice}, 2, "swum: error: --vpp is required (see swum --help)\n"},
+        BadTrack{{"--modbus", kNoDevice, "--vpp", "400", "--bogus"},
+                 2,
+                 "swum: error: The following argument was not expected: --bogus (see swum --help)\n"},
+        // A device that does not answer: exit 1, nothing written.
+        BadTrack{{"--modbus", kNoDevice, "--vpp", "400"}, 1, kRefused},
+        BadTrack{{"--modbus", kNoDevice, "--vpp", "400", "--method", "speed"}, 1, kRefused}));
 
 TEST(SwumTrack, OutIsRequired) {
   const auto r = run_swum({"track", "--modbus", kNoDevice, "--vpp", "400"});

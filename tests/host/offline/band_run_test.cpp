@@ -19,7 +19,7 @@ BandGrid coarse_grid(std::vector<double> voltages, std::vector<double> rises_k =
   BandGrid grid;
   grid.voltages = std::move(voltages);
   grid.temperature_rises_k = std::move(rises_k);
-  grid.frequencies_hz = parse_range_or_value("38750:40500:50", "--frequency");
+  grid.frequencies_hz = parse_range_or_value("38750:40500:50", "--frequency-hz");
   grid.margin_hz = 100.0;
   return grid;
 }

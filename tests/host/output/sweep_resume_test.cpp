@@ -77,12 +77,12 @@ TEST(ReadSweepPartial, NamesWhatDoesNotBelongToThisSweep) {
   write_text_file_atomically(partial_path(path), header + format_sweep_row(kModelSweep, kPlanned[1]));
   EXPECT_EQ(message_of([&] { read_sweep_partial(path.string(), header, kPlanned); }),
             "--resume: row 1 of " + partial +
-                " is not at this sweep's point 1 (vpp,frequency_hz,load_n 100,40000,0): other --vpp, --frequency or "
+                " is not at this sweep's point 1 (vpp,frequency_hz,load_n 100,40000,0): other --vpp, --frequency-hz or "
                 "--load?");
   write_text_file_atomically(partial_path(path), header + format_sweep_row(kModelSweep, kPlanned[0]));
   EXPECT_EQ(message_of([&] { read_sweep_partial(path.string(), header, {}); }),
             "--resume: " + partial +
-                " has 1 rows, more than the points of this sweep (0): other --vpp, --frequency or --load?");
+                " has 1 rows, more than the points of this sweep (0): other --vpp, --frequency-hz or --load?");
 }
 
 TEST(RefuseToOverwriteSweepPartial, OnlyWhenThePartialHoldsARow) {

@@ -9,7 +9,7 @@ namespace {
 
 TEST(ParseFiniteNumber, AcceptsPlainAndSignedNumbers) {
   EXPECT_DOUBLE_EQ(parse_finite_number("250", "--vpp"), 250.0);
-  EXPECT_DOUBLE_EQ(parse_finite_number(" +4.0e4 ", "--frequency"), 40000.0);
+  EXPECT_DOUBLE_EQ(parse_finite_number(" +4.0e4 ", "--frequency-hz"), 40000.0);
   EXPECT_DOUBLE_EQ(parse_finite_number("-3", "--load"), -3.0);
 }
 
@@ -36,27 +36,27 @@ TEST(ParseNumberList, RejectsEmptyEntries) {
 }
 
 TEST(ParseRange, ExpandsStartStopStepInclusive) {
-  const auto values = parse_range_or_value("39000:40000:250", "--frequency");
+  const auto values = parse_range_or_value("39000:40000:250", "--frequency-hz");
   EXPECT_EQ(values, (std::vector<double>{39000, 39250, 39500, 39750, 40000}));
 }
 
 TEST(ParseRange, IncludesStopDespiteRounding) {
-  const auto values = parse_range_or_value("39.0:40.0:0.1", "--frequency");
+  const auto values = parse_range_or_value("39.0:40.0:0.1", "--frequency-hz");
   ASSERT_EQ(values.size(), 11u);
   EXPECT_NEAR(values.back(), 40.0, 1e-9);
 }
 
 TEST(ParseRange, SingleValueIsOnePoint) {
-  EXPECT_EQ(parse_range_or_value("40000", "--frequency"), (std::vector<double>{40000}));
+  EXPECT_EQ(parse_range_or_value("40000", "--frequency-hz"), (std::vector<double>{40000}));
 }
 
 TEST(ParseRange, RejectsBadRanges) {
-  EXPECT_THROW(parse_range_or_value("40000:39000:100", "--frequency"), std::invalid_argument);
-  EXPECT_THROW(parse_range_or_value("39000:40000:0", "--frequency"), std::invalid_argument);
-  EXPECT_THROW(parse_range_or_value("39000:40000:-5", "--frequency"), std::invalid_argument);
-  EXPECT_THROW(parse_range_or_value("39000:40000", "--frequency"), std::invalid_argument);
-  EXPECT_THROW(parse_range_or_value("1:2:3:4", "--frequency"), std::invalid_argument);
-  EXPECT_THROW(parse_range_or_value("0:1e9:1", "--frequency"), std::invalid_argument);
+  EXPECT_THROW(parse_range_or_value("40000:39000:100", "--frequency-hz"), std::invalid_argument);
+  EXPECT_THROW(parse_range_or_value("39000:40000:0", "--frequency-hz"), std::invalid_argument);
+  EXPECT_THROW(parse_range_or_value("39000:40000:-5", "--frequency-hz"), std::invalid_argument);
+  EXPECT_THROW(parse_range_or_value("39000:40000", "--frequency-hz"), std::invalid_argument);
+  EXPECT_THROW(parse_range_or_value("1:2:3:4", "--frequency-hz"), std::invalid_argument);
+  EXPECT_THROW(parse_range_or_value("0:1e9:1", "--frequency-hz"), std::invalid_argument);
 }
 
 }  // namespace

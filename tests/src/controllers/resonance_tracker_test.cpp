@@ -121,7 +121,7 @@ TEST(ResonanceTracker, PhaseLockCalibratesOnceAndFollowsTheDrift) {
   EXPECT_EQ(tracker.collapses(), 0);
 }
 
-// With --phase-deg the speed is never read (a board without a speed sensor): NaN speeds change
+// With --motional-phase-deg the speed is never read (a board without a speed sensor): NaN speeds change
 // nothing.
 TEST(ResonanceTracker, PhaseWithASetpointNeverReadsTheSpeed) {
   Plant plant{[](double t) { return 39450.0 - 450.0 * (1.0 - std::exp(-t / 30.0)); }};
@@ -345,10 +345,11 @@ TEST(ResonanceTracker, SettingsAreChecked) {
   EXPECT_EQ(check(s), "--margin-hz: -1 outside 0..5000");
   s = TrackSettings{};
   s.start_hz = 60000.0;
-  EXPECT_EQ(check(s), "--start-hz: 60000 outside --min-hz..--max-hz");
+  EXPECT_EQ(check(s), "--start-hz: 60000 outside --min-frequency-hz..--max-frequency-hz");
   s = TrackSettings{};
   s.phase_setpoint_deg = std::numeric_limits<double>::quiet_NaN();
-  EXPECT_EQ(check(s), "--phase-deg: nan outside -90..30 (above +30 deg the motional phase lies below the speed peak)");
+  EXPECT_EQ(check(s),
+            "--motional-phase-deg: nan outside -90..30 (above +30 deg the motional phase lies below the speed peak)");
   s.phase_setpoint_deg = 45.0;
   EXPECT_NE(check(s), "");
   EXPECT_THROW(ResonanceTracker{s}, std::invalid_argument);

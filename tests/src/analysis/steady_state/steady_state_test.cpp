@@ -264,7 +264,7 @@ TEST(SteadyState, TraceIsSampledEveryNSteps) {
   EXPECT_EQ(static_cast<std::uint64_t>(samples), r.steps / 96);
 }
 
-// Issue 16 item 3: `swum simulate --duration 2` ran 1.99 s of settling and one window, then
+// Issue 16 item 3: `swum simulate --duration-s 2` ran 1.99 s of settling and one window, then
 // said "did not settle ... last two windows differ by 0.000000 mm/s" (one window cannot
 // disagree with anything). A run of at most 2 s stops as soon as two windows agree.
 TEST(SteadyState, RunWithinADurationStopsWhenTwoWindowsAgree) {
