@@ -155,7 +155,7 @@ INSTANTIATE_TEST_SUITE_P(
         BadArguments{{"simulate", "--config", "/nonexistent/m.toml", "--vpp", "100", "--frequency", "40000"},
                      1,
                      "/nonexistent/m.toml"},
-        BadArguments{{"simulate", "--config", "--vpp", "100", "--frequency", "40000"}, 2, "--config"},
+        BadArguments{{"simulate", "--vpp", "100", "--frequency", "40000", "--config"}, 2, "--config"},
         BadArguments{{"sweep", "--config", kConfig, "--vpp", "100,,200", "--frequency", "40000", "--out", "/tmp/x.csv"},
                      2,
                      "--vpp"},
