@@ -12,12 +12,14 @@
 #include "commands/command_error.h"
 #include "commands/commands.h"
 #include "commands/retired_options.h"
+#include "installation.h"
 #include "model/parameters.h"
 
 int main(int argc, char** argv) {
   using namespace swum::host;
   CLI::App app{"swum: ultrasonic motor model, emulator client and operating-point tool"};
   app.require_subcommand(1);
+  app.set_version_flag("--version", swum::installation::version_line("swum"));
   add_modes_command(app);
   add_simulate_command(app);
   add_sweep_command(app);
@@ -40,6 +42,8 @@ int main(int argc, char** argv) {
   } catch (const CLI::CallForHelp& e) {
     return app.exit(e);
   } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForVersion& e) {
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
     // A retired spelling explains itself, whatever CLI11 stumbled on first (often the missing

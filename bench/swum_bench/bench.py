@@ -13,6 +13,7 @@ import subprocess
 import time
 
 from . import telemetry
+from .installation import DEFAULT_CONFIG, data_file
 from .controllers import Command, ExternalController, holding_values
 from .emulator import BenchError, Emulator
 from .modbus_gate import ModbusGate
@@ -62,7 +63,7 @@ def _bare(value):
 
 
 class Bench:
-    def __init__(self, emu_binary, source_dir, artifacts, transport="modbus", config=None, cycle_s=0.001,
+    def __init__(self, emu_binary, data_dir, artifacts, transport="modbus", config=None, cycle_s=0.001,
                  tick_hz=10000, watchdog_ms=100, emu_args=(), can_interface="vcan0", controller_can_interface="vcan1",
                  node=1, canopen_signals=None):
         if transport not in TRANSPORTS:
@@ -81,10 +82,10 @@ class Bench:
         if not (ticks >= 1 and abs(ticks - round(ticks)) < 1e-9 and round(ticks) <= 65535):
             raise BenchUsageError(f"cycle_s {cycle_s!r} must be a whole number of ticks (1..65535) at {tick_hz} Hz")
         self.emu_binary = emu_binary
-        self.source_dir = source_dir
+        self.data_dir = data_dir
         self.artifacts = artifacts
         self.transport = transport
-        self.config = config or os.path.join(source_dir, "config", "li2019.toml")
+        self.config = config or data_file(data_dir, DEFAULT_CONFIG)
         self.cycle_s = cycle_s
         self.cycle_ticks = int(round(ticks))
         self.tick_hz = tick_hz
@@ -194,11 +195,11 @@ class Bench:
             raise BenchUsageError("start: this bench is closed")
         if not hasattr(self, "_command"):
             self._command = Command()
-        map_path = os.path.join(self.source_dir, "config", "modbus_registers.json")
+        map_path = data_file(self.data_dir, "modbus_registers.json")
         try:
             self.map = ModbusMap(map_path)
         except (OSError, ValueError, KeyError) as e:
-            raise BenchUsageError(f"the register map {map_path} cannot be read (--swum-source): {e}") from e
+            raise BenchUsageError(f"the register map {map_path} cannot be read (--swum-data): {e}") from e
         args = ["--config", self.config, "--clock", "external", "--tick-hz", str(self.tick_hz),
                 "--watchdog-ms", str(self.watchdog_ms)]
         if self.transport == "modbus":
@@ -240,7 +241,7 @@ class Bench:
         elif external:
             # The controller's own first SYNC gives the first sample (the state at t = 0).
             from .can_gate import CanGate
-            self._gate = CanGate(self.controller_can_interface, self.can_interface, self.node, self.source_dir,
+            self._gate = CanGate(self.controller_can_interface, self.can_interface, self.node, self.data_dir,
                                  self._external_can_cycle, timeout_s=HANG_GUARD_S)
         else:
             self._open_can_link()
@@ -250,11 +251,11 @@ class Bench:
 
     def _open_can_link(self):
         from .can_link import CanLink
-        self._link = CanLink(self.can_interface, self.node, self.source_dir, timeout_s=HANG_GUARD_S)
+        self._link = CanLink(self.can_interface, self.node, self.data_dir, timeout_s=HANG_GUARD_S)
 
     def _open_canopen_link(self):
         from .canopen_link import CanopenLink
-        self._link = CanopenLink(self.can_interface, self.node, self.source_dir, self.config,
+        self._link = CanopenLink(self.can_interface, self.node, self.data_dir, self.config,
                                  [dict(telemetry.CANOPEN_TABLE)[n] for n in self.canopen_signals],
                                  emu_args=self.emu_args, timeout_s=HANG_GUARD_S)
         self._canopen_scales = telemetry.canopen_scales(self._link.eds, self.canopen_signals,

@@ -53,7 +53,7 @@ def receive_raw(sock):
 
 
 class CanGate:
-    def __init__(self, controller_interface, emulator_interface, node, source_dir, on_cycle, timeout_s=120.0):
+    def __init__(self, controller_interface, emulator_interface, node, data_dir, on_cycle, timeout_s=120.0):
         """on_cycle(telemetry_values, command_values) runs on the gate's thread after each set."""
         self.endpoint = f"{controller_interface}:{node}"
         self.on_cycle = on_cycle
@@ -65,7 +65,7 @@ class CanGate:
         self._opened = threading.Event()  # closing: SYNCs pass unheld and unrecorded
         self._idle = 0           # receive timeouts without a frame from the controller's bus
         self._exit_mark = None
-        dbc = load_dbc(source_dir)
+        dbc = load_dbc(data_dir)
         frames = {f.name: f for f in dbc.frames}
         self._decoders = {name: frame_decoder(f) for name, f in frames.items()}
         ids = {name: f.arbitration_id.id - 1 + node for name, f in frames.items() if name != "Sync"}

@@ -8,6 +8,7 @@ import math
 import os
 import time
 
+from .installation import data_file
 from .emulator import BenchError
 
 SYNC_ID = 0x080
@@ -29,9 +30,9 @@ def crc8_sae_j1850(can_id, data7):
     return crc ^ 0xFF
 
 
-def load_dbc(source_dir):
+def load_dbc(data_dir):
     import canmatrix.formats  # Debian's python3-canmatrix; imported here so Modbus-only runs need none
-    return canmatrix.formats.loadp_flat(os.path.join(source_dir, "config", "swum.dbc"))
+    return canmatrix.formats.loadp_flat(data_file(data_dir, "swum.dbc"))
 
 
 def frame_decoder(frame):
@@ -66,12 +67,12 @@ def frame_decoder(frame):
 
 
 class CanLink:
-    def __init__(self, interface, node, source_dir, timeout_s=30.0):
+    def __init__(self, interface, node, data_dir, timeout_s=30.0):
         import can  # python3-can
         self.where = f"{interface} node {node}"
         self.node = node
         self.timeout_s = timeout_s
-        self.dbc = load_dbc(source_dir)
+        self.dbc = load_dbc(data_dir)
         # The DBC describes node 1: identifiers are base + node.
         self.frames = {f.name: f for f in self.dbc.frames}
         self.decoders = {name: frame_decoder(f) for name, f in self.frames.items()}

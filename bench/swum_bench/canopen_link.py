@@ -15,6 +15,7 @@ import time
 import tomllib
 
 from . import cia402
+from .installation import data_file
 from .canopen_eds import Eds
 from .canopen_sdo import SdoClient
 from .emulator import BenchError
@@ -51,18 +52,18 @@ def vpp_per_terminal_volt(config_path):
     return 1.0 if convention == "amplitude" else 2.0
 
 
-def amplifier_limits(source_dir, emu_args=()):
+def amplifier_limits(data_dir, emu_args=()):
     """{option: value} of the amplifier's set-point limits (--min-frequency-hz, --max-frequency-hz,
     --amplitude-max): config/modbus_registers.json names them with their defaults ("--min-frequency-hz
     (30000)"), and emu_args may set them. swum-emu refuses a set-point beyond them in an RPDO
     without an answer on the bus, so the bench checks them before it sends."""
     import json
-    path = os.path.join(source_dir, "config", "modbus_registers.json")
+    path = data_file(data_dir, "modbus_registers.json")
     try:
         with open(path) as f:
             holding = {r["name"]: r for r in json.load(f)["holding_registers"]}
     except (OSError, ValueError, KeyError) as e:
-        raise BenchUsageError(f"the register map {path} cannot be read (--swum-source): {e}") from None
+        raise BenchUsageError(f"the register map {path} cannot be read (--swum-data): {e}") from None
     limits = {}
     for name in ("frequency_setpoint", "amplitude_setpoint"):
         for bound in ("min", "max"):
@@ -154,16 +155,16 @@ class RawCanBus:
 
 
 class CanopenLink:
-    def __init__(self, interface, node, source_dir, config_path, signal_objects, emu_args=(), timeout_s=30.0,
+    def __init__(self, interface, node, data_dir, config_path, signal_objects, emu_args=(), timeout_s=30.0,
                  bus=None):
         """signal_objects: the object indices the bench's signals need in the TPDOs (telemetry.py).
         bus: a frame bus (send/receive/set_ids/close), by default a SocketCAN socket on interface."""
         self.where = f"{interface} node {node}"
         self.node = node
         self.timeout_s = timeout_s
-        self.eds = Eds(os.path.join(source_dir, "config", "swum.eds"), node)
+        self.eds = Eds(data_file(data_dir, "swum.eds"), node)
         self.vpp_per_terminal_v = vpp_per_terminal_volt(config_path)
-        self.limits = amplifier_limits(source_dir, emu_args)
+        self.limits = amplifier_limits(data_dir, emu_args)
         self.tpdos = plan_tpdos(self.eds, signal_objects)
         self.tpdo_ids = {self._cob_id(0x1800 + n - 1): (n, entries) for n, entries in self.tpdos}
         self.sync_id = self.eds.default(0x1005) & 0x7FF

@@ -5,6 +5,8 @@ import json
 import math
 import os
 
+from .installation import data_dir
+
 _TYPES = {"uint16": (1, False), "int16": (1, True), "uint32": (2, False), "int32": (2, True)}
 
 
@@ -86,6 +88,6 @@ class ModbusMap:
         return words
 
 
-def default_path(source_dir=None):
-    root = source_dir or os.environ.get("SWUM_SOURCE_DIR") or os.path.join(os.path.dirname(__file__), "..", "..")
-    return os.path.join(root, "config", "modbus_registers.json")
+def default_path(data_directory=None):
+    """modbus_registers.json of the data directory (installation.data_dir() unless given)."""
+    return os.path.join(data_directory or data_dir() or "", "modbus_registers.json")

@@ -9,7 +9,7 @@ import shutil
 
 import pytest
 
-from . import attachments
+from . import attachments, installation
 from .bench import TRANSPORTS, Bench
 from .controllers import ReferenceController
 from .signals import BenchUsageError
@@ -19,12 +19,14 @@ _HERE = os.path.dirname(os.path.abspath(__file__))
 
 def pytest_addoption(parser):
     group = parser.getgroup("swum_bench", "swum-hil controller test bench")
-    group.addoption("--swum-emu", default=os.environ.get("SWUM_EMU"),
-                    help="swum-emu binary (default: $SWUM_EMU)")
-    group.addoption("--swum", default=os.environ.get("SWUM_BINARY"),
-                    help="swum binary, for the reference controller (default: $SWUM_BINARY)")
-    group.addoption("--swum-source", default=os.environ.get("SWUM_SOURCE_DIR", os.path.normpath(os.path.join(_HERE, "..", ".."))),
-                    help="swum-hil source tree (config/ is read from it)")
+    group.addoption("--swum-emu", default=installation.program("SWUM_EMU", "swum-emu"),
+                    help="swum-emu binary (default: $SWUM_EMU, else swum-emu on PATH)")
+    group.addoption("--swum", default=installation.program("SWUM_BINARY", "swum"),
+                    help="swum binary, for the reference controller (default: $SWUM_BINARY, else swum on PATH)")
+    group.addoption("--swum-data", default=None,
+                    help="the data directory: the default motor li2019.toml, swum.dbc, swum.eds, "
+                    "modbus_registers.json (default: $SWUM_DATA_DIR, else share/swum-hil beside the installed "
+                    "swum-emu, else the checkout's config/)")
     group.addoption("--swum-transport", default=os.environ.get("SWUM_BENCH_TRANSPORT", "modbus"),
                     choices=TRANSPORTS, help="the bench's link to swum-emu (default $SWUM_BENCH_TRANSPORT or modbus; "
                     "can: the swum frame set on vcan0, lockstep by SYNC; canopen: swum-emu as a CiA 402 drive, the "
@@ -87,7 +89,12 @@ class BenchFactory:
                                   "node on it (run without -n, or give each worker its own bus)")
         index = len(self.benches)
         folder = self.folder if index == 0 else os.path.join(self.folder, f"bench{index + 1}")
-        bench = Bench(self._config.getoption("--swum-emu"), self._config.getoption("--swum-source"), folder,
+        emu = self._config.getoption("--swum-emu")
+        if not emu:
+            raise BenchUsageError("swum-emu not found: install the package, put it on PATH, or give --swum-emu "
+                                  "or SWUM_EMU")
+        data = self._config.getoption("--swum-data") or installation.data_dir(emu)
+        bench = Bench(emu, data, folder,
                       transport=transport,
                       can_interface=self._config.getoption("--swum-can-interface"),
                       controller_can_interface=self._config.getoption("--swum-controller-can-interface"), **options)

@@ -182,7 +182,8 @@ void announce_ready(const EmuOptions& o, const std::string& transports) {
     std::snprintf(tail, sizeof tail, " tick_hz=%g speedup=%g watchdog_ms=%g pid=%d", o.tick_hz, o.speedup,
                   o.watchdog_ms, static_cast<int>(getpid()));
   }
-  const std::string ready = "swum-emu ready" + transports + tail;
+  std::string ready = "swum-emu ready" + transports + tail;
+  if (o.config_is_default) ready += " default_config=" + o.config_path;
   std::printf("%s\n", ready.c_str());
   std::fflush(stdout);
   if (o.ready_fd >= 0) {

@@ -13,6 +13,7 @@
 
 #include "app/milliseconds.h"
 #include "can_codec.h"
+#include "installation.h"
 
 namespace swum::emu {
 
@@ -63,7 +64,11 @@ EmuOptions parse_emu_options(int argc, const char* const* argv) {
   std::string modbus_idle_text = std::to_string(o.modbus_idle_timeout_ms);
   std::string modbus_frame_text = std::to_string(o.modbus_frame_timeout_ms);
   std::string modbus_evict_text = std::to_string(o.modbus_evict_idle_ms);
-  app.add_option("--config", o.config_path, "motor parameter file (TOML)")->required()->check(CLI::ExistingFile);
+  app.set_version_flag("--version", installation::version_line("swum-emu"));
+  app.add_option("--config", o.config_path,
+                 "motor parameter file (TOML); default: li2019.toml of the data directory, the calibrated motor "
+                 "(docs/install.md)")
+      ->check(CLI::ExistingFile);
   app.add_option("--can", o.can_interface, "SocketCAN interface (e.g. vcan0); CAN off when absent");
   app.add_option("--node", o.can_node, "CAN node id")
       ->check(CLI::Range(int{protocol::can::kMinNode}, int{protocol::can::kMaxNode}));
@@ -185,6 +190,10 @@ EmuOptions parse_emu_options(int argc, const char* const* argv) {
     std::ostringstream err;
     const int exit_code = app.exit(e, out, err);
     throw EmuCliExit(exit_code, out.str(), err.str());
+  }
+  if (o.config_path.empty()) {  // the installed calibrated motor; the ready line says so
+    o.config_path = installation::default_config_path().string();
+    o.config_is_default = true;
   }
   o.external_clock = clock == "external";
   if (!o.replay_path.empty() && !o.record_path.empty())

@@ -28,7 +28,8 @@ namespace swum::emu {
 
 // Each field is one option; defaults are the documented ones.
 struct EmuOptions {
-  std::string config_path;           // --config (required): motor parameter file
+  std::string config_path;           // --config: motor parameter file (default: the data directory's li2019.toml)
+  bool config_is_default = false;    // no --config: config_path is the default motor (said on the ready line)
   std::string can_interface;         // --can; empty: CAN off
   int can_node = 1;                  // --node
   std::string can_profile = "swum";  // --can-profile: swum (docs/protocols.md) or cia402 (docs/canopen.md)

@@ -11,6 +11,7 @@
 #include "analysis/operating_point/operating_point.h"
 #include "commands/command_error.h"
 #include "commands/commands.h"
+#include "commands/config_option.h"
 #include "offline/band_run.h"
 #include "offline/motor_config.h"
 #include "output/progress_bar.h"
@@ -67,7 +68,7 @@ void add_band_command(CLI::App& app) {
   auto o = std::make_shared<BandOptions>();
   CLI::App* sub = app.add_subcommand(
       "band", "Band of operating frequencies over voltages, loads and stator temperatures (model down-sweeps)");
-  sub->add_option("--config", o->config_path, "motor parameter file (TOML)")->required();
+  add_config_option(*sub, o->config_path, "motor parameter file (TOML)");
   sub->add_option("--vpp", o->vpp_list, "voltages, comma list (Vpp)")->required();
   sub->add_option("--load", o->load_list, "loads, comma list (N)")->capture_default_str();
   sub->add_option("--temperature-rise-k", o->rise_list,

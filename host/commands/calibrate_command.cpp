@@ -16,6 +16,7 @@
 #include "analysis/calibration/calibration_facts.h"
 #include "commands/command_error.h"
 #include "commands/commands.h"
+#include "commands/config_option.h"
 #include "formats/facts_file.h"
 #include "formats/name_list.h"
 #include "formats/number_format.h"
@@ -180,7 +181,7 @@ void run_calibrate_command(const CalibrateCommandOptions& o) {
 void add_calibrate_command(CLI::App& app) {
   auto o = std::make_shared<CalibrateCommandOptions>();
   CLI::App* sub = app.add_subcommand("calibrate", "Fit the model's base parameters to a measured sweep or to facts");
-  sub->add_option("--config", o->config_path, "prior motor parameter file (TOML)")->required();
+  add_config_option(*sub, o->config_path, "prior motor parameter file (TOML)");
   sub->add_option("--measured", o->measured_path,
                   "CSV as swum sweep / swum log write it (vpp,frequency_hz,load_n + speed_mm_s and/or tip amplitudes)");
   sub->add_option("--facts", o->facts_path, "facts file (TOML, [[fact]] tables; docs/calibration.md)");

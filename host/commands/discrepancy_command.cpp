@@ -14,6 +14,7 @@
 #include "analysis/discrepancy/discrepancy.h"
 #include "commands/command_error.h"
 #include "commands/commands.h"
+#include "commands/config_option.h"
 #include "formats/name_list.h"
 #include "formats/parameter_file.h"
 #include "offline/motor_config.h"
@@ -126,7 +127,7 @@ void add_discrepancy_command(CLI::App& app) {
   auto o = std::make_shared<DiscrepancyCommandOptions>();
   CLI::App* sub = app.add_subcommand("discrepancy",
                                      "Name the effect missing from a model, add it, show the gap shrink");
-  sub->add_option("--config", o->config_path, "baseline motor parameter file (TOML)")->required();
+  add_config_option(*sub, o->config_path, "baseline motor parameter file (TOML)");
   sub->add_option("--measured", o->measured_path,
                   "CSV: vpp,frequency_hz,load_n[,time_s][,sweep] + speed_mm_s/tip_normal_um/tip_tangential_um; or a "
                   "swum sweep / swum log file as it is")

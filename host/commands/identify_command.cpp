@@ -10,6 +10,7 @@
 #include "analysis/identification/identification.h"
 #include "commands/command_error.h"
 #include "commands/commands.h"
+#include "commands/config_option.h"
 #include "formats/parameter_file.h"
 #include "model/motor_model.h"
 #include "offline/motor_config.h"
@@ -87,7 +88,7 @@ void run_identify(const IdentifyOptions& o) {
 void add_identify_command(CLI::App& app) {
   auto o = std::make_shared<IdentifyOptions>();
   CLI::App* sub = app.add_subcommand("identify", "Fit c111, c1111, e311, e3111 to measured free-stator tip amplitudes");
-  sub->add_option("--config", o->config_path, "prior motor parameter file (TOML, not modified)")->required();
+  add_config_option(*sub, o->config_path, "prior motor parameter file (TOML, not modified)");
   sub->add_option("--amplitudes", o->amplitudes_path,
                   "CSV: vpp,frequency_hz,tip_normal_um,tip_tangential_um (amplitude cells may be empty)")
       ->required();

@@ -4,6 +4,7 @@
 #include <string>
 
 #include "commands/commands.h"
+#include "commands/config_option.h"
 #include "model/motor_model.h"
 #include "offline/motor_config.h"
 #include "output/reports/model/modes_report.h"
@@ -27,7 +28,7 @@ void run_modes(const ModesOptions& options) {
 void add_modes_command(CLI::App& app) {
   auto options = std::make_shared<ModesOptions>();
   CLI::App* sub = app.add_subcommand("modes", "Natural frequencies and modal constants of a motor");
-  sub->add_option("--config", options->config_path, "motor parameter file (TOML)")->required();
+  add_config_option(*sub, options->config_path, "motor parameter file (TOML)");
   sub->add_flag("--json", options->json, "print one JSON object");
   sub->callback([options] { run_modes(*options); });
 }

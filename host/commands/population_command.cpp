@@ -19,6 +19,7 @@
 #include "analysis/studies/population.h"
 #include "commands/command_error.h"
 #include "commands/commands.h"
+#include "commands/config_option.h"
 #include "formats/spread_file.h"
 #include "model/simulation/batch_simulator.h"
 #include "offline/motor_config.h"
@@ -174,7 +175,7 @@ void add_population_command(CLI::App& app) {
   auto o = std::make_shared<PopulationOptions>();
   CLI::App* sub = app.add_subcommand(
       "population", "Monte-Carlo motor population: operating frequency and speed per voltage over tolerances");
-  sub->add_option("--config", o->config_path, "nominal motor parameter file")->required();
+  add_config_option(*sub, o->config_path, "nominal motor parameter file");
   sub->add_option("--spreads", o->spreads_path, "spreads file: which parameters vary and how (TOML)")->required();
   sub->add_option("--motors", o->motors, "motors to draw (1..1000000)")->required();
   sub->add_option("--seed", o->seed, "study seed: motor i's parameters depend on (seed, i) only")

@@ -8,6 +8,7 @@
 #include "analysis/steady_state/steady_state.h"
 #include "commands/command_error.h"
 #include "commands/commands.h"
+#include "commands/config_option.h"
 #include "offline/motor_config.h"
 #include "output/reports/model/simulation_report.h"
 #include "output/text_files.h"
@@ -80,7 +81,7 @@ void run_simulate(const SimulateOptions& o) {
 void add_simulate_command(CLI::App& app) {
   auto o = std::make_shared<SimulateOptions>();
   CLI::App* sub = app.add_subcommand("simulate", "Run one operating point to steady state");
-  sub->add_option("--config", o->config_path, "motor parameter file (TOML)")->required();
+  add_config_option(*sub, o->config_path, "motor parameter file (TOML)");
   sub->add_option("--vpp", o->vpp, "drive voltage (V peak-to-peak)")->required();
   sub->add_option("--frequency-hz", o->frequency_hz, "drive frequency (Hz)")->required();
   sub->add_option("--load", o->load_n, "external load force on the mover (N)")->capture_default_str();

@@ -10,6 +10,7 @@
 
 #include "analysis/free_stator/harmonic_balance.h"
 #include "commands/commands.h"
+#include "commands/config_option.h"
 #include "offline/motor_config.h"
 #include "output/reports/model/stator_report.h"
 #include "output/text_files.h"
@@ -86,7 +87,7 @@ void add_stator_command(CLI::App& app) {
   auto o = std::make_shared<StatorOptions>();
   CLI::App* sub = app.add_subcommand(
       "stator", "Free-stator tip amplitudes by harmonic balance: all branches, stability, backbone");
-  sub->add_option("--config", o->config_path, "motor parameter file (TOML)")->required();
+  add_config_option(*sub, o->config_path, "motor parameter file (TOML)");
   sub->add_option("--vpp", o->vpp_list, "drive voltages, comma list (V peak-to-peak)")->required();
   sub->add_option("--frequency-hz", o->frequency_range, "START:STOP:STEP or one value (Hz)")->required();
   auto* json = sub->add_flag("--json", o->json, "print one JSON object (rows and backbone)");

@@ -9,6 +9,7 @@
 #include "analysis/discrepancy/candidate_effects.h"
 #include "analysis/measurements/synthetic_measurements.h"
 #include "commands/commands.h"
+#include "commands/config_option.h"
 #include "formats/name_list.h"
 #include "offline/motor_config.h"
 #include "offline/parallel_for.h"
@@ -112,7 +113,7 @@ void run_synth(const SynthCommandOptions& o) {
 void add_synth_command(CLI::App& app) {
   auto o = std::make_shared<SynthCommandOptions>();
   CLI::App* sub = app.add_subcommand("synth", "Measurement-like data from a config with hidden effects, with noise");
-  sub->add_option("--config", o->config_path, "motor parameter file (TOML)")->required();
+  add_config_option(*sub, o->config_path, "motor parameter file (TOML)");
   sub->add_option("--effect", o->effects,
                   "NAME or NAME:key=value,... (repeatable): electroelastic, thermal, wear, "
                   "preload, guide_friction, amplifier_droop");

@@ -11,6 +11,7 @@
 
 #include "analysis/studies/paper_facts.h"
 #include "commands/commands.h"
+#include "commands/config_option.h"
 #include "offline/motor_config.h"
 #include "offline/validation_curves.h"
 #include "output/reports/model/validation_plots.h"
@@ -56,7 +57,7 @@ void run_validate(const ValidateOptions& o) {
 void add_validate_command(CLI::App& app) {
   auto o = std::make_shared<ValidateOptions>();
   CLI::App* sub = app.add_subcommand("validate", "Check the paper's facts and draw the paper-style plots");
-  sub->add_option("--config", o->config_path, "motor parameter file (TOML)")->required();
+  add_config_option(*sub, o->config_path, "motor parameter file (TOML)");
   sub->add_option("--literal", o->literal_path, "the paper-literal config, for the §9 cross-check");
   sub->add_option("--out", o->out_dir, "output folder (facts.md and PNG plots)")->required();
   sub->callback([o] { run_validate(*o); });

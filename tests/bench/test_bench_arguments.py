@@ -18,7 +18,7 @@ from swum_bench import Bench, BenchUsageError, Command, ExternalController, Inje
 from swum_bench.controllers import ACTIONS, holding_values
 
 NO_EMULATOR = "/nonexistent/swum-emu"
-SOURCE = os.path.normpath(os.path.join(os.path.dirname(__file__), "..", ".."))
+SOURCE = os.path.normpath(os.path.join(os.path.dirname(__file__), "..", "..", "config"))  # the data directory
 
 
 @pytest.fixture
@@ -46,7 +46,7 @@ def bench(make_bench):
 def test_defaults(bench, tmp_path):
     assert bench.transport == "modbus"
     assert bench.cycle_ticks == 10
-    assert bench.config == os.path.join(SOURCE, "config", "li2019.toml")
+    assert bench.config == os.path.join(SOURCE, "li2019.toml")
     assert os.path.isdir(tmp_path / "artifacts0")
     assert bench.time_s == 0.0
     assert bench.injections == []

@@ -30,10 +30,10 @@ def test_start_failure_names_swum_emus_reason_and_keeps_the_log(swum_bench):
         bench.step(0.01)
 
 
-def test_bad_source_tree_is_a_usage_error_before_any_process(swum_bench, tmp_path):
+def test_bad_data_directory_is_a_usage_error_before_any_process(swum_bench, tmp_path):
     bench = swum_bench()
-    bench.source_dir = str(tmp_path)
-    with pytest.raises(BenchUsageError, match=r"register map .*modbus_registers.json cannot be read"):
+    bench.data_dir = str(tmp_path)
+    with pytest.raises(BenchUsageError, match=r"^modbus_registers.json not found in the data directory .* \(--swum-data"):
         bench.step(0.01)
     assert bench.emulator is None
 

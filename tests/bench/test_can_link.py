@@ -9,13 +9,14 @@ from swum_bench import can_link
 from swum_bench.can_link import CanLink, crc8_sae_j1850
 
 REPO = os.path.normpath(os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", ".."))
+DATA = os.path.join(REPO, "config")  # the data directory of the checkout
 
 
 class Recorder(CanLink):
     """A CanLink whose frames go to a list instead of a socket."""
 
     def __init__(self):  # noqa: the bus is the list
-        self.dbc = can_link.load_dbc(REPO)
+        self.dbc = can_link.load_dbc(DATA)
         self.frames = {f.name: f for f in self.dbc.frames}
         self.ids = {name: f.arbitration_id.id for name, f in self.frames.items() if name != "Sync"}
         self._alive = {"Command": 0, "AuxCommand": 0}
@@ -121,12 +122,12 @@ def test_a_refused_enable_does_not_turn_later_keep_alives_into_enables():
     assert modes(link) == [0]
 
 
-@pytest.mark.parametrize("frame_name", [f.name for f in can_link.load_dbc(REPO).frames])
+@pytest.mark.parametrize("frame_name", [f.name for f in can_link.load_dbc(DATA).frames])
 def test_frame_decoder_equals_canmatrix_on_every_frame(frame_name):
     """The bench's own unpacking (frame_decoder) gives what canmatrix's decode gives, value for
     value and in the same order, on the edges of every signal and on random payloads."""
     import random
-    frame = next(f for f in can_link.load_dbc(REPO).frames if f.name == frame_name)
+    frame = next(f for f in can_link.load_dbc(DATA).frames if f.name == frame_name)
     decode = can_link.frame_decoder(frame)
     size = int(frame.size)
     rng = random.Random(frame_name)
@@ -140,7 +141,7 @@ def test_frame_decoder_equals_canmatrix_on_every_frame(frame_name):
 
 def test_frame_decoder_refuses_a_payload_of_the_wrong_length_as_canmatrix_does():
     from canmatrix.canmatrix import DecodingFrameLength
-    frame = next(f for f in can_link.load_dbc(REPO).frames if f.name == "Motion")
+    frame = next(f for f in can_link.load_dbc(DATA).frames if f.name == "Motion")
     decode = can_link.frame_decoder(frame)
     for data in (bytes(7), bytes(9), b""):
         with pytest.raises(DecodingFrameLength):
@@ -153,7 +154,7 @@ def test_frame_decoder_leaves_big_endian_frames_to_canmatrix():
     """A layout it does not unpack itself (here a Motorola-order signal) still decodes, through
     canmatrix."""
     import copy
-    frame = copy.deepcopy(next(f for f in can_link.load_dbc(REPO).frames if f.name == "Motion"))
+    frame = copy.deepcopy(next(f for f in can_link.load_dbc(DATA).frames if f.name == "Motion"))
     for s in frame.signals:
         s.is_little_endian = False
     decode = can_link.frame_decoder(frame)

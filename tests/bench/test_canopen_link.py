@@ -18,6 +18,7 @@ from swum_bench.canopen_link import CanopenLink, plan_tpdos
 from swum_bench.emulator import BenchError
 
 REPO = os.path.normpath(os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", ".."))
+DATA = os.path.join(REPO, "config")  # the data directory of the checkout
 NODE = 3
 AMPLITUDE_CONFIG = os.path.join(REPO, "config", "li2019.toml")          # voltage_convention = "amplitude"
 PEAK_TO_PEAK_CONFIG = os.path.join(REPO, "config", "li2019_literal.toml")  # "peak_to_peak"
@@ -118,7 +119,7 @@ def objects(names):
 
 def make_link(eds, config=AMPLITUDE_CONFIG, names=telemetry.CANOPEN_DEFAULT_SIGNALS, emu_args=()):
     drive = StandInDrive(eds)
-    link = CanopenLink("vcan0", NODE, REPO, config, objects(names), emu_args=emu_args, timeout_s=0.05, bus=drive)
+    link = CanopenLink("vcan0", NODE, DATA, config, objects(names), emu_args=emu_args, timeout_s=0.05, bus=drive)
     return link, drive
 
 

@@ -16,6 +16,7 @@ from swum_bench.canopen_link import CanopenLink
 from swum_bench.canopen_sdo import SdoAbort
 
 REPO = os.path.normpath(os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", ".."))
+DATA = os.path.join(REPO, "config")  # the data directory of the checkout
 SLAVE = os.environ.get("SWUM_CANOPEN_SLAVE")
 NODE = 7
 pytestmark = pytest.mark.skipif(not SLAVE, reason="needs SWUM_CANOPEN_SLAVE (run through ctest)")
@@ -75,7 +76,7 @@ class ProfileBus:
 
 def open_link(config="li2019.toml", vpp_per_terminal_v=1.0, names=telemetry.CANOPEN_DEFAULT_SIGNALS):
     bus = ProfileBus(vpp_per_terminal_v, [0x700 + NODE, 0x580 + NODE])
-    link = CanopenLink("stdio", NODE, REPO, os.path.join(REPO, "config", config),
+    link = CanopenLink("stdio", NODE, DATA, os.path.join(REPO, "config", config),
                        [dict(telemetry.CANOPEN_TABLE)[n] for n in names], timeout_s=1.0, bus=bus)
     return link, bus
 
@@ -207,7 +208,7 @@ def test_a_bench_over_canopen_captures_each_sync(tmp_path, monkeypatch):
         def cycle(self, sample):
             return Command(action="enable" if sample["state"] != 1 else "keep_alive", vpp=100.0)
 
-    bench = Bench(SLAVE, REPO, str(tmp_path), transport="canopen", node=NODE)
+    bench = Bench(SLAVE, DATA, str(tmp_path), transport="canopen", node=NODE)
     bench.use(EnableAt100V())
     bench.step(0.003)
     assert bench.emulator.args[-6:] == ["--node", str(NODE), "--sync-ticks", "10", "--can-profile", "cia402"]

@@ -48,7 +48,8 @@ def test_register_shapes(regmap):
 
 
 def test_default_path_points_at_the_table():
-    assert os.path.normpath(default_path(os.path.join(os.path.dirname(TABLE), ".."))) == TABLE
+    assert os.path.normpath(default_path(os.path.dirname(TABLE))) == TABLE
+    assert os.path.normpath(default_path()) == TABLE  # found by itself: the checkout's config/
 
 
 def test_unknown_type_is_refused():

@@ -26,7 +26,7 @@ def test_the_same_test_gets_the_same_folder(tmp_path):
 
 def factory(tmp_path, transport):
     from swum_bench.plugin import BenchFactory
-    options = {"--swum-transport": transport, "--swum-emu": "/nonexistent/swum-emu", "--swum-source": ".",
+    options = {"--swum-transport": transport, "--swum-emu": "/nonexistent/swum-emu", "--swum-data": None,
                "--swum-can-interface": "vcan0", "--swum-controller-can-interface": "vcan1"}
     return BenchFactory(types.SimpleNamespace(getoption=options.get), str(tmp_path))
 

@@ -177,7 +177,7 @@ def case_synth(run):
 
 def case_errors(run):
     """Exit status and message of usage errors a restructured main() must keep."""
-    calls = [[], ["nosuch"], ["modes"], ["modes", "--config", "nothere.toml"], ["modes", "--config", CONFIG, "--bogus"],
+    calls = [[], ["nosuch"], ["modes", "--config"], ["modes", "--config", "nothere.toml"], ["modes", "--config", CONFIG, "--bogus"],
              ["pick", "--sweep", f"{INPUTS}/pick_sweep.csv", "--vpp", "250"],
              ["sweep", "--config", CONFIG, "--vpp", "100", "--frequency-hz", "40000"],
              ["log", "--out", run.path("x.csv")],

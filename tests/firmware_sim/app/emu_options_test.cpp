@@ -5,8 +5,10 @@
 #include <gtest/gtest.h>
 
 #include <cstdio>
+#include <filesystem>
 #include <string>
 #include <vector>
+#include "installation.h"
 #include "test_paths.h"
 
 namespace swum::emu {
@@ -223,6 +225,22 @@ TEST(EmuOptions, RetiredSpellingsNameTheirNewOnes) {
   EXPECT_EQ(parse_with_config({"--frequency-hz", "41000", "--drive-phase-deg", "-90"}).frequency_hz, 41000.0);
 }
 
+// Without --config the calibrated motor of the data directory runs (docs/install.md): this test
+// binary is a build of the checkout, so that is the checkout's config/li2019.toml.
+TEST(EmuOptions, WithoutConfigTheDataDirectorysDefaultMotorRuns) {
+  const EmuOptions o = parse({});
+  EXPECT_EQ(std::filesystem::path(o.config_path), std::filesystem::path(kConfig).lexically_normal());
+  EXPECT_TRUE(o.config_is_default);
+  EXPECT_FALSE(parse_with_config({}).config_is_default);
+}
+
+TEST(EmuOptions, VersionGoesToStdoutWithExitZero) {
+  const EmuCliExit e = cli_exit({"--version"});
+  EXPECT_EQ(e.exit_code(), 0);
+  EXPECT_EQ(e.out().rfind("swum-emu " + std::string(swum::installation::version()), 0), 0u) << e.out();
+  EXPECT_EQ(e.err(), "");
+}
+
 TEST(EmuOptions, UsageErrorsKeepCli11TextAndExitCode) {
   struct Case {
     std::vector<std::string> args;
@@ -230,7 +248,6 @@ TEST(EmuOptions, UsageErrorsKeepCli11TextAndExitCode) {
     std::string first_line;
   };
   const std::vector<Case> cases = {
-      {{}, 106, "--config is required"},
       {{"--config", "/nonexistent/motor.toml"}, 105, "--config: File does not exist: /nonexistent/motor.toml"},
       {{"--config", kConfig, "--config", kConfig}, 114, "--config: At Most 1 required but received 2"},
       {{"--config", kConfig, "--node", "0"}, 105, "--node: Value 0 not in range 1 to 127"},

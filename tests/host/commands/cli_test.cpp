@@ -41,6 +41,23 @@ TEST(SwumCli, ModesJsonHasTheNaturalFrequencies) {
   EXPECT_NEAR(j.at("f_b2_hz").get<double>(), 39469.0, 0.002 * 39469.0);
 }
 
+// Without --config the commands use the calibrated motor of the data directory (docs/install.md):
+// this swum is a build of the checkout, so the checkout's config/li2019.toml.
+TEST(SwumCli, WithoutConfigTheDefaultMotorIsUsed) {
+  const CliRun given = swum({"modes", "--config", kConfig, "--json"});
+  const CliRun defaulted = swum({"modes", "--json"});
+  ASSERT_EQ(defaulted.status, 0) << defaulted.output;
+  EXPECT_EQ(defaulted.output, given.output);
+  const CliRun literal = swum({"modes", "--config", swum::test::source_path("config/li2019_literal.toml"), "--json"});
+  EXPECT_NE(defaulted.output, literal.output);  // the comparison can tell two motors apart
+}
+
+TEST(SwumCli, VersionPrintsTheProjectVersion) {
+  const CliRun r = swum({"--version"});
+  EXPECT_EQ(r.status, 0) << r.output;
+  EXPECT_EQ(r.output.rfind("swum 0.", 0), 0u) << r.output;
+}
+
 TEST(SwumCli, SimulateJsonHasTheContractFields) {
   const CliRun r = swum(
       {"simulate", "--config", kConfig, "--vpp", "400", "--frequency-hz", "40000", "--duration-s", "0.02", "--json"});
@@ -140,7 +157,7 @@ INSTANTIATE_TEST_SUITE_P(
         BadArguments{{"simulate", "--config", "/nonexistent/m.toml", "--vpp", "100", "--frequency-hz", "40000"},
                      1,
                      "/nonexistent/m.toml"},
-        BadArguments{{"simulate", "--vpp", "100", "--frequency-hz", "40000"}, 2, "--config"},
+        BadArguments{{"simulate", "--vpp", "100", "--frequency-hz", "40000", "--config"}, 2, "--config"},
         BadArguments{{"sweep", "--config", kConfig, "--vpp", "100,,200", "--frequency-hz", "40000", "--out",
                       "/tmp/x.csv"},
                      2,
