@@ -50,12 +50,12 @@ struct EmuOptions {
   double heartbeat_ms = 1000.0;                                  // --heartbeat-ms (CAN); 0: off
   double frequency_min_hz = AmplifierLimits{}.min_frequency_hz;  // --frequency-min
   double frequency_max_hz = AmplifierLimits{}.max_frequency_hz;  // --frequency-max
-  double amplitude_max_vpp = AmplifierLimits{}.max_amplitude_vpp;                // --amplitude-max
-  double load_max_n = AmplifierLimits{}.max_abs_load_n;                          // --load-max
-  double frequency_slew_hz_per_s = AmplifierConfig{}.frequency_slew_hz_per_s;    // --frequency-slew
-  double amplitude_slew_vpp_per_s = AmplifierConfig{}.amplitude_slew_vpp_per_s;  // --amplitude-slew
-  double frequency_hz = AmplifierConfig{}.frequency_hz;                          // --frequency (initial)
-  double phase_deg = AmplifierConfig{}.phase_deg;                                // --phase (initial)
+  double max_amplitude_v = AmplifierLimits{}.max_amplitude_v;    // --max-amplitude-v
+  double load_max_n = AmplifierLimits{}.max_abs_load_n;          // --load-max
+  double frequency_slew_hz_per_s = AmplifierConfig{}.frequency_slew_hz_per_s;  // --frequency-slew
+  double amplitude_slew_v_per_s = AmplifierConfig{}.amplitude_slew_v_per_s;    // --amplitude-slew-v-per-s
+  double frequency_hz = AmplifierConfig{}.frequency_hz;                        // --frequency (initial)
+  double phase_deg = AmplifierConfig{}.phase_deg;                              // --phase (initial)
   bool external_clock = false;          // --clock external: lockstep (time advances only when a controller steps it)
   int sync_ticks = 10;                  // --sync-ticks: ticks per CAN SYNC in lockstep
   std::string scenario_path;            // --scenario; empty: none
@@ -104,7 +104,7 @@ class EmuCliExit : public std::runtime_error {
 EmuOptions parse_emu_options(int argc, const char* const* argv);
 
 // The options in each part's terms (SI units). Throw EmuOptionError for bad values.
-// --frequency-min/max/--amplitude-max/--load-max, slews (the limits raised to admit them),
+// --frequency-min/max/--max-amplitude-v/--load-max, slews (the limits raised to admit them),
 // initial setpoints (checked against the limits), --watchdog-ms.
 AmplifierConfig amplifier_config(const EmuOptions& options);
 // --modbus; nullopt for "none".
@@ -112,10 +112,9 @@ std::optional<ModbusEndpoint> modbus_endpoint(const EmuOptions& options);
 ModbusTcpOptions modbus_tcp_options(const EmuOptions& options);
 // --node, --telemetry-hz, --heartbeat-ms (used when --can is given).
 CanTransportConfig can_transport_config(const EmuOptions& options);
-// --can-profile cia402: --node (1..127), --heartbeat-ms when given, the limits and the model's
-// voltage convention (the terminal amplitude of 0x2002/0x2011 in the amplifier's "vpp" input).
-CanopenProfileConfig canopen_profile_config(const EmuOptions& options, const AmplifierLimits& limits,
-                                            double vpp_per_terminal_amplitude_v);
+// --can-profile cia402: --node (1..127), --heartbeat-ms when given, and the limits (0x2002/0x2011
+// are terminal amplitudes, the amplifier's own unit).
+CanopenProfileConfig canopen_profile_config(const EmuOptions& options, const AmplifierLimits& limits);
 // --gpio, --encoder-resolution-um, --encoder-max-rate (used when --gpio is given).
 GpioConfig gpio_config(const EmuOptions& options);
 // --speedup, --rt, --spin-us, --duration at --tick-hz; statistics published ~10 times a second.

@@ -27,7 +27,7 @@ SOURCE = os.environ["SWUM_SOURCE_DIR"]
 OUT = tempfile.mkdtemp(prefix="swum-population-")
 # Small enough for a few seconds on two cores: 6 motors x 2 voltages x 14 frequencies.
 STUDY = ["--config", "config/li2019.toml", "--spreads", "config/population.toml", "--seed", "5",
-         "--vpp", "200,400", "--frequency", "39300:40600:100", "--yield", "0.5"]
+         "--amplitude-v", "200,400", "--frequency", "39300:40600:100", "--yield", "0.5"]
 
 
 def path(name):

@@ -13,13 +13,13 @@ namespace {
 
 // The down-sweep of one (voltage, load, rise): frequencies from high to low, each point from the
 // state the previous one left (run_chains_to_steady_state), the slow states frozen at the rise.
-OperatingChain down_sweep(const BandGrid& grid, double vpp, double load_n, double rise_k) {
+OperatingChain down_sweep(const BandGrid& grid, double amplitude_v, double load_n, double rise_k) {
   std::vector<double> frequencies = grid.frequencies_hz;
   std::sort(frequencies.begin(), frequencies.end(), std::greater<>());
   OperatingChain chain;
   for (double f : frequencies) {
     OperatingPoint point;
-    point.vpp = vpp;
+    point.amplitude_v = amplitude_v;
     point.frequency_hz = f;
     point.load_n = load_n;
     point.stator_temperature_rise_k = rise_k;

@@ -27,7 +27,7 @@ struct BandGrid {
 
 // One chain's curve and its pick.
 struct BandRow {
-  double vpp = 0.0;
+  double amplitude_v = 0.0;
   double load_n = 0.0;
   double temperature_rise_k = 0.0;
   std::vector<CurveSample> curve;  // the chain's points, highest frequency first (ok = false: diverged)

@@ -39,7 +39,7 @@ PickResult pick_operating_point(std::vector<CurveSample> samples, const PickOpti
 
 // The pick at one drive voltage (swum pick, swum population: a row per voltage).
 struct VoltagePick {
-  double vpp = 0.0;
+  double amplitude_v = 0.0;
   PickResult result;
 };
 

@@ -42,8 +42,8 @@ TEST(SwumCli, ModesJsonHasTheNaturalFrequencies) {
 }
 
 TEST(SwumCli, SimulateJsonHasTheContractFields) {
-  const CliRun r = swum(
-      {"simulate", "--config", kConfig, "--vpp", "400", "--frequency", "40000", "--duration", "0.02", "--json"});
+  const CliRun r = swum({"simulate", "--config", kConfig, "--amplitude-v", "400", "--frequency", "40000", "--duration",
+                         "0.02", "--json"});
   ASSERT_EQ(r.status, 0) << r.output;
   const auto j = nlohmann::json::parse(r.output);
   for (const char* key :
@@ -57,9 +57,9 @@ TEST(SwumCli, SimulateJsonHasTheContractFields) {
 
 TEST(SwumCli, SimulateWholeDurationRunsAllOfIt) {
   const CliRun early = swum(
-      {"simulate", "--config", kConfig, "--vpp", "400", "--frequency", "40000", "--duration", "0.3", "--json"});
-  const CliRun whole = swum({"simulate", "--config", kConfig, "--vpp", "400", "--frequency", "40000", "--duration",
-                             "0.3", "--whole-duration", "--json"});
+      {"simulate", "--config", kConfig, "--amplitude-v", "400", "--frequency", "40000", "--duration", "0.3", "--json"});
+  const CliRun whole = swum({"simulate", "--config", kConfig, "--amplitude-v", "400", "--frequency", "40000",
+                             "--duration", "0.3", "--whole-duration", "--json"});
   ASSERT_EQ(early.status, 0) << early.output;
   ASSERT_EQ(whole.status, 0) << whole.output;
   const auto e = nlohmann::json::parse(early.output);
@@ -73,8 +73,8 @@ TEST(SwumCli, SimulateWholeDurationRunsAllOfIt) {
 
 TEST(SwumCli, SimulateTraceIsACsvWithTimeAndForces) {
   const fs::path trace = scratch("trace.csv");
-  const CliRun r = swum({"simulate", "--config", kConfig, "--vpp", "300", "--frequency", "40000", "--duration", "0.004",
-                         "--trace", trace.string()});
+  const CliRun r = swum({"simulate", "--config", kConfig, "--amplitude-v", "300", "--frequency", "40000", "--duration",
+                         "0.004", "--trace", trace.string()});
   ASSERT_EQ(r.status, 0) << r.output;
   std::ifstream in(trace);
   std::string header;
@@ -89,13 +89,13 @@ TEST(SwumCli, SimulateTraceIsACsvWithTimeAndForces) {
 TEST(SwumCli, SweepWritesOneRowPerPointAndAPlot) {
   const fs::path csv = scratch("sweep.csv");
   const fs::path png = scratch("sweep.png");
-  const CliRun r = swum({"sweep", "--config", kConfig, "--vpp", "200,400", "--frequency", "40000:40400:200", "--jobs",
-                         "2", "--out", csv.string(), "--plot", png.string()});
+  const CliRun r = swum({"sweep", "--config", kConfig, "--amplitude-v", "200,400", "--frequency", "40000:40400:200",
+                         "--jobs", "2", "--out", csv.string(), "--plot", png.string()});
   ASSERT_EQ(r.status, 0) << r.output;
   std::istringstream text(slurp(csv));
   std::string header;
   std::getline(text, header);
-  EXPECT_EQ(header, "vpp,frequency_hz,load_n,speed_mm_s,tip_normal_um,tip_tangential_um,status");
+  EXPECT_EQ(header, "amplitude_v,frequency_hz,load_n,speed_mm_s,tip_normal_um,tip_tangential_um,status");
   std::vector<std::string> rows;
   for (std::string line; std::getline(text, line);) rows.push_back(line);
   ASSERT_EQ(rows.size(), 6u);
@@ -129,24 +129,30 @@ TEST_P(SwumCliRejects, WithOneLineNamingTheProblem) {
 INSTANTIATE_TEST_SUITE_P(
     BadInput, SwumCliRejects,
     ::testing::Values(
-        BadArguments{{"simulate", "--config", kConfig, "--vpp", "nan", "--frequency", "40000"}, 2, "--vpp"},
-        BadArguments{{"simulate", "--config", kConfig, "--vpp", "100", "--frequency", "4e4x"}, 2, "--frequency"},
-        BadArguments{{"simulate", "--config", kConfig, "--vpp", "-5", "--frequency", "40000"}, 2, "--vpp"},
-        BadArguments{{"simulate", "--config", kConfig, "--vpp", "100", "--frequency", "inf"}, 2, "--frequency"},
         BadArguments{
-            {"simulate", "--config", kConfig, "--vpp", "100", "--frequency", "40000", "--phase", "400"}, 2, "--phase"},
-        BadArguments{{"simulate", "--config", "/nonexistent/m.toml", "--vpp", "100", "--frequency", "40000"},
+            {"simulate", "--config", kConfig, "--amplitude-v", "nan", "--frequency", "40000"}, 2, "--amplitude-v"},
+        BadArguments{
+            {"simulate", "--config", kConfig, "--amplitude-v", "100", "--frequency", "4e4x"}, 2, "--frequency"},
+        BadArguments{
+            {"simulate", "--config", kConfig, "--amplitude-v", "-5", "--frequency", "40000"}, 2, "--amplitude-v"},
+        BadArguments{{"simulate", "--config", kConfig, "--amplitude-v", "100", "--frequency", "inf"}, 2, "--frequency"},
+        BadArguments{{"simulate", "--config", kConfig, "--amplitude-v", "100", "--frequency", "40000", "--phase",
+                      "400"},
+                     2,
+                     "--phase"},
+        BadArguments{{"simulate", "--config", "/nonexistent/m.toml", "--amplitude-v", "100", "--frequency", "40000"},
                      1,
                      "/nonexistent/m.toml"},
-        BadArguments{{"simulate", "--vpp", "100", "--frequency", "40000"}, 2, "--config"},
-        BadArguments{{"sweep", "--config", kConfig, "--vpp", "100,,200", "--frequency", "40000", "--out", "/tmp/x.csv"},
+        BadArguments{{"simulate", "--amplitude-v", "100", "--frequency", "40000"}, 2, "--config"},
+        BadArguments{{"sweep", "--config", kConfig, "--amplitude-v", "100,,200", "--frequency", "40000", "--out",
+                      "/tmp/x.csv"},
                      2,
-                     "--vpp"},
-        BadArguments{{"sweep", "--config", kConfig, "--vpp", "100", "--frequency", "41000:40000:100", "--out",
+                     "--amplitude-v"},
+        BadArguments{{"sweep", "--config", kConfig, "--amplitude-v", "100", "--frequency", "41000:40000:100", "--out",
                       "/tmp/x.csv"},
                      2,
                      "--frequency"},
-        BadArguments{{"sweep", "--config", kConfig, "--vpp", "100", "--frequency", "40000", "--out",
+        BadArguments{{"sweep", "--config", kConfig, "--amplitude-v", "100", "--frequency", "40000", "--out",
                       "/nonexistent/x.csv"},
                      1,
                      "/nonexistent/x.csv"},

@@ -12,10 +12,10 @@ namespace {
 // Drift: from the peak of the lowest decided voltage.
 double drift_base_hz(const std::vector<VoltagePick>& picks) {
   double base = NAN;
-  double base_vpp = INFINITY;
+  double base_amplitude_v = INFINITY;
   for (const auto& p : picks) {
-    if (p.result.decided && p.vpp < base_vpp) {
-      base_vpp = p.vpp;
+    if (p.result.decided && p.amplitude_v < base_amplitude_v) {
+      base_amplitude_v = p.amplitude_v;
       base = p.result.peak_frequency_hz;
     }
   }
@@ -34,13 +34,13 @@ std::string pick_text(const std::vector<VoltagePick>& picks) {
   std::string out;
   for (const auto& [v, r] : picks) {
     if (!r.decided) {
-      out += format_number(v, "%6g") + " Vpp: undecided: " + r.reason + "\n";
+      out += format_number(v, "%6g") + " V: undecided: " + r.reason + "\n";
       continue;
     }
     const std::string naive = r.naive_speed_mm_s ? format_numbers("%.1f mm/s, gain %+.0f %%", *r.naive_speed_mm_s,
                                                                   pick_gain_percent(r))
                                                  : "n/a (40.4 kHz outside the sweep)";
-    out += format_numbers("%6g Vpp: run at %.0f Hz, %.1f mm/s", v, r.frequency_hz, r.speed_mm_s) +
+    out += format_numbers("%6g V: run at %.0f Hz, %.1f mm/s", v, r.frequency_hz, r.speed_mm_s) +
            " (naive 40.4 kHz: " + naive + "), drift " + format_number(r.peak_frequency_hz - base, "%+.0f") + " Hz; " +
            r.reason + "\n";
   }
@@ -52,7 +52,7 @@ std::string pick_json(const std::vector<VoltagePick>& picks) {
   nlohmann::ordered_json list = nlohmann::ordered_json::array();
   for (const auto& [v, r] : picks) {
     nlohmann::ordered_json j;
-    j["vpp"] = v;
+    j["amplitude_v"] = v;
     j["decided"] = r.decided;
     j["frequency_hz"] = number_or_null(r.decided, r.frequency_hz);
     j["speed_mm_s"] = number_or_null(r.decided, r.speed_mm_s);
@@ -68,7 +68,7 @@ std::string pick_json(const std::vector<VoltagePick>& picks) {
 }
 
 std::string pick_schedule_csv(const std::vector<VoltagePick>& picks) {
-  std::string schedule = "vpp,frequency_hz\n";
+  std::string schedule = "amplitude_v,frequency_hz\n";
   for (const auto& [v, r] : picks) {
     if (r.decided) schedule += format_number(v) + "," + format_number(r.frequency_hz) + "\n";
   }

@@ -1,6 +1,6 @@
 // What `swum pick` prints and writes (docs/host.md): per voltage the picked frequency, its
 // speed against the naive 40.4 kHz, the drift of the peak; as text lines, as a JSON list
-// (--json) and as the vpp,frequency_hz schedule (--schedule). Its plots: pick_plots.h.
+// (--json) and as the amplitude_v,frequency_hz schedule (--schedule). Its plots: pick_plots.h.
 #pragma once
 
 #include <string>
@@ -13,14 +13,14 @@ namespace swum::host {
 /// The speed gain over the naive frequency in percent; NaN when undecided or unknown.
 double pick_gain_percent(const PickResult& r);
 
-/// One line per voltage: "  40 Vpp: run at 40150 Hz, ..." or "  40 Vpp: undecided: <reason>".
+/// One line per voltage: "  40 V: run at 40150 Hz, ..." or "  40 V: undecided: <reason>".
 /// Drift is measured from the peak of the lowest decided voltage.
 std::string pick_text(const std::vector<VoltagePick>& picks);
 
 /// The same as a JSON list (pretty, ordered keys, '\n' at the end); null where undecided.
 std::string pick_json(const std::vector<VoltagePick>& picks);
 
-/// "vpp,frequency_hz\n" and one row per decided voltage.
+/// "amplitude_v,frequency_hz\n" and one row per decided voltage.
 std::string pick_schedule_csv(const std::vector<VoltagePick>& picks);
 
 }  // namespace swum::host

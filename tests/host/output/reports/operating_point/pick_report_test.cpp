@@ -8,8 +8,8 @@
 namespace swum::host {
 namespace {
 
-// 40 Vpp decided with a naive speed, 60 Vpp decided without one (40.4 kHz outside the sweep),
-// 80 Vpp undecided.
+// 40 V decided with a naive speed, 60 V decided without one (40.4 kHz outside the sweep),
+// 80 V undecided.
 std::vector<VoltagePick> picks() {
   PickResult a;
   a.decided = true;
@@ -39,11 +39,11 @@ TEST(PickGainPercent, IsTheGainOverTheNaiveSpeedOrNaN) {
 
 TEST(PickText, OneLinePerVoltageWithDriftFromTheLowestDecided) {
   EXPECT_EQ(pick_text(picks()),
-            "    40 Vpp: run at 40150 Hz, 120.0 mm/s (naive 40.4 kHz: 100.0 mm/s, gain +20 %), drift +0 Hz; "
+            "    40 V: run at 40150 Hz, 120.0 mm/s (naive 40.4 kHz: 100.0 mm/s, gain +20 %), drift +0 Hz; "
             "margin 150 Hz\n"
-            "    60 Vpp: run at 40050 Hz, 150.0 mm/s (naive 40.4 kHz: n/a (40.4 kHz outside the sweep)), drift -100 "
+            "    60 V: run at 40050 Hz, 150.0 mm/s (naive 40.4 kHz: n/a (40.4 kHz outside the sweep)), drift -100 "
             "Hz; r2\n"
-            "    80 Vpp: undecided: no peak\n");
+            "    80 V: undecided: no peak\n");
 }
 
 TEST(PickJson, NumbersOrNullPerVoltage) {
@@ -51,7 +51,7 @@ TEST(PickJson, NumbersOrNullPerVoltage) {
   ASSERT_EQ(text.back(), '\n');
   const auto j = nlohmann::json::parse(text);
   ASSERT_EQ(j.size(), 3u);
-  EXPECT_DOUBLE_EQ(j[0]["vpp"].get<double>(), 40.0);
+  EXPECT_DOUBLE_EQ(j[0]["amplitude_v"].get<double>(), 40.0);
   EXPECT_DOUBLE_EQ(j[0]["frequency_hz"].get<double>(), 40150.0);
   EXPECT_NEAR(j[0]["gain_percent"].get<double>(), 20.04, 1e-9);
   EXPECT_DOUBLE_EQ(j[0]["drift_hz"].get<double>(), 0.0);
@@ -65,13 +65,13 @@ TEST(PickJson, NumbersOrNullPerVoltage) {
   std::vector<std::string> keys;
   const auto ordered = nlohmann::ordered_json::parse(text);
   for (const auto& [key, value] : ordered[0].items()) keys.push_back(key);
-  EXPECT_EQ(keys, (std::vector<std::string>{"vpp", "decided", "frequency_hz", "speed_mm_s", "naive_speed_mm_s",
+  EXPECT_EQ(keys, (std::vector<std::string>{"amplitude_v", "decided", "frequency_hz", "speed_mm_s", "naive_speed_mm_s",
                                             "gain_percent", "peak_frequency_hz", "drift_hz", "margin_hz", "reason"}));
 }
 
 TEST(PickScheduleCsv, DecidedVoltagesOnly) {
-  EXPECT_EQ(pick_schedule_csv(picks()), "vpp,frequency_hz\n40,40150\n60,40050\n");
-  EXPECT_EQ(pick_schedule_csv({}), "vpp,frequency_hz\n");
+  EXPECT_EQ(pick_schedule_csv(picks()), "amplitude_v,frequency_hz\n40,40150\n60,40050\n");
+  EXPECT_EQ(pick_schedule_csv({}), "amplitude_v,frequency_hz\n");
 }
 
 }  // namespace
