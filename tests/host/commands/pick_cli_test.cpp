@@ -36,7 +36,7 @@ TEST(SwumPick, PicksLowerFrequencyAtHigherVoltageWithAGainOverNaive) {
       EXPECT_LT(p.at("drift_hz").get<double>(), -300.0);
     }
   }
-  EXPECT_EQ(swum::test::read_file(schedule).substr(0, 17), "amplitude_v,frequency_hz\n");
+  EXPECT_EQ(swum::test::read_file(schedule).substr(0, 25), "amplitude_v,frequency_hz\n");
 }
 
 TEST(SwumPick, RefusesATooCoarseSweepWithAReason) {

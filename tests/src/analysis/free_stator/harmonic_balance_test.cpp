@@ -119,7 +119,7 @@ TEST(HarmonicBalance, ReproducesModelSpecSection91) {
   EXPECT_FALSE(r390.tangential.branches[1].stable);
   EXPECT_TRUE(r390.tangential.branches[2].stable);
   EXPECT_NEAR(r390.normal.branches[0].tip_amplitude_um, 1.09, 0.02);
-  const StatorResponse r392 = hb.solve(400.0, 39200.0);
+  const StatorResponse r392 = hb.solve(literal_v(400.0), 39200.0);
   ASSERT_EQ(r392.tangential.branches.size(), 1u);
   EXPECT_NEAR(r392.tangential.branches[0].tip_amplitude_um, 3.92, 0.02);
   EXPECT_NEAR(r392.normal.branches[0].tip_amplitude_um, 2.23, 0.02);
@@ -249,7 +249,7 @@ TEST(HarmonicBalance, UnstableBranchIsLeftInTheTimeDomain) {
   const MotorModel& model = table2_model();
   const FreeStatorHarmonicBalance hb(model);
   const double f = 39000.0;
-  const StatorResponse r = hb.solve(400.0, f);
+  const StatorResponse r = hb.solve(literal_v(400.0), f);  // E6: the paper's 400 V, three branches
   ASSERT_EQ(r.tangential.branches.size(), 3u);
   const ModeBranch& middle = r.tangential.branches[1];
   ASSERT_FALSE(middle.stable);
@@ -261,8 +261,8 @@ TEST(HarmonicBalance, UnstableBranchIsLeftInTheTimeDomain) {
                                       nudge * w * h2.sin_m};
     FreeStatorRunOptions opt;
     opt.settle_s = 0.03;
-    const FreeStatorAmplitudes td = simulate_free_stator(model.constants(), model.parameters().stator, 400.0, f, x0,
-                                                         opt);
+    const FreeStatorAmplitudes td = simulate_free_stator(model.constants(), model.parameters().stator, literal_v(400.0),
+                                                         f, x0, opt);
     ASSERT_TRUE(td.ok);
     const double upper = r.tangential.branches[0].tip_amplitude_um;
     const double lower = r.tangential.branches[2].tip_amplitude_um;
@@ -276,8 +276,8 @@ TEST(HarmonicBalance, FrequencySweepsJumpAtTheFolds) {
   std::vector<double> up;
   for (double f = 38000.0; f <= 40000.0; f += 25.0) up.push_back(f);
   std::vector<double> down(up.rbegin(), up.rend());
-  const auto su = sweep_frequency(hb, 400.0, up);
-  const auto sd = sweep_frequency(hb, 400.0, down);
+  const auto su = sweep_frequency(hb, literal_v(400.0), up);
+  const auto sd = sweep_frequency(hb, literal_v(400.0), down);
   auto followed = [](const SweepPoint& p) {
     return p.response.tangential.branches[p.followed_tangential].tip_amplitude_um;
   };
