@@ -26,7 +26,7 @@ except ImportError:
     sys.modules["serial_asyncio"] = types.SimpleNamespace(create_serial_connection=None)
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "../firmware_sim"))
-from emu_harness import CONFIG, Emulator, RegisterMap  # noqa: E402
+from emu_harness import CONFIG, Emulator, RegisterMap, deadline  # noqa: E402
 
 SWUM = os.environ["SWUM_BINARY"]
 MAP = RegisterMap()
@@ -210,7 +210,7 @@ def board_current_modbus():
         device = f"tcp://{emu.host}:{emu.port}"
         sweep_csv = os.path.join(OUT, "board_sweep.csv")
         status, out, err = swum("sweep", "--modbus", device, "--amplitude-v", "100,300", "--frequency",
-                                "45000:46000:1000", "--settle-ms", "60", "--dwell-ms", "30", "--out", sweep_csv)
+                                "45000:46000:1000", "--settle-ms", "150", "--dwell-ms", "50", "--out", sweep_csv)
         check(status == 0, f"sweep failed: {err}")
         with open(sweep_csv) as f:
             rows = list(csv.DictReader(f))
@@ -226,6 +226,15 @@ def board_current_modbus():
                             ("command", 1)):
             rr = client.write_registers(MAP.holding[name]["address"], MAP.encode(name, value), slave=1)
             check(not rr.isError(), f"writing {name}: {rr}")
+        # Enabled and at the set-point, with full current windows, before the log starts.
+        expired = deadline(30)
+        while True:
+            values = MAP.decode_inputs(client.read_input_registers(0, MAP.input_count, slave=1).registers)
+            if values["state"] == 1 and abs(values["amplitude_output"] - 200.0) < 0.05 and values["current_a"] > 0:
+                break
+            check(not expired(), f"the drive never reached 200 V: {values}")
+            time.sleep(0.01)
+        time.sleep(0.1)
         log_csv = os.path.join(OUT, "board_log.csv")
         status, out, err = swum("log", "--modbus", device, "--duration", "1", "--rate-hz", "50", "--out", log_csv)
         client.write_registers(MAP.holding["command"]["address"], MAP.encode("command", 0), slave=1)
