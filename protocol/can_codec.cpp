@@ -84,7 +84,7 @@ CanFrame encode_command(const CommandFrame& c, std::uint32_t id) {
   put_raw(f, signals::kCommandAlive, c.alive);
   put_physical(f, signals::kCommandFrequency, c.frequency_hz);
   put_physical(f, signals::kCommandPhase, c.phase_deg);
-  put_physical(f, signals::kCommandAmplitude, c.amplitude_vpp);
+  put_physical(f, signals::kCommandAmplitude, c.amplitude_v);
   seal(f);
   return f;
 }
@@ -94,7 +94,7 @@ CanFrame encode_aux(const AuxFrame& a, std::uint32_t id) {
   put_raw(f, signals::kAuxAlive, a.alive);
   put_physical(f, signals::kAuxLoad, a.load_n);
   put_physical(f, signals::kAuxFrequencySlew, a.frequency_slew_hz_per_s);
-  put_physical(f, signals::kAuxAmplitudeSlew, a.amplitude_slew_vpp_per_s);
+  put_physical(f, signals::kAuxAmplitudeSlew, a.amplitude_slew_v_per_s);
   seal(f);
   return f;
 }
@@ -115,7 +115,7 @@ Reason decode_command(const CanFrame& f, CommandFrame& out) {
   out.alive = static_cast<std::uint8_t>(raw_value(f, signals::kCommandAlive));
   out.frequency_hz = physical_value(f, signals::kCommandFrequency);
   out.phase_deg = physical_value(f, signals::kCommandPhase);
-  out.amplitude_vpp = physical_value(f, signals::kCommandAmplitude);
+  out.amplitude_v = physical_value(f, signals::kCommandAmplitude);
   if (out.mode > mode::kResetFault) return Reason::unknown_command;
   return Reason::none;
 }
@@ -126,7 +126,7 @@ Reason decode_aux(const CanFrame& f, AuxFrame& out) {
   out.alive = static_cast<std::uint8_t>(raw_value(f, signals::kAuxAlive));
   out.load_n = physical_value(f, signals::kAuxLoad);
   out.frequency_slew_hz_per_s = physical_value(f, signals::kAuxFrequencySlew);
-  out.amplitude_slew_vpp_per_s = physical_value(f, signals::kAuxAmplitudeSlew);
+  out.amplitude_slew_v_per_s = physical_value(f, signals::kAuxAmplitudeSlew);
   return Reason::none;
 }
 
@@ -138,7 +138,7 @@ Command to_command(const CommandFrame& c) {
                : c.mode == mode::kEnable ? Action::enable
                                          : Action::reset_fault;
   cmd.frequency_hz = c.frequency_hz;
-  cmd.amplitude_vpp = c.amplitude_vpp;
+  cmd.amplitude_v = c.amplitude_v;
   cmd.phase_deg = c.phase_deg;
   return cmd;
 }
@@ -149,7 +149,7 @@ Command to_command(const AuxFrame& a) {
   cmd.fields = Command::kLoad | Command::kFrequencySlew | Command::kAmplitudeSlew;
   cmd.load_n = a.load_n;
   cmd.frequency_slew_hz_per_s = a.frequency_slew_hz_per_s;
-  cmd.amplitude_slew_vpp_per_s = a.amplitude_slew_vpp_per_s;
+  cmd.amplitude_slew_v_per_s = a.amplitude_slew_v_per_s;
   return cmd;
 }
 
@@ -186,7 +186,7 @@ CanFrame encode_drive(const Telemetry& t, std::uint32_t id) {
   CanFrame f = blank(id, 8);
   put_physical(f, signals::kDriveTipNormal, t.tip_normal_um);
   put_physical(f, signals::kDriveTipTangential, t.tip_tangential_um);
-  put_physical(f, signals::kDriveAmplitude, t.output.vpp);
+  put_physical(f, signals::kDriveAmplitude, t.output.amplitude_v);
   put_physical(f, signals::kDrivePhase, t.output.phase_deg);
   return f;
 }

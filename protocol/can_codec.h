@@ -68,14 +68,14 @@ inline constexpr Signal kCommandReservedLow{2, 2};
 inline constexpr Signal kCommandAlive{4, 4};
 inline constexpr Signal kCommandFrequency{8, 20, false, 0.1};    // Hz
 inline constexpr Signal kCommandPhase{28, 12, true, 0.1};        // deg
-inline constexpr Signal kCommandAmplitude{40, 12, false, 0.25};  // Vpp
+inline constexpr Signal kCommandAmplitude{40, 12, false, 0.25};  // V
 inline constexpr Signal kCommandReservedHigh{52, 4};
 // AuxCommand 0x300+N
 inline constexpr Signal kAuxReserved{0, 4};
 inline constexpr Signal kAuxAlive{4, 4};
 inline constexpr Signal kAuxLoad{8, 16, true, 0.001};             // N
 inline constexpr Signal kAuxFrequencySlew{24, 16, false, 100.0};  // Hz/s
-inline constexpr Signal kAuxAmplitudeSlew{40, 16, false, 10.0};   // Vpp/s
+inline constexpr Signal kAuxAmplitudeSlew{40, 16, false, 10.0};   // V/s
 // Status 0x180+N
 inline constexpr Signal kStatusState{0, 2};
 inline constexpr Signal kStatusEnableLine{2, 1};
@@ -94,7 +94,7 @@ inline constexpr Signal kMotionPosition{32, 32, true, 1.0};  // um
 // Drive 0x380+N
 inline constexpr Signal kDriveTipNormal{0, 16, false, 0.001};       // um
 inline constexpr Signal kDriveTipTangential{16, 16, false, 0.001};  // um
-inline constexpr Signal kDriveAmplitude{32, 16, false, 0.1};        // Vpp
+inline constexpr Signal kDriveAmplitude{32, 16, false, 0.1};        // V
 inline constexpr Signal kDrivePhase{48, 16, true, 0.01};            // deg
 // LoopStats 0x480+N (us, saturating at 65535)
 inline constexpr Signal kLoopLatenessP99{0, 16};
@@ -128,13 +128,13 @@ struct CommandFrame {
   std::uint8_t alive = 0;
   double frequency_hz = 40000.0;  // 20 bits, 0.1 Hz
   double phase_deg = 90.0;        // 12 bits signed, 0.1 deg
-  double amplitude_vpp = 0.0;     // 12 bits, 0.25 Vpp
+  double amplitude_v = 0.0;       // 12 bits, 0.25 V
 };
 struct AuxFrame {
   std::uint8_t alive = 0;
-  double load_n = 0.0;                    // 16 bits signed, 1 mN
-  double frequency_slew_hz_per_s = 0.0;   // 16 bits, 100 Hz/s (0 = unlimited)
-  double amplitude_slew_vpp_per_s = 0.0;  // 16 bits, 10 Vpp/s (0 = unlimited)
+  double load_n = 0.0;                   // 16 bits signed, 1 mN
+  double frequency_slew_hz_per_s = 0.0;  // 16 bits, 100 Hz/s (0 = unlimited)
+  double amplitude_slew_v_per_s = 0.0;   // 16 bits, 10 V/s (0 = unlimited)
 };
 
 CanFrame encode_command(const CommandFrame& c, std::uint32_t id);

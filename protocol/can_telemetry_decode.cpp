@@ -38,7 +38,7 @@ Reason decode_drive(const CanFrame& f, DriveFields& out) {
   if (!full(f)) return Reason::wrong_length;
   out.tip_normal_um = physical_value(f, signals::kDriveTipNormal);
   out.tip_tangential_um = physical_value(f, signals::kDriveTipTangential);
-  out.vpp = physical_value(f, signals::kDriveAmplitude);
+  out.amplitude_v = physical_value(f, signals::kDriveAmplitude);
   out.phase_deg = physical_value(f, signals::kDrivePhase);
   return Reason::none;
 }

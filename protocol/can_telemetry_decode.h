@@ -30,7 +30,7 @@ struct MotionFields {
 struct DriveFields {
   double tip_normal_um = 0.0;
   double tip_tangential_um = 0.0;
-  double vpp = 0.0;
+  double amplitude_v = 0.0;
   double phase_deg = 0.0;
 };
 struct LoopStatsFields {

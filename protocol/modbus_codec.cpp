@@ -139,7 +139,7 @@ Decision decide(const Request& r, const AmplifierLimits& limits) {
         break;
       case holding::kAmplitude:
         c.fields |= Command::kAmplitude;
-        c.amplitude_vpp = reg(a) * kAmplitudeScale.unit_per_count;
+        c.amplitude_v = reg(a) * kAmplitudeScale.unit_per_count;
         break;
       case holding::kPhase:
         c.fields |= Command::kPhase;
@@ -155,7 +155,7 @@ Decision decide(const Request& r, const AmplifierLimits& limits) {
         break;
       case holding::kAmplitudeSlew:
         c.fields |= Command::kAmplitudeSlew;
-        c.amplitude_slew_vpp_per_s = reg32(a) * kSlewScale.unit_per_count;
+        c.amplitude_slew_v_per_s = reg32(a) * kSlewScale.unit_per_count;
         break;
       case holding::kAdvance: d.advance_ticks = reg(a); break;
       default: break;  // low words of 32-bit values
@@ -171,11 +171,11 @@ Decision decide(const Request& r, const AmplifierLimits& limits) {
 void fill_holding(const Telemetry& t, std::span<std::uint16_t, holding::kCount> r) {
   r[holding::kCommand] = 0;
   put_u32(r, holding::kFrequency, sat_u32(t.setpoints.frequency_hz * kFrequencyScale.count_per_unit));
-  r[holding::kAmplitude] = sat_u16(t.setpoints.amplitude_vpp * kAmplitudeScale.count_per_unit);
+  r[holding::kAmplitude] = sat_u16(t.setpoints.amplitude_v * kAmplitudeScale.count_per_unit);
   r[holding::kPhase] = sat_i16(t.setpoints.phase_deg * kPhaseScale.count_per_unit);
   r[holding::kLoad] = sat_i16(t.setpoints.load_n * kLoadScale.count_per_unit);
   put_u32(r, holding::kFrequencySlew, sat_u32(t.setpoints.frequency_slew_hz_per_s * kSlewScale.count_per_unit));
-  put_u32(r, holding::kAmplitudeSlew, sat_u32(t.setpoints.amplitude_slew_vpp_per_s * kSlewScale.count_per_unit));
+  put_u32(r, holding::kAmplitudeSlew, sat_u32(t.setpoints.amplitude_slew_v_per_s * kSlewScale.count_per_unit));
   r[holding::kAdvance] = 0;
 }
 
@@ -194,7 +194,7 @@ void fill_input(const Telemetry& t, const RejectSnapshot& rejects, std::span<std
   r[input::kTipNormal] = sat_u16(t.tip_normal_um * kTipScale.count_per_unit);
   r[input::kTipTangential] = sat_u16(t.tip_tangential_um * kTipScale.count_per_unit);
   put_u32(r, input::kFrequencyOut, sat_u32(t.output.frequency_hz * kFrequencyScale.count_per_unit));
-  r[input::kAmplitudeOut] = sat_u16(t.output.vpp * kAmplitudeScale.count_per_unit);
+  r[input::kAmplitudeOut] = sat_u16(t.output.amplitude_v * kAmplitudeScale.count_per_unit);
   r[input::kPhaseOut] = sat_i16(t.output.phase_deg * kPhaseScale.count_per_unit);
   r[input::kLoadOut] = sat_i16(t.output.load_n * kLoadScale.count_per_unit);
   put_u32(r, input::kTick, static_cast<std::uint32_t>(t.tick));
@@ -234,7 +234,7 @@ std::uint16_t to_u16_bits(double counts) {
 }
 }  // namespace
 
-std::string encode_drive_write(double frequency_hz, double amplitude_vpp, double phase_deg, double load_n,
+std::string encode_drive_write(double frequency_hz, double amplitude_v, double phase_deg, double load_n,
                                std::span<std::uint16_t, kDriveWriteCount> r) {
   const double frequency_counts = std::round(frequency_hz * kFrequencyScale.count_per_unit);
   if (!fits(frequency_counts, 0.0, 4294967295.0)) {
@@ -246,7 +246,7 @@ std::string encode_drive_write(double frequency_hz, double amplitude_vpp, double
     const char* what;
   };
   const Field fields[] = {
-      {amplitude_vpp * kAmplitudeScale.count_per_unit, 0.0, 65535.0, "amplitude (0.1 Vpp)"},
+      {amplitude_v * kAmplitudeScale.count_per_unit, 0.0, 65535.0, "amplitude (0.1 V)"},
       {phase_deg * kPhaseScale.count_per_unit, -32768.0, 32767.0, "phase (0.01 deg)"},
       {load_n * kLoadScale.count_per_unit, -32768.0, 32767.0, "load (mN)"},
   };
@@ -259,9 +259,9 @@ std::string encode_drive_write(double frequency_hz, double amplitude_vpp, double
   return {};
 }
 
-std::string encode_slew_write(double frequency_hz_per_s, double amplitude_vpp_per_s,
+std::string encode_slew_write(double frequency_hz_per_s, double amplitude_v_per_s,
                               std::span<std::uint16_t, kSlewWriteCount> r) {
-  for (double v : {frequency_hz_per_s, amplitude_vpp_per_s}) {
+  for (double v : {frequency_hz_per_s, amplitude_v_per_s}) {
     if (!fits(v * kSlewScale.count_per_unit, 0.0, 4294967295.0)) return "slew limit out of range";
   }
   auto counts = [](double v) {
@@ -269,7 +269,7 @@ std::string encode_slew_write(double frequency_hz_per_s, double amplitude_vpp_pe
     return c > 0.0 ? std::max<std::uint32_t>(1, static_cast<std::uint32_t>(c)) : 0U;
   };
   put_u32(r, 0, counts(frequency_hz_per_s));
-  put_u32(r, holding::kAmplitudeSlew - holding::kFrequencySlew, counts(amplitude_vpp_per_s));
+  put_u32(r, holding::kAmplitudeSlew - holding::kFrequencySlew, counts(amplitude_v_per_s));
   return {};
 }
 
@@ -283,10 +283,10 @@ std::string encode_advance(std::uint64_t ticks, std::uint16_t& register_value) {
 std::string encode_step_write(Action action, const AmplifierSetpoints& s, std::uint64_t ticks,
                               std::span<std::uint16_t, holding::kCount> r) {
   r[holding::kCommand] = command_code(action);
-  std::string problem = encode_drive_write(s.frequency_hz, s.amplitude_vpp, s.phase_deg, s.load_n,
+  std::string problem = encode_drive_write(s.frequency_hz, s.amplitude_v, s.phase_deg, s.load_n,
                                            r.subspan<holding::kFrequency, kDriveWriteCount>());
   if (problem.empty()) {
-    problem = encode_slew_write(s.frequency_slew_hz_per_s, s.amplitude_slew_vpp_per_s,
+    problem = encode_slew_write(s.frequency_slew_hz_per_s, s.amplitude_slew_v_per_s,
                                 r.subspan<holding::kFrequencySlew, kSlewWriteCount>());
   }
   if (problem.empty()) problem = encode_advance(ticks, r[holding::kAdvance]);
@@ -318,7 +318,7 @@ InputImage decode_input(std::span<const std::uint16_t, input::kCount> r) {
   t.tip_normal_um = r[input::kTipNormal] * kTipScale.unit_per_count;
   t.tip_tangential_um = r[input::kTipTangential] * kTipScale.unit_per_count;
   t.output.frequency_hz = get_u32(r, input::kFrequencyOut) * kFrequencyScale.unit_per_count;
-  t.output.vpp = r[input::kAmplitudeOut] * kAmplitudeScale.unit_per_count;
+  t.output.amplitude_v = r[input::kAmplitudeOut] * kAmplitudeScale.unit_per_count;
   t.output.phase_deg = i16(input::kPhaseOut) * kPhaseScale.unit_per_count;
   t.output.load_n = i16(input::kLoadOut) * kLoadScale.unit_per_count;
   t.tick = get_u32(r, input::kTick);

@@ -44,11 +44,11 @@ enum Function : std::uint8_t {
 namespace holding {
 inline constexpr std::uint16_t kCommand = 0;        // u16: 0 keep-alive, 1 enable, 2 disable, 3 reset fault
 inline constexpr std::uint16_t kFrequency = 1;      // u32 (1-2): mHz
-inline constexpr std::uint16_t kAmplitude = 3;      // u16: 0.1 Vpp
+inline constexpr std::uint16_t kAmplitude = 3;      // u16: 0.1 V
 inline constexpr std::uint16_t kPhase = 4;          // i16: 0.01 deg
 inline constexpr std::uint16_t kLoad = 5;           // i16: mN
 inline constexpr std::uint16_t kFrequencySlew = 6;  // u32 (6-7): Hz/s, 0 = unlimited
-inline constexpr std::uint16_t kAmplitudeSlew = 8;  // u32 (8-9): Vpp/s, 0 = unlimited
+inline constexpr std::uint16_t kAmplitudeSlew = 8;  // u32 (8-9): V/s, 0 = unlimited
 // u16: lockstep (--clock external) only: run this many ticks after applying the other registers
 // of the same request, and reply when they are done; 0 = none. Reads 0.
 inline constexpr std::uint16_t kAdvance = 10;
@@ -67,7 +67,7 @@ inline constexpr std::uint16_t kPosition = 10;        // i32 (10-11): um
 inline constexpr std::uint16_t kTipNormal = 12;       // u16: nm
 inline constexpr std::uint16_t kTipTangential = 13;   // u16: nm
 inline constexpr std::uint16_t kFrequencyOut = 14;    // u32 (14-15): mHz
-inline constexpr std::uint16_t kAmplitudeOut = 16;    // u16: 0.1 Vpp
+inline constexpr std::uint16_t kAmplitudeOut = 16;    // u16: 0.1 V
 inline constexpr std::uint16_t kPhaseOut = 17;        // i16: 0.01 deg
 inline constexpr std::uint16_t kLoadOut = 18;         // i16: mN
 inline constexpr std::uint16_t kTick = 19;            // u32 (19-20)
@@ -102,10 +102,10 @@ struct Scale {
   double count_per_unit;
 };
 inline constexpr Scale kFrequencyScale{1e-3, 1e3};      // mHz
-inline constexpr Scale kAmplitudeScale{0.1, 10.0};      // 0.1 Vpp
+inline constexpr Scale kAmplitudeScale{0.1, 10.0};      // 0.1 V
 inline constexpr Scale kPhaseScale{0.01, 100.0};        // 0.01 deg
 inline constexpr Scale kLoadScale{1e-3, 1e3};           // mN
-inline constexpr Scale kSlewScale{1.0, 1.0};            // Hz/s, Vpp/s
+inline constexpr Scale kSlewScale{1.0, 1.0};            // Hz/s, V/s
 inline constexpr Scale kMicroScale{1e-6, 1e6};          // speed um/s, position um (from m)
 inline constexpr Scale kTipScale{1e-3, 1e3};            // nm (from um)
 inline constexpr Scale kSimTimeScale{1e-3, 1e3};        // ms
@@ -168,12 +168,12 @@ void fill_input(const Telemetry& t, const RejectSnapshot& rejects, std::span<std
 // kLoad, 5 registers): empty when every value fits its register, else what does not (the
 // device checks the ranges of its own limits on top).
 inline constexpr std::uint16_t kDriveWriteCount = holding::kLoad + 1 - holding::kFrequency;
-std::string encode_drive_write(double frequency_hz, double amplitude_vpp, double phase_deg, double load_n,
+std::string encode_drive_write(double frequency_hz, double amplitude_v, double phase_deg, double load_n,
                                std::span<std::uint16_t, kDriveWriteCount> registers);
 // Slew limits (holding kFrequencySlew .. kAmplitudeSlew + 1, 4 registers), rounded down but
 // never to 0 (0 = unlimited): the device must never ramp faster than asked.
 inline constexpr std::uint16_t kSlewWriteCount = holding::kAmplitudeSlew + 2 - holding::kFrequencySlew;
-std::string encode_slew_write(double frequency_hz_per_s, double amplitude_vpp_per_s,
+std::string encode_slew_write(double frequency_hz_per_s, double amplitude_v_per_s,
                               std::span<std::uint16_t, kSlewWriteCount> registers);
 // A lockstep step (holding kAdvance), written as the last register of a set-point write so that
 // one request sets and steps: ticks in [1, 65535]; empty when it fits, else why not.

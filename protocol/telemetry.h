@@ -11,7 +11,7 @@ namespace swum::protocol {
 
 // What the amplifier drives this tick.
 struct DriveValues {
-  double vpp = 0.0;
+  double amplitude_v = 0.0;
   double frequency_hz = 0.0;
   double phase_deg = 0.0;
   double load_n = 0.0;
@@ -89,6 +89,6 @@ inline constexpr std::uint16_t kStatusEnableLine = 1U << 2;
 inline constexpr std::uint16_t kStatusDriveOn = 1U << 3;
 inline constexpr std::uint16_t kStatusAtSetpoint = 1U << 4;
 // The drive is on when the amplifier is enabled and drives a non-zero amplitude.
-inline bool drive_on(const Telemetry& t) { return t.state == AmpState::enabled && t.output.vpp > 0.0; }
+inline bool drive_on(const Telemetry& t) { return t.state == AmpState::enabled && t.output.amplitude_v > 0.0; }
 
 }  // namespace swum::protocol

@@ -598,7 +598,7 @@ def invalid_catalogue():
     """(kind, PDU, exception code, reject reason) of invalid requests whose framing is intact."""
     h = H
     c = [
-        ("out of range: amplitude 700 Vpp", write_single(h["amplitude_setpoint"], regs("amplitude_setpoint", 700)[0]), ILLEGAL_VALUE, "amplitude_out_of_range"),
+        ("out of range: amplitude 700 V", write_single(h["amplitude_setpoint"], regs("amplitude_setpoint", 700)[0]), ILLEGAL_VALUE, "amplitude_out_of_range"),
         ("out of range: frequency 60 kHz", write_multiple(h["frequency_setpoint"], regs("frequency_setpoint", 60000)), ILLEGAL_VALUE, "frequency_out_of_range"),
         ("out of range: frequency 20 kHz", write_multiple(h["frequency_setpoint"], regs("frequency_setpoint", 20000)), ILLEGAL_VALUE, "frequency_out_of_range"),
         ("out of range: phase 200 deg", write_single(h["phase_setpoint"], regs("phase_setpoint", 200)[0]), ILLEGAL_VALUE, "phase_out_of_range"),

@@ -28,4 +28,4 @@ def test_missing_fault_reaction_drives_off(swum_bench):
     bench = swum_bench(NoFaultReaction(300))
     hot = bench.inject("over_temperature", at_s=0.1)
     bench.step(0.15)
-    assert_reaches(bench.signal("command_vpp"), 0, before_s=hot.at_s + 0.003, start_s=hot.at_s, direction="below")
+    assert_reaches(bench.signal("command_amplitude_v"), 0, before_s=hot.at_s + 0.003, start_s=hot.at_s, direction="below")

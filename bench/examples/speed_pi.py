@@ -6,12 +6,12 @@ from swum_bench import Command
 
 
 class SpeedPI:
-    def __init__(self, target_mm_s, frequency_hz=40000.0, kp=0.5, ki=50.0, max_vpp=500.0, cycle_s=0.001,
+    def __init__(self, target_mm_s, frequency_hz=40000.0, kp=0.5, ki=50.0, max_amplitude_v=500.0, cycle_s=0.001,
                  holdoff_cycles=10, target=None):
         self.target_mm_s = target_mm_s
         self.target = target  # optional function of time (s) -> mm/s; else the constant target
         self.frequency_hz = frequency_hz
-        self.kp, self.ki, self.max_vpp, self.cycle_s = kp, ki, max_vpp, cycle_s
+        self.kp, self.ki, self.max_amplitude_v, self.cycle_s = kp, ki, max_amplitude_v, cycle_s
         self.holdoff_cycles = holdoff_cycles
         self.integral = 0.0
         self.off_cycles = 0
@@ -21,7 +21,7 @@ class SpeedPI:
         self.integral = 0.0
         self.off_cycles += 1
         action = "reset_fault" if self.off_cycles > self.holdoff_cycles else "disable"
-        return Command(action=action, frequency_hz=self.frequency_hz, vpp=0.0)
+        return Command(action=action, frequency_hz=self.frequency_hz, amplitude_v=0.0)
 
     def cycle(self, sample):
         if sample["state"] == 2:  # fault
@@ -30,9 +30,9 @@ class SpeedPI:
         target = self.target(sample["time_s"]) if self.target else self.target_mm_s
         error = target - sample["speed_mm_s"]
         u = self.kp * error + self.integral
-        saturated = (u >= self.max_vpp and error > 0) or (u <= 0 and error < 0)
+        saturated = (u >= self.max_amplitude_v and error > 0) or (u <= 0 and error < 0)
         if not saturated:  # conditional integration: no wind-up at a limit
-            self.integral = min(max(self.integral + self.ki * error * self.cycle_s, 0.0), self.max_vpp)
-        vpp = min(max(u, 0.0), self.max_vpp)
+            self.integral = min(max(self.integral + self.ki * error * self.cycle_s, 0.0), self.max_amplitude_v)
+        amplitude_v = min(max(u, 0.0), self.max_amplitude_v)
         action = "keep_alive" if sample["state"] == 1 else "enable"
-        return Command(action=action, frequency_hz=self.frequency_hz, vpp=vpp, phase_deg=90.0)
+        return Command(action=action, frequency_hz=self.frequency_hz, amplitude_v=amplitude_v, phase_deg=90.0)

@@ -37,8 +37,8 @@ def test_drive_off_on_over_temperature_then_recovers(swum_bench):
     bench.run_until(lambda s: s["state"] == 2, timeout_s=0.01)
     back = bench.run_until(lambda s: s["state"] == 1, timeout_s=0.05)
     bench.step(0.2)
-    # The drive trips at once; the controller commands 0 Vpp within two cycles (one to see the
+    # The drive trips at once; the controller commands 0 V within two cycles (one to see the
     # fault, one to send; on CAN one more), resets after its hold-off and takes the speed back.
     assert_fault_within(bench.signal("fault_code"), 4, injected_at_s=hot.at_s, within_s=0.001)
-    assert_reaches(bench.signal("command_vpp"), 0, before_s=hot.at_s + 0.003, start_s=hot.at_s, direction="below")
+    assert_reaches(bench.signal("command_amplitude_v"), 0, before_s=hot.at_s + 0.003, start_s=hot.at_s, direction="below")
     assert_settles(bench.signal("speed_mm_s"), 300, band=6, within_s=0.1, start_s=back)

@@ -7,7 +7,7 @@ from swum_bench import (assert_fault_within, assert_overshoot, assert_reaches, a
                         assert_within)
 
 FREQUENCY_HZ = 40000  # the operating point the controller holds (docs/host.md's tuning)
-MAX_VPP = 500         # swum control's default --max-vpp
+MAX_AMPLITUDE_V = 500         # swum control's default --max-amplitude-v
 # swum control's default gains were tuned over Modbus (the speed read after a cycle acts in the
 # next one). Over CAN a drive answers a SYNC with the state sampled at it (CANopen): one more
 # cycle of delay, and the same gains overshoot by 5-9 % (found by this suite's CAN variant).
@@ -44,7 +44,7 @@ def test_open_phase_pushes_then_recovers(swum_bench):
     bench.step(0.5)
     # No fault code for an open phase: the controller sees the speed collapse and pushes the
     # amplitude to its limit, without a fault.
-    assert_reaches(bench.signal("command_vpp"), MAX_VPP, before_s=open_b.at_s + 0.06, start_s=open_b.at_s)
+    assert_reaches(bench.signal("command_amplitude_v"), MAX_AMPLITUDE_V, before_s=open_b.at_s + 0.06, start_s=open_b.at_s)
     assert_within(bench.signal("fault_code"), 0, 0)
     back = open_b.at_s + 0.1
     assert_settles(bench.signal("speed_mm_s"), 300, band=6, within_s=0.1, start_s=back)
@@ -55,11 +55,11 @@ def test_over_temperature_stops_with_drive_off(swum_bench):
     hot = bench.inject("over_temperature", at_s=0.2)
     bench.step(0.4)
     assert_fault_within(bench.signal("fault_code"), 4, injected_at_s=hot.at_s, within_s=0.001)
-    # Not recoverable by default: the controller commands 0 Vpp the cycle after it sees the
+    # Not recoverable by default: the controller commands 0 V the cycle after it sees the
     # fault, and stops (exit 1); the amplifier stays off while time runs on.
-    assert_reaches(bench.signal("command_vpp"), 0, before_s=hot.at_s + 0.002, start_s=hot.at_s, direction="below")
+    assert_reaches(bench.signal("command_amplitude_v"), 0, before_s=hot.at_s + 0.002, start_s=hot.at_s, direction="below")
     assert bench.controller_exit is not None and bench.controller_exit[1] == 1, bench.controller_exit
-    assert_within(bench.signal("amplitude_vpp"), 0, 0, start_s=hot.at_s)
+    assert_within(bench.signal("amplitude_v"), 0, 0, start_s=hot.at_s)
     assert_within(bench.signal("drive_on"), 0, 0, start_s=hot.at_s)
 
 

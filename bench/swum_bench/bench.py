@@ -167,7 +167,7 @@ class Bench:
 
     def command(self, action="keep_alive", **setpoints):
         """Without a controller: what the bench sends from the next cycle on (the action once,
-        then keep-alives); setpoints are Command's fields (vpp=, frequency_hz=...)."""
+        then keep-alives); setpoints are Command's fields (amplitude_v=, frequency_hz=...)."""
         if self.controller is not None:
             raise BenchUsageError("command: a controller is in the loop; it sends the commands")
         base = getattr(self, "_command", Command())
@@ -255,11 +255,10 @@ class Bench:
 
     def _open_canopen_link(self):
         from .canopen_link import CanopenLink
-        self._link = CanopenLink(self.can_interface, self.node, self.data_dir, self.config,
+        self._link = CanopenLink(self.can_interface, self.node, self.data_dir,
                                  [dict(telemetry.CANOPEN_TABLE)[n] for n in self.canopen_signals],
                                  emu_args=self.emu_args, timeout_s=HANG_GUARD_S)
-        self._canopen_scales = telemetry.canopen_scales(self._link.eds, self.canopen_signals,
-                                                        self._link.vpp_per_terminal_v)
+        self._canopen_scales = telemetry.canopen_scales(self._link.eds, self.canopen_signals)
         self._link.start()
 
     def _read_holding(self):
@@ -408,7 +407,7 @@ class Bench:
         if last is None:  # the controller left before its first cycle
             return {"command": 0, "frequency_setpoint": 0.0, "amplitude_setpoint": 0.0, "phase_setpoint": 0.0}
         return {"command": last["command"], "frequency_setpoint": last["command_frequency_hz"],
-                "amplitude_setpoint": last["command_vpp"], "phase_setpoint": last["command_phase_deg"]}
+                "amplitude_setpoint": last["command_amplitude_v"], "phase_setpoint": last["command_phase_deg"]}
 
     def _first_sample(self):
         self.start()

@@ -12,7 +12,6 @@ import math
 import os
 import re
 import time
-import tomllib
 
 from . import cia402
 from .installation import data_file
@@ -37,24 +36,9 @@ RPDO_OBJECTS = [(0x6040, 0x6060, 0x2003), (0x2001, 0x2002), (0x60FF,)]
 ALWAYS_MAPPED = (0x6041, 0x603F)
 
 
-def vpp_per_terminal_volt(config_path):
-    """The amplifier's "vpp" input per volt of terminal amplitude, from the motor file's
-    [options] voltage_convention as swum-emu reads it: 1 for "amplitude", 2 for "peak_to_peak"
-    (the default when the file does not say)."""
-    try:
-        with open(config_path, "rb") as f:
-            convention = tomllib.load(f).get("options", {}).get("voltage_convention", "peak_to_peak")
-    except (OSError, tomllib.TOMLDecodeError) as e:
-        raise BenchUsageError(f"the motor file {config_path} cannot be read: {e}") from None
-    if convention not in ("amplitude", "peak_to_peak"):
-        raise BenchUsageError(f"{config_path}: voltage_convention {convention!r} is neither amplitude nor "
-                              "peak_to_peak")
-    return 1.0 if convention == "amplitude" else 2.0
-
-
 def amplifier_limits(data_dir, emu_args=()):
     """{option: value} of the amplifier's set-point limits (--min-frequency-hz, --max-frequency-hz,
-    --amplitude-max): config/modbus_registers.json names them with their defaults ("--min-frequency-hz
+    --max-amplitude-v): config/modbus_registers.json names them with their defaults ("--min-frequency-hz
     (30000)"), and emu_args may set them. swum-emu refuses a set-point beyond them in an RPDO
     without an answer on the bus, so the bench checks them before it sends."""
     import json
@@ -155,7 +139,7 @@ class RawCanBus:
 
 
 class CanopenLink:
-    def __init__(self, interface, node, data_dir, config_path, signal_objects, emu_args=(), timeout_s=30.0,
+    def __init__(self, interface, node, data_dir, signal_objects, emu_args=(), timeout_s=30.0,
                  bus=None):
         """signal_objects: the object indices the bench's signals need in the TPDOs (telemetry.py).
         bus: a frame bus (send/receive/set_ids/close), by default a SocketCAN socket on interface."""
@@ -163,7 +147,6 @@ class CanopenLink:
         self.node = node
         self.timeout_s = timeout_s
         self.eds = Eds(data_file(data_dir, "swum.eds"), node)
-        self.vpp_per_terminal_v = vpp_per_terminal_volt(config_path)
         self.limits = amplifier_limits(data_dir, emu_args)
         self.tpdos = plan_tpdos(self.eds, signal_objects)
         self.tpdo_ids = {self._cob_id(0x1800 + n - 1): (n, entries) for n, entries in self.tpdos}
@@ -263,14 +246,13 @@ class CanopenLink:
         frequency = self._count(0x2001, command.frequency_hz, 1e3, "frequency_hz")
         self._check_limit("--min-frequency-hz", command.frequency_hz, "Hz", above=False)
         self._check_limit("--max-frequency-hz", command.frequency_hz, "Hz", above=True)
-        amplitude = self._count(0x2002, command.vpp, 1e3 / self.vpp_per_terminal_v, "vpp")
-        self._check_limit("--amplitude-max", command.vpp, "Vpp", above=True)
+        amplitude = self._count(0x2002, command.amplitude_v, 1e3, "amplitude_v")
+        self._check_limit("--max-amplitude-v", command.amplitude_v, "V", above=True)
         phase = self._count(0x2003, command.phase_deg, 100.0, "phase_deg")
         target = self._count(0x60FF, 0.0 if velocity is None else velocity, 1e3, "velocity_mm_s")
         slews = {0x2004: self._count(0x2004, command.frequency_slew_hz_s, 1.0, "frequency_slew_hz_s"),
-                 0x2005: self._count(0x2005, command.amplitude_slew_vpp_s, 1.0 / self.vpp_per_terminal_v,
-                                     "amplitude_slew_vpp_s")}
-        for (index, raw), asked in zip(slews.items(), (command.frequency_slew_hz_s, command.amplitude_slew_vpp_s)):
+                 0x2005: self._count(0x2005, command.amplitude_slew_v_per_s, 1.0, "amplitude_slew_v_per_s")}
+        for (index, raw), asked in zip(slews.items(), (command.frequency_slew_hz_s, command.amplitude_slew_v_per_s)):
             if raw == 0 and asked != 0:
                 raise ValueError(f"{self.eds[index, 0].where}: {asked!r} rounds to 0, which means unlimited")
         last_statusword = None if last_sample is None else int(last_sample["statusword"])
@@ -294,14 +276,14 @@ class CanopenLink:
                 self._rpdo_sent[cob_id] = data
         self._mode = mode
         return {"command": cia402.ACTION_OF_CONTROLWORD[word], "frequency_setpoint": command.frequency_hz,
-                "amplitude_setpoint": command.vpp, "phase_setpoint": command.phase_deg,
+                "amplitude_setpoint": command.amplitude_v, "phase_setpoint": command.phase_deg,
                 "velocity_setpoint": math.nan if velocity is None else velocity}
 
     def command_registers(self, command):
         """The command registers of the bench's first SYNC: nothing sent yet, the controlword
         the configuration wrote."""
         return {"command": cia402.ACTION_OF_CONTROLWORD[self.sequencer.last],
-                "frequency_setpoint": command.frequency_hz, "amplitude_setpoint": command.vpp,
+                "frequency_setpoint": command.frequency_hz, "amplitude_setpoint": command.amplitude_v,
                 "phase_setpoint": command.phase_deg, "velocity_setpoint": math.nan}
 
     def sync(self):

@@ -20,10 +20,10 @@ class Command:
     speed loop itself; None (the default) is the open-loop mode -1 with the set-points."""
     action: str = "keep_alive"
     frequency_hz: float = 40000.0
-    vpp: float = 0.0
+    amplitude_v: float = 0.0
     phase_deg: float = 90.0
     frequency_slew_hz_s: float = 1e6
-    amplitude_slew_vpp_s: float = 1e5
+    amplitude_slew_v_per_s: float = 1e5
     velocity_mm_s: float = None
 
 
@@ -36,7 +36,7 @@ def holding_values(command, load_n, advance_ticks):
         raise BenchUsageError(f"a controller's cycle() must return a swum_bench.Command, not {command!r}")
     if command.action not in ACTIONS:
         raise BenchUsageError(f"Command.action must be one of {sorted(ACTIONS)}, not {command.action!r}")
-    for field in ("frequency_hz", "vpp", "phase_deg", "frequency_slew_hz_s", "amplitude_slew_vpp_s"):
+    for field in ("frequency_hz", "amplitude_v", "phase_deg", "frequency_slew_hz_s", "amplitude_slew_v_per_s"):
         value = getattr(command, field)
         if isinstance(value, bool) or not isinstance(value, (int, float)):
             raise BenchUsageError(f"Command.{field} must be a number, not {value!r}")
@@ -44,8 +44,8 @@ def holding_values(command, load_n, advance_ticks):
     if velocity is not None and (isinstance(velocity, bool) or not isinstance(velocity, (int, float))):
         raise BenchUsageError(f"Command.velocity_mm_s must be a number or None, not {velocity!r}")
     return {"command": ACTIONS[command.action], "frequency_setpoint": command.frequency_hz,
-            "amplitude_setpoint": command.vpp, "phase_setpoint": command.phase_deg, "load_force": load_n,
-            "frequency_slew": command.frequency_slew_hz_s, "amplitude_slew": command.amplitude_slew_vpp_s,
+            "amplitude_setpoint": command.amplitude_v, "phase_setpoint": command.phase_deg, "load_force": load_n,
+            "frequency_slew": command.frequency_slew_hz_s, "amplitude_slew": command.amplitude_slew_v_per_s,
             "advance": advance_ticks}
 
 

@@ -6,7 +6,7 @@ TABLE = [
     ("speed_mm_s", "mm/s", "speed", 1e3, "Speed", 1.0),
     ("position_um", "um", "position", 1e6, "Position", 1e3),
     ("frequency_hz", "Hz", "frequency_output", 1.0, "FrequencyOut", 1.0),
-    ("amplitude_vpp", "Vpp", "amplitude_output", 1.0, "AmplitudeOut", 1.0),
+    ("amplitude_v", "V", "amplitude_output", 1.0, "AmplitudeOut", 1.0),
     ("phase_deg", "deg", "phase_output", 1.0, "PhaseOut", 1.0),
     ("load_n", "N", "load_output", 1.0, "LoadOut", 1.0),
     ("tip_normal_um", "um", "tip_normal_amplitude", 1.0, "TipNormal", 1.0),
@@ -30,21 +30,21 @@ TABLE = [
 COMMAND_TABLE = [
     ("command", "", "command"),
     ("command_frequency_hz", "Hz", "frequency_setpoint"),
-    ("command_vpp", "Vpp", "amplitude_setpoint"),
+    ("command_amplitude_v", "V", "amplitude_setpoint"),
     ("command_phase_deg", "deg", "phase_setpoint"),
 ]
 # Over CANopen (docs/canopen.md): the signals the drive's dictionary carries, by object. The
 # state, fault_code and drive_on come from the statusword 0x6041 and 0x603F (cia402.py), which
 # every TPDO plan maps; the scale of each object comes from the unit in its EDS name.
 CANOPEN_TABLE = [
-    ("speed_mm_s", 0x606C), ("position_um", 0x6064), ("frequency_hz", 0x2010), ("amplitude_vpp", 0x2011),
+    ("speed_mm_s", 0x606C), ("position_um", 0x6064), ("frequency_hz", 0x2010), ("amplitude_v", 0x2011),
     ("phase_deg", 0x2012), ("current_a_ma", 0x2020), ("current_b_ma", 0x2021), ("vi_phase_a_deg", 0x2022),
     ("vi_phase_b_deg", 0x2023), ("motional_phase_a_deg", 0x2024), ("motional_phase_b_deg", 0x2025),
     ("temperature_c", 0x2027),
 ]
 # What four TPDOs of 64 bits carry besides the statusword and 0x603F (256 bits exactly);
 # Bench(canopen_signals=...) chooses others of CANOPEN_TABLE.
-CANOPEN_DEFAULT_SIGNALS = ("speed_mm_s", "position_um", "frequency_hz", "amplitude_vpp", "phase_deg", "current_a_ma",
+CANOPEN_DEFAULT_SIGNALS = ("speed_mm_s", "position_um", "frequency_hz", "amplitude_v", "phase_deg", "current_a_ma",
                            "current_b_ma", "motional_phase_a_deg")
 # Signals the dictionary does not carry: the load and the tip amplitudes are the bench's inputs
 # and the model's insides, not a drive's; 0x2026 is the power of both phases, not each; rejects
@@ -87,17 +87,14 @@ def from_can(values, tick_hz):
     return sample, values["SimTime"]
 
 
-def canopen_scales(eds, names, vpp_per_terminal_v):
+def canopen_scales(eds, names):
     """{signal name: (object index, factor)} for the chosen signals, the factor from the unit in
-    the object's EDS name; the amplitude's terminal volts are the amplifier's "vpp" input times
-    vpp_per_terminal_v (the motor's voltage convention, as swum-emu converts it)."""
+    the object's EDS name (0x2011 is the terminal amplitude, the amplitude every table carries)."""
     objects = dict(CANOPEN_TABLE)
     scales = {}
     for name in names:
         entry = eds[objects[name], 0]
         unit, factor = EDS_UNITS[entry.unit]
-        if name == "amplitude_vpp":
-            unit, factor = "Vpp", factor * vpp_per_terminal_v
         if unit != UNITS[name]:
             raise ValueError(f"{entry.where}: unit {entry.unit!r} is not the signal {name}'s {UNITS[name]!r}")
         scales[name] = (entry.index, factor)
@@ -111,8 +108,8 @@ def from_canopen(values, scales, time_s):
     statusword, error_code = values[0x6041], values[0x603F]
     sample["state"] = float(cia402.bench_state(statusword))
     sample["fault_code"] = float(cia402.fault_code(error_code))
-    if "amplitude_vpp" in sample:  # as the swum protocols' DriveOn: enabled and driving
-        sample["drive_on"] = float(sample["state"] == 1 and sample["amplitude_vpp"] > 0)
+    if "amplitude_v" in sample:  # as the swum protocols' DriveOn: enabled and driving
+        sample["drive_on"] = float(sample["state"] == 1 and sample["amplitude_v"] > 0)
     sample["statusword"] = float(statusword)
     sample["error_code"] = float(error_code)
     sample["time_s"] = _clean(time_s)

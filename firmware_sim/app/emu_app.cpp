@@ -133,8 +133,7 @@ void open_modbus(const EmuOptions& o, SharedState& shared, const AmplifierLimits
   }
 }
 
-void open_can(const EmuOptions& o, SharedState& shared, const AmplifierLimits& limits,
-              const MotorParameters& parameters, Transports& t) {
+void open_can(const EmuOptions& o, SharedState& shared, const AmplifierLimits& limits, Transports& t) {
   if (o.can_interface.empty()) return;
   // Separate sockets for receiving (filtered) and sending (no filters needed).
   auto rx = std::make_unique<io::SocketCanBus>(o.can_interface);
@@ -153,9 +152,7 @@ void open_can(const EmuOptions& o, SharedState& shared, const AmplifierLimits& l
     config.can_log = t.can_log;
   }
   if (o.can_profile == "cia402") {
-    // The amplifier's "vpp" input per volt of terminal amplitude (model_spec.md §11.1).
-    const double vpp_per_v = parameters.options.voltage_convention == VoltageConvention::amplitude ? 1.0 : 2.0;
-    auto profile = std::make_unique<CanopenProfile>(canopen_profile_config(o, limits, vpp_per_v), shared);
+    auto profile = std::make_unique<CanopenProfile>(canopen_profile_config(o, limits), shared);
     t.canopen = profile.get();
     t.can = std::make_unique<CanTransport>(std::move(rx), std::move(tx), std::move(profile), config, shared, limits);
   } else {
@@ -248,10 +245,10 @@ TraceSettings trace_settings(const EmuOptions& o, const std::string& config_text
                                     {"watchdog_ms", o.watchdog_ms},
                                     {"frequency_min", o.frequency_min_hz},
                                     {"frequency_max", o.frequency_max_hz},
-                                    {"amplitude_max", o.amplitude_max_vpp},
+                                    {"amplitude_max", o.max_amplitude_v},
                                     {"load_max", o.load_max_n},
                                     {"frequency_slew", o.frequency_slew_hz_per_s},
-                                    {"amplitude_slew", o.amplitude_slew_vpp_per_s},
+                                    {"amplitude_slew", o.amplitude_slew_v_per_s},
                                     {"frequency", o.frequency_hz},
                                     {"phase", o.phase_deg}})
     s.add(name, shortest_decimal(value));
@@ -315,7 +312,7 @@ int run_emulator(const EmuOptions& o) {
   }
   Transports transports;
   open_modbus(o, *shared, amp.limits, transports);
-  open_can(o, *shared, amp.limits, parameters, transports);
+  open_can(o, *shared, amp.limits, transports);
   open_gpio(o, *shared, transports);
   // A first snapshot before any transport answers (none has started): after they are built, so
   // that a CiA 402 drive (its profile publishes the request when built) has taken its first

@@ -37,6 +37,10 @@ constexpr RetiredEmuOption kRetiredEmuOptions[] = {
     {"--load-max", "--max-load-n", "limits named max-QUANTITY-UNIT"},
     {"--frequency-slew", "--frequency-slew-hz-per-s", "every slew limit carries its unit"},
     {"--encoder-max-rate", "--encoder-max-rate-hz", "every rate carries its unit"},
+    {"--amplitude-max", "--max-amplitude-v",
+     "a voltage is the terminal amplitude, in V; limits named max-QUANTITY-UNIT"},
+    {"--amplitude-slew", "--amplitude-slew-v-per-s",
+     "a voltage is the terminal amplitude; every slew limit carries its unit"},
 };
 
 // "--old was renamed --new (why)" ("--old was removed (why)") for the first retired spelling in
@@ -120,13 +124,14 @@ EmuOptions parse_emu_options(int argc, const char* const* argv) {
       ->capture_default_str();
   app.add_option("--max-frequency-hz", o.frequency_max_hz, "highest accepted frequency setpoint (Hz)")
       ->capture_default_str();
-  app.add_option("--amplitude-max", o.amplitude_max_vpp, "highest accepted amplitude setpoint (Vpp)")
+  app.add_option("--max-amplitude-v", o.max_amplitude_v,
+                 "highest accepted amplitude setpoint: terminal voltage amplitude per phase (V, zero-to-peak)")
       ->capture_default_str();
   app.add_option("--max-load-n", o.load_max_n, "largest accepted |load force| (N)")->capture_default_str();
   app.add_option("--frequency-slew-hz-per-s", o.frequency_slew_hz_per_s, "frequency slew limit (Hz/s; 0 = none)")
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
-  app.add_option("--amplitude-slew", o.amplitude_slew_vpp_per_s, "amplitude slew limit (Vpp/s; 0 = none)")
+  app.add_option("--amplitude-slew-v-per-s", o.amplitude_slew_v_per_s, "amplitude slew limit (V/s; 0 = none)")
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
   app.add_option("--frequency-hz", o.frequency_hz, "initial frequency setpoint (Hz)")->capture_default_str();
@@ -263,18 +268,17 @@ AmplifierConfig amplifier_config(const EmuOptions& o) {
   AmplifierConfig amp;
   amp.limits.min_frequency_hz = o.frequency_min_hz;
   amp.limits.max_frequency_hz = o.frequency_max_hz;
-  amp.limits.max_amplitude_vpp = o.amplitude_max_vpp;
+  amp.limits.max_amplitude_v = o.max_amplitude_v;
   amp.limits.max_abs_load_n = o.load_max_n;
   amp.frequency_slew_hz_per_s = o.frequency_slew_hz_per_s;
-  amp.amplitude_slew_vpp_per_s = o.amplitude_slew_vpp_per_s;
+  amp.amplitude_slew_v_per_s = o.amplitude_slew_v_per_s;
   amp.frequency_hz = o.frequency_hz;
   amp.phase_deg = o.phase_deg;
   amp.watchdog_s = o.watchdog_ms * 1e-3;
   // A default slew above the largest a command may ask for raises that limit.
   amp.limits.max_frequency_slew_hz_per_s = std::max(amp.limits.max_frequency_slew_hz_per_s,
                                                     amp.frequency_slew_hz_per_s);
-  amp.limits.max_amplitude_slew_vpp_per_s = std::max(amp.limits.max_amplitude_slew_vpp_per_s,
-                                                     amp.amplitude_slew_vpp_per_s);
+  amp.limits.max_amplitude_slew_v_per_s = std::max(amp.limits.max_amplitude_slew_v_per_s, amp.amplitude_slew_v_per_s);
   Command initial;
   initial.fields = Command::kFrequency | Command::kPhase;
   initial.frequency_hz = amp.frequency_hz;
@@ -300,12 +304,10 @@ ModbusTcpOptions modbus_tcp_options(const EmuOptions& o) {
   return tcp;
 }
 
-CanopenProfileConfig canopen_profile_config(const EmuOptions& o, const AmplifierLimits& limits,
-                                            double vpp_per_terminal_amplitude_v) {
+CanopenProfileConfig canopen_profile_config(const EmuOptions& o, const AmplifierLimits& limits) {
   CanopenProfileConfig c;
   c.node = static_cast<std::uint8_t>(o.can_node);
   c.limits = limits;
-  c.vpp_per_terminal_amplitude_v = vpp_per_terminal_amplitude_v;
   c.heartbeat_ms = o.heartbeat_given ? static_cast<int>(std::lround(o.heartbeat_ms)) : -1;
   return c;
 }

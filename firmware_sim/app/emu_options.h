@@ -51,12 +51,12 @@ struct EmuOptions {
   double heartbeat_ms = 1000.0;                                  // --heartbeat-ms (CAN); 0: off
   double frequency_min_hz = AmplifierLimits{}.min_frequency_hz;  // --min-frequency-hz
   double frequency_max_hz = AmplifierLimits{}.max_frequency_hz;  // --max-frequency-hz
-  double amplitude_max_vpp = AmplifierLimits{}.max_amplitude_vpp;                // --amplitude-max
-  double load_max_n = AmplifierLimits{}.max_abs_load_n;                          // --max-load-n
-  double frequency_slew_hz_per_s = AmplifierConfig{}.frequency_slew_hz_per_s;    // --frequency-slew-hz-per-s
-  double amplitude_slew_vpp_per_s = AmplifierConfig{}.amplitude_slew_vpp_per_s;  // --amplitude-slew
-  double frequency_hz = AmplifierConfig{}.frequency_hz;                          // --frequency-hz (initial)
-  double phase_deg = AmplifierConfig{}.phase_deg;                                // --drive-phase-deg (initial)
+  double max_amplitude_v = AmplifierLimits{}.max_amplitude_v;    // --max-amplitude-v
+  double load_max_n = AmplifierLimits{}.max_abs_load_n;          // --max-load-n
+  double frequency_slew_hz_per_s = AmplifierConfig{}.frequency_slew_hz_per_s;  // --frequency-slew-hz-per-s
+  double amplitude_slew_v_per_s = AmplifierConfig{}.amplitude_slew_v_per_s;    // --amplitude-slew-v-per-s
+  double frequency_hz = AmplifierConfig{}.frequency_hz;                        // --frequency-hz (initial)
+  double phase_deg = AmplifierConfig{}.phase_deg;                              // --drive-phase-deg (initial)
   bool external_clock = false;          // --clock external: lockstep (time advances only when a controller steps it)
   int sync_ticks = 10;                  // --sync-ticks: ticks per CAN SYNC in lockstep
   std::string scenario_path;            // --scenario; empty: none
@@ -105,7 +105,7 @@ class EmuCliExit : public std::runtime_error {
 EmuOptions parse_emu_options(int argc, const char* const* argv);
 
 // The options in each part's terms (SI units). Throw EmuOptionError for bad values.
-// --min/--max-frequency-hz, --amplitude-max,/--max-load-n, slews (the limits raised to admit them),
+// --min/--max-frequency-hz, --max-amplitude-v, --max-load-n, slews (the limits raised to admit them),
 // initial setpoints (checked against the limits), --watchdog-ms.
 AmplifierConfig amplifier_config(const EmuOptions& options);
 // --modbus; nullopt for "none".
@@ -113,10 +113,9 @@ std::optional<ModbusEndpoint> modbus_endpoint(const EmuOptions& options);
 ModbusTcpOptions modbus_tcp_options(const EmuOptions& options);
 // --node, --telemetry-hz, --heartbeat-ms (used when --can is given).
 CanTransportConfig can_transport_config(const EmuOptions& options);
-// --can-profile cia402: --node (1..127), --heartbeat-ms when given, the limits and the model's
-// voltage convention (the terminal amplitude of 0x2002/0x2011 in the amplifier's "vpp" input).
-CanopenProfileConfig canopen_profile_config(const EmuOptions& options, const AmplifierLimits& limits,
-                                            double vpp_per_terminal_amplitude_v);
+// --can-profile cia402: --node (1..127), --heartbeat-ms when given, and the limits (0x2002/0x2011
+// are terminal amplitudes, the amplifier's own unit).
+CanopenProfileConfig canopen_profile_config(const EmuOptions& options, const AmplifierLimits& limits);
 // --gpio, --encoder-resolution-um, --encoder-max-rate-hz (used when --gpio is given).
 GpioConfig gpio_config(const EmuOptions& options);
 // --speedup, --rt, --spin-us, --duration-s at --tick-hz; statistics published ~10 times a second.

@@ -15,11 +15,11 @@ double slew(double current, double target, double rate_per_s, double dt) {
 
 Amplifier::Amplifier(const AmplifierConfig& config) : config_(config) {
   setpoints_.frequency_hz = config.frequency_hz;
-  setpoints_.amplitude_vpp = config.amplitude_vpp;
+  setpoints_.amplitude_v = config.amplitude_v;
   setpoints_.phase_deg = config.phase_deg;
   setpoints_.frequency_slew_hz_per_s = config.frequency_slew_hz_per_s;
-  setpoints_.amplitude_slew_vpp_per_s = config.amplitude_slew_vpp_per_s;
-  output_.vpp = 0.0;
+  setpoints_.amplitude_slew_v_per_s = config.amplitude_slew_v_per_s;
+  output_.amplitude_v = 0.0;
   output_.frequency_hz = config.frequency_hz;
   output_.phase_deg = config.phase_deg;
   output_.load_n = 0.0;
@@ -39,18 +39,18 @@ Reason Amplifier::apply(const Command& c, std::uint64_t tick) {
     return reason;
   }
   if (c.fields & Command::kFrequency) setpoints_.frequency_hz = c.frequency_hz;
-  if (c.fields & Command::kAmplitude) setpoints_.amplitude_vpp = c.amplitude_vpp;
+  if (c.fields & Command::kAmplitude) setpoints_.amplitude_v = c.amplitude_v;
   if (c.fields & Command::kPhase) setpoints_.phase_deg = c.phase_deg;
   if (c.fields & Command::kLoad) setpoints_.load_n = c.load_n;
   if (c.fields & Command::kFrequencySlew) setpoints_.frequency_slew_hz_per_s = c.frequency_slew_hz_per_s;
-  if (c.fields & Command::kAmplitudeSlew) setpoints_.amplitude_slew_vpp_per_s = c.amplitude_slew_vpp_per_s;
+  if (c.fields & Command::kAmplitudeSlew) setpoints_.amplitude_slew_v_per_s = c.amplitude_slew_v_per_s;
   if (c.fields & Command::kAction) {
     switch (c.action) {
       case Action::none: break;
       case Action::enable:
         if (state_ == AmpState::disabled) {
           state_ = AmpState::enabled;
-          output_.vpp = 0.0;  // ramps up from zero at the amplitude slew limit
+          output_.amplitude_v = 0.0;  // ramps up from zero at the amplitude slew limit
         }
         break;
       case Action::disable:
@@ -72,7 +72,7 @@ Reason Amplifier::apply(const Command& c, std::uint64_t tick) {
 void Amplifier::raise_fault(FaultCode fault) {
   state_ = AmpState::fault;
   fault_ = fault;
-  output_.vpp = 0.0;
+  output_.amplitude_v = 0.0;
 }
 
 DriveInput Amplifier::tick(std::uint64_t tick, bool enable_line) {
@@ -86,17 +86,17 @@ DriveInput Amplifier::tick(std::uint64_t tick, bool enable_line) {
   output_.load_n = setpoints_.load_n;
   if (state_ == AmpState::enabled) {
     output_.frequency_hz = slew(output_.frequency_hz, setpoints_.frequency_hz, setpoints_.frequency_slew_hz_per_s, dt);
-    output_.vpp = slew(output_.vpp, setpoints_.amplitude_vpp, setpoints_.amplitude_slew_vpp_per_s, dt);
+    output_.amplitude_v = slew(output_.amplitude_v, setpoints_.amplitude_v, setpoints_.amplitude_slew_v_per_s, dt);
   } else {
     output_.frequency_hz = setpoints_.frequency_hz;  // nothing driven: the oscillator just retunes
-    output_.vpp = 0.0;
+    output_.amplitude_v = 0.0;
   }
   return output_;
 }
 
 bool Amplifier::at_setpoint() const {
-  if (state_ != AmpState::enabled) return output_.vpp == 0.0;
-  return output_.vpp == setpoints_.amplitude_vpp && output_.frequency_hz == setpoints_.frequency_hz;
+  if (state_ != AmpState::enabled) return output_.amplitude_v == 0.0;
+  return output_.amplitude_v == setpoints_.amplitude_v && output_.frequency_hz == setpoints_.frequency_hz;
 }
 
 }  // namespace swum::emu

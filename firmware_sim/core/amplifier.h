@@ -35,10 +35,10 @@ struct AmplifierConfig {
   double tick_s = 1.0e-4;
   double watchdog_s = 0.1;  // 0 = no watchdog
   double frequency_hz = 40000.0;
-  double amplitude_vpp = 0.0;
+  double amplitude_v = 0.0;
   double phase_deg = 90.0;
-  double frequency_slew_hz_per_s = 1.0e6;   // 1 kHz/ms; 0 = unlimited
-  double amplitude_slew_vpp_per_s = 1.0e5;  // 100 Vpp/ms; 0 = unlimited
+  double frequency_slew_hz_per_s = 1.0e6;  // 1 kHz/ms; 0 = unlimited
+  double amplitude_slew_v_per_s = 1.0e5;   // 100 V/ms; 0 = unlimited
 };
 
 class Amplifier {

@@ -40,17 +40,16 @@ Cia402DriveConfig checked(Cia402DriveConfig c) {
     throw std::invalid_argument("CiA 402 drive: tick rate must be positive");
   if (!(c.control_cycle_s > 0.0 && c.control_cycle_s <= 1.0))
     throw std::invalid_argument("CiA 402 drive: control cycle must be within (0, 1] s");
-  if (!(c.vpp_per_terminal_volt > 0.0) || !std::isfinite(c.vpp_per_terminal_volt))
-    throw std::invalid_argument("CiA 402 drive: vpp per terminal volt must be positive");
   if (!(c.drive_phase_deg > 0.0 && c.drive_phase_deg <= c.limits.max_abs_phase_deg))
     throw std::invalid_argument("CiA 402 drive: drive phase must be within (0, the amplifier's phase limit]");
   if (c.tracker_cycles < 1 || c.tracker_cycles > 1000)
     throw std::invalid_argument("CiA 402 drive: tracker cycles must be within 1..1000");
-  if (!(c.tracker_min_vpp >= 0.0)) throw std::invalid_argument("CiA 402 drive: tracker minimum vpp must be >= 0");
+  if (!(c.tracker_min_amplitude_v >= 0.0))
+    throw std::invalid_argument("CiA 402 drive: tracker minimum amplitude_v must be >= 0");
   if (!(c.frequency_slew_hz_per_s >= 0.0 && c.frequency_slew_hz_per_s <= c.limits.max_frequency_slew_hz_per_s) ||
-      !(c.amplitude_slew_vpp_per_s >= 0.0 && c.amplitude_slew_vpp_per_s <= c.limits.max_amplitude_slew_vpp_per_s))
+      !(c.amplitude_slew_v_per_s >= 0.0 && c.amplitude_slew_v_per_s <= c.limits.max_amplitude_slew_v_per_s))
     throw std::invalid_argument("CiA 402 drive: slews must be within the amplifier's limits");
-  c.speed_gains.max_vpp = std::min(c.speed_gains.max_vpp, c.limits.max_amplitude_vpp);
+  c.speed_gains.max_amplitude_v = std::min(c.speed_gains.max_amplitude_v, c.limits.max_amplitude_v);
   // The tracker: the phase method, locked on the request's set-point, within the amplifier's range.
   c.tracker.method = TrackMethod::phase;
   c.tracker.direction = 1.0;  // the drive feeds it the speed along the drive direction
@@ -62,10 +61,6 @@ Cia402DriveConfig checked(Cia402DriveConfig c) {
 }
 
 }  // namespace
-
-double vpp_per_terminal_volt(VoltageConvention convention) {
-  return convention == VoltageConvention::peak_to_peak ? 2.0 : 1.0;
-}
 
 Cia402Drive::Cia402Drive(const Cia402DriveConfig& config)
     : config_(checked(config)), pi_(config_.speed_gains), tracker_(config_.tracker) {
@@ -174,7 +169,7 @@ void Cia402Drive::enter(Cia402State next, Amplifier& amplifier, const Telemetry&
     Command on;
     on.fields = Command::kAction | Command::kAmplitude;
     on.action = Action::enable;
-    on.amplitude_vpp = 0.0;
+    on.amplitude_v = 0.0;
     if (apply(amplifier, on, tick) != Reason::none) {
       state_ = Cia402State::switch_on_disabled;  // the enable line is low: no power to enable
       return;
@@ -194,7 +189,7 @@ void Cia402Drive::enter(Cia402State next, Amplifier& amplifier, const Telemetry&
     Command off;
     off.fields = Command::kAction | Command::kAmplitude;
     off.action = Action::disable;
-    off.amplitude_vpp = 0.0;
+    off.amplitude_v = 0.0;
     apply(amplifier, off, tick);
   }
   restart_loops(last);
@@ -205,7 +200,7 @@ void Cia402Drive::enter(Cia402State next, Amplifier& amplifier, const Telemetry&
 void Cia402Drive::restart_loops(const Telemetry& last) {
   pi_.reset();
   tracking_ = false;
-  amplitude_vpp_ = 0.0;
+  amplitude_v_ = 0.0;
   internal_limit_ = false;
   // The demand starts where the mover is (a mode change while it moves), so the ramp is smooth.
   velocity_demand_m_s_ = drives(state_) ? last.speed_m_s : 0.0;
@@ -242,7 +237,7 @@ void Cia402Drive::control_cycle(const DriveRequest& r, Amplifier& amplifier, con
     default: {  // none, or not supported: 0 V (the command also feeds the amplifier's watchdog)
       Command zero;
       zero.fields = Command::kAmplitude;
-      zero.amplitude_vpp = 0.0;
+      zero.amplitude_v = 0.0;
       apply(amplifier, zero, tick);
       quick_stop_finished_ = true;
       break;
@@ -265,8 +260,8 @@ void Cia402Drive::profile_velocity_cycle(const DriveRequest& r, Amplifier& ampli
 
   // The speed loop: the amplitude from the demand and the measured speed (the 10 ms mean).
   const double speed_mm_s = last.speed_m_s * 1e3;
-  amplitude_vpp_ = pi_.update(velocity_demand_m_s_ * 1e3, speed_mm_s, cycle_s_);
-  internal_limit_ = amplitude_vpp_ >= config_.speed_gains.max_vpp;
+  amplitude_v_ = pi_.update(velocity_demand_m_s_ * 1e3, speed_mm_s, cycle_s_);
+  internal_limit_ = amplitude_v_ >= config_.speed_gains.max_amplitude_v;
 
   // The frequency: the tracker, from above whenever the demand leaves 0 (at 0 V there is no phase
   // to lock on, and the resonance of a small amplitude lies higher than that of a large one).
@@ -279,7 +274,7 @@ void Cia402Drive::profile_velocity_cycle(const DriveRequest& r, Amplifier& ampli
     start_tracker(frequency_hz_, setpoint_deg);  // a new set-point (0x2031): approached from here
   } else if (--tracker_countdown_ <= 0) {
     tracker_countdown_ = config_.tracker_cycles;
-    if (last.output.vpp >= config_.tracker_min_vpp) {
+    if (last.output.amplitude_v >= config_.tracker_min_amplitude_v) {
       // Reversed, phase B leads: its motional phase is what phase A's is forward (the motor's
       // symmetry), so one set-point serves both directions.
       TrackSample sample;
@@ -301,16 +296,15 @@ void Cia402Drive::profile_velocity_cycle(const DriveRequest& r, Amplifier& ampli
   c.fields = Command::kFrequency | Command::kAmplitude | Command::kPhase | Command::kFrequencySlew |
              Command::kAmplitudeSlew;
   c.frequency_hz = frequency_hz_;
-  c.amplitude_vpp = amplitude_vpp_;
+  c.amplitude_v = amplitude_v_;
   c.phase_deg = direction_ * config_.drive_phase_deg;
   c.frequency_slew_hz_per_s = config_.frequency_slew_hz_per_s;
-  c.amplitude_slew_vpp_per_s = config_.amplitude_slew_vpp_per_s;
+  c.amplitude_slew_v_per_s = config_.amplitude_slew_v_per_s;
   apply(amplifier, c, tick);
 }
 
 void Cia402Drive::open_loop_cycle(const DriveRequest& r, Amplifier& amplifier, std::uint64_t tick) {
   const AmplifierLimits& limits = config_.limits;
-  const double factor = config_.vpp_per_terminal_volt;
   // Out-of-range set-points (the profile refuses them, so only a bad mapping gets here) are held
   // at the limits and shown as "internal limit active", never refused: a refused command would
   // also starve the amplifier's watchdog.
@@ -325,14 +319,14 @@ void Cia402Drive::open_loop_cycle(const DriveRequest& r, Amplifier& amplifier, s
   c.fields = Command::kFrequency | Command::kAmplitude | Command::kPhase | Command::kFrequencySlew |
              Command::kAmplitudeSlew;
   c.frequency_hz = within(r.frequency_mhz * 1e-3, limits.min_frequency_hz, limits.max_frequency_hz);
-  c.amplitude_vpp = stop ? 0.0 : within(r.amplitude_mv * 1e-3 * factor, 0.0, limits.max_amplitude_vpp);
+  c.amplitude_v = stop ? 0.0 : within(r.amplitude_mv * 1e-3, 0.0, limits.max_amplitude_v);
   c.phase_deg = within(r.phase_cdeg * 0.01, -limits.max_abs_phase_deg, limits.max_abs_phase_deg);
   c.frequency_slew_hz_per_s = within(r.frequency_slew_hz_per_s, 0.0, limits.max_frequency_slew_hz_per_s);
-  c.amplitude_slew_vpp_per_s = within(r.amplitude_slew_v_per_s * factor, 0.0, limits.max_amplitude_slew_vpp_per_s);
+  c.amplitude_slew_v_per_s = within(r.amplitude_slew_v_per_s, 0.0, limits.max_amplitude_slew_v_per_s);
   apply(amplifier, c, tick);
-  amplitude_vpp_ = c.amplitude_vpp;
+  amplitude_v_ = c.amplitude_v;
   frequency_hz_ = c.frequency_hz;
-  quick_stop_finished_ = amplifier.output().vpp == 0.0;
+  quick_stop_finished_ = amplifier.output().amplitude_v == 0.0;
 }
 
 void Cia402Drive::update_flags(const DriveRequest& r, const Amplifier& amplifier, const Telemetry& last) {
@@ -370,7 +364,7 @@ protocol::Cia402Values Cia402Drive::values(const DriveInput& output) const {
   v.state = static_cast<std::uint8_t>(state_);
   v.velocity_demand_m_s = velocity_demand_m_s_;
   v.tracking_frequency_hz = tracked_once_ ? tracker_.frequency_hz() : 0.0;
-  v.terminal_amplitude_v = output.vpp / config_.vpp_per_terminal_volt;
+  v.terminal_amplitude_v = output.amplitude_v;
   return v;
 }
 

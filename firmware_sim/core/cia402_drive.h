@@ -31,27 +31,21 @@ struct Cia402DriveConfig {
   double tick_hz = 10000.0;  // the loop's (EmulatorCore sets it from CoreConfig::tick_hz)
   // The speed loop's and the open loop's cycle: a whole number of ticks (10 at 10 kHz).
   double control_cycle_s = 0.001;
-  // The amplifier's "vpp" input per volt of terminal amplitude (0x2002, 0x2011 are terminal
-  // amplitudes): 1 for the model's voltage_convention "amplitude", 2 for "peak_to_peak"
-  // (EmulatorCore sets it from the model: vpp_per_terminal_volt()).
-  double vpp_per_terminal_volt = 1.0;
   AmplifierLimits limits;  // the amplifier's (EmulatorCore sets them); every command is kept within
-  // Profile velocity: the speed PI (max_vpp is kept within limits.max_amplitude_vpp). swum
+  // Profile velocity: the speed PI (max_amplitude_v is kept within limits.max_amplitude_v). swum
   // control's gains hold with the tracker running too (docs/canopen.md "Modes": the tuning).
-  SpeedPiGains speed_gains{kDefaultKpVppPerMmS, kDefaultKiVppPerMm, 600.0};
+  SpeedPiGains speed_gains{kDefaultKpVPerMmS, kDefaultKiVPerMm, 600.0};
   double drive_phase_deg = 90.0;  // phase B - phase A; its sign is the direction
   double frequency_slew_hz_per_s = 1.0e6;
-  double amplitude_slew_vpp_per_s = 1.0e5;
+  double amplitude_slew_v_per_s = 1.0e5;
   // The resonance tracker: method phase; its set-point is the request's 0x2031 (the one here
   // is only checked), its frequency range the amplifier's. It steps once every tracker_cycles control cycles (each step
-  // reads a fresh electrical window) and only while the amplifier drives at least tracker_min_vpp (no drive, no phase).
+  // reads a fresh electrical window) and only while the amplifier drives at least tracker_min_amplitude_v (no drive, no
+  // phase).
   TrackSettings tracker;
   int tracker_cycles = 1;
-  double tracker_min_vpp = 10.0;
+  double tracker_min_amplitude_v = 10.0;
 };
-
-// vpp_per_terminal_volt for a model's voltage convention.
-[[nodiscard]] double vpp_per_terminal_volt(VoltageConvention convention);
 
 class Cia402Drive {
  public:
@@ -110,7 +104,7 @@ class Cia402Drive {
   double velocity_demand_m_s_ = 0.0;
   double direction_ = 1.0;
   double frequency_hz_ = 0.0;
-  double amplitude_vpp_ = 0.0;
+  double amplitude_v_ = 0.0;
   bool quick_stop_finished_ = false;
   std::int8_t mode_display_ = canopen::kModeNone;
   std::uint64_t in_window_ticks_ = 0;

@@ -25,7 +25,6 @@ EmulatorCore::EmulatorCore(const MotorModel& model, CoreConfig config, SharedSta
         config.amplifier.tick_s = 1.0 / config.tick_hz;
         config.drive.tick_hz = config.tick_hz;
         config.drive.limits = config.amplifier.limits;
-        config.drive.vpp_per_terminal_volt = vpp_per_terminal_volt(model.parameters().options.voltage_convention);
         return config;
       }()),
       shared_(shared),
@@ -165,8 +164,8 @@ const Telemetry& EmulatorCore::tick() {
   telemetry_.tip_tangential_um = 0.5e6 * (ut_max - ut_min);
   if (++electrical_ticks_ >= electrical_window_ticks_) {
     // No drive, no measurement: a ring-down current at V = 0 has a phase but nothing to refer it to.
-    const ElectricalReadings r = drive.vpp > 0.0 ? electrical_readings(electrical_sums_, drive.phase_deg)
-                                                 : ElectricalReadings{};
+    const ElectricalReadings r = drive.amplitude_v > 0.0 ? electrical_readings(electrical_sums_, drive.phase_deg)
+                                                         : ElectricalReadings{};
     telemetry_.electrical = {r.current_a_a,          r.current_b_a,          r.phase_a_deg, r.phase_b_deg,
                              r.motional_phase_a_deg, r.motional_phase_b_deg, r.power_a_w,   r.power_b_w};
     electrical_sums_ = ElectricalSums{};

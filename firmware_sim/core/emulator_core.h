@@ -22,7 +22,7 @@ namespace swum::emu {
 
 // The model's drive and the loop's statistics as the protocol's telemetry carries them.
 inline protocol::DriveValues drive_values(const DriveInput& d) {
-  return {d.vpp, d.frequency_hz, d.phase_deg, d.load_n};
+  return {d.amplitude_v, d.frequency_hz, d.phase_deg, d.load_n};
 }
 inline protocol::LoopTiming loop_timing(const LoopStatsSummary& s) {
   return {s.overruns,        s.lateness_p50_ns, s.lateness_p99_ns, s.lateness_p999_ns,

@@ -55,8 +55,8 @@ std::string command_row(std::uint64_t tick, const Command& c) {
   put(out, std::uint64_t{c.fields});
   out += ',';
   put(out, std::uint64_t{static_cast<std::uint8_t>(c.action)});
-  for (const double v : {c.frequency_hz, c.amplitude_vpp, c.phase_deg, c.load_n, c.frequency_slew_hz_per_s,
-                         c.amplitude_slew_vpp_per_s}) {
+  for (const double v :
+       {c.frequency_hz, c.amplitude_v, c.phase_deg, c.load_n, c.frequency_slew_hz_per_s, c.amplitude_slew_v_per_s}) {
     out += ',';
     put(out, v);
   }
@@ -83,7 +83,7 @@ std::string telemetry_row(const Telemetry& t) {
     if (i) out += ',';
     put(out, codes[i]);
   }
-  for (const double v : {t.output.vpp, t.output.frequency_hz, t.output.phase_deg, t.output.load_n, t.speed_m_s,
+  for (const double v : {t.output.amplitude_v, t.output.frequency_hz, t.output.phase_deg, t.output.load_n, t.speed_m_s,
                          t.tick_speed_m_s, t.position_m, t.tip_normal_um, t.tip_tangential_um}) {
     out += ',';
     put(out, v);
@@ -210,8 +210,8 @@ Trace read_trace(std::istream& in, const std::string& file) {
       c.source = static_cast<CommandSource>(source);
       c.fields = fields;
       c.action = static_cast<Action>(action);
-      double* values[] = {&c.frequency_hz, &c.amplitude_vpp,           &c.phase_deg,
-                          &c.load_n,       &c.frequency_slew_hz_per_s, &c.amplitude_slew_vpp_per_s};
+      double* values[] = {&c.frequency_hz,          &c.amplitude_v, &c.phase_deg, &c.load_n, &c.frequency_slew_hz_per_s,
+                          &c.amplitude_slew_v_per_s};
       for (std::size_t i = 0; i < std::size(values); ++i)
         *values[i] = parse_number<double>(f[6 + i], file, line, names[6 + i]);
       trace.inputs.push_back(input);

@@ -30,8 +30,9 @@ std::string fnv1a_hex(const std::string& text);
 // The column header and the rows (shortest round-trip decimal for every double: the same
 // values give the same bytes on any machine).
 inline constexpr const char* kTraceHeader =
-    "row,tick,sequence,source,fields,action,frequency_hz,amplitude_vpp,phase_deg,load_n,frequency_slew_hz_per_s,"
-    "amplitude_slew_vpp_per_s,enable_line,state,fault,at_setpoint,output_vpp,output_frequency_hz,output_phase_deg,"
+    "row,tick,sequence,source,fields,action,frequency_hz,amplitude_v,phase_deg,load_n,frequency_slew_hz_per_s,"
+    "amplitude_slew_v_per_s,enable_line,state,fault,at_setpoint,output_amplitude_v,output_frequency_hz,output_phase_"
+    "deg,"
     "output_load_n,speed_m_s,tick_speed_m_s,position_m,tip_normal_um,tip_tangential_um,applied_commands,"
     "amplifier_rejects,last_sequence,divergences,sim_time_s";
 std::string command_row(std::uint64_t tick, const Command& command);

@@ -105,7 +105,7 @@ const fixed = (value, digits) => (value === null || value === undefined ? "–" 
 function showOperatingPoint(s) {
   const drive = s.output.frequency_hz, normal = s.resonance.normal_peak_hz, tangential = s.resonance.tangential_peak_hz;
   document.getElementById("op-frequency").textContent = drive === null ? "–" : khz(drive);
-  document.getElementById("op-vpp").textContent = fixed(s.output.vpp, 0);
+  document.getElementById("op-amplitude-v").textContent = fixed(s.output.amplitude_v, 0);
   document.getElementById("op-normal").textContent = normal ? khz(normal) : "–";
   document.getElementById("op-tangential").textContent = tangential ? khz(tangential) : "–";
   if (!normal || !tangential || drive === null) return;

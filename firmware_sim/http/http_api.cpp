@@ -224,7 +224,7 @@ std::string HttpApi::state_text() {
   const Telemetry t = shared_.telemetry.load();
   const RejectSnapshot rejects{static_cast<Reason>(shared_.rejects.last_reason.load(std::memory_order_relaxed)),
                                shared_.rejects.count.load(std::memory_order_acquire)};
-  json body = state_json(t, rejects, resonance_.at(t.output.vpp, t.stator_temperature_c),
+  json body = state_json(t, rejects, resonance_.at(t.output.amplitude_v, t.stator_temperature_c),
                          shared_.canopen_nmt_state.load(std::memory_order_relaxed));
   const ActiveFaults faults = shared_.active_faults.load();
   json names = json::array();

@@ -27,7 +27,7 @@ class HttpError : public std::runtime_error {
 // Where the motor's resonances are now (ResonancePeak): the free stator's softening peaks of
 // both modes at the drive amplitude (harmonic balance), shifted by the stator temperature.
 struct ResonanceEstimate {
-  double vpp = 0.0;
+  double amplitude_v = 0.0;
   double normal_peak_hz = 0.0;      // L1
   double tangential_peak_hz = 0.0;  // B2
 };

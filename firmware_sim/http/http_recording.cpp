@@ -30,8 +30,9 @@ void add(std::string& row, const char* text) {
 }  // namespace
 
 const char* const kRecordingHeader =
-    "tick,sim_time_s,state,fault,enable_line,at_setpoint,setpoint_frequency_hz,setpoint_amplitude_vpp,"
-    "setpoint_phase_deg,setpoint_load_n,output_vpp,output_frequency_hz,output_phase_deg,output_load_n,speed_m_s,"
+    "tick,sim_time_s,state,fault,enable_line,at_setpoint,setpoint_frequency_hz,setpoint_amplitude_v,"
+    "setpoint_phase_deg,setpoint_load_n,output_amplitude_v,output_frequency_hz,output_phase_deg,output_load_n,speed_m_"
+    "s,"
     "position_m,tip_normal_um,tip_tangential_um,current_a_a,current_b_a,phase_a_deg,phase_b_deg,"
     "motional_phase_a_deg,motional_phase_b_deg,power_a_w,power_b_w,stator_temperature_c,applied_commands,"
     "amplifier_rejects,divergences,overruns,lateness_p99_ns";
@@ -46,10 +47,10 @@ std::string recording_row(const Telemetry& t) {
   add(row, std::uint64_t{t.enable_line});
   add(row, std::uint64_t{t.at_setpoint});
   for (const double v : {t.setpoints.frequency_hz,
-                         t.setpoints.amplitude_vpp,
+                         t.setpoints.amplitude_v,
                          t.setpoints.phase_deg,
                          t.setpoints.load_n,
-                         t.output.vpp,
+                         t.output.amplitude_v,
                          t.output.frequency_hz,
                          t.output.phase_deg,
                          t.output.load_n,

@@ -10,8 +10,8 @@ namespace swum::emu {
 
 ResonancePeak::ResonancePeak(const MotorModel& model) : model_(model) {}
 
-ResonanceEstimate ResonancePeak::at(double vpp, double stator_temperature_c) {
-  const long volts = std::lround(std::clamp(std::isfinite(vpp) ? vpp : 1.0, 1.0, 1.0e4));
+ResonanceEstimate ResonancePeak::at(double amplitude_v, double stator_temperature_c) {
+  const long volts = std::lround(std::clamp(std::isfinite(amplitude_v) ? amplitude_v : 1.0, 1.0, 1.0e4));
   const EffectCoefficients& effects = model_.coefficients().effects;
   const double rise_k = effects.thermal && std::isfinite(stator_temperature_c)
                             ? std::clamp(stator_temperature_c - kReferenceAmbientC, -200.0, 500.0)

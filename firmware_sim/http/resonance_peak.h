@@ -21,9 +21,9 @@ namespace swum::emu {
 class ResonancePeak {
  public:
   explicit ResonancePeak(const MotorModel& model);
-  // At `vpp` (rounded to the volt; below 1 V: 1 V, the linear peak) and the stator temperature
+  // At `amplitude_v` (rounded to the volt; below 1 V: 1 V, the linear peak) and the stator temperature
   // (rounded to 0.5 K; without the thermal effect the temperature changes nothing).
-  ResonanceEstimate at(double vpp, double stator_temperature_c);
+  ResonanceEstimate at(double amplitude_v, double stator_temperature_c);
 
  private:
   const MotorModel& model_;

@@ -433,8 +433,7 @@ co::SdoAbort CanopenProfile::check(std::size_t slot, std::uint32_t raw) {
     if (hz < config_.limits.min_frequency_hz) return co::SdoAbort::value_too_low;
     if (hz > config_.limits.max_frequency_hz) return co::SdoAbort::value_too_high;
   }
-  if (slot == s.amplitude_set && raw * 1e-3 * config_.vpp_per_terminal_amplitude_v > config_.limits.max_amplitude_vpp)
-    return co::SdoAbort::value_too_high;
+  if (slot == s.amplitude_set && raw * 1e-3 > config_.limits.max_amplitude_v) return co::SdoAbort::value_too_high;
   if (slot == s.sync_cob_id && raw != 0x80) return co::SdoAbort::value_range;  // SYNC steps lockstep on 0x080
   return co::SdoAbort::none;  // 0x1016's duplicate node ids: the dictionary's own rule
 }

@@ -40,10 +40,7 @@
 namespace swum::emu {
 
 struct CanopenProfileConfig {
-  std::uint8_t node = 1;  // 1..127 (CiA 301)
-  // The amplifier's "vpp" input per volt of terminal amplitude (the model's voltage convention:
-  // 1 for `amplitude`, 2 for `peak_to_peak`): 0x2002/0x2011 are terminal amplitudes.
-  double vpp_per_terminal_amplitude_v = 2.0;
+  std::uint8_t node = 1;   // 1..127 (CiA 301)
   AmplifierLimits limits;  // the range checks of the manufacturer set-points
   // --heartbeat-ms: the producer heartbeat time 0x1017 at boot (the EDS default if negative).
   int heartbeat_ms = -1;

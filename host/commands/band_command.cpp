@@ -1,4 +1,4 @@
-// `swum band --config F --vpp LIST [--load LIST] [--temperature-rise-k LIST]`: the band of drive
+// `swum band --config F --amplitude-v LIST [--load LIST] [--temperature-rise-k LIST]`: the band of drive
 // frequencies an amplifier's oscillator must cover, from the model: a continuous down-sweep per
 // (voltage, load, stator temperature rise), the drift-aware pick on each
 // (src/analysis/operating_point/operating_band.h); rows to --out (CSV, written atomically) or
@@ -24,7 +24,7 @@ namespace {
 
 struct BandOptions {
   std::string config_path;
-  std::string vpp_list;
+  std::string amplitude_v_list;
   std::string load_list = "0";
   std::string rise_list = "0";
   double margin_hz = kDefaultMarginHz;  // the operating point's defaults (operating_point.h), as swum pick
@@ -36,7 +36,7 @@ struct BandOptions {
 
 void run_band(const BandOptions& o) {
   BandGrid grid;
-  grid.voltages = parse_number_list(o.vpp_list, "--vpp");
+  grid.voltages = parse_number_list(o.amplitude_v_list, "--amplitude-v");
   grid.loads_n = parse_number_list(o.load_list, "--load");
   grid.temperature_rises_k = parse_number_list(o.rise_list, "--temperature-rise-k");
   grid.frequencies_hz = parse_range_or_value(o.frequency_range, "--frequency-hz");
@@ -69,7 +69,7 @@ void add_band_command(CLI::App& app) {
   CLI::App* sub = app.add_subcommand(
       "band", "Band of operating frequencies over voltages, loads and stator temperatures (model down-sweeps)");
   add_config_option(*sub, o->config_path, "motor parameter file (TOML)");
-  sub->add_option("--vpp", o->vpp_list, "voltages, comma list (Vpp)")->required();
+  sub->add_option("--amplitude-v", o->amplitude_v_list, "voltages, comma list (V)")->required();
   sub->add_option("--load", o->load_list, "loads, comma list (N)")->capture_default_str();
   sub->add_option("--temperature-rise-k", o->rise_list,
                   "stator temperature rises over ambient, comma list (K, 0..300; other than 0 needs [effects.thermal])")

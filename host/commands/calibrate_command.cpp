@@ -182,8 +182,9 @@ void add_calibrate_command(CLI::App& app) {
   auto o = std::make_shared<CalibrateCommandOptions>();
   CLI::App* sub = app.add_subcommand("calibrate", "Fit the model's base parameters to a measured sweep or to facts");
   add_config_option(*sub, o->config_path, "prior motor parameter file (TOML)");
-  sub->add_option("--measured", o->measured_path,
-                  "CSV as swum sweep / swum log write it (vpp,frequency_hz,load_n + speed_mm_s and/or tip amplitudes)");
+  sub->add_option(
+      "--measured", o->measured_path,
+      "CSV as swum sweep / swum log write it (amplitude_v,frequency_hz,load_n + speed_mm_s and/or tip amplitudes)");
   sub->add_option("--facts", o->facts_path, "facts file (TOML, [[fact]] tables; docs/calibration.md)");
   sub->add_option("--free", o->free, "parameters to fit, comma list of section.key (default: chosen from the data)");
   sub->add_option("--candidates", o->candidates, "pool the free set is chosen from (default: every candidate)");

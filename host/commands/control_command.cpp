@@ -74,8 +74,8 @@ void run_control(ControlOptions& o) {
 void add_control_command(CLI::App& app) {
   auto o = std::make_shared<ControlOptions>();
   SpeedControlSettings& s = o->settings;
-  s.gains.kp_vpp_per_mm_s = kDefaultKpVppPerMmS;
-  s.gains.ki_vpp_per_mm = kDefaultKiVppPerMm;
+  s.gains.kp_v_per_mm_s = kDefaultKpVPerMmS;
+  s.gains.ki_v_per_mm = kDefaultKiVPerMm;
   CLI::App* sub = app.add_subcommand(
       "control", "Closed-loop speed control of a live device (amplitude PI; lockstep with swum-emu --clock external)");
   add_device_options(*sub, o->device);
@@ -86,10 +86,12 @@ void add_control_command(CLI::App& app) {
   sub->add_option("--cycle-ms", o->cycle_ms, "control cycle (ms)")->capture_default_str();
   sub->add_option("--tick-hz", s.tick_hz, "lockstep: the device's tick rate (checked against its clock)")
       ->capture_default_str();
-  sub->add_option("--kp", s.gains.kp_vpp_per_mm_s, "proportional gain (Vpp per mm/s)")->capture_default_str();
-  sub->add_option("--ki", s.gains.ki_vpp_per_mm, "integral gain (Vpp per mm/s per s)")->capture_default_str();
-  sub->add_option("--max-vpp", s.gains.max_vpp, "amplitude limit (Vpp)")->capture_default_str();
-  sub->add_option("--vpp-slew", s.slew.vpp_per_s, "amplitude slew limit the device applies (Vpp/s, 0 = none)")
+  sub->add_option("--kp", s.gains.kp_v_per_mm_s, "proportional gain (V per mm/s)")->capture_default_str();
+  sub->add_option("--ki", s.gains.ki_v_per_mm, "integral gain (V per mm/s per s)")->capture_default_str();
+  sub->add_option("--max-amplitude-v", s.gains.max_amplitude_v, "limit of the terminal voltage amplitude (V)")
+      ->capture_default_str();
+  sub->add_option("--amplitude-slew-v-per-s", s.slew.amplitude_v_per_s,
+                  "amplitude slew limit the device applies (V/s, 0 = none)")
       ->capture_default_str();
   sub->add_option("--recover", o->recover, "fault codes recovered by reset + re-enable (comma list or none)")
       ->capture_default_str();

@@ -128,9 +128,10 @@ void add_discrepancy_command(CLI::App& app) {
   CLI::App* sub = app.add_subcommand("discrepancy",
                                      "Name the effect missing from a model, add it, show the gap shrink");
   add_config_option(*sub, o->config_path, "baseline motor parameter file (TOML)");
-  sub->add_option("--measured", o->measured_path,
-                  "CSV: vpp,frequency_hz,load_n[,time_s][,sweep] + speed_mm_s/tip_normal_um/tip_tangential_um; or a "
-                  "swum sweep / swum log file as it is")
+  sub->add_option(
+         "--measured", o->measured_path,
+         "CSV: amplitude_v,frequency_hz,load_n[,time_s][,sweep] + speed_mm_s/tip_normal_um/tip_tangential_um; or a "
+         "swum sweep / swum log file as it is")
       ->required();
   sub->add_option("--out", o->out_dir, "directory for report.md, plots, augmented.toml")->required();
   sub->add_option("--effects", o->effects, "candidate effects, comma list (default: all)");

@@ -90,7 +90,7 @@ void add_identify_command(CLI::App& app) {
   CLI::App* sub = app.add_subcommand("identify", "Fit c111, c1111, e311, e3111 to measured free-stator tip amplitudes");
   add_config_option(*sub, o->config_path, "prior motor parameter file (TOML, not modified)");
   sub->add_option("--amplitudes", o->amplitudes_path,
-                  "CSV: vpp,frequency_hz,tip_normal_um,tip_tangential_um (amplitude cells may be empty)")
+                  "CSV: amplitude_v,frequency_hz,tip_normal_um,tip_tangential_um (amplitude cells may be empty)")
       ->required();
   sub->add_option("--out", o->out_path, "fitted parameter file to write (TOML)")->required();
   sub->add_option("--report", o->report_dir,

@@ -1,4 +1,4 @@
-// `swum pick (--sweep CSV | --config F | --modbus/--can DEVICE) --vpp LIST [--load LIST]`: the
+// `swum pick (--sweep CSV | --config F | --modbus/--can DEVICE) --amplitude-v LIST [--load LIST]`: the
 // operating frequency per voltage and load by pick_operating_point, from a sweep table, an
 // offline model down-sweep (the curve swum band takes) or a live sweep of a device; optional
 // schedule, JSON and plots (docs/host.md).
@@ -33,7 +33,7 @@ struct PickCommandOptions {
   std::string config_path;
   DeviceOptions device;
   double tick_hz = 10000.0;  // --tick-hz: lockstep (--canopen --sync-ticks)
-  std::string vpp_list;
+  std::string amplitude_v_list;
   std::string load_list = "0";
   double margin_hz = kDefaultMarginHz;
   bool json = false;
@@ -45,7 +45,7 @@ struct PickCommandOptions {
   std::string plot_loads = "0,0.5,1,1.5,2,2.5,3";
   double settle_ms = 50.0;
   double dwell_ms = 50.0;
-  double ramp_vpp_per_s = 2000.0;
+  double amplitude_slew_v_per_s = 2000.0;
 };
 
 // The one place a measuring source is chosen: model (offline) or device (live).
@@ -95,7 +95,7 @@ class Source {
     p.loads_n = loads;
     p.settle_s = o_.settle_ms * 1e-3;
     p.dwell_s = o_.dwell_ms * 1e-3;
-    p.ramp_vpp_per_s = o_.ramp_vpp_per_s;
+    p.amplitude_slew_v_per_s = o_.amplitude_slew_v_per_s;
     return p;
   }
 
@@ -132,7 +132,7 @@ void write_plots(const PickCommandOptions& o, Source& source, const std::vector<
   std::filesystem::create_directories(dir, error);
   if (error) throw CommandError("cannot create " + o.plot_dir + ": " + error.message());
   write_speed_vs_frequency_plot(sweep, picks, load_n, dir / "speed_vs_frequency.png");
-  write_frequency_vs_voltage_plot(picks, options.naive_frequency_hz, dir / "frequency_vs_vpp.png");
+  write_frequency_vs_voltage_plot(picks, options.naive_frequency_hz, dir / "frequency_vs_amplitude_v.png");
   // Fig. 16: speed vs load at the picked and the naive frequency; measured when the source
   // can measure, else taken from the table's rows at other loads (when it has them).
   std::vector<SweepRow> load_rows;
@@ -140,7 +140,7 @@ void write_plots(const PickCommandOptions& o, Source& source, const std::vector<
     const std::vector<double> loads = parse_number_list(o.plot_loads, "--plot-loads");
     for (const auto& p : picks) {
       if (!p.result.decided) continue;
-      source.measure({p.vpp}, {options.naive_frequency_hz, p.result.frequency_hz}, loads, load_rows);
+      source.measure({p.amplitude_v}, {options.naive_frequency_hz, p.result.frequency_hz}, loads, load_rows);
     }
   } else {
     load_rows = sweep;
@@ -156,7 +156,7 @@ void write_plots(const PickCommandOptions& o, Source& source, const std::vector<
 }
 
 void run_pick(const PickCommandOptions& o) {
-  const std::vector<double> voltages = parse_number_list(o.vpp_list, "--vpp");
+  const std::vector<double> voltages = parse_number_list(o.amplitude_v_list, "--amplitude-v");
   const std::vector<double> loads = parse_number_list(o.load_list, "--load");
   if (!(o.margin_hz >= 0.0 && o.margin_hz <= 10000.0))
     throw std::invalid_argument("--margin-hz: must be within 0..10000");
@@ -202,16 +202,16 @@ void add_pick_command(CLI::App& app) {
   sub->add_option("--sweep", o->sweep_path, "sweep CSV (swum sweep --out)");
   sub->add_option("--config", o->config_path, "motor parameter file: sweep the model offline first");
   add_device_options(*sub, o->device, &o->tick_hz);
-  sub->add_option("--vpp", o->vpp_list, "voltages, comma list (Vpp)")->required();
+  sub->add_option("--amplitude-v", o->amplitude_v_list, "voltages, comma list (V)")->required();
   sub->add_option("--load", o->load_list,
                   "loads, comma list: the rows to use / to sweep at (N); a pick per voltage and load")
       ->capture_default_str();
   sub->add_option("--margin-hz", o->margin_hz, "minimum margin above the peak (Hz), as swum band")
       ->capture_default_str();
   sub->add_flag("--json", o->json, "JSON list on stdout");
-  sub->add_option("--schedule", o->schedule_path, "write vpp,load_n,frequency_hz CSV");
+  sub->add_option("--schedule", o->schedule_path, "write amplitude_v,load_n,frequency_hz CSV");
   sub->add_option("--plot-dir", o->plot_dir,
-                  "write speed_vs_frequency.png, frequency_vs_vpp.png, speed_vs_load.png here");
+                  "write speed_vs_frequency.png, frequency_vs_amplitude_v.png, speed_vs_load.png here");
   sub->add_option(
          "--frequency-hz", o->frequency_range,
          "model/device: START:STOP:STEP, swept from STOP down to START per voltage and load (Hz), as swum band")
@@ -223,7 +223,8 @@ void add_pick_command(CLI::App& app) {
       ->capture_default_str();
   sub->add_option("--dwell-ms", o->dwell_ms, "device: sampling window per point (device time, ms)")
       ->capture_default_str();
-  sub->add_option("--ramp-vpp-per-s", o->ramp_vpp_per_s, "device: amplitude slew limit for voltage ramps")
+  sub->add_option("--amplitude-slew-v-per-s", o->amplitude_slew_v_per_s,
+                  "device: amplitude slew limit for voltage ramps")
       ->capture_default_str();
   sub->callback([o] { run_pick(*o); });
 }

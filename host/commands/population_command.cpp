@@ -1,4 +1,4 @@
-// `swum population --config F --spreads S --motors N --vpp LIST --out motors.csv`: a Monte-Carlo
+// `swum population --config F --spreads S --motors N --amplitude-v LIST --out motors.csv`: a Monte-Carlo
 // study over manufacturing tolerances. Each motor's parameters are drawn from the study's
 // counter-based stream, its operating frequency per voltage picked as `swum pick --config`
 // picks it; rows go to motors.csv(.partial) as motors complete, then the distribution per
@@ -40,7 +40,7 @@ struct PopulationOptions {
   std::string spreads_path;
   std::uint64_t motors = 0;
   std::uint64_t seed = 1;
-  std::string vpp_list;
+  std::string amplitude_v_list;
   std::string frequency_range = kDefaultFrequencyGrid;  // the operating point's defaults, as swum pick
   double load_n = 0.0;
   double margin_hz = kDefaultMarginHz;
@@ -62,7 +62,7 @@ PopulationStudy prepare(const PopulationOptions& o) {
   }
   if (o.jobs > 1024) throw std::invalid_argument("--jobs: must be within 0..1024");
   PopulationStudy study;
-  study.voltages = parse_number_list(o.vpp_list, "--vpp");
+  study.voltages = parse_number_list(o.amplitude_v_list, "--amplitude-v");
   study.frequencies_hz = parse_range_or_value(o.frequency_range, "--frequency-hz");
   study.load_n = o.load_n;
   check_grid(OfflineGrid{study.voltages, study.frequencies_hz, {study.load_n}});
@@ -71,7 +71,7 @@ PopulationStudy prepare(const PopulationOptions& o) {
       // The pick matches a curve's voltage within 1e-6 relative (model_pick): closer ones are one.
       if (std::abs(study.voltages[a] - study.voltages[b]) <=
           1e-6 * std::max(std::abs(study.voltages[a]), std::abs(study.voltages[b]))) {
-        throw std::invalid_argument("--vpp: a voltage is given twice");
+        throw std::invalid_argument("--amplitude-v: a voltage is given twice");
       }
     }
   }
@@ -181,7 +181,7 @@ void add_population_command(CLI::App& app) {
   sub->add_option("--seed", o->seed, "study seed: motor i's parameters depend on (seed, i) only")
       ->check(CLI::NonNegativeNumber)  // CLI11 reads "-1" into an unsigned as 2^64 - 1
       ->capture_default_str();
-  sub->add_option("--vpp", o->vpp_list, "voltages, comma list (Vpp)")->required();
+  sub->add_option("--amplitude-v", o->amplitude_v_list, "voltages, comma list (V)")->required();
   sub->add_option("--frequency-hz", o->frequency_range, "START:STOP:STEP swept per motor and voltage (Hz)")
       ->capture_default_str();
   sub->add_option("--load", o->load_n, "load (N)")->capture_default_str();

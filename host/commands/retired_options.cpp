@@ -6,8 +6,7 @@ namespace swum::host {
 
 namespace {
 
-// One row per retired spelling: old, new (empty: removed, nothing replaces it), why. The voltage
-// names follow the vocabulary of issue 34 as well (the terminal amplitude in V); add their rows here.
+// One row per retired spelling: old, new (empty: removed, nothing replaces it), why.
 constexpr std::array kRetired{
     RetiredOption{"--frequency", "--frequency-hz", "every frequency option carries its unit"},
     RetiredOption{"--duration", "--duration-s", "every duration option carries its unit"},
@@ -20,6 +19,11 @@ constexpr std::array kRetired{
     RetiredOption{"--min-hz", "--min-frequency-hz", "frequency bounds named alike in swum and swum-emu"},
     RetiredOption{"--max-hz", "--max-frequency-hz", "frequency bounds named alike in swum and swum-emu"},
     RetiredOption{"--phase-gain", "--phase-gain-hz-per-deg", "a gain carries its unit"},
+    RetiredOption{"--vpp", "--amplitude-v", "a voltage is the terminal amplitude of one phase, in V"},
+    RetiredOption{"--max-vpp", "--max-amplitude-v", "a voltage is the terminal amplitude of one phase, in V"},
+    RetiredOption{"--vpp-slew", "--amplitude-slew-v-per-s", "the terminal amplitude's slew limit, in V/s"},
+    RetiredOption{"--ramp-vpp-per-s", "--amplitude-slew-v-per-s", "the terminal amplitude's slew limit, in V/s"},
+    RetiredOption{"--voltage-convention", "", "the drive's objects are terminal amplitudes; nothing to convert"},
 };
 
 bool spells(std::string_view arg, std::string_view option) {

@@ -19,7 +19,7 @@ namespace {
 
 struct SimulateOptions {
   std::string config_path;
-  std::string vpp;
+  std::string amplitude_v;
   std::string frequency_hz;
   std::string load_n = "0";
   std::string phase_deg = "90";
@@ -31,11 +31,11 @@ struct SimulateOptions {
 
 void run_simulate(const SimulateOptions& o) {
   OperatingPoint point;
-  point.vpp = parse_finite_number(o.vpp, "--vpp");
+  point.amplitude_v = parse_finite_number(o.amplitude_v, "--amplitude-v");
   point.frequency_hz = parse_finite_number(o.frequency_hz, "--frequency-hz");
   point.load_n = parse_finite_number(o.load_n, "--load");
   point.phase_deg = parse_finite_number(o.phase_deg, "--drive-phase-deg");
-  if (point.vpp < 0.0) throw std::invalid_argument("--vpp: must be >= 0, got " + o.vpp);
+  if (point.amplitude_v < 0.0) throw std::invalid_argument("--amplitude-v: must be >= 0, got " + o.amplitude_v);
   if (point.frequency_hz < 1000.0 || point.frequency_hz > 200000.0) {
     throw std::invalid_argument("--frequency-hz: must be within 1000..200000 Hz, got " + o.frequency_hz);
   }
@@ -70,7 +70,7 @@ void run_simulate(const SimulateOptions& o) {
 
   if (!o.trace_path.empty()) write_text_file_atomically(o.trace_path, trace_csv);
   if (r.diverged) {
-    throw CommandError("simulation diverged at " + o.vpp + " Vpp, " + o.frequency_hz + " Hz: " + r.failure,
+    throw CommandError("simulation diverged at " + o.amplitude_v + " V, " + o.frequency_hz + " Hz: " + r.failure,
                        kExitDiverged);
   }
   std::fputs((o.json ? simulation_json(point, r, wall_s) : simulation_text(point, r, wall_s)).c_str(), stdout);
@@ -82,7 +82,7 @@ void add_simulate_command(CLI::App& app) {
   auto o = std::make_shared<SimulateOptions>();
   CLI::App* sub = app.add_subcommand("simulate", "Run one operating point to steady state");
   add_config_option(*sub, o->config_path, "motor parameter file (TOML)");
-  sub->add_option("--vpp", o->vpp, "drive voltage (V peak-to-peak)")->required();
+  sub->add_option("--amplitude-v", o->amplitude_v, "drive voltage (V peak-to-peak)")->required();
   sub->add_option("--frequency-hz", o->frequency_hz, "drive frequency (Hz)")->required();
   sub->add_option("--load", o->load_n, "external load force on the mover (N)")->capture_default_str();
   sub->add_option("--drive-phase-deg", o->phase_deg, "phase of B relative to A (deg); sign = direction")

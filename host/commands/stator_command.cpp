@@ -21,7 +21,7 @@ namespace {
 
 struct StatorOptions {
   std::string config_path;
-  std::string vpp_list;
+  std::string amplitude_v_list;
   std::string frequency_range;
   bool json = false;
   std::string out_path;
@@ -36,10 +36,10 @@ std::filesystem::path sibling(const std::filesystem::path& path, const std::stri
 }
 
 void run_stator(const StatorOptions& o) {
-  const std::vector<double> voltages = parse_number_list(o.vpp_list, "--vpp");
+  const std::vector<double> voltages = parse_number_list(o.amplitude_v_list, "--amplitude-v");
   const std::vector<double> frequencies = parse_range_or_value(o.frequency_range, "--frequency-hz");
   for (double v : voltages) {
-    if (v < 0.0) throw std::invalid_argument("--vpp: voltages must be >= 0");
+    if (v < 0.0) throw std::invalid_argument("--amplitude-v: voltages must be >= 0");
   }
   for (double f : frequencies) {
     if (f < 1000.0 || f > 200000.0) {
@@ -88,12 +88,12 @@ void add_stator_command(CLI::App& app) {
   CLI::App* sub = app.add_subcommand(
       "stator", "Free-stator tip amplitudes by harmonic balance: all branches, stability, backbone");
   add_config_option(*sub, o->config_path, "motor parameter file (TOML)");
-  sub->add_option("--vpp", o->vpp_list, "drive voltages, comma list (V peak-to-peak)")->required();
+  sub->add_option("--amplitude-v", o->amplitude_v_list, "drive voltages, comma list (V peak-to-peak)")->required();
   sub->add_option("--frequency-hz", o->frequency_range, "START:STOP:STEP or one value (Hz)")->required();
   auto* json = sub->add_flag("--json", o->json, "print one JSON object (rows and backbone)");
   auto* out = sub->add_option("--out", o->out_path,
                               "output CSV (default: stdout) with columns "
-                              "vpp,frequency_hz,branch,stable,tip_normal_um,tip_tangential_um");
+                              "amplitude_v,frequency_hz,branch,stable,tip_normal_um,tip_tangential_um");
   json->excludes(out);
   sub->add_option("--plot", o->plot_path, "PNG of the tangential amplitude (and <name>_normal.png of the normal one)");
   sub->add_option("--backbone", o->backbone_path, "CSV of the peak frequency and amplitude of each mode per voltage");

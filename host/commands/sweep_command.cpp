@@ -26,14 +26,14 @@ struct SweepOptions {
   std::string config_path;
   DeviceOptions device;
   double tick_hz = 10000.0;  // --tick-hz: lockstep (--canopen --sync-ticks)
-  std::string vpp_list;
+  std::string amplitude_v_list;
   std::string frequency_range;
   std::string load_list = "0";
   double phase_deg = 90.0;
   int jobs = 0;
   double settle_ms = 50.0;
   double dwell_ms = 50.0;
-  double ramp_vpp_per_s = 2000.0;
+  double amplitude_slew_v_per_s = 2000.0;
   std::string out_path;
   std::string plot_path;
   bool resume = false;
@@ -152,7 +152,7 @@ void run_device_sweep(const SweepOptions& o, const DeviceSweepPlan& plan) {
 
 void run_sweep(const SweepOptions& o) {
   OfflineGrid grid;
-  grid.voltages = parse_number_list(o.vpp_list, "--vpp");
+  grid.voltages = parse_number_list(o.amplitude_v_list, "--amplitude-v");
   grid.frequencies_hz = parse_range_or_value(o.frequency_range, "--frequency-hz");
   grid.loads_n = parse_number_list(o.load_list, "--load");
   grid.phase_deg = o.phase_deg;
@@ -174,7 +174,7 @@ void run_sweep(const SweepOptions& o) {
   plan.phase_deg = o.phase_deg;
   plan.settle_s = o.settle_ms * 1e-3;
   plan.dwell_s = o.dwell_ms * 1e-3;
-  plan.ramp_vpp_per_s = o.ramp_vpp_per_s;
+  plan.amplitude_slew_v_per_s = o.amplitude_slew_v_per_s;
   run_device_sweep(o, plan);
 }
 
@@ -186,7 +186,7 @@ void add_sweep_command(CLI::App& app) {
                                      "Steady speed over voltages x frequencies x loads (model or live device)");
   sub->add_option("--config", o->config_path, "motor parameter file (TOML): sweep the model offline");
   add_device_options(*sub, o->device, &o->tick_hz);
-  sub->add_option("--vpp", o->vpp_list, "drive voltages, comma list (V peak-to-peak)")->required();
+  sub->add_option("--amplitude-v", o->amplitude_v_list, "drive voltages, comma list (V peak-to-peak)")->required();
   sub->add_option("--frequency-hz", o->frequency_range, "START:STOP:STEP or one value (Hz); swept downward on a device")
       ->required();
   sub->add_option("--load", o->load_list, "loads, comma list (N)")->capture_default_str();
@@ -196,7 +196,8 @@ void add_sweep_command(CLI::App& app) {
       ->capture_default_str();
   sub->add_option("--dwell-ms", o->dwell_ms, "device: sampling window per point (device time, ms)")
       ->capture_default_str();
-  sub->add_option("--ramp-vpp-per-s", o->ramp_vpp_per_s, "device: amplitude slew limit for voltage ramps")
+  sub->add_option("--amplitude-slew-v-per-s", o->amplitude_slew_v_per_s,
+                  "device: amplitude slew limit for voltage ramps")
       ->capture_default_str();
   sub->add_option("--out", o->out_path, "output CSV")->required();
   sub->add_option("--plot", o->plot_path, "output PNG plot");

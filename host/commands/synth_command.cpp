@@ -117,7 +117,8 @@ void add_synth_command(CLI::App& app) {
   sub->add_option("--effect", o->effects,
                   "NAME or NAME:key=value,... (repeatable): electroelastic, thermal, wear, "
                   "preload, guide_friction, amplifier_droop");
-  sub->add_option("--points", o->points_path, "CSV of operating points: vpp,frequency_hz,load_n[,time_s][,sweep]")
+  sub->add_option("--points", o->points_path,
+                  "CSV of operating points: amplitude_v,frequency_hz,load_n[,time_s][,sweep]")
       ->required();
   sub->add_option("--noise", o->noise, "relative Gaussian noise (multiplicative)")->capture_default_str();
   sub->add_option("--seed", o->seed, "noise seed")->capture_default_str();

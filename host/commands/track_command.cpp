@@ -88,7 +88,7 @@ void add_track_command(CLI::App& app) {
   CLI::App* sub = app.add_subcommand(
       "track", "Hold a live device a margin above its drifting resonance (by motional phase or speed)");
   add_device_options(*sub, o->device);
-  sub->add_option("--vpp", o->settings.vpp, "drive amplitude (Vpp)")->required();
+  sub->add_option("--amplitude-v", o->settings.amplitude_v, "drive amplitude (V)")->required();
   sub->add_option("--duration-s", o->settings.duration_s, "run length (s; device time in lockstep)")
       ->capture_default_str();
   sub->add_option("--method", o->method, "phase (PLL on the motional phase), speed (search), fixed (cold pick held)")
@@ -112,8 +112,8 @@ void add_track_command(CLI::App& app) {
   sub->add_option("--drive-phase-deg", o->settings.drive_phase_deg,
                   "V_B ahead of V_A; its sign is the direction (phase method: forward only)")
       ->capture_default_str();
-  sub->add_option("--vpp-slew", o->settings.slew.vpp_per_s,
-                  "amplitude slew limit written to the device (Vpp/s, 0 = none)")
+  sub->add_option("--amplitude-slew-v-per-s", o->settings.slew.amplitude_v_per_s,
+                  "amplitude slew limit written to the device (V/s, 0 = none)")
       ->capture_default_str();
   sub->add_option("--frequency-slew-hz-per-s", o->settings.slew.frequency_hz_per_s,
                   "frequency slew limit written to the device (Hz/s, 0 = none)")

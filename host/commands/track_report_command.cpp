@@ -1,4 +1,4 @@
-// `swum track-report --run NAME=track.csv ... --band band.csv --vpp V`: how close tracking runs
+// `swum track-report --run NAME=track.csv ... --band band.csv --amplitude-v V`: how close tracking runs
 // stayed to the best speed available at each moment (host/track/track_report.h; docs/host.md).
 #include <cstdio>
 #include <filesystem>
@@ -17,7 +17,7 @@ namespace {
 struct TrackReportOptions {
   std::vector<std::string> runs;  // NAME=FILE
   std::string band_path;
-  double vpp = 0.0;
+  double amplitude_v = 0.0;
   double load_n = 0.0;
   double ambient_c = 20.0;
   double skip_s = 30.0;
@@ -27,7 +27,8 @@ struct TrackReportOptions {
 };
 
 void run_report(const TrackReportOptions& o) {
-  if (!(o.vpp > 0.0 && o.vpp <= 10000.0)) throw std::invalid_argument("--vpp: must be in (0, 10000]");
+  if (!(o.amplitude_v > 0.0 && o.amplitude_v <= 10000.0))
+    throw std::invalid_argument("--amplitude-v: must be in (0, 10000]");
   // The NAME=FILE form of every --run before any file is read.
   std::vector<std::pair<std::string, std::string>> named;
   for (const std::string& spec : o.runs) {
@@ -36,7 +37,7 @@ void run_report(const TrackReportOptions& o) {
       throw std::invalid_argument("--run: " + spec + ": expected NAME=FILE");
     named.emplace_back(spec.substr(0, eq), spec.substr(eq + 1));
   }
-  const BestSpeedCurve best = read_band_csv(o.band_path, o.vpp, o.load_n);
+  const BestSpeedCurve best = read_band_csv(o.band_path, o.amplitude_v, o.load_n);
   std::vector<TrackSeries> runs;
   std::vector<TrackRunSummary> summaries;
   for (const auto& [name, path] : named) {
@@ -45,7 +46,7 @@ void run_report(const TrackReportOptions& o) {
   }
   if (!o.plot_dir.empty()) {
     std::filesystem::create_directories(o.plot_dir);
-    write_tracking_plots(o.plot_dir, runs, summaries, best, o.vpp, o.ambient_c);
+    write_tracking_plots(o.plot_dir, runs, summaries, best, o.amplitude_v, o.ambient_c);
   }
   std::fputs((o.json ? tracking_json(summaries) : tracking_text(summaries)).c_str(), stdout);
 }
@@ -58,7 +59,7 @@ void add_track_report_command(CLI::App& app) {
       "track-report", "Compare swum track runs with the best speed at each moment's temperature (a swum band table)");
   sub->add_option("--run", o->runs, "NAME=track.csv (repeat for several runs)")->required();
   sub->add_option("--band", o->band_path, "swum band CSV over temperature rises (the reference)")->required();
-  sub->add_option("--vpp", o->vpp, "the runs' drive amplitude: the band rows used")->required();
+  sub->add_option("--amplitude-v", o->amplitude_v, "the runs' drive amplitude: the band rows used")->required();
   sub->add_option("--load", o->load_n, "the band rows' load (N)")->capture_default_str();
   sub->add_option("--ambient-c", o->ambient_c, "ambient temperature of the runs (degC)")->capture_default_str();
   sub->add_option("--skip-s", o->skip_s, "leave out the start (acquisition)")->capture_default_str();

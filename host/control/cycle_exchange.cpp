@@ -35,7 +35,7 @@ CycleExchange::CycleExchange(Device& device, double cycle_s, double tick_hz, con
                                   format_seconds(tick_hz));
     }
   } else {
-    device.set_slew(slew.frequency_hz_per_s, slew.vpp_per_s);
+    device.set_slew(slew.frequency_hz_per_s, slew.amplitude_v_per_s);
   }
   start_ = Clock::now();
 }
@@ -59,7 +59,7 @@ DeviceTelemetry CycleExchange::exchange(const DriveSetpoint& setpoint, DeviceAct
 }
 
 void CycleExchange::drive_off(DriveSetpoint setpoint) {
-  setpoint.vpp = 0.0;
+  setpoint.amplitude_v = 0.0;
   (void)exchange(setpoint, DeviceAction::disable);
 }
 

@@ -23,7 +23,7 @@ class FaultReaction {
  public:
   struct Decision {
     DeviceAction action = DeviceAction::keep_alive;
-    bool drive = false;  // false: 0 Vpp
+    bool drive = false;  // false: 0 V
   };
 
   FaultReaction(const SpeedControlSettings& s, const SpeedControlHooks& hooks, SpeedControlResult& result)
@@ -103,12 +103,12 @@ void run_cycles(CycleExchange& exchange, FaultReaction& reaction, DriveSetpoint&
     }
     const FaultReaction::Decision d = reaction.next(last, cycle);
     if (!d.drive) pi.reset();
-    setpoint.vpp = d.drive ? pi.update(s.target_mm_s, last.speed_mm_s, s.cycle_s) : 0.0;
+    setpoint.amplitude_v = d.drive ? pi.update(s.target_mm_s, last.speed_mm_s, s.cycle_s) : 0.0;
     last = exchange.exchange(setpoint, d.action);
     result.cycles = cycle + 1;
     if (hooks.on_row) {
       hooks.on_row({cycle, last.tick, last.device_time_s.value_or(exchange.host_seconds(last)), s.target_mm_s,
-                    last.speed_mm_s, setpoint.vpp, s.frequency_hz, last.state, last.fault_code, d.action});
+                    last.speed_mm_s, setpoint.amplitude_v, s.frequency_hz, last.state, last.fault_code, d.action});
     }
     if (2 * cycle >= cycles) {
       error_sum_mm_s += std::abs(s.target_mm_s - last.speed_mm_s);
@@ -135,7 +135,8 @@ std::string format_speed_control_row(const SpeedControlRow& r) {
   if (r.tick) std::snprintf(tick, sizeof tick, "%" PRIu64, *r.tick);
   // printf_string: a --speed-mm-s of 1e300 is 308 characters through %.6f; the row is never cut.
   return printf_string("%" PRIu64 ",%s,%.6f,%.6f,%.6f,%.6f,%.6f,%d,%d,%s\n", r.cycle, tick, r.time_s, r.target_mm_s,
-                       r.speed_mm_s, r.vpp_command, r.frequency_hz, r.state, r.fault_code, action_name(r.action));
+                       r.speed_mm_s, r.amplitude_v_command, r.frequency_hz, r.state, r.fault_code,
+                       action_name(r.action));
 }
 
 SpeedControlResult run_speed_control(Device& device, const SpeedControlSettings& s, const SpeedControlHooks& hooks) {

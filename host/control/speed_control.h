@@ -40,7 +40,7 @@ struct SpeedControlRow {
   double time_s = 0.0;                // device time (host time since start when not carried)
   double target_mm_s = 0.0;
   double speed_mm_s = 0.0;
-  double vpp_command = 0.0;
+  double amplitude_v_command = 0.0;
   double frequency_hz = 0.0;
   int state = 0;
   int fault_code = 0;
@@ -56,7 +56,7 @@ struct SpeedControlResult {
 };
 
 inline constexpr const char* kSpeedControlCsvHeader =
-    "cycle,tick,time_s,target_mm_s,speed_mm_s,vpp_command,frequency_hz,state,fault_code,action\n";
+    "cycle,tick,time_s,target_mm_s,speed_mm_s,amplitude_v_command,frequency_hz,state,fault_code,action\n";
 // One CSV row, fixed precision (%.6f): identical telemetry gives identical bytes.
 std::string format_speed_control_row(const SpeedControlRow& row);
 const char* action_name(DeviceAction action);

@@ -111,7 +111,7 @@ void CanDevice::send_command(std::uint8_t mode) {
   c.alive = command_alive_;
   c.frequency_hz = setpoint_.frequency_hz;
   c.phase_deg = setpoint_.phase_deg;
-  c.amplitude_vpp = setpoint_.vpp;
+  c.amplitude_v = setpoint_.amplitude_v;
   send(can::encode_command(c, can::ids_for_node(node_).command), "command");
 }
 
@@ -121,7 +121,7 @@ void CanDevice::send_aux() {
   a.alive = aux_alive_;
   a.load_n = setpoint_.load_n;
   a.frequency_slew_hz_per_s = frequency_slew_hz_per_s_;
-  a.amplitude_slew_vpp_per_s = vpp_slew_per_s_;
+  a.amplitude_slew_v_per_s = amplitude_slew_v_per_s_;
   send(can::encode_aux(a, can::ids_for_node(node_).aux), "aux command");
 }
 
@@ -132,12 +132,12 @@ void CanDevice::set_drive(const DriveSetpoint& s) {
   send_command(mode_);
 }
 
-void CanDevice::set_slew(double frequency_hz_per_s, double vpp_per_s) {
-  // The AuxCommand frame carries 100 Hz/s and 10 Vpp/s steps, 0 = unlimited: round down to a
+void CanDevice::set_slew(double frequency_hz_per_s, double amplitude_v_per_s) {
+  // The AuxCommand frame carries 100 Hz/s and 10 V/s steps, 0 = unlimited: round down to a
   // step, never to 0, so the device never slews faster than asked.
   auto down = [](double v, double step) { return v > 0.0 ? std::max(step, std::floor(v / step) * step) : 0.0; };
   frequency_slew_hz_per_s_ = down(frequency_hz_per_s, can::signals::kAuxFrequencySlew.factor);
-  vpp_slew_per_s_ = down(vpp_per_s, can::signals::kAuxAmplitudeSlew.factor);
+  amplitude_slew_v_per_s_ = down(amplitude_v_per_s, can::signals::kAuxAmplitudeSlew.factor);
   send_aux();
 }
 
@@ -168,11 +168,11 @@ DeviceTelemetry CanDevice::step(const DriveSetpoint& s, const DriveSlew& slew, D
                                 std::uint32_t ticks) {
   if (!lockstep_) throw DeviceError(name() + ": not in lockstep (start swum-emu with --clock external)");
   const bool aux_changed = s.load_n != setpoint_.load_n || slew.frequency_hz_per_s != frequency_slew_hz_per_s_ ||
-                           slew.vpp_per_s != vpp_slew_per_s_;
+                           slew.amplitude_v_per_s != amplitude_slew_v_per_s_;
   setpoint_ = s;
   if (aux_changed) {
     frequency_slew_hz_per_s_ = slew.frequency_hz_per_s;
-    vpp_slew_per_s_ = slew.vpp_per_s;
+    amplitude_slew_v_per_s_ = slew.amplitude_v_per_s;
     send_aux();
   }
   command(action);  // the Command frame with the set-points, latched at the SYNC below
@@ -244,7 +244,7 @@ DeviceTelemetry CanDevice::receive_set() {
       if (can::decode_drive(f, d) == protocol::Reason::none) {
         t.tip_normal_um = d.tip_normal_um;
         t.tip_tangential_um = d.tip_tangential_um;
-        t.vpp = d.vpp;
+        t.amplitude_v = d.amplitude_v;
         t.phase_deg = d.phase_deg;
         seen |= kDrive;
       }

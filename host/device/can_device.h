@@ -22,7 +22,7 @@ class CanDevice final : public Device {
 
   std::string name() const override;
   void set_drive(const DriveSetpoint& setpoint) override;
-  void set_slew(double frequency_hz_per_s, double vpp_per_s) override;
+  void set_slew(double frequency_hz_per_s, double amplitude_v_per_s) override;
   void command(DeviceAction action) override;
   DeviceTelemetry read() override;
   // Lockstep (swum-emu --clock external, Status bit ExternalClock): sets, sends one SYNC and
@@ -45,7 +45,7 @@ class CanDevice final : public Device {
   std::chrono::milliseconds response_timeout_{500};
   DriveSetpoint setpoint_;
   double frequency_slew_hz_per_s_ = 0.0;
-  double vpp_slew_per_s_ = 0.0;
+  double amplitude_slew_v_per_s_ = 0.0;
   std::uint8_t mode_ = protocol::can::mode::kDisable;  // what keep-alives repeat: 0 disable, 1 enable
   std::uint8_t command_alive_ = 0;
   std::uint8_t aux_alive_ = 0;

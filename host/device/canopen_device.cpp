@@ -77,8 +77,6 @@ Where where(const std::string& address) {
 const CanopenNode& checked(const CanopenNode& s) {
   if (s.sync_ticks > 65535) throw std::invalid_argument("--sync-ticks: must be within 1..65535");
   if (!(s.tick_hz > 0.0 && std::isfinite(s.tick_hz))) throw std::invalid_argument("--tick-hz: must be > 0");
-  if (!(s.vpp_per_terminal_volt > 0.0 && std::isfinite(s.vpp_per_terminal_volt)))
-    throw std::invalid_argument("CANopen: vpp per terminal volt must be > 0");
   return s;
 }
 
@@ -235,7 +233,7 @@ void CanopenDevice::configure() {
   encoded_.amplitude_mv = upload(0x2002, 0, "amplitude set-point");
   encoded_.phase_cdeg = static_cast<std::int16_t>(upload(0x2003, 0, "phase set-point"));
   setpoint_.frequency_hz = encoded_.frequency_mhz * 1e-3;
-  setpoint_.vpp = encoded_.amplitude_mv * 1e-3 * settings_.vpp_per_terminal_volt;
+  setpoint_.amplitude_v = encoded_.amplitude_mv * 1e-3;
   setpoint_.phase_deg = encoded_.phase_cdeg * 0.01;
   setpoint_.load_n = 0.0;
 }
@@ -309,7 +307,7 @@ void CanopenDevice::check_setpoint(const DriveSetpoint& s) {
     throw DeviceError(name() + ": the CiA 402 drive has no load input (load " + std::to_string(s.load_n) +
                       " N asked): set the emulated load with swum-emu's scenario, --inject or HTTP API");
   layout::Setpoints encoded;
-  const std::string problem = layout::encode_setpoints(s, settings_.vpp_per_terminal_volt, encoded);
+  const std::string problem = layout::encode_setpoints(s, encoded);
   if (!problem.empty()) throw DeviceError(name() + ": " + problem);
   setpoint_ = s;
   encoded_ = encoded;
@@ -317,7 +315,7 @@ void CanopenDevice::check_setpoint(const DriveSetpoint& s) {
 
 void CanopenDevice::write_slews(const DriveSlew& slew) {
   const std::uint32_t hz = slew_units(slew.frequency_hz_per_s, "frequency slew (Hz/s)");
-  const std::uint32_t v = slew_units(slew.vpp_per_s / settings_.vpp_per_terminal_volt, "amplitude slew (V/s)");
+  const std::uint32_t v = slew_units(slew.amplitude_v_per_s, "amplitude slew (V/s)");
   download(0x2004, 0, hz, 4, "frequency slew");
   download(0x2005, 0, v, 4, "amplitude slew");
   slew_ = slew;
@@ -342,8 +340,8 @@ void CanopenDevice::set_drive(const DriveSetpoint& s) {
   send_controlword(controlword_);
 }
 
-void CanopenDevice::set_slew(double frequency_hz_per_s, double vpp_per_s) {
-  write_slews(DriveSlew{frequency_hz_per_s, vpp_per_s});
+void CanopenDevice::set_slew(double frequency_hz_per_s, double amplitude_v_per_s) {
+  write_slews(DriveSlew{frequency_hz_per_s, amplitude_v_per_s});
 }
 
 void CanopenDevice::command(DeviceAction action) {
@@ -380,7 +378,8 @@ DeviceTelemetry CanopenDevice::step(const DriveSetpoint& s, const DriveSlew& sle
                       std::to_string(settings_.sync_ticks) + "-tick SYNC cycles (--sync-ticks; the control cycle " +
                       "--cycle-ms x --tick-hz / 1000 must be a multiple of it)");
   check_setpoint(s);
-  if (!slews_known_ || slew.frequency_hz_per_s != slew_.frequency_hz_per_s || slew.vpp_per_s != slew_.vpp_per_s)
+  if (!slews_known_ || slew.frequency_hz_per_s != slew_.frequency_hz_per_s ||
+      slew.amplitude_v_per_s != slew_.amplitude_v_per_s)
     write_slews(slew);
   goal_ = goal_of(action, goal_);
   send_setpoints();
@@ -415,7 +414,7 @@ DeviceTelemetry CanopenDevice::sync_and_collect(std::chrono::milliseconds timeou
     throw DeviceError(name() + ": " + missing + " did not answer the SYNC within " + std::to_string(timeout.count()) +
                       " ms");
   }
-  DeviceTelemetry t = layout::telemetry_of(actuals, settings_.vpp_per_terminal_volt);
+  DeviceTelemetry t = layout::telemetry_of(actuals);
   state_ = canopen::state_of(actuals.statusword);
   if (lockstep()) {
     // Sampled at the SYNC, before the cycle it starts: the host's SYNCs before it are the time.

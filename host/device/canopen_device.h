@@ -64,7 +64,7 @@ class CanopenDevice final : public Device {
   // Throws DeviceError for a load (the drive's dictionary has no load input: the test bench's
   // load stays with the scenario, --inject and the HTTP API) or a set-point its objects cannot hold.
   void set_drive(const DriveSetpoint& setpoint) override;
-  void set_slew(double frequency_hz_per_s, double vpp_per_s) override;
+  void set_slew(double frequency_hz_per_s, double amplitude_v_per_s) override;
   void command(DeviceAction action) override;
   DeviceTelemetry read() override;
   bool lockstep() const override { return settings_.sync_ticks > 0; }

@@ -82,7 +82,7 @@ std::string decode_tpdo(int number, const protocol::CanFrame& f, Actuals& out) {
   return {};
 }
 
-DeviceTelemetry telemetry_of(const Actuals& a, double vpp_per_terminal_volt) {
+DeviceTelemetry telemetry_of(const Actuals& a) {
   DeviceTelemetry t;
   t.received = std::chrono::steady_clock::now();
   t.state = static_cast<int>(cia402::amp_state(canopen::state_of(a.statusword)));
@@ -95,18 +95,18 @@ DeviceTelemetry telemetry_of(const Actuals& a, double vpp_per_terminal_volt) {
   t.speed_mm_s = a.velocity_um_s * 1e-3;
   t.position_mm = a.position_um * 1e-3;
   t.frequency_hz = a.frequency_mhz * 1e-3;
-  t.vpp = a.amplitude_mv * 1e-3 * vpp_per_terminal_volt;
+  t.amplitude_v = a.amplitude_mv * 1e-3;
   t.phase_deg = a.phase_cdeg * 0.01;
   t.stator_temperature_c = a.temperature_cdegc * 0.01;
   return t;
 }
 
-std::string encode_setpoints(const DriveSetpoint& s, double vpp_per_terminal_volt, Setpoints& out) {
+std::string encode_setpoints(const DriveSetpoint& s, Setpoints& out) {
   const double mhz = std::round(s.frequency_hz * 1e3);
   if (!(mhz >= 0.0 && mhz <= 4294967295.0))
     return out_of_range("frequency_hz", s.frequency_hz, "0x2001: UNSIGNED32 mHz");
-  const double mv = std::round(s.vpp / vpp_per_terminal_volt * 1e3);
-  if (!(mv >= 0.0 && mv <= 4294967295.0)) return out_of_range("vpp", s.vpp, "0x2002: UNSIGNED32 mV");
+  const double mv = std::round(s.amplitude_v * 1e3);
+  if (!(mv >= 0.0 && mv <= 4294967295.0)) return out_of_range("amplitude_v", s.amplitude_v, "0x2002: UNSIGNED32 mV");
   const double cdeg = std::round(s.phase_deg * 100.0);
   if (!(cdeg >= -18000.0 && cdeg <= 18000.0)) return out_of_range("phase_deg", s.phase_deg, "0x2003: -180..180 deg");
   out.frequency_mhz = static_cast<std::uint32_t>(mhz);

@@ -53,9 +53,8 @@ struct Actuals {
 };
 // TPDO `number`'s bytes into `out`: "" when they fit its mapping, else what is wrong (its length).
 std::string decode_tpdo(int number, const protocol::CanFrame& frame, Actuals& out);
-// The telemetry of one complete set. `vpp_per_terminal_volt`: the amplifier's "vpp" input per
-// volt of 0x2011's terminal amplitude (the motor's voltage convention).
-DeviceTelemetry telemetry_of(const Actuals& a, double vpp_per_terminal_volt);
+// The telemetry of one complete set (0x2011's terminal amplitude is the amplitude reported).
+DeviceTelemetry telemetry_of(const Actuals& a);
 
 // The set-points in the bus's units, checked against the objects' types and 0x2003's range.
 struct Setpoints {
@@ -64,7 +63,7 @@ struct Setpoints {
   std::int16_t phase_cdeg = 0;
 };
 // "" and `out` set, or what is out of range (the DriveSetpoint field and its limit).
-std::string encode_setpoints(const DriveSetpoint& s, double vpp_per_terminal_volt, Setpoints& out);
+std::string encode_setpoints(const DriveSetpoint& s, Setpoints& out);
 protocol::CanFrame rpdo1(std::uint8_t node, const Setpoints& s);
 protocol::CanFrame rpdo2(std::uint8_t node, std::uint16_t controlword, const Setpoints& s);
 

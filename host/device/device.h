@@ -26,7 +26,7 @@ class DeviceError : public std::runtime_error {
 
 struct DriveSetpoint {
   double frequency_hz = 40400.0;
-  double vpp = 0.0;
+  double amplitude_v = 0.0;
   double phase_deg = 90.0;  // B ahead of A; the sign selects the direction
   double load_n = 0.0;      // emulated load force (an emulator input; a real board ignores it)
 };
@@ -34,7 +34,7 @@ struct DriveSetpoint {
 // Slew limits of the drive set-points (0 = unlimited): the device never ramps faster.
 struct DriveSlew {
   double frequency_hz_per_s = 0.0;
-  double vpp_per_s = 0.0;
+  double amplitude_v_per_s = 0.0;
 };
 
 // The action of a command: the wire's (keep_alive, enable, disable, reset_fault), one type on
@@ -72,7 +72,7 @@ struct DeviceTelemetry {
   double tip_normal_um = 0.0;
   double tip_tangential_um = 0.0;
   double frequency_hz = 0.0;  // driven (after slew)
-  double vpp = 0.0;           // driven (0 when off)
+  double amplitude_v = 0.0;   // driven (0 when off)
   double phase_deg = 0.0;
   double load_n = 0.0;
   double lateness_p99_us = 0.0;
@@ -93,7 +93,7 @@ class Device {
   // "modbus tcp://127.0.0.1:1502", "can vcan0 node 1", "canopen vcan0 node 3".
   virtual std::string name() const = 0;
   virtual void set_drive(const DriveSetpoint& setpoint) = 0;
-  virtual void set_slew(double frequency_hz_per_s, double vpp_per_s) = 0;
+  virtual void set_slew(double frequency_hz_per_s, double amplitude_v_per_s) = 0;
   virtual void command(DeviceAction action) = 0;
   // The next telemetry sample (Modbus: a fresh read; CAN: the next complete set of frames).
   virtual DeviceTelemetry read() = 0;
@@ -121,10 +121,6 @@ struct CanopenNode {
   // runs on the wall clock.
   std::uint32_t sync_ticks = 0;
   double tick_hz = 10000.0;  // its --tick-hz: in lockstep a SYNC is sync_ticks / tick_hz of device time
-  // The amplifier's "vpp" input (DriveSetpoint::vpp, what Modbus and the swum CAN frames carry)
-  // per volt of terminal amplitude, 0x2002/0x2011's unit: the motor's voltage_convention (1
-  // amplitude, as config/li2019.toml; 2 peak_to_peak).
-  double vpp_per_terminal_volt = 1.0;
 };
 
 // Where the device is: exactly one of the three forms of the command line.

@@ -16,12 +16,6 @@ void add_device_options(CLI::App& sub, DeviceOptions& o, double* tick_hz) {
                  "--canopen: the node runs in lockstep (swum-emu --clock external --sync-ticks N), N ticks per SYNC")
       ->check(CLI::Range(1, 65535))
       ->needs(canopen);
-  sub.add_option("--voltage-convention", o.voltage_convention,
-                 "--canopen: how the drive reads a voltage (the motor config's voltage_convention): amplitude "
-                 "(vpp = terminal amplitude, config/li2019.toml) or peak_to_peak (vpp = 2 x amplitude)")
-      ->check(CLI::IsMember({"amplitude", "peak_to_peak"}))
-      ->capture_default_str()
-      ->needs(canopen);
   sub.add_option("--connect-timeout-ms", o.connect_timeout_ms, "connect / first answer timeout (ms)")
       ->check(CLI::Range(1, 600000))
       ->capture_default_str();
@@ -38,7 +32,6 @@ void add_device_options(CLI::App& sub, DeviceOptions& o, double* tick_hz) {
 std::unique_ptr<Device> DeviceOptions::open(double tick_hz) const {
   DeviceAddress a = address;
   a.canopen_node.tick_hz = tick_hz;
-  a.canopen_node.vpp_per_terminal_volt = voltage_convention == "peak_to_peak" ? 2.0 : 1.0;
   return open_device(a, timeouts());
 }
 

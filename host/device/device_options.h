@@ -1,5 +1,5 @@
 // The device options every live subcommand takes: --modbus | --can | --canopen (with the CANopen
-// node's --sync-ticks and --voltage-convention), --connect-timeout-ms, --timeout-ms.
+// node's --sync-ticks), --connect-timeout-ms, --timeout-ms.
 #pragma once
 
 #include <CLI/CLI.hpp>
@@ -15,7 +15,6 @@ struct DeviceOptions {
   DeviceAddress address;
   int connect_timeout_ms = 1000;
   int response_timeout_ms = 500;
-  std::string voltage_convention = "amplitude";  // --voltage-convention (CANopen)
   DeviceTimeouts timeouts() const {
     return {std::chrono::milliseconds(connect_timeout_ms), std::chrono::milliseconds(response_timeout_ms)};
   }
@@ -25,7 +24,7 @@ struct DeviceOptions {
 };
 
 // Adds --modbus, --can, --canopen (one of them: open_device() refuses two), --sync-ticks,
-// --voltage-convention, --connect-timeout-ms, --timeout-ms. With `tick_hz` (the commands that
+// --connect-timeout-ms, --timeout-ms. With `tick_hz` (the commands that
 // have no --tick-hz of their own: log, sweep, pick) also --tick-hz, bound to it.
 void add_device_options(CLI::App& sub, DeviceOptions& options, double* tick_hz = nullptr);
 

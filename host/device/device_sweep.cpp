@@ -18,7 +18,7 @@ namespace {
 using Clock = std::chrono::steady_clock;
 
 constexpr double kFrequencyReachedHz = 0.5;
-constexpr double kAmplitudeReachedVpp = 0.5;
+constexpr double kAmplitudeReachedV = 0.5;
 
 // One conversation with the device: timing on the device clock when it has one, keep-alives,
 // and a watch on the device's reject counter so a rejected command never passes silently.
@@ -151,21 +151,22 @@ class Sweeper {
         sweep_id_(start.first_sweep_id - 1),
         time_offset_s_(start.time_offset_s) {}
 
-  // Drive on at `vpp`, reached by the device's slew limit, at `frequency_hz`.
-  bool ramp_to(double vpp, double frequency_hz, double load_n) {
-    DriveSetpoint s{frequency_hz, vpp, plan_.phase_deg, load_n};
+  // Drive on at `amplitude_v`, reached by the device's slew limit, at `frequency_hz`.
+  bool ramp_to(double amplitude_v, double frequency_hz, double load_n) {
+    DriveSetpoint s{frequency_hz, amplitude_v, plan_.phase_deg, load_n};
     session_.set_drive(s);
-    const double ramp_s = std::abs(vpp - session_.last().vpp) / std::max(plan_.ramp_vpp_per_s, 1e-9);
+    const double ramp_s = std::abs(amplitude_v - session_.last().amplitude_v) /
+                          std::max(plan_.amplitude_slew_v_per_s, 1e-9);
     return session_.read_until(
         [&](const DeviceTelemetry& t) {
-          return std::abs(t.vpp - vpp) <= kAmplitudeReachedVpp &&
+          return std::abs(t.amplitude_v - amplitude_v) <= kAmplitudeReachedV &&
                  std::abs(t.frequency_hz - frequency_hz) <= kFrequencyReachedHz;
         },
         2.0 * ramp_s + 1.0, plan_.keep_alive_s);
   }
 
   // Starts the drive from rest: the points measured after it are a new continuous sweep.
-  bool start_voltage(double vpp, double frequency_hz, double load_n) {
+  bool start_voltage(double amplitude_v, double frequency_hz, double load_n) {
     ++sweep_id_;
     if (session_.last().is(protocol::AmpState::fault)) session_.command(DeviceAction::reset_fault);
     session_.set_drive({frequency_hz, 0.0, plan_.phase_deg, load_n});
@@ -177,12 +178,12 @@ class Sweeper {
                         std::to_string(session_.last().fault_code) +
                         (session_.last().enable_line ? "" : ", enable input low") + ")");
     }
-    return ramp_to(vpp, frequency_hz, load_n);
+    return ramp_to(amplitude_v, frequency_hz, load_n);
   }
 
-  SweepRow measure(double vpp, double frequency_hz, double load_n) {
-    SweepRow row = unmeasured(vpp, frequency_hz, load_n, "timeout");
-    session_.set_drive({frequency_hz, vpp, plan_.phase_deg, load_n});
+  SweepRow measure(double amplitude_v, double frequency_hz, double load_n) {
+    SweepRow row = unmeasured(amplitude_v, frequency_hz, load_n, "timeout");
+    session_.set_drive({frequency_hz, amplitude_v, plan_.phase_deg, load_n});
     const bool reached = session_.read_until(
         [&](const DeviceTelemetry& t) { return std::abs(t.frequency_hz - frequency_hz) <= kFrequencyReachedHz; }, 1.0,
         plan_.keep_alive_s);
@@ -246,8 +247,8 @@ class Sweeper {
   }
 
   // A row of the current sweep at the current device time, not (yet) measured.
-  SweepRow unmeasured(double vpp, double frequency_hz, double load_n, const std::string& status) const {
-    SweepRow row{vpp, frequency_hz, load_n, false, status};
+  SweepRow unmeasured(double amplitude_v, double frequency_hz, double load_n, const std::string& status) const {
+    SweepRow row{amplitude_v, frequency_hz, load_n, false, status};
     row.time_s = time_now();
     row.sweep = sweep_id_;
     return row;
@@ -291,10 +292,11 @@ void check_plan(const DeviceSweepPlan& plan) {
     throw std::invalid_argument("--settle-ms: must be within 0..60000");
   if (!(plan.dwell_s > 0.0 && plan.dwell_s <= 60.0))
     throw std::invalid_argument("--dwell-ms: must be within (0, 60000]");
-  // The protocols carry the slew limit in 1 Vpp/s (Modbus) and 10 Vpp/s (CAN) steps and read 0
+  // The protocols carry the slew limit in 1 V/s (Modbus) and 10 V/s (CAN) steps and read 0
   // as "unlimited": a slower ramp would silently become a voltage step.
-  if (!(plan.ramp_vpp_per_s >= protocol::can::signals::kAuxAmplitudeSlew.factor && plan.ramp_vpp_per_s <= 1e6)) {
-    throw std::invalid_argument("--ramp-vpp-per-s: must be within 10..1000000 (0 would mean no ramp at all)");
+  if (!(plan.amplitude_slew_v_per_s >= protocol::can::signals::kAuxAmplitudeSlew.factor &&
+        plan.amplitude_slew_v_per_s <= 1e6)) {
+    throw std::invalid_argument("--amplitude-slew-v-per-s: must be within 10..1000000 (0 would mean no ramp at all)");
   }
   if (!(plan.keep_alive_s > 0.0 && plan.keep_alive_s <= 0.05))
     throw std::invalid_argument("keep-alive interval must be within (0, 50] ms");
@@ -307,8 +309,8 @@ std::vector<SweepRow> device_sweep_points(const DeviceSweepPlan& plan) {
   const std::vector<double> frequencies = downward(plan.frequencies_hz);
   std::vector<SweepRow> points;
   for (double load : plan.loads_n) {
-    for (double vpp : plan.voltages) {
-      for (double f : frequencies) points.push_back(SweepRow{vpp, f, load});
+    for (double amplitude_v : plan.voltages) {
+      for (double f : frequencies) points.push_back(SweepRow{amplitude_v, f, load});
     }
   }
   return points;
@@ -334,21 +336,21 @@ void sweep_device(Device& device, const DeviceSweepPlan& plan, std::vector<Sweep
   DriveOffGuard drive_off(device);
   Sweeper sweeper(device, plan, start);
   sweeper.session().command(DeviceAction::disable);
-  device.set_slew(0.0, plan.ramp_vpp_per_s);
+  device.set_slew(0.0, plan.amplitude_slew_v_per_s);
   std::size_t curve = 0;
   for (double load : plan.loads_n) {
-    for (double vpp : plan.voltages) {
+    for (double amplitude_v : plan.voltages) {
       if (curve++ < start.curves_done) continue;  // measured by the run this one resumes
       // Each voltage starts above resonance at zero amplitude and ramps up there: a softening
       // resonator is approached from the high-frequency side (it can jump down below the peak).
-      bool on = sweeper.start_voltage(vpp, frequencies.front(), load);
+      bool on = sweeper.start_voltage(amplitude_v, frequencies.front(), load);
       for (double f : frequencies) {
-        if (!on) on = sweeper.start_voltage(vpp, f, load);  // after a fault: reset and ramp again here
+        if (!on) on = sweeper.start_voltage(amplitude_v, f, load);  // after a fault: reset and ramp again here
         SweepRow row;
         if (on) {
-          row = sweeper.measure(vpp, f, load);
+          row = sweeper.measure(amplitude_v, f, load);
         } else {
-          row = sweeper.unmeasured(vpp, f, load, "no_drive");
+          row = sweeper.unmeasured(amplitude_v, f, load, "no_drive");
         }
         if (!row.ok) on = false;
         rows.push_back(row);

@@ -13,16 +13,16 @@
 namespace swum::host {
 
 struct DeviceSweepPlan {
-  std::vector<double> voltages;        // Vpp; each swept separately
+  std::vector<double> voltages;        // V; each swept separately
   std::vector<double> frequencies_hz;  // any order: swept from the highest down
   std::vector<double> loads_n{0.0};
   double phase_deg = 90.0;
-  double settle_s = 0.05;          // after the frequency is reached, before sampling (device time)
-  double dwell_s = 0.05;           // sampling window per point (device time)
-  double ramp_vpp_per_s = 2000.0;  // amplitude slew limit set on the device for the voltage ramps
-  double keep_alive_s = 0.02;      // at most this long (host and device time) between commands
-  double poll_interval_s = 0.001;  // host time between telemetry reads (a fast loopback device
-                                   // answers in ~0.1 ms: no need to poll it flat out)
+  double settle_s = 0.05;                  // after the frequency is reached, before sampling (device time)
+  double dwell_s = 0.05;                   // sampling window per point (device time)
+  double amplitude_slew_v_per_s = 2000.0;  // amplitude slew limit set on the device for the voltage ramps
+  double keep_alive_s = 0.02;              // at most this long (host and device time) between commands
+  double poll_interval_s = 0.001;          // host time between telemetry reads (a fast loopback device
+                                           // answers in ~0.1 ms: no need to poll it flat out)
 };
 
 // Throws std::invalid_argument naming the option of anything the sweep cannot do (empty lists,

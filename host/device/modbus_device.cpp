@@ -98,14 +98,14 @@ void ModbusDevice::write_holding(std::uint16_t address, const std::uint16_t* val
 
 void ModbusDevice::set_drive(const DriveSetpoint& s) {
   std::array<std::uint16_t, modbus::kDriveWriteCount> r{};
-  const std::string problem = modbus::encode_drive_write(s.frequency_hz, s.vpp, s.phase_deg, s.load_n, r);
+  const std::string problem = modbus::encode_drive_write(s.frequency_hz, s.amplitude_v, s.phase_deg, s.load_n, r);
   if (!problem.empty()) throw DeviceError(problem);
   write_holding(holding::kFrequency, r.data(), static_cast<int>(r.size()), "drive setpoint write");
 }
 
-void ModbusDevice::set_slew(double frequency_hz_per_s, double vpp_per_s) {
+void ModbusDevice::set_slew(double frequency_hz_per_s, double amplitude_v_per_s) {
   std::array<std::uint16_t, modbus::kSlewWriteCount> r{};
-  const std::string problem = modbus::encode_slew_write(frequency_hz_per_s, vpp_per_s, r);
+  const std::string problem = modbus::encode_slew_write(frequency_hz_per_s, amplitude_v_per_s, r);
   if (!problem.empty()) throw DeviceError(problem);
   write_holding(holding::kFrequencySlew, r.data(), static_cast<int>(r.size()), "slew limit write");
 }
@@ -121,11 +121,11 @@ DeviceTelemetry ModbusDevice::step(const DriveSetpoint& s, const DriveSlew& slew
                                    std::uint32_t ticks) {
   protocol::AmplifierSetpoints setpoints;
   setpoints.frequency_hz = s.frequency_hz;
-  setpoints.amplitude_vpp = s.vpp;
+  setpoints.amplitude_v = s.amplitude_v;
   setpoints.phase_deg = s.phase_deg;
   setpoints.load_n = s.load_n;
   setpoints.frequency_slew_hz_per_s = slew.frequency_hz_per_s;
-  setpoints.amplitude_slew_vpp_per_s = slew.vpp_per_s;
+  setpoints.amplitude_slew_v_per_s = slew.amplitude_v_per_s;
   std::array<std::uint16_t, holding::kCount> r{};
   const std::string problem = modbus::encode_step_write(action, setpoints, ticks, r);
   if (!problem.empty()) throw DeviceError(name() + ": lockstep step: " + problem);
@@ -162,7 +162,7 @@ DeviceTelemetry ModbusDevice::read() {
   t.tip_normal_um = d.tip_normal_um;
   t.tip_tangential_um = d.tip_tangential_um;
   t.frequency_hz = d.output.frequency_hz;
-  t.vpp = d.output.vpp;
+  t.amplitude_v = d.output.amplitude_v;
   t.phase_deg = d.output.phase_deg;
   t.load_n = d.output.load_n;
   t.lateness_p99_us = static_cast<double>(d.stats.lateness_p99_ns) / modbus::kTimingNsPerCount;

@@ -21,7 +21,7 @@ class ModbusDevice final : public Device {
 
   std::string name() const override;
   void set_drive(const DriveSetpoint& setpoint) override;
-  void set_slew(double frequency_hz_per_s, double vpp_per_s) override;
+  void set_slew(double frequency_hz_per_s, double amplitude_v_per_s) override;
   void command(DeviceAction action) override;
   DeviceTelemetry read() override;
   bool lockstep() const override { return lockstep_; }

@@ -11,7 +11,7 @@
 
 namespace swum::host {
 
-// Throws std::invalid_argument naming the option (--vpp, --frequency-hz, --load as check_grid;
+// Throws std::invalid_argument naming the option (--amplitude-v, --frequency-hz, --load as check_grid;
 // --temperature-rise-k 0..300 K; --margin-hz 0..10000 Hz; --jobs 0..1024) of a value no band can
 // use.
 void check_band_grid(const BandGrid& grid, int jobs = 0);

@@ -19,7 +19,7 @@ namespace {
 
 OperatingPoint operating_point(const SweepRow& at, double phase_deg) {
   OperatingPoint point;
-  point.vpp = at.vpp;
+  point.amplitude_v = at.amplitude_v;
   point.frequency_hz = at.frequency_hz;
   point.load_n = at.load_n;
   point.phase_deg = phase_deg;
@@ -58,7 +58,7 @@ void check_grid(const OfflineGrid& grid) {
       }
     }
   };
-  check(grid.voltages, 0.0, 10000.0, "--vpp", "0..10000 Vpp");
+  check(grid.voltages, 0.0, 10000.0, "--amplitude-v", "0..10000 V");
   check(grid.frequencies_hz, 1000.0, 200000.0, "--frequency-hz", "1000..200000 Hz");
   check(grid.loads_n, -1000.0, 1000.0, "--load", "-1000..1000 N");
   check({grid.phase_deg}, -180.0, 180.0, "--drive-phase-deg", "-180..180 deg");

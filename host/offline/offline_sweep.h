@@ -26,8 +26,8 @@ struct OfflineGrid {
   bool down_sweep = false;
 };
 
-// Throws std::invalid_argument naming the option (--vpp, --frequency-hz, --load, --drive-phase-deg) of a
-// value no sweep can use: voltages 0..10000 Vpp, frequencies 1000..200000 Hz, |load| <= 1000 N,
+// Throws std::invalid_argument naming the option (--amplitude-v, --frequency-hz, --load, --drive-phase-deg) of a
+// value no sweep can use: voltages 0..10000 V, frequencies 1000..200000 Hz, |load| <= 1000 N,
 // phase -180..180 deg, every value finite.
 void check_grid(const OfflineGrid& grid);
 

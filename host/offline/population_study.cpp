@@ -42,7 +42,7 @@ MotorOutcome run_population_motor(const PopulationStudy& study, std::uint64_t mo
   const std::vector<SweepRow> rows = sweep_model(model, grid);
   for (const VoltagePick& p : pick_voltages(rows, study.voltages, {study.load_n}, study.pick, name)) {
     VoltageOutcome v;
-    v.vpp = p.vpp;
+    v.amplitude_v = p.amplitude_v;
     v.decided = p.result.decided;
     v.frequency_hz = p.result.frequency_hz;
     v.speed_mm_s = p.result.speed_mm_s;
@@ -61,7 +61,7 @@ std::string encode_motor_outcome(const MotorOutcome& o) {
   j["w"] = o.rejection;
   nlohmann::json voltages = nlohmann::json::array();
   for (const VoltageOutcome& v : o.voltages) {
-    voltages.push_back({v.vpp, v.decided, v.frequency_hz, v.speed_mm_s, v.peak_frequency_hz, v.reason});
+    voltages.push_back({v.amplitude_v, v.decided, v.frequency_hz, v.speed_mm_s, v.peak_frequency_hz, v.reason});
   }
   j["v"] = voltages;
   const std::vector<std::uint8_t> bytes = nlohmann::json::to_msgpack(j);

@@ -25,7 +25,7 @@ struct PopulationStudy {
 };
 
 struct VoltageOutcome {
-  double vpp = 0.0;
+  double amplitude_v = 0.0;
   bool decided = false;
   double frequency_hz = 0.0;  // the picked operating frequency (decided only)
   double speed_mm_s = 0.0;    // the speed there

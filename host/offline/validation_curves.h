@@ -19,14 +19,14 @@ struct XyCurve {
 
 /// No-load speed (mm/s) against drive frequency (kHz) at one voltage (Fig. 14).
 struct FrequencyCurves {
-  double vpp = 0.0;
+  double paper_v = 0.0;  // on the paper's axis (its label "Vpp")
   XyCurve nonlinear;
   XyCurve linear;
 };
 
 /// Speed (mm/s) against load (N) of the non-linear model at one drive (Fig. 16).
 struct LoadCurve {
-  double vpp = 0.0;
+  double paper_v = 0.0;  // on the paper's axis (its label "Vpp")
   double frequency_hz = 0.0;
   XyCurve speed;
 };
@@ -34,16 +34,16 @@ struct LoadCurve {
 /// The free stator's tip over the last drive period of a 30 ms run (Figs. 10-11): x the
 /// tangential, y the normal displacement (um).
 struct TipOrbit {
-  double vpp = 0.0;
+  double paper_v = 0.0;  // on the paper's axis (its label "Vpp")
   double frequency_hz = 0.0;
   XyCurve tip_um;
 };
 
 struct ValidationCurves {
-  XyCurve speed_vs_voltage_nonlinear;  // Fig. 13: mm/s against Vpp, 40 kHz, no load
+  XyCurve speed_vs_voltage_nonlinear;  // Fig. 13: mm/s against the paper's V ("Vpp"), 40 kHz, no load
   XyCurve speed_vs_voltage_linear;
   std::vector<FrequencyCurves> speed_vs_frequency;  // Fig. 14: 100, 250, 400 Vpp, 39-41 kHz
-  XyCurve peak_vs_voltage_nonlinear;                // Fig. 15: kHz of the speed peak against Vpp
+  XyCurve peak_vs_voltage_nonlinear;                // Fig. 15: kHz of the speed peak against the paper's V
   XyCurve peak_vs_voltage_linear;
   std::vector<LoadCurve> speed_vs_load;      // Fig. 16: drift-aware and naive frequency at 300 and 400 Vpp
   std::vector<TipOrbit> orbit_vs_voltage;    // Fig. 10: 100-400 Vpp at 39.5 kHz

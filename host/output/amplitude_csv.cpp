@@ -12,7 +12,8 @@
 namespace swum::host {
 namespace {
 
-constexpr std::array<std::string_view, 4> kColumns = {"vpp", "frequency_hz", "tip_normal_um", "tip_tangential_um"};
+constexpr std::array<std::string_view, 4> kColumns = {"amplitude_v", "frequency_hz", "tip_normal_um",
+                                                      "tip_tangential_um"};
 
 [[noreturn]] void fail(std::string_view source, int line, int column, const std::string& what) {
   throw CommandError(csv_message(source, line, column, what));
@@ -41,6 +42,9 @@ std::vector<AmplitudeMeasurement> parse_amplitude_csv(std::string_view text, std
                                                       int min_amplitudes) {
   const CsvTable table = read_csv_table(text);
   if (!table.header) fail(source, 1, 0, "no header line (the file is empty)");
+  if (std::string retired = csv_retired_column_message(table, source); !retired.empty()) {
+    throw CommandError(retired);
+  }
   std::array<int, 4> index{-1, -1, -1, -1};  // cell index of each required column
   const std::vector<std::string_view>& header = table.header->cells;
   const int header_line = table.header->line;
@@ -58,7 +62,7 @@ std::vector<AmplitudeMeasurement> parse_amplitude_csv(std::string_view text, std
     if (index[k] < 0) {
       fail(source, header_line, static_cast<int>(header.size()) + 1,
            "missing column " + std::string(kColumns[k]) +
-               " (the header must name vpp,frequency_hz,tip_normal_um,tip_tangential_um)");
+               " (the header must name amplitude_v,frequency_hz,tip_normal_um,tip_tangential_um)");
     }
   }
   std::vector<AmplitudeMeasurement> rows;
@@ -80,7 +84,7 @@ std::vector<AmplitudeMeasurement> parse_amplitude_csv(std::string_view text, std
       if (v[k] && *v[k] < 0.0) {
         fail(source, line_number, column,
              "column " + std::string(kColumns[k]) + ": negative value " + quoted_cell(cells[index[k]]) +
-                 (k == 0 ? " (voltages are >= 0 Vpp)" : ""));
+                 (k == 0 ? " (voltages are >= 0 V)" : ""));
       }
       if (k == 1 && *v[k] <= 0.0) {
         fail(source, line_number, column, "column frequency_hz: must be > 0");
@@ -91,7 +95,7 @@ std::vector<AmplitudeMeasurement> parse_amplitude_csv(std::string_view text, std
            "both tip_normal_um and tip_tangential_um are empty (a row needs one amplitude)");
     }
     AmplitudeMeasurement m;
-    m.vpp = *v[0];
+    m.amplitude_v = *v[0];
     m.frequency_hz = *v[1];
     m.tip_normal_um = v[2];
     m.tip_tangential_um = v[3];
@@ -108,9 +112,9 @@ std::vector<AmplitudeMeasurement> parse_amplitude_csv(std::string_view text, std
 }
 
 std::string format_amplitude_csv(std::span<const AmplitudeMeasurement> data) {
-  std::string out = "vpp,frequency_hz,tip_normal_um,tip_tangential_um\n";
+  std::string out = "amplitude_v,frequency_hz,tip_normal_um,tip_tangential_um\n";
   for (const AmplitudeMeasurement& m : data) {
-    out += format_number(m.vpp, "%.10g") + "," + format_number(m.frequency_hz, "%.10g") + ",";
+    out += format_number(m.amplitude_v, "%.10g") + "," + format_number(m.frequency_hz, "%.10g") + ",";
     if (m.tip_normal_um) out += format_number(*m.tip_normal_um, "%.10g");
     out += ",";
     if (m.tip_tangential_um) out += format_number(*m.tip_tangential_um, "%.10g");

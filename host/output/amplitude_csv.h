@@ -1,5 +1,5 @@
 // Measured free-stator amplitudes (the input of `swum identify`): CSV with the columns
-// vpp,frequency_hz,tip_normal_um,tip_tangential_um (any order, extra columns ignored, either
+// amplitude_v,frequency_hz,tip_normal_um,tip_tangential_um (any order, extra columns ignored, either
 // amplitude cell may be empty, '#' comment lines and blank lines skipped).
 #pragma once
 

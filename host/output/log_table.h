@@ -12,7 +12,7 @@
 namespace swum::host {
 
 inline constexpr const char* kLogCsvHeader =
-    "host_time_s,device_time_s,speed_mm_s,position_mm,tip_normal_um,tip_tangential_um,frequency_hz,vpp,"
+    "host_time_s,device_time_s,speed_mm_s,position_mm,tip_normal_um,tip_tangential_um,frequency_hz,amplitude_v,"
     "phase_deg,load_n,state,fault_code,last_reject,lateness_p99_us,lateness_max_us,overruns,current_a_a,current_b_a,"
     "phase_a_deg,phase_b_deg,motional_phase_a_deg,motional_phase_b_deg,power_w,stator_temperature_c\n";
 
@@ -39,7 +39,7 @@ inline std::string format_log_row(double host_s, const DeviceTelemetry& t) {
   const std::string device_time = t.device_time_s ? format_number(*t.device_time_s, "%.3f") : std::string();
   std::snprintf(line, sizeof line, "%.6f,%s,%.3f,%.3f,%.3f,%.3f,%.3f,%.1f,%.2f,%.3f,%d,%d,%d,%.0f,%.0f,%u", host_s,
                 device_time.c_str(), t.speed_mm_s, t.position_mm, t.tip_normal_um, t.tip_tangential_um, t.frequency_hz,
-                t.vpp, t.phase_deg, t.load_n, t.state, t.fault_code, t.last_reject, t.lateness_p99_us,
+                t.amplitude_v, t.phase_deg, t.load_n, t.state, t.fault_code, t.last_reject, t.lateness_p99_us,
                 t.lateness_max_us, t.overruns);
   return line + format_electrical_cells(t.electrical, t.stator_temperature_c) + "\n";
 }

@@ -32,17 +32,18 @@ SweepKept read_sweep_partial(const std::string& out_path, const std::string& hea
   if (kept.rows.size() > planned.size()) {
     throw CommandError("--resume: " + partial + " has " + std::to_string(kept.rows.size()) +
                        " rows, more than the points of this sweep (" + std::to_string(planned.size()) +
-                       "): other --vpp, --frequency-hz or --load?");
+                       "): other --amplitude-v, --frequency-hz or --load?");
   }
   auto at = [](const SweepRow& r) {
-    return format_number(r.vpp) + "," + format_number(r.frequency_hz) + "," + format_number(r.load_n) + ",";
+    return format_number(r.amplitude_v) + "," + format_number(r.frequency_hz) + "," + format_number(r.load_n) + ",";
   };
   for (std::size_t i = 0; i < kept.rows.size(); ++i) {
     const std::string where = at(planned[i]);
     if (kept.lines[i + 1].compare(0, where.size(), where) != 0) {
       throw CommandError("--resume: row " + std::to_string(i + 1) + " of " + partial +
-                         " is not at this sweep's point " + std::to_string(i + 1) + " (vpp,frequency_hz,load_n " +
-                         where.substr(0, where.size() - 1) + "): other --vpp, --frequency-hz or --load?");
+                         " is not at this sweep's point " + std::to_string(i + 1) +
+                         " (amplitude_v,frequency_hz,load_n " + where.substr(0, where.size() - 1) +
+                         "): other --amplitude-v, --frequency-hz or --load?");
     }
   }
   return kept;

@@ -16,8 +16,8 @@
 namespace swum::host {
 namespace {
 
-std::string label_for(double vpp, double load_n, bool several_loads) {
-  std::string label = format_number(vpp) + " Vpp";
+std::string label_for(double amplitude_v, double load_n, bool several_loads) {
+  std::string label = format_number(amplitude_v) + " V";
   if (several_loads) label += ", " + format_number(load_n) + " N";
   return label;
 }
@@ -40,7 +40,7 @@ SweepLayout sweep_layout_of(const std::vector<SweepRow>& rows) {
 }
 
 std::string format_sweep_header(const SweepLayout& layout) {
-  std::string csv = "vpp,frequency_hz,load_n,";
+  std::string csv = "amplitude_v,frequency_hz,load_n,";
   if (layout.time) csv += "time_s,";
   if (layout.sweep) csv += "sweep,";
   csv += "speed_mm_s,tip_normal_um,tip_tangential_um,";
@@ -52,8 +52,8 @@ std::string format_sweep_header(const SweepLayout& layout) {
 }
 
 std::string format_sweep_row(const SweepLayout& layout, const SweepRow& row) {
-  std::string csv = format_number(row.vpp) + "," + format_number(row.frequency_hz) + "," + format_number(row.load_n) +
-                    ",";
+  std::string csv = format_number(row.amplitude_v) + "," + format_number(row.frequency_hz) + "," +
+                    format_number(row.load_n) + ",";
   if (layout.time) {
     // Milliseconds: the resolution of the device clocks (Modbus sim_time, CAN Clock frame).
     csv += (row.time_s ? format_number(*row.time_s, "%.3f") : std::string()) + ",";
@@ -91,15 +91,18 @@ std::vector<SweepRow> parse_sweep_csv(const std::string& text, const std::string
   // Cells as written (CsvLines::as_written): names and statuses are compared byte for byte.
   const CsvTable table = read_csv_table(text, CsvLines::as_written);
   if (!table.header) throw std::runtime_error(source + ": empty file");
+  if (std::string retired = csv_retired_column_message(table, source); !retired.empty()) {
+    throw std::runtime_error(retired);
+  }
   const std::vector<std::string_view>& header = table.header->cells;
   auto column = [&](std::string_view name) { return table.column(name); };
-  const int cv = column("vpp"), cf = column("frequency_hz"), cl = column("load_n"), cs = column("speed_mm_s"),
+  const int cv = column("amplitude_v"), cf = column("frequency_hz"), cl = column("load_n"), cs = column("speed_mm_s"),
             cn = column("tip_normal_um"), ct = column("tip_tangential_um"), cst = column("status"),
             csp = column("speed_spread_mm_s"), ctime = column("time_s"), csweep = column("sweep");
   int celectrical[std::size(kElectricalColumns)];
   for (std::size_t k = 0; k < std::size(kElectricalColumns); ++k) celectrical[k] = column(kElectricalColumns[k]);
   if (cv < 0 || cf < 0 || cs < 0) {
-    throw std::runtime_error(source + ": not a sweep table (header needs vpp, frequency_hz, speed_mm_s)");
+    throw std::runtime_error(source + ": not a sweep table (header needs amplitude_v, frequency_hz, speed_mm_s)");
   }
   std::vector<SweepRow> rows;
   for (const CsvRow& csv_row : table.rows) {
@@ -115,7 +118,7 @@ std::vector<SweepRow> parse_sweep_csv(const std::string& text, const std::string
     };
     auto value = [&](int c) { return parse_finite_number(cell(c), where(c)); };
     SweepRow row;
-    row.vpp = value(cv);
+    row.amplitude_v = value(cv);
     row.frequency_hz = value(cf);
     row.load_n = cl >= 0 ? value(cl) : 0.0;
     if (ctime >= 0 && !cell(ctime).empty()) {
@@ -163,14 +166,14 @@ void write_sweep_plot(const std::vector<SweepRow>& rows, const std::filesystem::
   // std::map keeps curves in (voltage, load) order for a stable legend.
   std::map<std::pair<double, double>, PlotSeries> curves;
   for (const SweepRow& row : rows) {
-    const auto key = versus_frequency ? std::make_pair(row.vpp, row.load_n) : std::make_pair(0.0, row.load_n);
+    const auto key = versus_frequency ? std::make_pair(row.amplitude_v, row.load_n) : std::make_pair(0.0, row.load_n);
     PlotSeries& series = curves[key];
     if (series.label.empty()) {
-      series.label = versus_frequency ? label_for(row.vpp, row.load_n, several_loads)
+      series.label = versus_frequency ? label_for(row.amplitude_v, row.load_n, several_loads)
                                       : format_number(row.load_n) + " N load";
     }
     if (!row.ok) continue;
-    series.x.push_back(versus_frequency ? row.frequency_hz / 1000.0 : row.vpp);
+    series.x.push_back(versus_frequency ? row.frequency_hz / 1000.0 : row.amplitude_v);
     series.y.push_back(row.speed_mm_s);
   }
 
@@ -180,7 +183,7 @@ void write_sweep_plot(const std::vector<SweepRow>& rows, const std::filesystem::
     spec.x_label = "drive frequency (kHz)";
   } else {
     spec.title = "Mover speed vs drive voltage at " + format_number(*frequencies.begin() / 1000.0) + " kHz";
-    spec.x_label = "drive voltage (Vpp)";
+    spec.x_label = "drive amplitude (V)";
   }
   spec.y_label = "mover speed (mm/s)";
   for (auto& [key, series] : curves) spec.series.push_back(std::move(series));

@@ -21,7 +21,7 @@ struct SweepElectrical {
 };
 
 struct SweepRow {
-  double vpp = 0.0;
+  double amplitude_v = 0.0;
   double frequency_hz = 0.0;
   double load_n = 0.0;
   bool ok = false;            // false: the point failed; numbers below are not meaningful
@@ -73,9 +73,9 @@ std::string format_sweep_header(const SweepLayout& layout);
 std::string format_sweep_row(const SweepLayout& layout, const SweepRow& row);
 
 /// CSV text (the columns of sweep_layout_of(rows)): header
-/// `vpp,frequency_hz,load_n,speed_mm_s,tip_normal_um,tip_tangential_um,status` then one line per row; a failed row has
-/// empty measured cells, never made-up numbers. When any row has a time or a sweep id (live sweeps), `time_s` and
-/// `sweep` follow `load_n`; when any row has a measured spread, a `speed_spread_mm_s` column follows
+/// `amplitude_v,frequency_hz,load_n,speed_mm_s,tip_normal_um,tip_tangential_um,status` then one line per row; a failed
+/// row has empty measured cells, never made-up numbers. When any row has a time or a sweep id (live sweeps), `time_s`
+/// and `sweep` follow `load_n`; when any row has a measured spread, a `speed_spread_mm_s` column follows
 /// `tip_tangential_um`; when any row has electrical values or a stator temperature, the eight
 /// kElectricalColumns follow `status` (empty cells where a row has none).
 std::string format_sweep_csv(const std::vector<SweepRow>& rows);

@@ -32,6 +32,9 @@ class TrackTable {
     text_.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
     table_ = read_csv_table(text_);
     if (!table_.header) throw std::runtime_error(path + ": empty (no header)");
+    if (std::string retired = csv_retired_column_message(table_, path); !retired.empty()) {
+      throw std::runtime_error(retired);
+    }
     const std::size_t width = table_.header->cells.size();
     for (const CsvRow& row : table_.rows) {
       if (row.cells.size() != width) {
@@ -153,18 +156,19 @@ TrackSeries read_track_csv(const std::string& path, const std::string& name) {
   return run;
 }
 
-BestSpeedCurve read_band_csv(const std::string& path, double vpp, double load_n) {
+BestSpeedCurve read_band_csv(const std::string& path, double amplitude_v, double load_n) {
   const TrackTable table(path);
-  const std::size_t v = table.column("vpp"), load = table.column("load_n"), rise = table.column("temperature_rise_k"),
-                    decided = table.column("decided"), speed = table.column("speed_mm_s"),
-                    frequency = table.column("frequency_hz"), peak = table.column("peak_frequency_hz");
+  const std::size_t v = table.column("amplitude_v"), load = table.column("load_n"),
+                    rise = table.column("temperature_rise_k"), decided = table.column("decided"),
+                    speed = table.column("speed_mm_s"), frequency = table.column("frequency_hz"),
+                    peak = table.column("peak_frequency_hz");
   struct Point {
     double rise, speed, frequency, peak;
     bool operator<(const Point& o) const { return rise < o.rise; }
   };
   std::vector<Point> points;
   for (std::size_t r = 0; r < table.size(); ++r) {
-    if (table.number(r, v, "vpp") != vpp || table.number(r, load, "load_n") != load_n) continue;
+    if (table.number(r, v, "amplitude_v") != amplitude_v || table.number(r, load, "load_n") != load_n) continue;
     const std::string_view d = table.cell(r, decided);
     if (d != "1" && d != "true") continue;
     points.push_back({table.number(r, rise, "temperature_rise_k"), table.number(r, speed, "speed_mm_s"),
@@ -175,7 +179,7 @@ BestSpeedCurve read_band_csv(const std::string& path, double vpp, double load_n)
   for (const Point& p : points) {
     if (!curve.temperature_rise_k.empty() && p.rise == curve.temperature_rise_k.back()) {
       throw std::runtime_error(path + ": two decided rows at a " + format_number(p.rise) + " K rise, " +
-                               format_number(vpp) + " Vpp and " + format_number(load_n) + " N");
+                               format_number(amplitude_v) + " V and " + format_number(load_n) + " N");
     }
     curve.temperature_rise_k.push_back(p.rise);
     curve.speed_mm_s.push_back(p.speed);
@@ -183,7 +187,7 @@ BestSpeedCurve read_band_csv(const std::string& path, double vpp, double load_n)
     curve.peak_frequency_hz.push_back(p.peak);
   }
   if (curve.temperature_rise_k.size() < 2) {
-    throw std::runtime_error(path + ": fewer than two decided rows at " + format_number(vpp) + " Vpp and " +
+    throw std::runtime_error(path + ": fewer than two decided rows at " + format_number(amplitude_v) + " V and " +
                              format_number(load_n) + " N");
   }
   return curve;

@@ -52,7 +52,7 @@ struct TrackRunSummary {
 
 // Readers: one-line std::runtime_error naming the file, line and column on bad input.
 [[nodiscard]] TrackSeries read_track_csv(const std::string& path, const std::string& name);
-// The rows of `path` (swum band's CSV) at vpp and load_n that are decided, by rise.
-[[nodiscard]] BestSpeedCurve read_band_csv(const std::string& path, double vpp, double load_n);
+// The rows of `path` (swum band's CSV) at amplitude_v and load_n that are decided, by rise.
+[[nodiscard]] BestSpeedCurve read_band_csv(const std::string& path, double amplitude_v, double load_n);
 
 }  // namespace swum::host

@@ -25,7 +25,7 @@ void run_cycles(CycleExchange& exchange, ResonanceTracker& tracker, const TrackR
     if (!line.empty() && hooks.on_event) hooks.on_event(line);
   };
   DriveSetpoint setpoint;
-  setpoint.vpp = s.vpp;
+  setpoint.amplitude_v = s.amplitude_v;
   setpoint.phase_deg = s.drive_phase_deg;
   TrackDecision decision = tracker.start();
   event(describe(decision.event));
@@ -84,7 +84,7 @@ void run_cycles(CycleExchange& exchange, ResonanceTracker& tracker, const TrackR
 }  // namespace
 
 std::string check(const TrackRunSettings& s) {
-  if (!(s.vpp > 0.0 && s.vpp <= 10000.0)) return "--vpp: must be in (0, 10000]";
+  if (!(s.amplitude_v > 0.0 && s.amplitude_v <= 10000.0)) return "--amplitude-v: must be in (0, 10000]";
   if (!(std::abs(s.drive_phase_deg) <= 180.0) || s.drive_phase_deg == 0.0)
     return "--drive-phase-deg: must be in -180..180 and not 0 (its sign is the direction)";
   if (!(s.cycle_s > 0.0 && s.cycle_s <= 10.0)) return "--cycle-ms: must be within (0, 10000]";
@@ -93,7 +93,8 @@ std::string check(const TrackRunSettings& s) {
   if (!(s.tick_hz > 0.0 && s.tick_hz <= 1e6)) return "--tick-hz: must be in (0, 1e6]";
   if (!(s.slew.frequency_hz_per_s >= 0.0 && s.slew.frequency_hz_per_s <= 1e9))
     return "--frequency-slew-hz-per-s: must be in 0..1e9 Hz/s";
-  if (!(s.slew.vpp_per_s >= 0.0 && s.slew.vpp_per_s <= 1e9)) return "--vpp-slew: must be in 0..1e9 Vpp/s";
+  if (!(s.slew.amplitude_v_per_s >= 0.0 && s.slew.amplitude_v_per_s <= 1e9))
+    return "--amplitude-slew-v-per-s: must be in 0..1e9 V/s";
   if (s.tracker.method == TrackMethod::phase && s.drive_phase_deg < 0.0)
     return "--method phase: only the forward drive (--drive-phase-deg > 0) is characterised: phase A's motional "
            "phase sits 40 deg lower when reversed (docs/host.md)";

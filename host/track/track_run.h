@@ -15,7 +15,7 @@ namespace swum::host {
 
 struct TrackRunSettings {
   TrackSettings tracker;
-  double vpp = 0.0;
+  double amplitude_v = 0.0;
   double drive_phase_deg = 90.0;  // V_B ahead of V_A (the direction)
   double duration_s = 60.0;
   double cycle_s = 0.02;

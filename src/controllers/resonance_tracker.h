@@ -52,7 +52,7 @@ struct TrackSettings {
 };
 
 // The highest phase set-point accepted: on the calibrated motor phase A's motional phase is
-// +8 deg (400 Vpp) and +17 deg (100 Vpp) at the speed peak and rises to +24 deg at the fold; a
+// +8 deg (400 V) and +17 deg (100 V) at the speed peak and rises to +24 deg at the fold; a
 // set-point above +30 deg lies below the peak, where the loop would lock on the collapsed side.
 inline constexpr double kMaxPhaseSetpointDeg = 30.0;
 

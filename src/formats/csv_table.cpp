@@ -57,6 +57,13 @@ std::string csv_message(std::string_view source, int line, int column, std::stri
   return message;
 }
 
+std::string csv_retired_column_message(const CsvTable& table, std::string_view source) {
+  const int vpp = table.column("vpp");
+  if (vpp < 0) return {};
+  return csv_message(source, table.header->line, vpp + 1,
+                     "column 'vpp' is retired: name it amplitude_v (the terminal voltage amplitude per phase, V)");
+}
+
 std::string csv_cell_count_problem(const CsvTable& table, const CsvRow& row, int& column) {
   const std::size_t header_cells = table.header ? table.header->cells.size() : 0;
   if (row.cells.size() == header_cells) return {};

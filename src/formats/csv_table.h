@@ -48,6 +48,12 @@ struct CsvTable {
 /// form of a table reader's errors.
 [[nodiscard]] std::string csv_message(std::string_view source, int line, int column, std::string_view what);
 
+/// The message for a header that names a retired column, with its source, line and column ("" when
+/// none): "SOURCE:LINE:COLUMN: column 'vpp' is retired: name it amplitude_v (the terminal voltage
+/// amplitude per phase, V)". Every table reader refuses such a file rather than read it with
+/// another meaning (issue 34: what was "vpp" was the amplitude on the calibrated motor).
+[[nodiscard]] std::string csv_retired_column_message(const CsvTable& table, std::string_view source);
+
 /// A row whose cell count is not the header's: "" when it matches, else "expected N cells, found
 /// M" with `column` set to the first cell that is missing or extra (1-based).
 [[nodiscard]] std::string csv_cell_count_problem(const CsvTable& table, const CsvRow& row, int& column);

@@ -107,7 +107,7 @@ double Fact::centre() const {
 std::string_view Fact::unit() const {
   switch (kind) {
     case FactKind::peak_frequency: return "Hz";
-    case FactKind::dead_zone_onset: return "Vpp";
+    case FactKind::dead_zone_onset: return "V";
     case FactKind::saturation_ratio: return "";
     case FactKind::speed: return "mm/s";
   }
@@ -151,17 +151,24 @@ std::vector<Fact> parse_facts(std::string_view toml_text, std::string_view sourc
     if (!kind) fail(source_name, line, "fact needs kind (peak_frequency, dead_zone_onset, saturation_ratio, speed)");
     std::vector<std::string_view> allowed{"id", "kind", "target", "min", "max", "tolerance"};
     const std::map<std::string_view, std::vector<std::string_view>> kind_keys{
-        {"peak_frequency", {"vpp", "load_n", "search_hz"}},
-        {"dead_zone_onset", {"frequency_hz", "load_n", "threshold_mm_s", "search_vpp"}},
-        {"saturation_ratio", {"frequency_hz", "vpp"}},
-        {"speed", {"vpp", "frequency_hz", "load_n"}}};
+        {"peak_frequency", {"paper_v", "load_n", "search_hz"}},
+        {"dead_zone_onset", {"frequency_hz", "load_n", "threshold_mm_s", "search_paper_v"}},
+        {"saturation_ratio", {"frequency_hz", "paper_v"}},
+        {"speed", {"paper_v", "frequency_hz", "load_n"}}};
+    for (const char* retired : {"vpp", "search_vpp"}) {
+      if (table->contains(retired)) {
+        fail(source_name, line,
+             std::string(retired) + ": retired key; give the voltage as the source quotes it as " +
+                 (retired[0] == 's' ? "search_paper_v" : "paper_v") + " (read through options.paper_voltage_axis)");
+      }
+    }
     if (const auto it = kind_keys.find(*kind); it != kind_keys.end()) {
       allowed.insert(allowed.end(), it->second.begin(), it->second.end());
       r.check_known(allowed);
     }
     if (*kind == "peak_frequency") {
       f.kind = FactKind::peak_frequency;
-      f.vpp = r.required("vpp", *kind);
+      f.paper_v = r.required("paper_v", *kind);
       f.load_n = r.number("load_n").value_or(0.0);
       r.numbers("search_hz", f.search_hz);
       if (!(f.search_hz[0] < f.search_hz[1] && f.search_hz[2] > 0.0 &&
@@ -180,26 +187,27 @@ std::vector<Fact> parse_facts(std::string_view toml_text, std::string_view sourc
       f.frequency_hz = r.required("frequency_hz", *kind);
       f.load_n = r.number("load_n").value_or(0.0);
       f.threshold_mm_s = r.number("threshold_mm_s").value_or(f.threshold_mm_s);
-      r.numbers("search_vpp", f.search_vpp);
+      r.numbers("search_paper_v", f.search_paper_v);
       if (!(f.threshold_mm_s > 0.0 && f.threshold_mm_s <= 1e4)) {
         fail(source_name, line, "threshold_mm_s: must be in (0, 10000]");
       }
-      if (!(f.search_vpp[0] >= 1.0 && f.search_vpp[1] > f.search_vpp[0] + 10.0 && f.search_vpp[1] <= 10000.0)) {
-        fail(source_name, line, "search_vpp: expected [low, high] with 1 <= low, low + 10 < high <= 10000");
+      if (!(f.search_paper_v[0] >= 1.0 && f.search_paper_v[1] > f.search_paper_v[0] + 10.0 &&
+            f.search_paper_v[1] <= 10000.0)) {
+        fail(source_name, line, "search_paper_v: expected [low, high] with 1 <= low, low + 10 < high <= 10000");
       }
     } else if (*kind == "saturation_ratio") {
       f.kind = FactKind::saturation_ratio;
       f.frequency_hz = r.required("frequency_hz", *kind);
-      r.numbers("vpp", f.ratio_vpp);
+      r.numbers("paper_v", f.ratio_paper_v);
       for (std::size_t k = 0; k < 4; ++k) {
-        r.range("vpp", f.ratio_vpp[k], 1.0, 10000.0);
-        if (k > 0 && !(f.ratio_vpp[k] > f.ratio_vpp[k - 1])) {
-          fail(source_name, line, "vpp: the four voltages must increase");
+        r.range("paper_v", f.ratio_paper_v[k], 1.0, 10000.0);
+        if (k > 0 && !(f.ratio_paper_v[k] > f.ratio_paper_v[k - 1])) {
+          fail(source_name, line, "paper_v: the four voltages must increase");
         }
       }
     } else if (*kind == "speed") {
       f.kind = FactKind::speed;
-      f.vpp = r.required("vpp", *kind);
+      f.paper_v = r.required("paper_v", *kind);
       f.frequency_hz = r.required("frequency_hz", *kind);
       f.load_n = r.number("load_n").value_or(0.0);
     } else {
@@ -207,7 +215,7 @@ std::vector<Fact> parse_facts(std::string_view toml_text, std::string_view sourc
            "unknown kind '" + printable_cell(*kind) +
                "' (known: peak_frequency, dead_zone_onset, saturation_ratio, speed)");
     }
-    if (f.kind == FactKind::peak_frequency || f.kind == FactKind::speed) r.range("vpp", f.vpp, 1.0, 10000.0);
+    if (f.kind == FactKind::peak_frequency || f.kind == FactKind::speed) r.range("paper_v", f.paper_v, 1.0, 10000.0);
     if (f.kind != FactKind::peak_frequency) r.range("frequency_hz", f.frequency_hz, 1000.0, 200000.0);
     r.range("load_n", f.load_n, -1000.0, 1000.0);
     f.target = r.number("target");

@@ -128,6 +128,11 @@ MotorParameters parse_motor_parameters(std::string_view toml_text, std::string_v
         legacy_droop_c0_where = where(source_name, node.source());
         continue;
       }
+      if (section == "options" && key.str() == "voltage_convention") {
+        throw ParameterError(where(source_name, node.source()) +
+                             ": options.voltage_convention is retired (inputs are terminal amplitudes, V); "
+                             "say how the paper's voltages read with options.paper_voltage_axis");
+      }
       const auto* spec = find_parameter_spec(section, key.str());
       if (spec == nullptr) {
         throw ParameterError(where(source_name, node.source()) + ": unknown key " + section + "." +

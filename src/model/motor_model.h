@@ -31,7 +31,7 @@ struct MotorState {
 
 // Commanded drive, changeable at any step.
 struct DriveInput {
-  double vpp = 0.0;  // voltage as quoted by the paper; V0 per options.voltage_convention
+  double amplitude_v = 0.0;  // terminal voltage amplitude of each phase, V0 (zero-to-peak, V)
   double frequency_hz = 40000.0;
   double phase_deg = 90.0;  // phase of V_B ahead of V_A; the sign selects the direction
   double load_n = 0.0;      // external load force on the mover (opposes +y motion)

@@ -53,7 +53,7 @@ void set_effect_field(MotorParameters& p, double v) {
 }
 
 constexpr std::array<std::string_view, 2> kGeometryChoices{"from_frequencies", "explicit"};
-constexpr std::array<std::string_view, 2> kVoltageChoices{"peak_to_peak", "amplitude"};
+constexpr std::array<std::string_view, 2> kPaperAxisChoices{"peak_to_peak", "amplitude"};
 constexpr std::array<std::string_view, 2> kLeverChoices{"same_as_force", "free_tip"};
 constexpr std::array<std::string_view, 2> kPrefactorChoices{"derived", "paper_x4"};
 constexpr std::array<std::string_view, 2> kDiagonalChoices{"standard", "swapped"};
@@ -156,8 +156,9 @@ const std::array kSpecs{
                 "Guide friction: literal eqs. 24-25 with tanh sign, or exact Coulomb "
                 "mu_s (F_N + g m) solved implicitly (stuck state; cheaper per step)"),
     // [options] §11
-    SWUM_CHOICE(options, ModelOptions, voltage_convention, kVoltageChoices,
-                "Commanded voltage is peak-to-peak (V0 = V/2) or amplitude (V0 = V)"),
+    SWUM_CHOICE(options, ModelOptions, paper_voltage_axis, kPaperAxisChoices,
+                "How the paper's quoted voltages read (paper comparisons only): peak-to-peak (V0 = V/2) "
+                "or amplitude (V0 = V); inputs are always terminal amplitudes"),
     SWUM_CHOICE(options, ModelOptions, tip_velocity_lever, kLeverChoices,
                 "Tip velocity lever gTv: gT (passive) or phiB(L) (free tip, eq. 30)"),
     SWUM_CHOICE(options, ModelOptions, electrical_prefactors, kPrefactorChoices,
@@ -349,7 +350,25 @@ std::string render_parameters_markdown() {
          "`clamped_capacitance_nf` (the same capacitance of each phase the electrical port sees). "
          "Files written before the two were one also set `[effects.amplifier_droop] "
          "clamped_capacitance_nf`: such a key is read when it repeats the stator's value and refused "
-         "when it differs.\n";
+         "when it differs.\n"
+         "\n## Voltages\n\n"
+         "Every voltage a user reads or writes (the model's input, `--amplitude-v`, the registers, CAN "
+         "signals, CSV columns `amplitude_v`, HTTP fields, plots) is the **terminal voltage amplitude of one "
+         "phase**, zero-to-peak, in V: phase A is driven at `V0 sin(wt)`, so a board sees `2 V0` peak-to-peak "
+         "and draws about `w C0 V0` of reactive current per phase. No key of a motor file changes that "
+         "meaning.\n\n"
+         "The paper's figures label their voltage axis \"Vpp\" although the calibrated model matches them "
+         "only when that number is read as the amplitude (model_spec §9.3 reading (i), "
+         "[validation.md](validation.md)). Which reading a motor's calibration rests on is a property of the "
+         "calibration, not of the drive, so it is a key of its own, `options.paper_voltage_axis`: "
+         "`\"amplitude\"` (config/li2019.toml, li2019_thermal.toml: the paper's 400 is a 400 V amplitude) "
+         "or `\"peak_to_peak\"` (li2019_literal.toml and the default: the paper's 400 is a 200 V "
+         "amplitude). It is read only where the model is compared with the paper's numbers (the paper-fact "
+         "checks, `swum validate`'s curves, facts files such as config/li2019_facts.toml). With the literal "
+         "motor a user therefore drives `--amplitude-v 200` where the paper says \"400 Vpp\"; with the "
+         "calibrated motor the numbers are the paper's. The key that did both jobs before, "
+         "`options.voltage_convention`, is refused with a one-line error naming its replacement: a file "
+         "that says it would otherwise change the meaning of its users' inputs silently.\n";
   std::string_view section;
   for (const auto& spec : kSpecs) {
     if (spec.section != section) {

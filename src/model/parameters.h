@@ -22,11 +22,18 @@ enum class GeometryMode {
   explicit_size,     // L, hs given directly (length_mm, half_height_mm)
 };
 
-// §11.1: meaning of the commanded voltage.
-enum class VoltageConvention {
-  peak_to_peak,  // V0 = V/2 (paper: "peak-peak value")
-  amplitude,     // V0 = V
+// §11.1: how the paper's quoted voltages (its axis labelled "V") are read where the model is
+// compared with the paper's figures (paper facts, validation curves, facts files). The model's
+// input is always the terminal voltage amplitude of one phase, V0; this reading never changes it.
+enum class PaperVoltageAxis {
+  peak_to_peak,  // the paper's V is peak-to-peak: V0 = V/2 (paper: "peak-peak value")
+  amplitude,     // the paper's V is the amplitude: V0 = V (the calibrated reading, §9.3)
 };
+
+// The terminal amplitude (V) that drives the model at a voltage the paper quotes.
+[[nodiscard]] constexpr double amplitude_v_of_paper_voltage(PaperVoltageAxis axis, double paper_v) {
+  return axis == PaperVoltageAxis::peak_to_peak ? 0.5 * paper_v : paper_v;
+}
 
 // §2.3 / §11.2: lever converting q2' into the tip velocity used by the friction law.
 enum class TipVelocityLever {
@@ -115,7 +122,7 @@ struct MoverParameters {
 
 // The switchable readings of §11.
 struct ModelOptions {
-  VoltageConvention voltage_convention = VoltageConvention::peak_to_peak;
+  PaperVoltageAxis paper_voltage_axis = PaperVoltageAxis::peak_to_peak;
   TipVelocityLever tip_velocity_lever = TipVelocityLever::same_as_force;
   ElectricalPrefactors electrical_prefactors = ElectricalPrefactors::derived;
   ElectrodeDiagonals electrode_diagonals = ElectrodeDiagonals::standard;

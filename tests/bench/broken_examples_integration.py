@@ -17,8 +17,8 @@ EXPECTED = {
     "test_flipped_gain_reaches_target": ("assert_settles(speed_mm_s) failed",
                                          ["not within 300 ± 6 mm/s from 0.100000 s", "first violation at t = 0.100000 s",
                                           "value 0 mm/s (off by -300)", "it never settles"]),
-    "test_missing_fault_reaction_drives_off": ("assert_reaches(command_vpp) failed",
-                                               ["not <= 0 Vpp by 0.103000 s", "at t = 0.103000 s the value is",
+    "test_missing_fault_reaction_drives_off": ("assert_reaches(command_amplitude_v) failed",
+                                               ["not <= 0 V by 0.103000 s", "at t = 0.103000 s the value is",
                                                 "it never does by 0.150000 s"]),
 }
 

@@ -244,10 +244,10 @@ def test_external_controller_needs_an_endpoint_placeholder():
 
 
 def test_command_without_controller(bench):
-    bench.command("enable", vpp=100.0, frequency_hz=40500.0)
+    bench.command("enable", amplitude_v=100.0, frequency_hz=40500.0)
     assert bench._command.action == "enable"
-    assert bench._command.vpp == 100.0
-    bench.command(vpp=50.0)  # keeps the other set-points
+    assert bench._command.amplitude_v == 100.0
+    bench.command(amplitude_v=50.0)  # keeps the other set-points
     assert bench._command.frequency_hz == 40500.0
 
 
@@ -306,7 +306,7 @@ def test_closed_bench_does_not_start(bench):
 # ---- controllers.holding_values ------------------------------------------------------------------
 
 def test_holding_values_of_a_command():
-    values = holding_values(Command(action="enable", vpp=120.0), load_n=-1.5, advance_ticks=10)
+    values = holding_values(Command(action="enable", amplitude_v=120.0), load_n=-1.5, advance_ticks=10)
     assert values == {"command": 1, "frequency_setpoint": 40000.0, "amplitude_setpoint": 120.0,
                       "phase_setpoint": 90.0, "load_force": -1.5, "frequency_slew": 1e6,
                       "amplitude_slew": 1e5, "advance": 10}

@@ -94,29 +94,29 @@ def test_reference_controller_finishes_its_file_when_closed(swum_bench):
 
 
 def test_refused_command_of_a_python_controller_fails_the_test_with_its_time(swum_bench):
-    bench = swum_bench(Constant(frequency_hz=20000.0, vpp=100.0))
+    bench = swum_bench(Constant(frequency_hz=20000.0, amplitude_v=100.0))
     with pytest.raises(AssertionError, match=r"controller at t = 0\.000000 s: swum-emu refused the command .*"
                                              r"exception 03, reject reason 1 frequency_out_of_range"):
         bench.step(0.01)
 
 
 def test_nan_command_fails_the_test(swum_bench):
-    bench = swum_bench(Constant(vpp=float("nan")))
+    bench = swum_bench(Constant(amplitude_v=float("nan")))
     with pytest.raises(AssertionError, match=r"controller at t = 0\.000000 s: amplitude_setpoint: nan is not a finite"):
         bench.step(0.01)
 
 
 def test_non_numeric_command_is_a_usage_error(swum_bench):
     bench = swum_bench()
-    with pytest.raises(BenchUsageError, match=r"Command.vpp must be a number, not '100'"):
-        bench.command("enable", vpp="100")
+    with pytest.raises(BenchUsageError, match=r"Command.amplitude_v must be a number, not '100'"):
+        bench.command("enable", amplitude_v="100")
 
 
 def test_fault_already_latched_is_not_caused_by_the_injection(swum_bench):
     from swum_bench import WaveformAssertionError, assert_fault_within
     bench = swum_bench()
     bench.inject("over_temperature", at_s=0.0)
-    bench.command("enable", vpp=100)
+    bench.command("enable", amplitude_v=100)
     bench.step(0.02)
     with pytest.raises(WaveformAssertionError, match="was already present at t = "):
         assert_fault_within(bench.signal("fault_code"), 4, injected_at_s=0.01, within_s=0.005)

@@ -29,8 +29,8 @@ class Recorder(CanLink):
         self.sent.append((name, dict(raw)))
 
 
-def command(action, vpp=100.0, frequency_hz=40000.0, phase_deg=90.0, load_n=0.0):
-    return {"command": action, "frequency_setpoint": frequency_hz, "amplitude_setpoint": vpp,
+def command(action, amplitude_v=100.0, frequency_hz=40000.0, phase_deg=90.0, load_n=0.0):
+    return {"command": action, "frequency_setpoint": frequency_hz, "amplitude_setpoint": amplitude_v,
             "phase_setpoint": phase_deg, "load_force": load_n, "frequency_slew": 1e6, "amplitude_slew": 1e5}
 
 
@@ -86,8 +86,8 @@ def test_aux_command_when_changed_or_after_a_reject():
 
 
 @pytest.mark.parametrize("fields, pattern", [
-    (dict(vpp=-5.0), r"Command.Amplitude: -5.0 does not fit the signal \(12 bits\)"),
-    (dict(vpp=2000.0), r"Command.Amplitude: 2000.0 does not fit"),
+    (dict(amplitude_v=-5.0), r"Command.Amplitude: -5.0 does not fit the signal \(12 bits\)"),
+    (dict(amplitude_v=2000.0), r"Command.Amplitude: 2000.0 does not fit"),
     (dict(frequency_hz=200000.0), r"Command.Frequency: 200000.0 does not fit the signal \(20 bits\)"),
     (dict(phase_deg=-300.0), r"Command.Phase: -300.0 does not fit"),
     (dict(frequency_hz=float("nan")), r"Command.Frequency: nan is not a finite number"),
@@ -102,7 +102,7 @@ def test_set_points_that_do_not_fit_are_refused_not_wrapped(fields, pattern):
 
 def test_set_points_round_to_the_nearest_count_like_modbus():
     link = Recorder()
-    link.send_command(command(1, vpp=100.2), None)  # 400.8 counts of 0.25 Vpp
+    link.send_command(command(1, amplitude_v=100.2), None)  # 400.8 counts of 0.25 V
     assert link.sent[0][1]["Amplitude"] == 401
 
 
@@ -117,7 +117,7 @@ def test_a_slew_that_rounds_to_unlimited_is_refused():
 def test_a_refused_enable_does_not_turn_later_keep_alives_into_enables():
     link = Recorder()
     with pytest.raises(ValueError):
-        link.send_command(command(1, vpp=5000.0), None)
+        link.send_command(command(1, amplitude_v=5000.0), None)
     link.send_command(command(0), sample(0))
     assert modes(link) == [0]
 

@@ -20,8 +20,6 @@ from swum_bench.emulator import BenchError
 REPO = os.path.normpath(os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", ".."))
 DATA = os.path.join(REPO, "config")  # the data directory of the checkout
 NODE = 3
-AMPLITUDE_CONFIG = os.path.join(REPO, "config", "li2019.toml")          # voltage_convention = "amplitude"
-PEAK_TO_PEAK_CONFIG = os.path.join(REPO, "config", "li2019_literal.toml")  # "peak_to_peak"
 
 
 class StandInDrive:
@@ -117,9 +115,9 @@ def objects(names):
     return [dict(telemetry.CANOPEN_TABLE)[n] for n in names]
 
 
-def make_link(eds, config=AMPLITUDE_CONFIG, names=telemetry.CANOPEN_DEFAULT_SIGNALS, emu_args=()):
+def make_link(eds, names=telemetry.CANOPEN_DEFAULT_SIGNALS, emu_args=()):
     drive = StandInDrive(eds)
-    link = CanopenLink("vcan0", NODE, DATA, config, objects(names), emu_args=emu_args, timeout_s=0.05, bus=drive)
+    link = CanopenLink("vcan0", NODE, DATA, objects(names), emu_args=emu_args, timeout_s=0.05, bus=drive)
     return link, drive
 
 
@@ -182,7 +180,7 @@ def sample(statusword):
 
 def test_a_cycle_sends_the_rpdos_then_the_sync_and_reads_the_tpdos(started):
     link, drive = started
-    sent = link.send_command(Command(action="enable", frequency_hz=40000.0, vpp=200.0, phase_deg=90.0),
+    sent = link.send_command(Command(action="enable", frequency_hz=40000.0, amplitude_v=200.0, phase_deg=90.0),
                              sample(0x0240))
     assert drive.sent == [(0x203, bytes.fromhex("0f00ff2823")),        # 0x0F, mode -1, 90.00 deg
                           (0x303, bytes.fromhex("005a6202400d0300")),  # 40 000 000 mHz, 200 000 mV
@@ -193,9 +191,8 @@ def test_a_cycle_sends_the_rpdos_then_the_sync_and_reads_the_tpdos(started):
                      (0x2020, 0): 812, (0x2021, 0): 799})
     values = link.sync()
     assert drive.sent[-1] == (0x080, b"")
-    s = telemetry.from_canopen(values, telemetry.canopen_scales(link.eds, telemetry.CANOPEN_DEFAULT_SIGNALS,
-                                                                link.vpp_per_terminal_v), 0.002)
-    assert s == {"speed_mm_s": 300.123, "position_um": -2500.0, "frequency_hz": 39992.5, "amplitude_vpp": 197.8,
+    s = telemetry.from_canopen(values, telemetry.canopen_scales(link.eds, telemetry.CANOPEN_DEFAULT_SIGNALS), 0.002)
+    assert s == {"speed_mm_s": 300.123, "position_um": -2500.0, "frequency_hz": 39992.5, "amplitude_v": 197.8,
                  "phase_deg": -90.0, "current_a_ma": 812.0, "current_b_ma": 799.0, "motional_phase_a_deg": 15.0,
                  "state": 1.0, "fault_code": 0.0, "drive_on": 1.0, "statusword": 0x0637, "error_code": 0.0,
                  "time_s": 0.002}
@@ -203,35 +200,21 @@ def test_a_cycle_sends_the_rpdos_then_the_sync_and_reads_the_tpdos(started):
 
 def test_only_changed_rpdos_are_sent_again(started):
     link, drive = started
-    link.send_command(Command(action="enable", vpp=100.0), sample(0x0240))
+    link.send_command(Command(action="enable", amplitude_v=100.0), sample(0x0240))
     drive.sent.clear()
-    link.send_command(Command(action="keep_alive", vpp=100.0), sample(0x0231))
+    link.send_command(Command(action="keep_alive", amplitude_v=100.0), sample(0x0231))
     assert drive.sent == []  # the drive holds them
-    link.send_command(Command(action="keep_alive", vpp=100.5), sample(0x0237))
+    link.send_command(Command(action="keep_alive", amplitude_v=100.5), sample(0x0237))
     assert drive.sent == [(0x303, bytes.fromhex("005a620294880100"))]  # 100 500 mV
-
-
-def test_peak_to_peak_convention_halves_the_terminal_amplitude(eds):
-    link, drive = make_link(eds, config=PEAK_TO_PEAK_CONFIG)
-    link.start()
-    drive.sent.clear()
-    drive.sdo_writes.clear()
-    link.send_command(Command(action="enable", vpp=200.0, amplitude_slew_vpp_s=2e5), sample(0x0240))
-    assert drive.sdo_writes == []  # 2e5 Vpp/s is 1e5 V/s of terminal amplitude: the default
-    assert drive.sent[1] == (0x303, bytes.fromhex("005a6202a0860100"))  # 100 000 mV
-    drive.od[(0x2011, 0)] = 100000
-    drive.od[(0x6041, 0)] = 0x0237
-    s = telemetry.from_canopen(link.sync(), telemetry.canopen_scales(link.eds, ("amplitude_vpp",), 2.0), 0.0)
-    assert s["amplitude_vpp"] == 200.0
 
 
 def test_slews_go_by_sdo_when_they_change(started):
     link, drive = started
-    link.send_command(Command(action="enable", frequency_slew_hz_s=5e5, amplitude_slew_vpp_s=2e4), sample(0x0240))
+    link.send_command(Command(action="enable", frequency_slew_hz_s=5e5, amplitude_slew_v_per_s=2e4), sample(0x0240))
     assert drive.sdo_writes == [(0x2004, 0, 500000), (0x2005, 0, 20000)]
     assert [c for c, _ in drive.sent] == [0x603, 0x603, 0x203, 0x303, 0x403]  # before the RPDOs
     drive.sdo_writes.clear()
-    link.send_command(Command(action="keep_alive", frequency_slew_hz_s=5e5, amplitude_slew_vpp_s=2e4), sample(0x0231))
+    link.send_command(Command(action="keep_alive", frequency_slew_hz_s=5e5, amplitude_slew_v_per_s=2e4), sample(0x0231))
     assert drive.sdo_writes == []
 
 
@@ -244,12 +227,12 @@ def test_velocity_command_selects_profile_velocity(started):
 
 
 @pytest.mark.parametrize("fields, pattern", [
-    (dict(vpp=600.5), r"600.5 Vpp is above the amplifier's --amplitude-max 600"),
+    (dict(amplitude_v=600.5), r"600.5 V is above the amplifier's --max-amplitude-v 600"),
     (dict(frequency_hz=29999.0), r"29999.0 Hz is below the amplifier's --min-frequency-hz 30000"),
     (dict(frequency_hz=50001.0), r"50001.0 Hz is above the amplifier's --max-frequency-hz 50000"),
-    (dict(vpp=-1.0), r"0x2002 sub 0 .*: -1000 is outside 0..4294967295"),
+    (dict(amplitude_v=-1.0), r"0x2002 sub 0 .*: -1000 is outside 0..4294967295"),
     (dict(phase_deg=181.0), r"0x2003 sub 0 .*: 18100 is outside -18000..18000"),
-    (dict(vpp=float("nan")), r"0x2002 .*: vpp nan is not a finite number"),
+    (dict(amplitude_v=float("nan")), r"0x2002 .*: amplitude_v nan is not a finite number"),
     (dict(velocity_mm_s=1000.5), r"0x60FF sub 0 .*: 1000500 is outside -1000000..1000000"),
     (dict(frequency_slew_hz_s=0.4), r"0x2004 sub 0 .*: 0.4 rounds to 0, which means unlimited"),
 ])
@@ -261,8 +244,8 @@ def test_what_the_drive_would_refuse_silently_is_refused_before_sending(started,
 
 
 def test_amplifier_limits_given_to_swum_emu_are_the_ones_checked(eds):
-    link, _ = make_link(eds, emu_args=["--amplitude-max", "300", "--min-frequency-hz=35000"])
-    assert link.limits == {"--min-frequency-hz": 35000.0, "--max-frequency-hz": 50000.0, "--amplitude-max": 300.0}
+    link, _ = make_link(eds, emu_args=["--max-amplitude-v", "300", "--min-frequency-hz=35000"])
+    assert link.limits == {"--min-frequency-hz": 35000.0, "--max-frequency-hz": 50000.0, "--max-amplitude-v": 300.0}
 
 
 def test_a_missing_tpdo_is_a_bench_error_naming_it(started):
@@ -286,7 +269,7 @@ def test_more_signals_than_four_tpdos_hold(eds):
 
 
 def test_units_of_every_canopen_signal_match_the_other_transports(eds):
-    scales = telemetry.canopen_scales(eds, [n for n, _ in telemetry.CANOPEN_TABLE], 1.0)
+    scales = telemetry.canopen_scales(eds, [n for n, _ in telemetry.CANOPEN_TABLE])
     assert scales["speed_mm_s"] == (0x606C, 1e-3) and scales["temperature_c"] == (0x2027, 0.01)
     assert set(scales) | set(telemetry.CANOPEN_MISSING) | {"state", "fault_code", "drive_on"} == {
         row[0] for row in telemetry.TABLE} | {"drive_on"}

@@ -25,8 +25,8 @@ pytestmark = pytest.mark.skipif(not SLAVE, reason="needs SWUM_CANOPEN_SLAVE (run
 class ProfileBus:
     """A frame bus whose other end is canopen_stdio_slave."""
 
-    def __init__(self, vpp_per_terminal_v, ids):
-        self.proc = subprocess.Popen([SLAVE, str(NODE), repr(vpp_per_terminal_v)], stdin=subprocess.PIPE,
+    def __init__(self, ids):
+        self.proc = subprocess.Popen([SLAVE, str(NODE)], stdin=subprocess.PIPE,
                                      stdout=subprocess.PIPE, text=True)
         self.queue, self.ids, self.lines = [], set(ids), []
         self._answer()  # the power-up boot-up
@@ -74,9 +74,9 @@ class ProfileBus:
         assert self.proc.wait(10) == 0
 
 
-def open_link(config="li2019.toml", vpp_per_terminal_v=1.0, names=telemetry.CANOPEN_DEFAULT_SIGNALS):
-    bus = ProfileBus(vpp_per_terminal_v, [0x700 + NODE, 0x580 + NODE])
-    link = CanopenLink("stdio", NODE, DATA, os.path.join(REPO, "config", config),
+def open_link(names=telemetry.CANOPEN_DEFAULT_SIGNALS):
+    bus = ProfileBus([0x700 + NODE, 0x580 + NODE])
+    link = CanopenLink("stdio", NODE, DATA,
                        [dict(telemetry.CANOPEN_TABLE)[n] for n in names], timeout_s=1.0, bus=bus)
     return link, bus
 
@@ -126,7 +126,7 @@ def test_commands_reach_the_drive_request_at_the_sync(started):
     bus.telemetry(statusword=0x0240)
     first = link.sync()
     assert first[0x6041] == 0x0240
-    command = Command(action="enable", frequency_hz=39500.0, vpp=200.0, phase_deg=-90.0)
+    command = Command(action="enable", frequency_hz=39500.0, amplitude_v=200.0, phase_deg=-90.0)
     link.send_command(command, {"statusword": 0x0240})
     assert bus.request()["controlword"] == 0x06  # synchronous RPDOs act at the next SYNC
     link.sync()
@@ -144,7 +144,7 @@ def test_commands_reach_the_drive_request_at_the_sync(started):
 
 def test_slews_act_at_once_by_sdo(started):
     link, bus = started
-    command = Command(action="enable", frequency_slew_hz_s=5e5, amplitude_slew_vpp_s=2e4)
+    command = Command(action="enable", frequency_slew_hz_s=5e5, amplitude_slew_v_per_s=2e4)
     link.send_command(command, {"statusword": 0x0240})
     r = bus.request()
     assert (r["frequency_slew_hz_per_s"], r["amplitude_slew_v_per_s"]) == (500000, 20000)
@@ -154,25 +154,25 @@ def test_the_profiles_tpdos_decode_to_the_benchs_signals(started):
     link, bus = started
     bus.telemetry(statusword=0x0637, error_code=0x4310, speed_um_s=-300123, position_um=12345,
                   frequency_mhz=39992500, amplitude_mv=197800)
-    s = telemetry.from_canopen(link.sync(), telemetry.canopen_scales(link.eds, telemetry.CANOPEN_DEFAULT_SIGNALS, 1.0),
+    s = telemetry.from_canopen(link.sync(), telemetry.canopen_scales(link.eds, telemetry.CANOPEN_DEFAULT_SIGNALS),
                                0.0)
-    assert (s["speed_mm_s"], s["position_um"], s["frequency_hz"], s["amplitude_vpp"]) == (-300.123, 12345.0,
+    assert (s["speed_mm_s"], s["position_um"], s["frequency_hz"], s["amplitude_v"]) == (-300.123, 12345.0,
                                                                                           39992.5, 197.8)
     assert (s["state"], s["fault_code"], s["statusword"], s["error_code"]) == (1.0, 4.0, 0x0637, 0x4310)
 
 
-def test_peak_to_peak_motor_and_the_amplitude_limit_agree_with_the_profile():
-    link, bus = open_link(config="li2019_literal.toml", vpp_per_terminal_v=2.0)
+def test_the_amplitude_limit_agrees_with_the_profile():
+    link, bus = open_link()
     link.start()
     link.sync()
-    link.send_command(Command(action="enable", vpp=600.0), {"statusword": 0x0240})  # the limit itself
+    link.send_command(Command(action="enable", amplitude_v=600.0), {"statusword": 0x0240})  # the limit itself
     link.sync()
-    assert bus.request()["amplitude_mv"] == 300000
-    with pytest.raises(ValueError, match=r"600.25 Vpp is above the amplifier's --amplitude-max 600"):
-        link.send_command(Command(action="keep_alive", vpp=600.25), {"statusword": 0x0237})
+    assert bus.request()["amplitude_mv"] == 600000  # 0x2002 is the terminal amplitude, as the command
+    with pytest.raises(ValueError, match=r"600.25 V is above the amplifier's --max-amplitude-v 600"):
+        link.send_command(Command(action="keep_alive", amplitude_v=600.25), {"statusword": 0x0237})
     # What the bench refuses the profile refuses too: one count above, by SDO.
     with pytest.raises(SdoAbort, match=r"0x06090031 \(value of parameter written too high\)"):
-        link.sdo.write(link.eds[0x2002, 0], 300001)
+        link.sdo.write(link.eds[0x2002, 0], 600001)
     bus.close()
 
 
@@ -197,7 +197,7 @@ def test_a_bench_over_canopen_captures_each_sync(tmp_path, monkeypatch):
     buses = []
 
     def profile_bus(interface, ids, timeout_s):
-        buses.append(ProfileBus(1.0, ids))
+        buses.append(ProfileBus(ids))
         buses[-1].telemetry(statusword=0x0231)  # ready to switch on, where no drive moves it on from
         return buses[-1]
 
@@ -206,7 +206,7 @@ def test_a_bench_over_canopen_captures_each_sync(tmp_path, monkeypatch):
 
     class EnableAt100V:
         def cycle(self, sample):
-            return Command(action="enable" if sample["state"] != 1 else "keep_alive", vpp=100.0)
+            return Command(action="enable" if sample["state"] != 1 else "keep_alive", amplitude_v=100.0)
 
     bench = Bench(SLAVE, DATA, str(tmp_path), transport="canopen", node=NODE)
     bench.use(EnableAt100V())
@@ -214,7 +214,7 @@ def test_a_bench_over_canopen_captures_each_sync(tmp_path, monkeypatch):
     assert bench.emulator.args[-6:] == ["--node", str(NODE), "--sync-ticks", "10", "--can-profile", "cia402"]
     assert [s["time_s"] for s in bench.samples] == [0.0, 0.001, 0.002, 0.003]
     assert [s["command"] for s in bench.samples] == [2.0, 1.0, 1.0, 1.0]  # 0x06 configured, then 0x0F
-    assert [s["command_vpp"] for s in bench.samples] == [0.0, 100.0, 100.0, 100.0]
+    assert [s["command_amplitude_v"] for s in bench.samples] == [0.0, 100.0, 100.0, 100.0]
     assert bench.samples[0]["statusword"] == 0x0231 and bench.samples[0]["state"] == 0.0
     assert buses[0].request()["amplitude_mv"] == 100000
     with open(bench.save_capture()) as f:

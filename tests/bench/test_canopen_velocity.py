@@ -25,12 +25,12 @@ def test_drive_holds_300_mm_s_through_a_load_step(canopen_bench):
     speed = bench.signal("speed_mm_s")
     assert_settles(speed, 300, band=6, within_s=0.25)
     assert int(bench.last["statusword"]) & STATUSWORD_TARGET_REACHED, f"statusword 0x{int(bench.last['statusword']):04X}"
-    before_v = bench.signal("amplitude_vpp").at(step.at_s)
+    before_v = bench.signal("amplitude_v").at(step.at_s)
     bench.step(0.3)
     speed = bench.signal("speed_mm_s")
     assert_within(speed, 300 - 40, 300 + 15, start_s=step.at_s)
     assert_settles(speed, 300, band=6, within_s=0.15, start_s=step.at_s)
     assert int(bench.last["statusword"]) & STATUSWORD_TARGET_REACHED, f"statusword 0x{int(bench.last['statusword']):04X}"
-    assert bench.last["amplitude_vpp"] > before_v + 10, (before_v, bench.last["amplitude_vpp"])
+    assert bench.last["amplitude_v"] > before_v + 10, (before_v, bench.last["amplitude_v"])
     assert_within(bench.signal("command_velocity_mm_s"), 300, 300, start_s=0.001)
     assert_within(bench.signal("fault_code"), 0, 0)

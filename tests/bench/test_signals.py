@@ -168,15 +168,15 @@ def test_at_nan_is_an_error():
 
 # ---- write_csv ---------------------------------------------------------------------------------
 
-UNITS = {"time_s": "s", "speed_mm_s": "mm/s", "state": "", "vpp": "Vpp"}
+UNITS = {"time_s": "s", "speed_mm_s": "mm/s", "state": "", "amplitude_v": "V"}
 
 
 def capture():
     """Five cycles' samples ({name: value} each), time first, as the bench records them."""
     speeds = [0.0, 0.1, 1 / 3, -2.5e-7, 1e20]
     states = [0, 1, 1, 2, 2]
-    vpps = [0.0, math.nan, 100.0, 100.0, 100.0]
-    return [{"time_s": i / 1000.0, "speed_mm_s": speeds[i], "state": states[i], "vpp": vpps[i]} for i in range(5)]
+    amplitudes_v = [0.0, math.nan, 100.0, 100.0, 100.0]
+    return [{"time_s": i / 1000.0, "speed_mm_s": speeds[i], "state": states[i], "amplitude_v": amplitudes_v[i]} for i in range(5)]
 
 
 def read_rows(path):
@@ -188,7 +188,7 @@ def test_write_csv_content(tmp_path):
     path = tmp_path / "capture.csv"
     write_csv(str(path), capture(), UNITS)
     rows = read_rows(path)
-    assert rows[0] == ["time_s [s]", "speed_mm_s [mm/s]", "state", "vpp [Vpp]"]
+    assert rows[0] == ["time_s [s]", "speed_mm_s [mm/s]", "state", "amplitude_v [V]"]
     assert len(rows) == 6
     assert rows[1] == ["0.0", "0.0", "0.0", "0.0"]
     assert rows[2] == ["0.001", "0.1", "1.0", "nan"]
@@ -201,7 +201,7 @@ def test_write_csv_content(tmp_path):
 def test_write_csv_without_units(tmp_path):
     path = tmp_path / "capture.csv"
     write_csv(str(path), capture())
-    assert read_rows(path)[0] == ["time_s", "speed_mm_s", "state", "vpp"]
+    assert read_rows(path)[0] == ["time_s", "speed_mm_s", "state", "amplitude_v"]
 
 
 def test_write_csv_time_column_first(tmp_path):

@@ -15,11 +15,11 @@ except ImportError:
 from pymodbus.client import ModbusTcpClient  # noqa: E402
 
 
-def words(frequency_hz, vpp, ticks):
+def words(frequency_hz, amplitude_v, ticks):
     mhz = int(frequency_hz * 1000)
-    # command, frequency (u32 mHz, high word first), amplitude (0.1 Vpp), phase (0.01 deg),
+    # command, frequency (u32 mHz, high word first), amplitude (0.1 V), phase (0.01 deg),
     # load, frequency slew (u32), amplitude slew (u32), advance
-    return [1, mhz >> 16, mhz & 0xFFFF, int(vpp * 10), 9000, 0, 0x000F, 0x4240, 0x0001, 0x86A0, ticks]
+    return [1, mhz >> 16, mhz & 0xFFFF, int(amplitude_v * 10), 9000, 0, 0x000F, 0x4240, 0x0001, 0x86A0, ticks]
 
 
 def main():

@@ -27,10 +27,10 @@ swum::MotorParameters calibrated() {
 
 std::vector<swum::OperatingPoint> grid() {
   std::vector<swum::OperatingPoint> points;
-  for (double vpp : {100.0, 200.0, 300.0, 400.0}) {
+  for (double amplitude_v : {100.0, 200.0, 300.0, 400.0}) {
     for (int k = 0; k <= 20; ++k) {
       swum::OperatingPoint p;
-      p.vpp = vpp;
+      p.amplitude_v = amplitude_v;
       p.frequency_hz = 39000.0 + 100.0 * k;
       points.push_back(p);
     }

@@ -13,7 +13,7 @@ const swum::MotorModel& model() {
   return m;
 }
 
-void BM_HarmonicBalancePoint_BothModes_400Vpp_39k5Hz(benchmark::State& state) {
+void BM_HarmonicBalancePoint_BothModes_400V_39k5Hz(benchmark::State& state) {
   const swum::FreeStatorHarmonicBalance hb(model());
   for (auto _ : state) {
     auto r = hb.solve(400.0, 39500.0);
@@ -21,7 +21,7 @@ void BM_HarmonicBalancePoint_BothModes_400Vpp_39k5Hz(benchmark::State& state) {
   }
 }
 
-void BM_HarmonicBalancePoint_BothModes_ThreeBranches_400Vpp_39kHz(benchmark::State& state) {
+void BM_HarmonicBalancePoint_BothModes_ThreeBranches_400V_39kHz(benchmark::State& state) {
   const swum::FreeStatorHarmonicBalance hb(model());
   for (auto _ : state) {
     auto r = hb.solve(400.0, 39000.0);
@@ -38,7 +38,7 @@ void BM_HarmonicBalance_OneModeOneSeed(benchmark::State& state) {
   }
 }
 
-void BM_HarmonicBalance_Backbone_400Vpp(benchmark::State& state) {
+void BM_HarmonicBalance_Backbone_400V(benchmark::State& state) {
   const swum::FreeStatorHarmonicBalance hb(model());
   for (auto _ : state) {
     auto b = hb.backbone(400.0);
@@ -48,8 +48,8 @@ void BM_HarmonicBalance_Backbone_400Vpp(benchmark::State& state) {
 
 }  // namespace
 
-BENCHMARK(BM_HarmonicBalancePoint_BothModes_400Vpp_39k5Hz)->Unit(benchmark::kMicrosecond);
-BENCHMARK(BM_HarmonicBalancePoint_BothModes_ThreeBranches_400Vpp_39kHz)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_HarmonicBalancePoint_BothModes_400V_39k5Hz)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_HarmonicBalancePoint_BothModes_ThreeBranches_400V_39kHz)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_HarmonicBalance_OneModeOneSeed)->Unit(benchmark::kMicrosecond);
-BENCHMARK(BM_HarmonicBalance_Backbone_400Vpp)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_HarmonicBalance_Backbone_400V)->Unit(benchmark::kMillisecond);
 BENCHMARK_MAIN();

@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """Does the HTTP API disturb the real-time loop? (docs/performance.md, "The control API".)
-Runs swum-emu on wall time (10 kHz, the drive on at 400 Vpp / 40 kHz over Modbus, --rt as
+Runs swum-emu on wall time (10 kHz, the drive on at 400 V / 40 kHz over Modbus, --rt as
 tools/rt-bench does unless --no-rt) in pairs, without and with K clients streaming the telemetry
 at R Hz from /api/v1/stream, alternating the order, and prints each run's lateness p99 and overrun
 share from its exit report, side by side. Printed, never asserted: the machine is shared.
@@ -49,7 +49,7 @@ def stream(port, rate_hz, stop, counts, index, failures):
 
 
 def enable(ready):
-    """The drive on at 400 Vpp / 40 kHz (what tools/rt-bench measures), through Modbus TCP."""
+    """The drive on at 400 V / 40 kHz (what tools/rt-bench measures), through Modbus TCP."""
     port = int(re.search(r"modbus=tcp://127\.0\.0\.1:(\d+)", ready).group(1))
     m = RegisterMap()
     registers = [1] + m.encode("frequency_setpoint", 40000.0) + m.encode("amplitude_setpoint", 400.0)
@@ -102,7 +102,7 @@ def main():
     parser.add_argument("--rate-hz", type=float, default=50.0)
     parser.add_argument("--no-rt", action="store_true", help="the loop at the default scheduler (no --rt)")
     a = parser.parse_args()
-    print(f"swum-emu 10 kHz on wall time, {'' if a.no_rt else '--rt, '}drive 400 Vpp / 40 kHz, {a.seconds:g} s per "
+    print(f"swum-emu 10 kHz on wall time, {'' if a.no_rt else '--rt, '}drive 400 V / 40 kHz, {a.seconds:g} s per "
           f"run; 'with' = {a.clients} clients x {a.rate_hz:g} Hz; load {os.getloadavg()[0]:.2f}")
     print(f"{'pair':>4}  {'without: p99 us':>16} {'overruns %':>10}   {'with: p99 us':>13} {'overruns %':>10} "
           f"{'events':>7}")

@@ -10,11 +10,11 @@
 namespace {
 
 void BM_Identify4Parameters_30Points(benchmark::State& state) {
-  const std::vector<double> vpps = {50, 85, 120, 155, 190, 225, 260, 295, 330, 365};
+  const std::vector<double> amplitudes_v = {50, 85, 120, 155, 190, 225, 260, 295, 330, 365};
   const std::vector<double> freqs = {39250.0, 39500.0, 39750.0};
   swum::SyntheticAmplitudeOptions so;
   so.relative_noise = 0.02;
-  const auto data = swum::synthesize_amplitudes(swum::MotorParameters{}, vpps, freqs, so);
+  const auto data = swum::synthesize_amplitudes(swum::MotorParameters{}, amplitudes_v, freqs, so);
   swum::MotorParameters prior{};
   prior.stator.c1111_pa *= 0.5;
   for (auto _ : state) {

@@ -1,5 +1,5 @@
 // Lockstep throughput (issue 13): emulated seconds per wall second when a controller steps
-// swum-emu 1 ms (10 ticks at 10 kHz) per cycle, with the calibrated motor driven at 400 Vpp,
+// swum-emu 1 ms (10 ticks at 10 kHz) per cycle, with the calibrated motor driven at 400 V,
 // 40 kHz. Side by side in one run:
 //   CoreTicks      EmulatorCore::tick() x 10 on the calling thread: the model's floor;
 //   InProcess      LockstepClock::advance(10) to a LockstepLoop thread (the hand-off cost);
@@ -41,11 +41,11 @@ const MotorModel& model() {
   return m;
 }
 
-Command drive_400vpp() {
+Command drive_400v() {
   Command c;
   c.fields = Command::kAction | Command::kAmplitude | Command::kFrequency;
   c.action = Action::enable;
-  c.amplitude_vpp = 400.0;
+  c.amplitude_v = 400.0;
   c.frequency_hz = 40000.0;
   return c;
 }
@@ -58,7 +58,7 @@ void report(benchmark::State& state) {
 void BM_Lockstep_CoreTicks(benchmark::State& state) {
   SharedState shared;
   EmulatorCore core(model(), {}, shared);
-  shared.submit(drive_400vpp());
+  shared.submit(drive_400v());
   for (auto _ : state) {
     for (std::uint32_t i = 0; i < kTicksPerCycle; ++i) benchmark::DoNotOptimize(core.tick());
   }
@@ -75,7 +75,7 @@ struct LockstepRig {
   std::thread thread;
   LockstepRig() : core(model(), external(), shared), loop(core, clock, {}) {
     shared.lockstep = &clock;
-    shared.submit(drive_400vpp());
+    shared.submit(drive_400v());
     thread = std::thread([this] { loop.run(stop); });
   }
   ~LockstepRig() {
@@ -111,7 +111,7 @@ void BM_Lockstep_ModbusTcp(benchmark::State& state) {
   namespace mb = protocol::modbus;
   AmplifierSetpoints s;
   s.frequency_hz = 40000.0;
-  s.amplitude_vpp = 400.0;
+  s.amplitude_v = 400.0;
   s.phase_deg = 90.0;
   std::array<std::uint16_t, mb::holding::kCount> step{};
   if (!mb::encode_step_write(Action::none, s, kTicksPerCycle, step).empty()) state.SkipWithError("encode");

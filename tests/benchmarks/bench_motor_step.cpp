@@ -47,11 +47,11 @@ double thread_cpu_s() {
 // real_time_factor = step / (CPU time per step) for that best batch.
 // electrical: the emulator's path, advance(steps, ElectricalSums&) (the phase currents of every
 // 4th step, model/machine/electrical.h), against the plain advance(steps) of the same motor.
-void run(benchmark::State& state, const swum::MotorParameters& p, double vpp, double frequency_hz, double load_n = 0.0,
-         bool electrical = false) {
+void run(benchmark::State& state, const swum::MotorParameters& p, double amplitude_v, double frequency_hz,
+         double load_n = 0.0, bool electrical = false) {
   const swum::MotorModel model(p);
   swum::MotorSimulator sim(model);
-  sim.set_drive({vpp, frequency_hz, 90.0, load_n});
+  sim.set_drive({amplitude_v, frequency_hz, 90.0, load_n});
   sim.advance(200000);  // reach the periodic regime
   constexpr std::uint64_t kBatch = 4096;
   double best_s = 1e30, total_s = 0.0;
@@ -90,47 +90,41 @@ swum::MotorParameters calibrated_generic() {
 }
 
 // Calibrated motor (the product default).
-// Slip-dominated: 400 Vpp at 40 kHz (intermittent contact, sliding friction).
-void BM_Calibrated_Slip_400Vpp_40kHz(benchmark::State& s) { run(s, calibrated(), 400.0, 40000.0); }
+// Slip-dominated: 400 V at 40 kHz (intermittent contact, sliding friction).
+void BM_Calibrated_Slip_400V_40kHz(benchmark::State& s) { run(s, calibrated(), 400.0, 40000.0); }
 // The same with the electrical port measured (what swum-emu runs since issue 15).
-void BM_Calibrated_Slip_400Vpp_40kHz_Electrical(benchmark::State& s) {
-  run(s, calibrated(), 400.0, 40000.0, 0.0, true);
-}
-void BM_Calibrated_Separation_400Vpp_39k5Hz_Electrical(benchmark::State& s) {
+void BM_Calibrated_Slip_400V_40kHz_Electrical(benchmark::State& s) { run(s, calibrated(), 400.0, 40000.0, 0.0, true); }
+void BM_Calibrated_Separation_400V_39k5Hz_Electrical(benchmark::State& s) {
   run(s, calibrated(), 400.0, 39500.0, 0.0, true);
 }
-// Stick-dominated: 50 Vpp at 40 kHz (dead zone: contact sticks elastically, mover at rest).
-void BM_Calibrated_Stick_50Vpp_40kHz(benchmark::State& s) { run(s, calibrated(), 50.0, 40000.0); }
-// Separation: 400 Vpp at 39.5 kHz (largest normal amplitude, contact open ~half the cycle).
-void BM_Calibrated_Separation_400Vpp_39k5Hz(benchmark::State& s) { run(s, calibrated(), 400.0, 39500.0); }
-// Loaded mover, guide friction holding: 0 Vpp with 0.5 N load (stuck below mu_s (F_N + m g)).
+// Stick-dominated: 50 V at 40 kHz (dead zone: contact sticks elastically, mover at rest).
+void BM_Calibrated_Stick_50V_40kHz(benchmark::State& s) { run(s, calibrated(), 50.0, 40000.0); }
+// Separation: 400 V at 39.5 kHz (largest normal amplitude, contact open ~half the cycle).
+void BM_Calibrated_Separation_400V_39k5Hz(benchmark::State& s) { run(s, calibrated(), 400.0, 39500.0); }
+// Loaded mover, guide friction holding: 0 V with 0.5 N load (stuck below mu_s (F_N + m g)).
 void BM_Calibrated_Rest_Loaded(benchmark::State& s) { run(s, calibrated(), 0.0, 40000.0, 0.5); }
 
-void BM_CalibratedGeneric_Slip_400Vpp_40kHz(benchmark::State& s) { run(s, calibrated_generic(), 400.0, 40000.0); }
-void BM_CalibratedGeneric_Slip_400Vpp_40kHz_Electrical(benchmark::State& s) {
+void BM_CalibratedGeneric_Slip_400V_40kHz(benchmark::State& s) { run(s, calibrated_generic(), 400.0, 40000.0); }
+void BM_CalibratedGeneric_Slip_400V_40kHz_Electrical(benchmark::State& s) {
   run(s, calibrated_generic(), 400.0, 40000.0, 0.0, true);
 }
-void BM_CalibratedGeneric_Stick_50Vpp_40kHz(benchmark::State& s) { run(s, calibrated_generic(), 50.0, 40000.0); }
-void BM_CalibratedGeneric_Separation_400Vpp_39k5Hz(benchmark::State& s) {
-  run(s, calibrated_generic(), 400.0, 39500.0);
-}
+void BM_CalibratedGeneric_Stick_50V_40kHz(benchmark::State& s) { run(s, calibrated_generic(), 50.0, 40000.0); }
+void BM_CalibratedGeneric_Separation_400V_39k5Hz(benchmark::State& s) { run(s, calibrated_generic(), 400.0, 39500.0); }
 void BM_CalibratedGeneric_Rest_Loaded(benchmark::State& s) { run(s, calibrated_generic(), 0.0, 40000.0, 0.5); }
 
-void BM_Calibrated64Steps_Slip_400Vpp_40kHz(benchmark::State& s) { run(s, calibrated_64_steps(), 400.0, 40000.0); }
-void BM_Calibrated64Steps_Separation_400Vpp_39k5Hz(benchmark::State& s) {
-  run(s, calibrated_64_steps(), 400.0, 39500.0);
-}
+void BM_Calibrated64Steps_Slip_400V_40kHz(benchmark::State& s) { run(s, calibrated_64_steps(), 400.0, 40000.0); }
+void BM_Calibrated64Steps_Separation_400V_39k5Hz(benchmark::State& s) { run(s, calibrated_64_steps(), 400.0, 39500.0); }
 
 // Paper reference set (rigid contact, tanh guide friction).
-void BM_Reference_Slip_400Vpp_40kHz(benchmark::State& s) { run(s, swum::MotorParameters{}, 400.0, 40000.0); }
-void BM_Reference_Stick_100Vpp_40k4Hz(benchmark::State& s) { run(s, swum::MotorParameters{}, 100.0, 40400.0); }
-void BM_Reference_ErfNewton_400Vpp_40kHz(benchmark::State& s) {
+void BM_Reference_Slip_400V_40kHz(benchmark::State& s) { run(s, swum::MotorParameters{}, 400.0, 40000.0); }
+void BM_Reference_Stick_100V_40k4Hz(benchmark::State& s) { run(s, swum::MotorParameters{}, 100.0, 40400.0); }
+void BM_Reference_ErfNewton_400V_40kHz(benchmark::State& s) {
   swum::MotorParameters p{};
   p.numerics.friction_solver = swum::FrictionSolver::erf_newton;
   run(s, p, 400.0, 40000.0);
 }
 
-void BM_CalibratedSingleStepCall_400Vpp(benchmark::State& state) {
+void BM_CalibratedSingleStepCall_400V(benchmark::State& state) {
   const swum::MotorModel model{calibrated()};
   swum::MotorSimulator sim(model);
   sim.set_drive({400.0, 40000.0, 90.0, 0.0});
@@ -145,23 +139,23 @@ void BM_CalibratedSingleStepCall_400Vpp(benchmark::State& state) {
   state.counters["real_time_factor"] = 1e9 * sim.time_step_s() / ns_per_step;
 }
 
-BENCHMARK(BM_Calibrated_Slip_400Vpp_40kHz);
-BENCHMARK(BM_Calibrated_Slip_400Vpp_40kHz_Electrical);
-BENCHMARK(BM_Calibrated_Stick_50Vpp_40kHz);
-BENCHMARK(BM_Calibrated_Separation_400Vpp_39k5Hz);
-BENCHMARK(BM_Calibrated_Separation_400Vpp_39k5Hz_Electrical);
+BENCHMARK(BM_Calibrated_Slip_400V_40kHz);
+BENCHMARK(BM_Calibrated_Slip_400V_40kHz_Electrical);
+BENCHMARK(BM_Calibrated_Stick_50V_40kHz);
+BENCHMARK(BM_Calibrated_Separation_400V_39k5Hz);
+BENCHMARK(BM_Calibrated_Separation_400V_39k5Hz_Electrical);
 BENCHMARK(BM_Calibrated_Rest_Loaded);
-BENCHMARK(BM_CalibratedGeneric_Slip_400Vpp_40kHz);
-BENCHMARK(BM_CalibratedGeneric_Slip_400Vpp_40kHz_Electrical);
-BENCHMARK(BM_CalibratedGeneric_Stick_50Vpp_40kHz);
-BENCHMARK(BM_CalibratedGeneric_Separation_400Vpp_39k5Hz);
+BENCHMARK(BM_CalibratedGeneric_Slip_400V_40kHz);
+BENCHMARK(BM_CalibratedGeneric_Slip_400V_40kHz_Electrical);
+BENCHMARK(BM_CalibratedGeneric_Stick_50V_40kHz);
+BENCHMARK(BM_CalibratedGeneric_Separation_400V_39k5Hz);
 BENCHMARK(BM_CalibratedGeneric_Rest_Loaded);
-BENCHMARK(BM_Calibrated64Steps_Slip_400Vpp_40kHz);
-BENCHMARK(BM_Calibrated64Steps_Separation_400Vpp_39k5Hz);
-BENCHMARK(BM_Reference_Slip_400Vpp_40kHz);
-BENCHMARK(BM_Reference_Stick_100Vpp_40k4Hz);
-BENCHMARK(BM_Reference_ErfNewton_400Vpp_40kHz);
-BENCHMARK(BM_CalibratedSingleStepCall_400Vpp);
+BENCHMARK(BM_Calibrated64Steps_Slip_400V_40kHz);
+BENCHMARK(BM_Calibrated64Steps_Separation_400V_39k5Hz);
+BENCHMARK(BM_Reference_Slip_400V_40kHz);
+BENCHMARK(BM_Reference_Stick_100V_40k4Hz);
+BENCHMARK(BM_Reference_ErfNewton_400V_40kHz);
+BENCHMARK(BM_CalibratedSingleStepCall_400V);
 
 }  // namespace
 

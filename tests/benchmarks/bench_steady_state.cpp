@@ -40,14 +40,14 @@ double thread_cpu_s() {
 }
 
 // steps_per_period 0: the config's own step.
-void run(benchmark::State& state, double steps_per_period, bool step_by_step, double vpp, double frequency_hz) {
+void run(benchmark::State& state, double steps_per_period, bool step_by_step, double amplitude_v, double frequency_hz) {
   const swum::MotorModel model(calibrated(steps_per_period));
   swum::SteadyStateOptions options;
   if (step_by_step) {
     options.trace = [](const swum::TraceSample&) {};
     options.trace_every_steps = std::numeric_limits<std::uint64_t>::max();
   }
-  const swum::OperatingPoint point{vpp, frequency_hz};
+  const swum::OperatingPoint point{amplitude_v, frequency_hz};
   double best_s = 1e30;
   double simulated_s = 0.0;
   for (auto _ : state) {
@@ -62,19 +62,19 @@ void run(benchmark::State& state, double steps_per_period, bool step_by_step, do
   state.counters["steps_per_period"] = 1.0 / (40000.0 * model.time_step_s());
 }
 
-void BM_Point400Vpp40kHz_64Steps_StepByStep(benchmark::State& s) { run(s, 64.0, true, 400.0, 40000.0); }
-void BM_Point400Vpp40kHz_64Steps_HotLoop(benchmark::State& s) { run(s, 64.0, false, 400.0, 40000.0); }
-void BM_Point400Vpp40kHz_Config_HotLoop(benchmark::State& s) { run(s, 0.0, false, 400.0, 40000.0); }
-void BM_Point100Vpp40k3Hz_64Steps_StepByStep(benchmark::State& s) { run(s, 64.0, true, 100.0, 40300.0); }
-void BM_Point100Vpp40k3Hz_64Steps_HotLoop(benchmark::State& s) { run(s, 64.0, false, 100.0, 40300.0); }
-void BM_Point100Vpp40k3Hz_Config_HotLoop(benchmark::State& s) { run(s, 0.0, false, 100.0, 40300.0); }
+void BM_Point400V40kHz_64Steps_StepByStep(benchmark::State& s) { run(s, 64.0, true, 400.0, 40000.0); }
+void BM_Point400V40kHz_64Steps_HotLoop(benchmark::State& s) { run(s, 64.0, false, 400.0, 40000.0); }
+void BM_Point400V40kHz_Config_HotLoop(benchmark::State& s) { run(s, 0.0, false, 400.0, 40000.0); }
+void BM_Point100V40k3Hz_64Steps_StepByStep(benchmark::State& s) { run(s, 64.0, true, 100.0, 40300.0); }
+void BM_Point100V40k3Hz_64Steps_HotLoop(benchmark::State& s) { run(s, 64.0, false, 100.0, 40300.0); }
+void BM_Point100V40k3Hz_Config_HotLoop(benchmark::State& s) { run(s, 0.0, false, 100.0, 40300.0); }
 
-BENCHMARK(BM_Point400Vpp40kHz_64Steps_StepByStep)->Unit(benchmark::kMillisecond);
-BENCHMARK(BM_Point400Vpp40kHz_64Steps_HotLoop)->Unit(benchmark::kMillisecond);
-BENCHMARK(BM_Point400Vpp40kHz_Config_HotLoop)->Unit(benchmark::kMillisecond);
-BENCHMARK(BM_Point100Vpp40k3Hz_64Steps_StepByStep)->Unit(benchmark::kMillisecond);
-BENCHMARK(BM_Point100Vpp40k3Hz_64Steps_HotLoop)->Unit(benchmark::kMillisecond);
-BENCHMARK(BM_Point100Vpp40k3Hz_Config_HotLoop)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_Point400V40kHz_64Steps_StepByStep)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_Point400V40kHz_64Steps_HotLoop)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_Point400V40kHz_Config_HotLoop)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_Point100V40k3Hz_64Steps_StepByStep)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_Point100V40k3Hz_64Steps_HotLoop)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_Point100V40k3Hz_Config_HotLoop)->Unit(benchmark::kMillisecond);
 
 }  // namespace
 

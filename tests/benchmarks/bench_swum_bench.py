@@ -29,5 +29,5 @@ def test_reference_controller_through_the_gate(swum_bench):
 
 def test_no_controller(swum_bench):
     bench = swum_bench()
-    bench.command("enable", vpp=200, frequency_hz=40000)
+    bench.command("enable", amplitude_v=200, frequency_hz=40000)
     run(bench, "no controller (the bench's own commands)")

@@ -34,9 +34,9 @@ COMMAND = DB.frame_by_name("Command")
 NODE = 1  # the DBC describes node 1
 
 
-def command_frame(mode, alive, frequency_hz, vpp, phase_deg=90.0):
+def command_frame(mode, alive, frequency_hz, amplitude_v, phase_deg=90.0):
     physical = {"Mode": mode, "Reserved1": 0, "AliveCounter": alive % 16, "Frequency": frequency_hz,
-                "Phase": phase_deg, "Amplitude": vpp, "Reserved2": 0, "Crc": 0}
+                "Phase": phase_deg, "Amplitude": amplitude_v, "Reserved2": 0, "Crc": 0}
     # canmatrix's Frame.encode takes raw values: convert through the DBC's factors.
     data = bytearray(COMMAND.encode({name: COMMAND.signal_by_name(name).phys2raw(decimal.Decimal(str(value)))
                                      for name, value in physical.items()}))
@@ -54,9 +54,9 @@ class Peer:
         self.alive = 0
         self.latest = {}
 
-    def send_command(self, mode, frequency_hz, vpp, phase_deg=90.0):
+    def send_command(self, mode, frequency_hz, amplitude_v, phase_deg=90.0):
         self.alive = (self.alive + 1) % 16
-        data = command_frame(mode, self.alive, frequency_hz, vpp, phase_deg)
+        data = command_frame(mode, self.alive, frequency_hz, amplitude_v, phase_deg)
         self.bus.send(can.Message(arbitration_id=COMMAND.arbitration_id.id, data=data, is_extended_id=False))
 
     def poll(self, seconds=0.01):
@@ -155,7 +155,7 @@ def scenario_rejects():
         dump = subprocess.run(["candump", "-L", "-n", "3", "vcan0,701:7FF"], capture_output=True, text=True, timeout=30)
         assert dump.returncode == 0 and dump.stdout.count("701#05") == 3, dump.stdout
         peer = Peer()
-        cansend(command_frame(1, 1, 40000, 100))  # valid: enable at 100 Vpp
+        cansend(command_frame(1, 1, 40000, 100))  # valid: enable at 100 V
         peer.wait_for(lambda t: t["Status"]["State"] == 1, "enabled via cansend")
 
         def expect(data, reason, can_id=0x200 + NODE):

@@ -46,9 +46,9 @@ CHROMEDRIVER = "/usr/bin/chromedriver"
 CHROMIUM = "/usr/bin/chromium"
 MAP = RegisterMap()
 CHARTS = ("speed", "frequency", "current", "phase", "temperature", "lateness")
-# The operating point: 300 Vpp at 39.8 kHz, reached by slew-limited ramps from 0 Vpp / 40 kHz
+# The operating point: 300 V at 39.8 kHz, reached by slew-limited ramps from 0 V / 40 kHz
 # (above both softening peaks of config/li2019.toml: the motor runs at about 0.5 m/s).
-DRIVE_HZ, DRIVE_VPP = 39800.0, 300.0
+DRIVE_HZ, DRIVE_AMPLITUDE_V = 39800.0, 300.0
 TOKEN = "some-token-123"
 RECORDING_HEADER = "tick,sim_time_s,state,fault,"
 # What Chromium itself writes to the console for each API request answered 401 (the page without
@@ -293,7 +293,7 @@ def modbus_client(emu):
 
 
 def enable(client):
-    regs = ([1] + MAP.encode("frequency_setpoint", DRIVE_HZ) + MAP.encode("amplitude_setpoint", DRIVE_VPP)
+    regs = ([1] + MAP.encode("frequency_setpoint", DRIVE_HZ) + MAP.encode("amplitude_setpoint", DRIVE_AMPLITUDE_V)
             + MAP.encode("phase_setpoint", 90.0) + MAP.encode("load_force", 0.0)
             + MAP.encode("frequency_slew", 200.0) + MAP.encode("amplitude_slew", 300.0))
     assert len(regs) == MAP.holding["advance"]["address"]  # registers 0..9: not the lockstep advance
@@ -356,9 +356,9 @@ def wall_clock_page(driver, emu, screenshot, timings):
         enable(client)
         t1 = time.monotonic()
         wait_for(driver, "state 'enabled'", lambda d: (text(d, "state") == "enabled", text(d, "state")))
-        wait_for(driver, "the drive at 300 Vpp, 39.8 kHz on the page",
-                 lambda d: (text(d, "op-vpp") == "300" and text(d, "op-frequency") == "39.800",
-                            (text(d, "op-vpp"), text(d, "op-frequency"))))
+        wait_for(driver, "the drive at 300 V, 39.8 kHz on the page",
+                 lambda d: (text(d, "op-amplitude-v") == "300" and text(d, "op-frequency") == "39.800",
+                            (text(d, "op-amplitude-v"), text(d, "op-frequency"))))
         # The stream keeps coming: updates and chart points grow (2 s of emulated time at 20 Hz).
         u0, p0 = number(driver, "updates") or 0, number(driver, "points") or 0
         wait_for(driver, "dataset.updates and dataset.points to grow by 40",

@@ -93,8 +93,8 @@ class Emulator:
             self.proc.wait()
 
 
-def reference(vpp, frequency_hz, phase_deg=90.0, load_n=0.0):
-    out = subprocess.run([REFERENCE, CONFIG, str(vpp), str(frequency_hz), str(phase_deg), str(load_n)],
+def reference(amplitude_v, frequency_hz, phase_deg=90.0, load_n=0.0):
+    out = subprocess.run([REFERENCE, CONFIG, str(amplitude_v), str(frequency_hz), str(phase_deg), str(load_n)],
                          check=True, capture_output=True, text=True).stdout
     return json.loads(out)
 

@@ -29,8 +29,8 @@ class Stepper:
         self.client = ModbusTcpClient(emu.host, port=emu.port, timeout=timeout)
         assert self.client.connect(), "cannot connect"
 
-    def step(self, command, vpp, ticks, frequency_hz=40000.0, load_n=0.0):
-        regs = ([command] + MAP.encode("frequency_setpoint", frequency_hz) + MAP.encode("amplitude_setpoint", vpp)
+    def step(self, command, amplitude_v, ticks, frequency_hz=40000.0, load_n=0.0):
+        regs = ([command] + MAP.encode("frequency_setpoint", frequency_hz) + MAP.encode("amplitude_setpoint", amplitude_v)
                 + MAP.encode("phase_setpoint", 90.0) + MAP.encode("load_force", load_n)
                 + MAP.encode("frequency_slew", 1e6) + MAP.encode("amplitude_slew", 1e5) + [ticks])
         assert len(regs) == ADVANCE + 1
@@ -49,15 +49,15 @@ def closed_loop(emu, cycles=300, target_mm_s=250.0):
     """A small PI speed loop (amplitude actuator, 1 ms cycles): the commands depend on the
     telemetry, so any nondeterminism in the emulator changes the command sequence too."""
     s = Stepper(emu)
-    vpp, integral, rows = 0.0, 0.0, []
+    amplitude_v, integral, rows = 0.0, 0.0, []
     for k in range(cycles):
-        w = s.step(1 if k == 0 else 0, round(vpp, 1), 10, load_n=(0.0 if k < 150 else 1.0))
+        w = s.step(1 if k == 0 else 0, round(amplitude_v, 1), 10, load_n=(0.0 if k < 150 else 1.0))
         assert not w.isError(), f"cycle {k}: {w}"
         t = s.inputs()
         speed = t["speed"] * 1e3  # m/s -> mm/s
         error = target_mm_s - speed
         integral += error * 1e-3
-        vpp = min(500.0, max(0.0, 0.4 * error + 60.0 * integral))
+        amplitude_v = min(500.0, max(0.0, 0.4 * error + 60.0 * integral))
         rows.append((t["tick"], t["speed"], t["position"], t["amplitude_output"], t["state"], t["overruns"],
                      t["lateness_max"]))
     s.close()
@@ -111,13 +111,13 @@ def replay():
         index = [i for i, line in enumerate(lines) if line.startswith("command,")][120]
         fields = lines[index].split(",")
         applied_at = int(fields[1])
-        fields[7] = str(float(fields[7]) + 5.0)  # amplitude_vpp
+        fields[7] = str(float(fields[7]) + 5.0)  # amplitude_v
         lines[index] = ",".join(fields)
         changed = os.path.join(d, "changed.csv")
         open(changed, "w").write("\n".join(lines))
         bad = subprocess.run([EMU, "--config", CONFIG, "--replay", changed], capture_output=True, text=True)
         assert bad.returncode == 3, bad.stdout + bad.stderr
-        assert f"DIFFERENT at tick {applied_at + 1} " in bad.stdout and "column output_vpp" in bad.stdout, bad.stdout
+        assert f"DIFFERENT at tick {applied_at + 1} " in bad.stdout and "column output_amplitude_v" in bad.stdout, bad.stdout
         # Other settings than the recording's are refused, naming the setting.
         other = subprocess.run([EMU, "--config", CONFIG, "--replay", trace, "--watchdog-ms", "50"],
                                capture_output=True, text=True)

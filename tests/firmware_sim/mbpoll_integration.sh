@@ -27,7 +27,7 @@ read_i32() { mb -t 3:int -B -r "$1" -c 1 | value; }
 read_u16() { mb -t 3 -r "$1" -c 1 | value; }
 
 mbw 4:int 1 40000000 >/dev/null     # frequency 40000.000 Hz (mHz, high word first)
-mbw 4 3 4000 >/dev/null                # 400.0 Vpp
+mbw 4 3 4000 >/dev/null                # 400.0 V
 mbw 4 0 1 >/dev/null                   # enable
 # Applied at the next tick boundary: a read right after the write may still show the tick before.
 for _ in $(seq 200); do [[ $(read_u16 1) == 1 ]] && break; done
@@ -46,12 +46,12 @@ ref = json.loads(sys.argv[2])["speed_mm_s"]
 assert abs(speed - ref) <= 0.03 * abs(ref) + 2.0, (speed, ref)
 PY
 
-# Out of range: 700 Vpp -> exception 03, nothing changes. First every accepted write applied
+# Out of range: 700 V -> exception 03, nothing changes. First every accepted write applied
 # (the last keep-alive takes effect at the next tick boundary).
 for _ in $(seq 200); do [[ $(read_i32 6) == "$writes" ]] && break; done
 applied=$(read_i32 6)
 [[ $applied == "$writes" ]] || { echo "$writes writes accepted, $applied applied"; exit 1; }
-if out=$(mbw 4 3 7000 2>&1); then echo "700 Vpp accepted: $out"; exit 1; fi
+if out=$(mbw 4 3 7000 2>&1); then echo "700 V accepted: $out"; exit 1; fi
 grep -qi "illegal data value" <<<"$out" || { echo "unexpected: $out"; exit 1; }
 [[ $(read_u16 3) == 2 ]] || { echo "last reject reason not 2 (amplitude out of range)"; exit 1; }
 [[ $(mb -t 4 -r 3 -c 1 | value) == 4000 ]] || { echo "amplitude setpoint changed"; exit 1; }

@@ -57,8 +57,8 @@ class Controller:
     def command(self, code):
         return self.write(command=code)
 
-    def run_at(self, vpp, frequency_hz):
-        assert self.write(frequency_setpoint=frequency_hz, amplitude_setpoint=vpp) == 0
+    def run_at(self, amplitude_v, frequency_hz):
+        assert self.write(frequency_setpoint=frequency_hz, amplitude_setpoint=amplitude_v) == 0
         assert self.command(1) == 0  # enable
 
     def wait_applied(self, timeout=60):
@@ -88,10 +88,10 @@ class Controller:
                 assert self.command(0) == 0
 
 
-def steady_reference(vpp, frequency_hz):
+def steady_reference(amplitude_v, frequency_hz):
     """The model's steady state (run_to_steady_state). Computed before the emulator starts: the
     emulator keeps running (and its watchdog counting) while a scenario waits for it."""
-    ref = reference(vpp, frequency_hz)
+    ref = reference(amplitude_v, frequency_hz)
     assert ref["ok"], ref
     return ref
 
@@ -115,7 +115,7 @@ def scenario_enable_speed():
         assert v["state"] == 1, v
         assert v["status"] & 1 and v["status"] & 8, v  # enabled, drive on
         assert abs(v["amplitude_output"] - 400) < 1e-6 and abs(v["frequency_output"] - 40000) < 1e-3
-        check_speed(v["speed"], ref, "400 Vpp 40 kHz")
+        check_speed(v["speed"], ref, "400 V 40 kHz")
         assert v["tip_normal_amplitude"] > 1.0, v
         assert v["applied_commands"] >= 3
         c.close()
@@ -346,7 +346,7 @@ def scenario_clients():
 
 def scenario_electrical():
     """The electrical port (input registers 36..44, docs/protocols.md "Electrical port"), read on
-    their own and decoded from the JSON map: drive on at 300 Vpp near the resonance."""
+    their own and decoded from the JSON map: drive on at 300 V near the resonance."""
     with Emulator("--speedup", "4", "--watchdog-ms", "1000") as emu:
         c = Controller(emu)
         first = MAP.input["current_a"]["address"]
@@ -366,7 +366,7 @@ def scenario_electrical():
         v = c.wait_sim_time(c.wait_applied()["sim_time"] + 0.1)
         assert v["state"] == 1, v
         e = electrical()
-        print("300 Vpp 40.4 kHz: " + ", ".join(f"{k} {e[k]:.4g}" for k in (
+        print("300 V 40.4 kHz: " + ", ".join(f"{k} {e[k]:.4g}" for k in (
             "current_a", "current_b", "phase_a", "phase_b", "motional_phase_a", "motional_phase_b", "power_a", "power_b",
             "stator_temperature")))
         assert e["current_a"] > 0.0 and e["current_b"] > 0.0, e

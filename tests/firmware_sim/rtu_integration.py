@@ -58,7 +58,7 @@ def main():
         assert pdu[0] == 4 and pdu[1] == 2 * MAP.input_count, pdu.hex()
         regs = list(struct.unpack(f">{MAP.input_count}H", pdu[2:]))
         assert MAP.decode_inputs(regs)["state"] == 0
-        # Write 400 Vpp, read it back (applied at the next tick).
+        # Write 400 V, read it back (applied at the next tick).
         addr = MAP.holding["amplitude_setpoint"]["address"]
         assert m.transact(7, struct.pack(">BHH", 6, addr, 4000)) == struct.pack(">BHH", 6, addr, 4000)
         for _ in range(100):

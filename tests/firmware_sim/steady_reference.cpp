@@ -1,5 +1,5 @@
 // Prints the model's steady state (swum::run_to_steady_state) for one operating point as JSON:
-//   swum_emu_reference CONFIG VPP FREQUENCY_HZ [PHASE_DEG [LOAD_N]]
+//   swum_emu_reference CONFIG V FREQUENCY_HZ [PHASE_DEG [LOAD_N]]
 // The integration tests compare swum-emu's telemetry against it.
 #include <cstdio>
 #include <cstdlib>
@@ -12,7 +12,7 @@
 
 int main(int argc, char** argv) {
   if (argc < 4) {
-    std::fprintf(stderr, "usage: %s CONFIG VPP FREQUENCY_HZ [PHASE_DEG [LOAD_N]]\n", argv[0]);
+    std::fprintf(stderr, "usage: %s CONFIG V FREQUENCY_HZ [PHASE_DEG [LOAD_N]]\n", argv[0]);
     return 2;
   }
   std::ifstream in(argv[1]);
@@ -21,7 +21,7 @@ int main(int argc, char** argv) {
   try {
     const swum::MotorModel model(swum::parse_motor_parameters(text.str(), argv[1]));
     swum::OperatingPoint point;
-    point.vpp = std::atof(argv[2]);
+    point.amplitude_v = std::atof(argv[2]);
     point.frequency_hz = std::atof(argv[3]);
     if (argc > 4) point.phase_deg = std::atof(argv[4]);
     if (argc > 5) point.load_n = std::atof(argv[5]);

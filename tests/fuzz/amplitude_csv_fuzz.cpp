@@ -1,6 +1,6 @@
 // Fuzz target: the free-stator amplitude CSV reader of `swum identify` (host/output/amplitude_csv.h).
 // Input: byte 0 = the minimum number of amplitude values asked for (0..7), the rest the file.
-// Invariants: the only error is CommandError; accepted rows have finite values, vpp >= 0,
+// Invariants: the only error is CommandError; accepted rows have finite values, amplitude_v >= 0,
 // frequency > 0, non-negative amplitudes, at least one amplitude each and at least the asked
 // number in total; writing them (format_amplitude_csv) gives a file the reader accepts and that
 // writes back identically.
@@ -28,7 +28,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   }
   int amplitudes = 0;
   for (const AmplitudeMeasurement& m : rows) {
-    FUZZ_CHECK(std::isfinite(m.vpp) && m.vpp >= 0.0, "vpp %g", m.vpp);
+    FUZZ_CHECK(std::isfinite(m.amplitude_v) && m.amplitude_v >= 0.0, "amplitude_v %g", m.amplitude_v);
     FUZZ_CHECK(std::isfinite(m.frequency_hz) && m.frequency_hz > 0.0, "frequency %g", m.frequency_hz);
     FUZZ_CHECK(m.tip_normal_um || m.tip_tangential_um, "row %d without an amplitude", m.source_line);
     for (const auto& v : {m.tip_normal_um, m.tip_tangential_um}) {

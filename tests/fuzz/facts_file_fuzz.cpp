@@ -41,7 +41,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     FUZZ_CHECK(std::abs(f.load_n) <= 1000.0, "load %g", f.load_n);
     switch (f.kind) {
       case swum::FactKind::peak_frequency:
-        FUZZ_CHECK(f.vpp >= 1.0 && f.vpp <= 10000.0, "vpp %g", f.vpp);
+        FUZZ_CHECK(f.paper_v >= 1.0 && f.paper_v <= 10000.0, "paper_v %g", f.paper_v);
         FUZZ_CHECK(f.search_hz[0] >= 1000.0 && f.search_hz[0] < f.search_hz[1] && f.search_hz[1] <= 200000.0,
                    "search %g..%g", f.search_hz[0], f.search_hz[1]);
         FUZZ_CHECK(f.search_hz[2] > 0.0 && (f.search_hz[1] - f.search_hz[0]) / f.search_hz[2] <= 2000.0, "step %g",
@@ -50,18 +50,19 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
       case swum::FactKind::dead_zone_onset:
         FUZZ_CHECK(f.frequency_hz >= 1000.0 && f.frequency_hz <= 200000.0, "frequency %g", f.frequency_hz);
         FUZZ_CHECK(f.threshold_mm_s > 0.0 && f.threshold_mm_s <= 1e4, "threshold %g", f.threshold_mm_s);
-        FUZZ_CHECK(f.search_vpp[0] >= 1.0 && f.search_vpp[1] > f.search_vpp[0] + 10.0 && f.search_vpp[1] <= 10000.0,
-                   "search %g..%g", f.search_vpp[0], f.search_vpp[1]);
+        FUZZ_CHECK(f.search_paper_v[0] >= 1.0 && f.search_paper_v[1] > f.search_paper_v[0] + 10.0 &&
+                       f.search_paper_v[1] <= 10000.0,
+                   "search %g..%g", f.search_paper_v[0], f.search_paper_v[1]);
         break;
       case swum::FactKind::saturation_ratio:
         FUZZ_CHECK(f.frequency_hz >= 1000.0 && f.frequency_hz <= 200000.0, "frequency %g", f.frequency_hz);
         for (std::size_t k = 0; k < 4; ++k) {
-          FUZZ_CHECK(f.ratio_vpp[k] >= 1.0 && f.ratio_vpp[k] <= 10000.0, "vpp %g", f.ratio_vpp[k]);
-          FUZZ_CHECK(k == 0 || f.ratio_vpp[k] > f.ratio_vpp[k - 1], "ratio voltages do not increase");
+          FUZZ_CHECK(f.ratio_paper_v[k] >= 1.0 && f.ratio_paper_v[k] <= 10000.0, "paper_v %g", f.ratio_paper_v[k]);
+          FUZZ_CHECK(k == 0 || f.ratio_paper_v[k] > f.ratio_paper_v[k - 1], "ratio voltages do not increase");
         }
         break;
       case swum::FactKind::speed:
-        FUZZ_CHECK(f.vpp >= 1.0 && f.vpp <= 10000.0, "vpp %g", f.vpp);
+        FUZZ_CHECK(f.paper_v >= 1.0 && f.paper_v <= 10000.0, "paper_v %g", f.paper_v);
         FUZZ_CHECK(f.frequency_hz >= 1000.0 && f.frequency_hz <= 200000.0, "frequency %g", f.frequency_hz);
         break;
     }

@@ -19,7 +19,8 @@ using swum::MeasurementSet;
 void check_values(const MeasurementSet& set) {
   FUZZ_CHECK(!set.rows.empty(), "accepted without rows");
   for (const swum::Measurement& m : set.rows) {
-    FUZZ_CHECK(std::isfinite(m.vpp) && m.vpp >= 0.0 && m.vpp <= 10000.0, "vpp %g", m.vpp);
+    FUZZ_CHECK(std::isfinite(m.amplitude_v) && m.amplitude_v >= 0.0 && m.amplitude_v <= 10000.0, "amplitude_v %g",
+               m.amplitude_v);
     FUZZ_CHECK(m.frequency_hz >= 1000.0 && m.frequency_hz <= 200000.0, "frequency %g", m.frequency_hz);
     FUZZ_CHECK(std::abs(m.load_n) <= 1000.0, "load %g", m.load_n);
     FUZZ_CHECK(set.has_time == m.time_s.has_value(), "time_s on some rows only");

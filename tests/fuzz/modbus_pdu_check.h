@@ -43,7 +43,7 @@ inline void check_controller_encodes_same_registers(const modbus::Request& r, co
   auto written = [&](unsigned a) { return r.values[a - first]; };
   auto covers = [&](unsigned a) { return a >= first && a < end; };
   std::array<std::uint16_t, modbus::kDriveWriteCount> drive{};
-  const std::string drive_error = modbus::encode_drive_write(c.frequency_hz, c.amplitude_vpp, c.phase_deg, c.load_n,
+  const std::string drive_error = modbus::encode_drive_write(c.frequency_hz, c.amplitude_v, c.phase_deg, c.load_n,
                                                              drive);
   FUZZ_CHECK(drive_error.empty(), "accepted set-points do not encode: %s", drive_error.c_str());
   for (unsigned a = modbus::holding::kFrequency; a <= modbus::holding::kLoad; ++a) {
@@ -52,7 +52,7 @@ inline void check_controller_encodes_same_registers(const modbus::Request& r, co
                written(a), drive[a - modbus::holding::kFrequency]);
   }
   std::array<std::uint16_t, modbus::kSlewWriteCount> slew{};
-  const std::string slew_error = modbus::encode_slew_write(c.frequency_slew_hz_per_s, c.amplitude_slew_vpp_per_s, slew);
+  const std::string slew_error = modbus::encode_slew_write(c.frequency_slew_hz_per_s, c.amplitude_slew_v_per_s, slew);
   FUZZ_CHECK(slew_error.empty(), "accepted slew limits do not encode: %s", slew_error.c_str());
   for (unsigned a = modbus::holding::kFrequencySlew; a < modbus::holding::kFrequencySlew + modbus::kSlewWriteCount;
        ++a) {

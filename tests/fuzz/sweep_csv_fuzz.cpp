@@ -38,11 +38,11 @@ void check_picks(const std::vector<SweepRow>& rows) {
   std::map<std::pair<double, double>, std::vector<swum::CurveSample>> curves;
   for (const SweepRow& r : rows) {
     if (!r.ok && !swum::host::is_physical_failure(r)) continue;  // a hole, not a collapse
-    curves[{r.vpp, r.load_n}].push_back({r.frequency_hz, r.speed_mm_s, r.ok, r.speed_spread_mm_s});
+    curves[{r.amplitude_v, r.load_n}].push_back({r.frequency_hz, r.speed_mm_s, r.ok, r.speed_spread_mm_s});
   }
   for (const auto& [key, samples] : curves) {
     const swum::PickResult pick = swum::pick_operating_point(samples);
-    FUZZ_CHECK(!pick.reason.empty(), "a pick at %g Vpp without a reason", key.first);
+    FUZZ_CHECK(!pick.reason.empty(), "a pick at %g V without a reason", key.first);
     if (!pick.decided) continue;
     FUZZ_CHECK(std::any_of(samples.begin(), samples.end(),
                            [&](const swum::CurveSample& s) { return s.ok && s.frequency_hz >= pick.frequency_hz; }),
@@ -73,7 +73,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   }
   bool unwritable = false;
   for (const SweepRow& r : rows) {
-    FUZZ_CHECK(std::isfinite(r.vpp) && std::isfinite(r.frequency_hz) && std::isfinite(r.load_n), "a non-finite cell");
+    FUZZ_CHECK(std::isfinite(r.amplitude_v) && std::isfinite(r.frequency_hz) && std::isfinite(r.load_n),
+               "a non-finite cell");
     if (r.ok) FUZZ_CHECK(std::isfinite(r.speed_mm_s), "speed %g", r.speed_mm_s);
     if (r.time_s) FUZZ_CHECK(*r.time_s >= 0.0, "time %g", *r.time_s);
     if (r.sweep) FUZZ_CHECK(*r.sweep >= 0, "sweep %d", *r.sweep);

@@ -1,5 +1,5 @@
 // Fuzz target: the host tool's command-line value forms (host/output/value_lists.h): number
-// lists "A,B,C" (--vpp, --load) and ranges "START:STOP:STEP" or one value (--frequency-hz).
+// lists "A,B,C" (--amplitude-v, --load) and ranges "START:STOP:STEP" or one value (--frequency-hz).
 // Invariants: the only error is std::invalid_argument; a list has one finite number per comma
 // plus one, each the number parse_finite_number reads from its entry; a range has 1..max_points
 // finite values, starts at START, never decreases and ends within STEP/1e6 of STOP (plus the

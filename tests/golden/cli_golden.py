@@ -122,7 +122,7 @@ def case_modes(run):
 
 
 def case_stator(run):
-    grid = ["--config", CONFIG, "--vpp", "100,400", "--frequency-hz", "38600:39600:200"]
+    grid = ["--config", CONFIG, "--amplitude-v", "100,400", "--frequency-hz", "38600:39600:200"]
     backbone = run.path("backbone.csv")
     csv_out = run.swum("stator", *grid, "--backbone", backbone)
     return {"stator.json": run.swum("stator", *grid, "--json").stdout,
@@ -133,27 +133,27 @@ def case_stator(run):
 def case_pick(run):
     sweep = f"{INPUTS}/pick_sweep.csv"
     schedule = run.path("schedule.csv")
-    j = run.swum("pick", "--sweep", sweep, "--vpp", "100,300,400", "--json", "--schedule", schedule)
+    j = run.swum("pick", "--sweep", sweep, "--amplitude-v", "100,300,400", "--json", "--schedule", schedule)
     return {"pick.json": j.stdout,
             "pick_schedule.txt": read(schedule),
-            "pick.txt": run.swum("pick", "--sweep", sweep, "--vpp", "100,300,400").stdout,
-            "pick_load_margin.json": run.swum("pick", "--sweep", sweep, "--vpp", "400,100,300", "--load", "1",
+            "pick.txt": run.swum("pick", "--sweep", sweep, "--amplitude-v", "100,300,400").stdout,
+            "pick_load_margin.json": run.swum("pick", "--sweep", sweep, "--amplitude-v", "400,100,300", "--load", "1",
                                               "--margin-hz", "100", "--json").stdout,
-            "pick_one.txt": run.swum("pick", "--sweep", sweep, "--vpp", "300").stdout}
+            "pick_one.txt": run.swum("pick", "--sweep", sweep, "--amplitude-v", "300").stdout}
 
 
 def case_pick_undecided(run):
-    r = run.swum("pick", "--sweep", f"{INPUTS}/pick_sweep_coarse.csv", "--vpp", "100", expect=1)
+    r = run.swum("pick", "--sweep", f"{INPUTS}/pick_sweep_coarse.csv", "--amplitude-v", "100", expect=1)
     return {"pick_undecided.txt": f"exit {r.returncode}\n--- stdout\n{r.stdout}--- stderr\n{run.normal(r.stderr)}"}
 
 
 def case_sweep_model(run):
     out = run.path("sweep.csv")
-    r = run.swum("sweep", "--config", CONFIG, "--vpp", "200,300", "--frequency-hz", "39800:40000:100", "--load", "0,0.5",
+    r = run.swum("sweep", "--config", CONFIG, "--amplitude-v", "200,300", "--frequency-hz", "39800:40000:100", "--load", "0,0.5",
                  "--jobs", "1", "--out", out)
     text = read(out)
     return {"sweep_model.header.txt": header_lines(text),
-            "sweep_model.inputs.txt": csv_columns(text, ["vpp", "frequency_hz", "load_n", "status"]),
+            "sweep_model.inputs.txt": csv_columns(text, ["amplitude_v", "frequency_hz", "load_n", "status"]),
             "sweep_model.stdout.txt": run.normal(r.stdout)}
 
 
@@ -166,7 +166,7 @@ def case_synth(run):
                   "--linear", "--points", points, "--seed", "7", "--noise", "0", "--speed-floor-mm-s", "0.5",
                   "--frequency-jitter-hz", "2", "--quantities", "speed,tip_normal", "--jobs", "1", "--out", out2)
     t1, t2 = read(out1), read(out2)
-    inputs = ["vpp", "frequency_hz", "load_n", "time_s", "sweep"]
+    inputs = ["amplitude_v", "frequency_hz", "load_n", "time_s", "sweep"]
     return {"synth.header.txt": header_lines(t1),
             "synth.inputs.txt": csv_columns(t1, inputs),
             "synth.stdout.txt": run.normal(r1.stdout),
@@ -178,15 +178,15 @@ def case_synth(run):
 def case_errors(run):
     """Exit status and message of usage errors a restructured main() must keep."""
     calls = [[], ["nosuch"], ["modes", "--config"], ["modes", "--config", "nothere.toml"], ["modes", "--config", CONFIG, "--bogus"],
-             ["pick", "--sweep", f"{INPUTS}/pick_sweep.csv", "--vpp", "250"],
-             ["sweep", "--config", CONFIG, "--vpp", "100", "--frequency-hz", "40000"],
+             ["pick", "--sweep", f"{INPUTS}/pick_sweep.csv", "--amplitude-v", "250"],
+             ["sweep", "--config", CONFIG, "--amplitude-v", "100", "--frequency-hz", "40000"],
              ["log", "--out", run.path("x.csv")],
-             ["sweep", "--config", CONFIG, "--modbus", "tcp://127.0.0.1:1", "--vpp", "100", "--frequency-hz", "40000",
+             ["sweep", "--config", CONFIG, "--modbus", "tcp://127.0.0.1:1", "--amplitude-v", "100", "--frequency-hz", "40000",
               "--out", run.path("y.csv")],
-             ["sweep", "--modbus", "tcp://127.0.0.1:1", "--vpp", "100", "--frequency-hz", "40000", "--out", run.path("z.csv")],
-             ["pick", "--sweep", f"{INPUTS}/missing.csv", "--vpp", "100"],
+             ["sweep", "--modbus", "tcp://127.0.0.1:1", "--amplitude-v", "100", "--frequency-hz", "40000", "--out", run.path("z.csv")],
+             ["pick", "--sweep", f"{INPUTS}/missing.csv", "--amplitude-v", "100"],
              # a retired spelling (issue 34): one line naming the new one, before the missing --out
-             ["sweep", "--config", CONFIG, "--vpp", "100", "--frequency", "40000"]]
+             ["sweep", "--config", CONFIG, "--amplitude-v", "100", "--frequency", "40000"]]
     lines = []
     for args in calls:
         r = run.swum(*args, expect=None)
@@ -234,14 +234,14 @@ def case_live_modbus(run):
         log = run.path("log.csv")
         run.swum("log", "--modbus", emu.endpoint, *link, "--duration-s", "0.2", "--out", log)
         sweep = run.path("live_sweep.csv")
-        r = run.swum("sweep", "--modbus", emu.endpoint, *link, "--vpp", "100,150", "--frequency-hz", "40000:40200:100",
+        r = run.swum("sweep", "--modbus", emu.endpoint, *link, "--amplitude-v", "100,150", "--frequency-hz", "40000:40200:100",
                      "--settle-ms", "5", "--dwell-ms", "5", "--out", sweep)
         log_text, sweep_text = read(log), read(sweep)
     cells = {len(l.split(",")) for l in log_text.splitlines()}
     return {"emu_ready.txt": ready,
             "log.header.txt": header_lines(log_text) + f"cells per line: {sorted(cells)}\n",
             "sweep_modbus.header.txt": header_lines(sweep_text),
-            "sweep_modbus.inputs.txt": csv_columns(sweep_text, ["vpp", "frequency_hz", "load_n", "sweep", "status"]),
+            "sweep_modbus.inputs.txt": csv_columns(sweep_text, ["amplitude_v", "frequency_hz", "load_n", "sweep", "status"]),
             "sweep_modbus.stdout.txt": run.normal(r.stdout)}
 
 

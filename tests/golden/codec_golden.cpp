@@ -175,21 +175,21 @@ a::Limits limits_from(const json& j) {
   a::Limits l;
   l.min_frequency_hz = num(j.at("min_frequency_hz"));
   l.max_frequency_hz = num(j.at("max_frequency_hz"));
-  l.max_amplitude_vpp = num(j.at("max_amplitude_vpp"));
+  l.max_amplitude_v = num(j.at("max_amplitude_v"));
   l.max_abs_phase_deg = num(j.at("max_abs_phase_deg"));
   l.max_abs_load_n = num(j.at("max_abs_load_n"));
   l.max_frequency_slew_hz_per_s = num(j.at("max_frequency_slew_hz_per_s"));
-  l.max_amplitude_slew_vpp_per_s = num(j.at("max_amplitude_slew_vpp_per_s"));
+  l.max_amplitude_slew_v_per_s = num(j.at("max_amplitude_slew_v_per_s"));
   return l;
 }
 
 void set_setpoints(a::Telemetry& t, const json& s) {
   t.setpoints.frequency_hz = num(s.at("frequency_hz"));
-  t.setpoints.amplitude_vpp = num(s.at("amplitude_vpp"));
+  t.setpoints.amplitude_v = num(s.at("amplitude_v"));
   t.setpoints.phase_deg = num(s.at("phase_deg"));
   t.setpoints.load_n = num(s.at("load_n"));
   t.setpoints.frequency_slew_hz_per_s = num(s.at("frequency_slew_hz_per_s"));
-  t.setpoints.amplitude_slew_vpp_per_s = num(s.at("amplitude_slew_vpp_per_s"));
+  t.setpoints.amplitude_slew_v_per_s = num(s.at("amplitude_slew_v_per_s"));
 }
 
 a::Telemetry telemetry_from(const json& j) {
@@ -203,7 +203,7 @@ a::Telemetry telemetry_from(const json& j) {
   set_setpoints(t, j.at("setpoints"));
   const json& o = j.at("output");
   t.output.frequency_hz = num(o.at("frequency_hz"));
-  t.output.vpp = num(o.at("vpp"));
+  t.output.amplitude_v = num(o.at("amplitude_v"));
   t.output.phase_deg = num(o.at("phase_deg"));
   t.output.load_n = num(o.at("load_n"));
   t.speed_m_s = num(j.at("speed_m_s"));
@@ -261,11 +261,11 @@ json command_json(const a::Command& c) {
   json set = json::object();
   if (c.fields & a::Command::kAction) set["action"] = action_name(c.action);
   if (c.fields & a::Command::kFrequency) set["frequency_hz"] = c.frequency_hz;
-  if (c.fields & a::Command::kAmplitude) set["amplitude_vpp"] = c.amplitude_vpp;
+  if (c.fields & a::Command::kAmplitude) set["amplitude_v"] = c.amplitude_v;
   if (c.fields & a::Command::kPhase) set["phase_deg"] = c.phase_deg;
   if (c.fields & a::Command::kLoad) set["load_n"] = c.load_n;
   if (c.fields & a::Command::kFrequencySlew) set["frequency_slew_hz_per_s"] = c.frequency_slew_hz_per_s;
-  if (c.fields & a::Command::kAmplitudeSlew) set["amplitude_slew_vpp_per_s"] = c.amplitude_slew_vpp_per_s;
+  if (c.fields & a::Command::kAmplitudeSlew) set["amplitude_slew_v_per_s"] = c.amplitude_slew_v_per_s;
   j["set"] = set;
   return j;
 }
@@ -287,7 +287,7 @@ json device_telemetry_json(const a::host::DeviceTelemetry& t) {
   j["tip_normal_um"] = t.tip_normal_um;
   j["tip_tangential_um"] = t.tip_tangential_um;
   j["frequency_hz"] = t.frequency_hz;
-  j["vpp"] = t.vpp;
+  j["amplitude_v"] = t.amplitude_v;
   j["phase_deg"] = t.phase_deg;
   j["load_n"] = t.load_n;
   if (t.electrical) {
@@ -311,7 +311,7 @@ json device_telemetry_json(const a::host::DeviceTelemetry& t) {
 a::host::DriveSetpoint setpoint_from(const json& j) {
   a::host::DriveSetpoint s;
   s.frequency_hz = num(j.at("frequency_hz"));
-  s.vpp = num(j.at("vpp"));
+  s.amplitude_v = num(j.at("amplitude_v"));
   s.phase_deg = num(j.at("phase_deg"));
   s.load_n = num(j.at("load_n"));
   return s;
@@ -328,11 +328,11 @@ a::host::DeviceAction action_from(const std::string& name) {
 a::Limits modbus_limits() {
   return limits_from(json{{"min_frequency_hz", 30000.0},
                           {"max_frequency_hz", 50000.0},
-                          {"max_amplitude_vpp", 600.0},
+                          {"max_amplitude_v", 600.0},
                           {"max_abs_phase_deg", 180.0},
                           {"max_abs_load_n", 30.0},
                           {"max_frequency_slew_hz_per_s", 1.0e7},
-                          {"max_amplitude_slew_vpp_per_s", 1.0e7}});
+                          {"max_amplitude_slew_v_per_s", 1.0e7}});
 }
 
 json input_words_json(std::span<const std::uint16_t> r) {
@@ -508,7 +508,7 @@ json can_command_encode(const json& in) {
   c.alive = in.at("alive").get<std::uint8_t>();
   c.frequency_hz = num(in.at("frequency_hz"));
   c.phase_deg = num(in.at("phase_deg"));
-  c.amplitude_vpp = num(in.at("amplitude_vpp"));
+  c.amplitude_v = num(in.at("amplitude_v"));
   const auto ids = a::can::ids_for_node(in.at("node").get<std::uint8_t>());
   return {{"frame", frame_text(a::can::encode_command(c, ids.command))}};
 }
@@ -522,7 +522,7 @@ json can_command_decode(const json& in) {
     out["alive"] = c.alive;
     out["frequency_hz"] = c.frequency_hz;
     out["phase_deg"] = c.phase_deg;
-    out["amplitude_vpp"] = c.amplitude_vpp;
+    out["amplitude_v"] = c.amplitude_v;
     out["command"] = command_json(a::can::to_command(c));
   }
   return out;
@@ -533,7 +533,7 @@ json can_aux_encode(const json& in) {
   x.alive = in.at("alive").get<std::uint8_t>();
   x.load_n = num(in.at("load_n"));
   x.frequency_slew_hz_per_s = num(in.at("frequency_slew_hz_per_s"));
-  x.amplitude_slew_vpp_per_s = num(in.at("amplitude_slew_vpp_per_s"));
+  x.amplitude_slew_v_per_s = num(in.at("amplitude_slew_v_per_s"));
   const auto ids = a::can::ids_for_node(in.at("node").get<std::uint8_t>());
   return {{"frame", frame_text(a::can::encode_aux(x, ids.aux))}};
 }
@@ -546,7 +546,7 @@ json can_aux_decode(const json& in) {
     out["alive"] = x.alive;
     out["load_n"] = x.load_n;
     out["frequency_slew_hz_per_s"] = x.frequency_slew_hz_per_s;
-    out["amplitude_slew_vpp_per_s"] = x.amplitude_slew_vpp_per_s;
+    out["amplitude_slew_v_per_s"] = x.amplitude_slew_v_per_s;
     out["command"] = command_json(a::can::to_command(x));
   }
   return out;
@@ -611,7 +611,7 @@ json can_telemetry_decode(const json& in) {
     if (ok)
       out = {{"tip_normal_um", d.tip_normal_um},
              {"tip_tangential_um", d.tip_tangential_um},
-             {"vpp", d.vpp},
+             {"amplitude_v", d.amplitude_v},
              {"phase_deg", d.phase_deg}};
   } else if (as == "output") {
     a::can::OutputFields o;
@@ -650,7 +650,7 @@ json run_calls(a::host::Device& device, const json& calls, const std::function<v
       if (what == "set_drive") {
         device.set_drive(setpoint_from(call));
       } else if (what == "set_slew") {
-        device.set_slew(num(call.at("frequency_hz_per_s")), num(call.at("vpp_per_s")));
+        device.set_slew(num(call.at("frequency_hz_per_s")), num(call.at("amplitude_v_per_s")));
       } else if (what == "command") {
         device.command(action_from(call.at("action").get<std::string>()));
       } else if (what == "read") {

@@ -48,11 +48,11 @@ unsigned i16(int v) { return static_cast<unsigned>(v) & 0xFFFFU; }
 
 json setpoints(json f, json a, json p, json l, json fs, json as) {
   return {{"frequency_hz", f},
-          {"amplitude_vpp", a},
+          {"amplitude_v", a},
           {"phase_deg", p},
           {"load_n", l},
           {"frequency_slew_hz_per_s", fs},
-          {"amplitude_slew_vpp_per_s", as}};
+          {"amplitude_slew_v_per_s", as}};
 }
 
 json electrical(json ia, json ib, json pa, json pb, json ma, json mb, json wa, json wb) {
@@ -69,7 +69,7 @@ json telemetry(const json& overrides = json::object()) {
             {"enable_line", true},
             {"at_setpoint", true},
             {"setpoints", setpoints(40000.0, 0.0, 90.0, 0.0, 1.0e6, 1.0e5)},
-            {"output", {{"frequency_hz", 40000.0}, {"vpp", 0.0}, {"phase_deg", 90.0}, {"load_n", 0.0}}},
+            {"output", {{"frequency_hz", 40000.0}, {"amplitude_v", 0.0}, {"phase_deg", 90.0}, {"load_n", 0.0}}},
             {"speed_m_s", 0.0},
             {"tick_speed_m_s", 0.0},
             {"position_m", 0.0},
@@ -86,7 +86,7 @@ const json kDriving = telemetry(
      {"sim_time_s", 12.3456},
      {"state", 1},
      {"setpoints", setpoints(40123.456, 250.0, 90.0, 0.5, 1.0e6, 1.0e5)},
-     {"output", {{"frequency_hz", 40123.4567}, {"vpp", 250.0}, {"phase_deg", 90.0}, {"load_n", 0.5}}},
+     {"output", {{"frequency_hz", 40123.4567}, {"amplitude_v", 250.0}, {"phase_deg", 90.0}, {"load_n", 0.5}}},
      {"speed_m_s", 0.2345678},
      {"tick_speed_m_s", 0.231},
      {"position_m", -0.0123456},
@@ -104,7 +104,7 @@ const json kFault = telemetry(
      {"enable_line", false},
      {"at_setpoint", false},
      {"setpoints", setpoints(39000.0, 300.0, -90.0, -1.25, 0.0, 0.0)},
-     {"output", {{"frequency_hz", 39000.0}, {"vpp", 300.0}, {"phase_deg", -90.0}, {"load_n", -1.25}}},
+     {"output", {{"frequency_hz", 39000.0}, {"amplitude_v", 300.0}, {"phase_deg", -90.0}, {"load_n", -1.25}}},
      {"speed_m_s", -0.5},
      {"tick_speed_m_s", -0.51234},
      {"position_m", -1.0},
@@ -117,13 +117,13 @@ const json kTimeout = telemetry(
      {"sim_time_s", 0.1},
      {"state", 2},
      {"fault", 1},
-     {"output", {{"frequency_hz", 40000.0}, {"vpp", 0.0}, {"phase_deg", 90.0}, {"load_n", 0.0}}}});
+     {"output", {{"frequency_hz", 40000.0}, {"amplitude_v", 0.0}, {"phase_deg", 90.0}, {"load_n", 0.0}}}});
 const json kExtremes = telemetry(
     {{"tick", 4294967301ULL},  // 2^32 + 5
      {"sim_time_s", 5.0e6},
      {"state", 1},
      {"setpoints", setpoints(50000.0, 600.0, 180.0, 30.0, 1.0e7, 1.0e7)},
-     {"output", {{"frequency_hz", 5.0e6}, {"vpp", 7000.0}, {"phase_deg", -200.0}, {"load_n", -40.0}}},
+     {"output", {{"frequency_hz", 5.0e6}, {"amplitude_v", 7000.0}, {"phase_deg", -200.0}, {"load_n", -40.0}}},
      {"speed_m_s", 3000.0},
      {"tick_speed_m_s", -3000.0},
      {"position_m", -5000.0},
@@ -136,7 +136,7 @@ const json kExtremes = telemetry(
 const json kNonFinite = telemetry(
     {{"state", 1},
      {"sim_time_s", "nan"},
-     {"output", {{"frequency_hz", "nan"}, {"vpp", "inf"}, {"phase_deg", "nan"}, {"load_n", "-inf"}}},
+     {"output", {{"frequency_hz", "nan"}, {"amplitude_v", "inf"}, {"phase_deg", "nan"}, {"load_n", "-inf"}}},
      {"speed_m_s", "nan"},
      {"tick_speed_m_s", "inf"},
      {"position_m", "-inf"},
@@ -222,9 +222,9 @@ void modbus_cases(Vectors& v) {
       {"FC06 command disable", write1(0, 2)},
       {"FC06 command reset fault", write1(0, 3)},
       {"FC06 command 4 unknown", write1(0, 4)},
-      {"FC06 amplitude 250.0 Vpp", write1(3, 2500)},
-      {"FC06 amplitude 600.0 Vpp (limit)", write1(3, 6000)},
-      {"FC06 amplitude 600.1 Vpp", write1(3, 6001)},
+      {"FC06 amplitude 250.0 V", write1(3, 2500)},
+      {"FC06 amplitude 600.0 V (limit)", write1(3, 6000)},
+      {"FC06 amplitude 600.1 V", write1(3, 6001)},
       {"FC06 phase -90.00 deg", write1(4, i16(-9000))},
       {"FC06 phase 180.00 deg (limit)", write1(4, 18000)},
       {"FC06 phase 180.01 deg", write1(4, 18001)},
@@ -235,7 +235,7 @@ void modbus_cases(Vectors& v) {
       {"FC06 low word of the frequency alone", write1(2, 0)},
       {"FC06 address 500", write1(500, 1)},
       {"FC06 one byte short", "06000000"},
-      {"FC16 frequency 40123.456 Hz, 250.5 Vpp, 90 deg, 0.25 N", write_n(1, {hi(f1), lo(f1), 2505, 9000, 250})},
+      {"FC16 frequency 40123.456 Hz, 250.5 V, 90 deg, 0.25 N", write_n(1, {hi(f1), lo(f1), 2505, 9000, 250})},
       {"FC16 all holding registers",
        write_n(0, {1, hi(f2), lo(f2), 4000, i16(-4550), i16(-2000), hi(1000000), lo(1000000), hi(100000), lo(100000)})},
       {"FC16 enable + frequency + amplitude", write_n(0, {1, hi(f1), lo(f1), 4000})},
@@ -243,7 +243,7 @@ void modbus_cases(Vectors& v) {
       {"FC16 frequency 50000.000 Hz (limit)", write_n(1, {hi(f_high), lo(f_high)})},
       {"FC16 slews 0 (unlimited)", write_n(6, {0, 0, 0, 0})},
       {"FC16 frequency slew 10000001 Hz/s", write_n(6, {hi(slew_high), lo(slew_high)})},
-      {"FC16 amplitude slew 10000001 Vpp/s", write_n(8, {hi(slew_high), lo(slew_high)})},
+      {"FC16 amplitude slew 10000001 V/s", write_n(8, {hi(slew_high), lo(slew_high)})},
       {"FC16 low word of the frequency + amplitude", write_n(2, {0, 2500})},
       {"FC16 low word of frequency slew + high word of amplitude slew", write_n(7, {0, 0})},
       {"FC16 address 500", write_n(500, {1})},
@@ -340,10 +340,10 @@ void can_cases(Vectors& v) {
   };
   auto cmd = [](unsigned node, unsigned mode, unsigned alive, json f, json p, json a) {
     return json{{"node", node},      {"mode", mode},   {"alive", alive},
-                {"frequency_hz", f}, {"phase_deg", p}, {"amplitude_vpp", a}};
+                {"frequency_hz", f}, {"phase_deg", p}, {"amplitude_v", a}};
   };
   const std::vector<Cmd> commands = {
-      {"enable 40 kHz 90 deg 250 Vpp", cmd(1, 1, 1, 40000.0, 90.0, 250.0)},
+      {"enable 40 kHz 90 deg 250 V", cmd(1, 1, 1, 40000.0, 90.0, 250.0)},
       {"disable, rounding", cmd(1, 0, 0, 39876.54, -90.05, 100.1)},
       {"reset fault, largest raw values, node 127", cmd(127, 2, 15, 104857.5, 204.7, 1023.75)},
       {"saturated high", cmd(42, 1, 7, 200000.0, -500.0, 2000.0)},
@@ -376,10 +376,10 @@ void can_cases(Vectors& v) {
                 {"alive", alive},
                 {"load_n", load},
                 {"frequency_slew_hz_per_s", fs},
-                {"amplitude_slew_vpp_per_s", as}};
+                {"amplitude_slew_v_per_s", as}};
   };
   const std::vector<Cmd> auxes = {
-      {"load 0.5 N, 1 MHz/s, 100 kVpp/s", aux(1, 1, 0.5, 1.0e6, 1.0e5)},
+      {"load 0.5 N, 1 MHz/s, 100 kV/s", aux(1, 1, 0.5, 1.0e6, 1.0e5)},
       {"negative load, unlimited slews", aux(1, 2, -2.5, 0.0, 0.0)},
       {"largest raw values, node 127", aux(127, 15, 32.767, 6553500.0, 655350.0)},
       {"saturated", aux(42, 0, 40.0, 1.0e9, 1.0e9)},
@@ -456,10 +456,13 @@ json served_registers(const json& t, const json& rejects) {
   return words;
 }
 
-json drive(json f, json vpp, json phase, json load) {
-  return {{"call", "set_drive"}, {"frequency_hz", f}, {"vpp", vpp}, {"phase_deg", phase}, {"load_n", load}};
+json drive(json f, json amplitude_v, json phase, json load) {
+  return {
+      {"call", "set_drive"}, {"frequency_hz", f}, {"amplitude_v", amplitude_v}, {"phase_deg", phase}, {"load_n", load}};
 }
-json slew(json f, json vpp) { return {{"call", "set_slew"}, {"frequency_hz_per_s", f}, {"vpp_per_s", vpp}}; }
+json slew(json f, json amplitude_v) {
+  return {{"call", "set_slew"}, {"frequency_hz_per_s", f}, {"amplitude_v_per_s", amplitude_v}};
+}
 json command(const char* action) { return {{"call", "command"}, {"action", action}}; }
 
 void host_cases(Vectors& v) {

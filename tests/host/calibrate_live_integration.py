@@ -42,7 +42,7 @@ OUT = tempfile.mkdtemp(prefix="swum-calibrate-live-")
 # live_device_integration.py (a shared CI machine can stall the client for a while).
 EMU_ARGS = ["--speedup", "4", "--watchdog-ms", "5000"]
 NOISE = ["--inject", "speed_noise@0:sigma_mm_s=3"]
-GRID = ["--vpp", "150,250,350", "--frequency-hz", "39200:41000:100", "--load", "0,2"]
+GRID = ["--amplitude-v", "150,250,350", "--frequency-hz", "39200:41000:100", "--load", "0,2"]
 POINTS_PER_CURVE = 19
 CURVES = 3 * 2
 # The model predicts each point as the sweep took it: settle 50 ms, average 50 ms (swum sweep's

@@ -44,11 +44,9 @@ SYNONYM_GROUPS = [
     ("the largest load", {"--max-load-n", "--load-max"}),
     ("the frequency slew limit", {"--frequency-slew-hz-per-s", "--frequency-slew"}),
     ("the load force", {"--load", "--load-n", "--force-n"}),
-    # The voltage vocabulary (terminal amplitude in V). Offered together until the voltage renames
-    # land (control --max-vpp and swum-emu --amplitude-max; --vpp-slew, --ramp-vpp-per-s and
-    # swum-emu --amplitude-slew): add these two groups with them.
-    # ("the amplitude limit", {"--max-amplitude-v", "--max-vpp", "--amplitude-max"}),
-    # ("the amplitude slew limit", {"--amplitude-slew-v-per-s", "--vpp-slew", "--ramp-vpp-per-s", "--amplitude-slew"}),
+    # The voltage vocabulary: the terminal amplitude of one phase, in V.
+    ("the amplitude limit", {"--max-amplitude-v", "--max-vpp", "--amplitude-max"}),
+    ("the amplitude slew limit", {"--amplitude-slew-v-per-s", "--vpp-slew", "--ramp-vpp-per-s", "--amplitude-slew"}),
     ("the drive amplitude", {"--amplitude-v", "--vpp", "--amplitude", "--voltage-v"}),
 ]
 

@@ -61,11 +61,11 @@ def load_step():
     check("load_step@0.3" in log, "the emulator did not log the event")
     dip = min(speeds(rows, 0.3, 0.35))
     after = speeds(rows, 0.45, 0.6)
-    vpp_before, vpp_after = float(at(rows, 0.29)["vpp_command"]), float(rows[-1]["vpp_command"])
+    amplitude_v_before, amplitude_v_after = float(at(rows, 0.29)["amplitude_v_command"]), float(rows[-1]["amplitude_v_command"])
     check(dip < 0.95 * TARGET, f"the load step did not show: min speed {dip:.1f} mm/s")
     check(all(abs(s - TARGET) < 0.02 * TARGET for s in after), f"not held after the load step: {after[:3]}...")
-    check(vpp_after > vpp_before + 10, f"the amplitude did not rise to carry the load: {vpp_before} -> {vpp_after}")
-    print(f"load step 1.5 N: dip to {dip:.1f} mm/s, held within 2 % from 0.45 s; {vpp_before:.0f} -> {vpp_after:.0f} Vpp")
+    check(amplitude_v_after > amplitude_v_before + 10, f"the amplitude did not rise to carry the load: {amplitude_v_before} -> {amplitude_v_after}")
+    print(f"load step 1.5 N: dip to {dip:.1f} mm/s, held within 2 % from 0.45 s; {amplitude_v_before:.0f} -> {amplitude_v_after:.0f} V")
 
 
 def phase_short():
@@ -74,7 +74,7 @@ def phase_short():
     check("3" in err and "fault" in err, f"no one-line fault message: {err!r}")
     last = rows[-1]
     check(last["fault_code"] == "3" and last["state"] == "2", f"telemetry does not show over-current: {last}")
-    check(float(last["vpp_command"]) == 0.0, "drive not switched off")
+    check(float(last["amplitude_v_command"]) == 0.0, "drive not switched off")
     check(all(r["action"] != "reset_fault" for r in rows), "a non-recoverable fault was reset")
     print(f"phase short: fault 3 at {last['time_s']} s, drive off, run ended non-zero: {err.strip()}")
 
@@ -108,13 +108,13 @@ def watchdog_from_delay():
 
 
 def phase_open():
-    status, out, err, rows, _ = run("phase_open", ["phase_open@0.3:phase=B"], "--max-vpp", "450")
+    status, out, err, rows, _ = run("phase_open", ["phase_open@0.3:phase=B"], "--max-amplitude-v", "450")
     check(status == 0, err)
     late = speeds(rows, 0.5, 0.6)
     check(max(late) < 0.8 * TARGET, f"the speed did not collapse with one phase open: {max(late):.1f}")
-    check(float(rows[-1]["vpp_command"]) == 450.0, "the controller should saturate at --max-vpp")
+    check(float(rows[-1]["amplitude_v_command"]) == 450.0, "the controller should saturate at --max-amplitude-v")
     check(all(r["fault_code"] == "0" for r in rows), "an open phase has no fault code")
-    print(f"phase B open: speed {late[-1]:.0f} mm/s at {rows[-1]['vpp_command']} Vpp (saturated), no fault code")
+    print(f"phase B open: speed {late[-1]:.0f} mm/s at {rows[-1]['amplitude_v_command']} V (saturated), no fault code")
 
 
 def jam_and_clear():
@@ -122,7 +122,7 @@ def jam_and_clear():
     check(status == 0, err)
     jammed = speeds(rows, 0.22, 0.3)
     check(all(abs(s) < 1e-6 for s in jammed), f"not at rest while jammed: {jammed[:3]}")
-    check(float(at(rows, 0.29)["vpp_command"]) == 500.0, "no wind-up to the limit while jammed")
+    check(float(at(rows, 0.29)["amplitude_v_command"]) == 500.0, "no wind-up to the limit while jammed")
     after = speeds(rows, 0.6, 0.8)
     check(all(abs(s - TARGET) < 0.02 * TARGET for s in after), "not back on target after the jam")
     print("jam 0.1 s: speed 0, amplitude at the limit, back on target after")
@@ -136,10 +136,10 @@ def speed_bias():
     jump = float(at(rows, 0.2)["speed_mm_s"]) - float(at(rows, 0.199)["speed_mm_s"])
     check(abs(jump - 50.0) < 2.0, f"the bias did not appear as a 50 mm/s step: {jump:.2f}")
     _, _, _, clean, _ = run("no_bias", [], duration_s=0.7)
-    vpp_biased, vpp_clean = float(rows[-1]["vpp_command"]), float(clean[-1]["vpp_command"])
-    check(vpp_biased < vpp_clean - 10, f"the loop should drive less (true speed 250): {vpp_biased} vs {vpp_clean}")
-    print(f"speed bias +50 mm/s: reported held at {reported[-1]:.1f} mm/s with {vpp_biased:.0f} Vpp "
-          f"instead of {vpp_clean:.0f}: the motor really runs ~250 mm/s (a biased sensor fools the loop)")
+    amplitude_v_biased, amplitude_v_clean = float(rows[-1]["amplitude_v_command"]), float(clean[-1]["amplitude_v_command"])
+    check(amplitude_v_biased < amplitude_v_clean - 10, f"the loop should drive less (true speed 250): {amplitude_v_biased} vs {amplitude_v_clean}")
+    print(f"speed bias +50 mm/s: reported held at {reported[-1]:.1f} mm/s with {amplitude_v_biased:.0f} V "
+          f"instead of {amplitude_v_clean:.0f}: the motor really runs ~250 mm/s (a biased sensor fools the loop)")
 
 
 def modbus_drop():
@@ -158,7 +158,7 @@ def encoder_stuck():
     check(status == 0, err)
     stuck = speeds(rows, 0.32, 0.4)
     check(all(v == 0.0 for v in stuck), f"a stuck encoder must read 0: {stuck[:3]}")
-    check(float(at(rows, 0.399)["vpp_command"]) == 500.0, "the loop did not wind up to --max-vpp")
+    check(float(at(rows, 0.399)["amplitude_v_command"]) == 500.0, "the loop did not wind up to --max-amplitude-v")
     after = speeds(rows, 0.6, 0.7)
     check(all(abs(v - TARGET) < 0.02 * TARGET for v in after), "not back on target after the encoder recovered")
     print("encoder stuck 0.1 s: speed reads 0, amplitude to the limit, back on target after")

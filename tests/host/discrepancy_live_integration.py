@@ -38,7 +38,7 @@ OUT = tempfile.mkdtemp(prefix="swum-discrepancy-live-")
 # --speedup 4: the ~33 s thermal session takes ~8 s; a generous watchdog, as in
 # live_device_integration.py (a shared CI machine can stall the client for a while).
 EMU_ARGS = ["--speedup", "4", "--watchdog-ms", "5000"]
-GRID = ["--vpp", "150,250,350", "--frequency-hz", "39200:41000:150", "--load", "0,2"]
+GRID = ["--amplitude-v", "150,250,350", "--frequency-hz", "39200:41000:150", "--load", "0,2"]
 POINTS_PER_CURVE = 13
 CURVES = 3 * 2
 PROTOCOL_ALLOWANCE = 0.06  # relative; see the module docstring

@@ -31,11 +31,11 @@ class FakeDevice : public Device {
   bool electrical_port = true;  // reports the electrical values and the stator temperature
   double tick_hz = 10000.0;
 
-  // Resonance drift: peak at 40.4 kHz at 100 Vpp, 1 Hz lower per Vpp above.
-  static double peak_hz(double vpp) { return 40400.0 - (vpp - 100.0); }
-  static double steady_speed_mm_s(double frequency_hz, double vpp) {
-    const double detune = (frequency_hz - peak_hz(vpp)) / 300.0;
-    return 2.0 * vpp / (1.0 + detune * detune);
+  // Resonance drift: peak at 40.4 kHz at 100 V, 1 Hz lower per V above.
+  static double peak_hz(double amplitude_v) { return 40400.0 - (amplitude_v - 100.0); }
+  static double steady_speed_mm_s(double frequency_hz, double amplitude_v) {
+    const double detune = (frequency_hz - peak_hz(amplitude_v)) / 300.0;
+    return 2.0 * amplitude_v / (1.0 + detune * detune);
   }
 
   std::string name() const override { return "fake"; }
@@ -46,8 +46,8 @@ class FakeDevice : public Device {
     setpoint_times_s.push_back(time_s);
     commanded();
   }
-  void set_slew(double, double vpp_per_s) override {
-    slew_vpp_per_s = vpp_per_s;
+  void set_slew(double, double amplitude_v_per_s) override {
+    slew_v_per_s = amplitude_v_per_s;
     commanded();
   }
   void command(DeviceAction a) override {
@@ -74,7 +74,7 @@ class FakeDevice : public Device {
     if (a == DeviceAction::enable && state == 2) {
       reject(12);  // like swum-emu: the whole command is refused, the ticks still run
     } else {
-      set_slew(slew.frequency_hz_per_s, slew.vpp_per_s);
+      set_slew(slew.frequency_hz_per_s, slew.amplitude_v_per_s);
       set_drive(s);
       command(a);
     }
@@ -102,33 +102,40 @@ class FakeDevice : public Device {
         code = 0;
       }
     }
-    const double target_vpp = state == 1 ? setpoint_.vpp : 0.0;
-    const double max_step = slew_vpp_per_s > 0.0 ? slew_vpp_per_s * read_step_s : 1e9;
-    vpp_out += std::clamp(target_vpp - vpp_out, -max_step, max_step);
+    const double target_amplitude_v = state == 1 ? setpoint_.amplitude_v : 0.0;
+    const double max_step = slew_v_per_s > 0.0 ? slew_v_per_s * read_step_s : 1e9;
+    amplitude_v_out += std::clamp(target_amplitude_v - amplitude_v_out, -max_step, max_step);
     const double direction = setpoint_.phase_deg < 0.0 ? -1.0 : 1.0;
-    const double target_speed = state == 1 ? direction * steady_speed_mm_s(setpoint_.frequency_hz, vpp_out) : 0.0;
+    const double target_speed = state == 1 ? direction * steady_speed_mm_s(setpoint_.frequency_hz, amplitude_v_out)
+                                           : 0.0;
     speed += (target_speed - speed) * (1.0 - std::exp(-read_step_s / speed_time_constant_s));
-    max_vpp_seen = std::max(max_vpp_seen, vpp_out);
+    max_amplitude_v_seen = std::max(max_amplitude_v_seen, amplitude_v_out);
     DeviceTelemetry t;
     t.device_time_s = time_s;
     t.lockstep = lockstep_mode;
     t.received = std::chrono::steady_clock::now();
     t.state = state;
     t.fault_code = fault;
-    t.drive_on = state == 1 && vpp_out > 0.0;
+    t.drive_on = state == 1 && amplitude_v_out > 0.0;
     t.last_reject = last_reject;
     t.reject_count = reject_count;
     t.speed_mm_s = speed;
     t.frequency_hz = setpoint_.frequency_hz;
-    t.vpp = vpp_out;
+    t.amplitude_v = amplitude_v_out;
     t.phase_deg = setpoint_.phase_deg;
     t.load_n = setpoint_.load_n;
     if (electrical_port) {
       // Current in proportion to the voltage, the motional phase crossing 0 at the peak.
-      const double current_a = 6e-4 * vpp_out;
-      const double motional_deg = std::clamp((peak_hz(vpp_out) - setpoint_.frequency_hz) / 10.0, -90.0, 90.0);
-      t.electrical = protocol::ElectricalValues{current_a,    0.98 * current_a, 60.0,           59.0,
-                                                motional_deg, motional_deg,     0.02 * vpp_out, 0.019 * vpp_out};
+      const double current_a = 6e-4 * amplitude_v_out;
+      const double motional_deg = std::clamp((peak_hz(amplitude_v_out) - setpoint_.frequency_hz) / 10.0, -90.0, 90.0);
+      t.electrical = protocol::ElectricalValues{current_a,
+                                                0.98 * current_a,
+                                                60.0,
+                                                59.0,
+                                                motional_deg,
+                                                motional_deg,
+                                                0.02 * amplitude_v_out,
+                                                0.019 * amplitude_v_out};
       t.stator_temperature_c = 20.0 + 0.5 * time_s;
     }
     longest_command_gap_s = std::max(longest_command_gap_s, state == 1 ? time_s - last_command_s_ : 0.0);
@@ -144,10 +151,10 @@ class FakeDevice : public Device {
   int steps = 0;
   std::uint64_t total_ticks = 0;
   double time_s = 0.0;
-  double vpp_out = 0.0;
+  double amplitude_v_out = 0.0;
   double speed = 0.0;
-  double slew_vpp_per_s = 0.0;
-  double max_vpp_seen = 0.0;
+  double slew_v_per_s = 0.0;
+  double max_amplitude_v_seen = 0.0;
   double longest_command_gap_s = 0.0;
   std::vector<DriveSetpoint> setpoints;
   std::vector<double> setpoint_times_s;  // device clock when each setpoint arrived
@@ -162,7 +169,7 @@ class FakeDevice : public Device {
   void trip(int code) {
     state = 2;
     fault = code;
-    vpp_out = 0.0;
+    amplitude_v_out = 0.0;
     ++faults_tripped;
   }
   DriveSetpoint setpoint_;

@@ -29,21 +29,21 @@ EMU_ARGS = ["--watchdog-ms", "5000"]  # generous: a shared CI machine can stall 
 # than swum's defaults (1 s to connect, 0.5 s per answer) and the run fails on the stall. Hang
 # guards only: no wait below ends on them.
 LINK = ["--connect-timeout-ms", "60000", "--timeout-ms", "60000"]
-MODEL_HEADER = "vpp,frequency_hz,load_n,speed_mm_s,tip_normal_um,tip_tangential_um,status\n"
-DEVICE_HEADER = ("vpp,frequency_hz,load_n,time_s,sweep,speed_mm_s,tip_normal_um,tip_tangential_um,"
+MODEL_HEADER = "amplitude_v,frequency_hz,load_n,speed_mm_s,tip_normal_um,tip_tangential_um,status\n"
+DEVICE_HEADER = ("amplitude_v,frequency_hz,load_n,time_s,sweep,speed_mm_s,tip_normal_um,tip_tangential_um,"
                  "speed_spread_mm_s,status,current_a_a,current_b_a,phase_a_deg,phase_b_deg,motional_phase_a_deg,"
                  "motional_phase_b_deg,power_w,stator_temperature_c\n")
 # Big enough for about a second on two cores (a model point takes ~4 ms of CPU on the scalar
 # path, ~0.5 ms in the SIMD lanes of a batch, issue 16), so the kill lands after the first row
 # and well before the last.
-MODEL_GRID = ["--vpp", "100,150,200,250,300,350,400", "--frequency-hz", "39000:41000:25", "--load", "0,1", "--jobs", "2"]
+MODEL_GRID = ["--amplitude-v", "100,150,200,250,300,350,400", "--frequency-hz", "39000:41000:25", "--load", "0,1", "--jobs", "2"]
 # The same voltages and loads every 200 Hz (154 points instead of 1134): where a point costs
 # far more (the sanitizer build: MODEL_GRID takes ~15 s there, and the test runs it about three
 # times), this grid alone already takes the second the race needs. The uninterrupted run
 # decides: this grid if it took at least MIN_RUN_S of wall time, else MODEL_GRID (in the Release
 # build, where this one takes ~0.3 s: a third of a second more than before). Either way the kill
 # and the interrupt land in a run of about a second or more.
-SMALL_MODEL_GRID = ["--vpp", "100,150,200,250,300,350,400", "--frequency-hz", "39000:41000:200", "--load", "0,1",
+SMALL_MODEL_GRID = ["--amplitude-v", "100,150,200,250,300,350,400", "--frequency-hz", "39000:41000:200", "--load", "0,1",
                     "--jobs", "2"]
 MIN_RUN_S = 1.0
 
@@ -219,7 +219,7 @@ def model_kill_resume():
 
 
 def resume_errors():
-    grid = ["--vpp", "100", "--frequency-hz", "40000:40200:100"]
+    grid = ["--amplitude-v", "100", "--frequency-hz", "40000:40200:100"]
     reference = path("small.csv")
     status, _, err = swum("sweep", "--config", CONFIG, *grid, "--out", reference)
     check(status == 0, f"small sweep: exit {status}: {err}")
@@ -244,9 +244,9 @@ def resume_errors():
     one_line_error(status, err, ["--resume", "none.csv.partial"], "device --resume without a partial")
 
     two_rows = MODEL_HEADER + rows[0] + "\n" + rows[1] + "\n"
-    with_partial(two_rows, "sweep", "--config", CONFIG, "--vpp", "120", "--frequency-hz", "40000:40200:100", "--resume",
-                 words=["row 1", "--vpp"], what="--resume over another grid")
-    with_partial(two_rows, "sweep", "--config", CONFIG, "--vpp", "100", "--frequency-hz", "40100", "--resume",
+    with_partial(two_rows, "sweep", "--config", CONFIG, "--amplitude-v", "120", "--frequency-hz", "40000:40200:100", "--resume",
+                 words=["row 1", "--amplitude-v"], what="--resume over another grid")
+    with_partial(two_rows, "sweep", "--config", CONFIG, "--amplitude-v", "100", "--frequency-hz", "40100", "--resume",
                  words=["2 rows", "--frequency-hz"], what="--resume over a smaller grid")
     with_partial(two_rows, "sweep", "--config", CONFIG, *grid, "--drive-phase-deg", "60", "--resume",
                  words=["last row", "--drive-phase-deg"], what="--resume with another --drive-phase-deg")
@@ -276,10 +276,10 @@ def resume_errors():
 def synth_kill():
     points = path("points.csv")
     with open(points, "w") as f:
-        f.write("vpp,frequency_hz,load_n\n")
-        for vpp in (150, 250, 350):
+        f.write("amplitude_v,frequency_hz,load_n\n")
+        for amplitude_v in (150, 250, 350):
             for k in range(200):
-                f.write(f"{vpp},{39000 + 10 * k},0\n")
+                f.write(f"{amplitude_v},{39000 + 10 * k},0\n")
     args = ["synth", "--config", CONFIG, "--points", points, "--seed", "5", "--jobs", "2"]
     reference = path("synth_reference.csv")
     t0 = time.monotonic()
@@ -327,13 +327,13 @@ def log_kill_modbus():
 def device_resume_modbus():
     # The settle and dwell of the live tests: repeated runs agree within 0.5 % (a 20 ms settle
     # leaves points near the softening peak unsettled: runs differ by up to 16 %).
-    grid = ["--vpp", "150,300", "--frequency-hz", "39600:40600:100", "--settle-ms", "60", "--dwell-ms", "30"]
+    grid = ["--amplitude-v", "150,300", "--frequency-hz", "39600:40600:100", "--settle-ms", "60", "--dwell-ms", "30"]
     curve = 11
     with Emulator("--speedup", "1", *EMU_ARGS) as emu:
         device = ["--modbus", f"tcp://{emu.host}:{emu.port}", *LINK]
         out = path("device.csv")
         partial = out + ".partial"
-        # Killed during the second curve (300 Vpp): the first curve is kept as it is, the second
+        # Killed during the second curve (300 V): the first curve is kept as it is, the second
         # is measured again from its top frequency.
         before, _ = kill_between(["sweep", *device, *grid, "--out", out], out, curve + 2, 2 * curve)
         check(before.startswith(DEVICE_HEADER) and before.endswith("\n"), "device partial: header or cut row")
@@ -352,7 +352,7 @@ def device_resume_modbus():
     check(rows[:curve] == kept[:curve], "the completed curve was not kept byte for byte")
     table = list(csv.DictReader(io.StringIO(after)))
     planned = [(v, 40600 - 100 * k) for v in ("150", "300") for k in range(curve)]
-    check([(r["vpp"], int(r["frequency_hz"])) for r in table] == planned, "points not in the planned order")
+    check([(r["amplitude_v"], int(r["frequency_hz"])) for r in table] == planned, "points not in the planned order")
     check([r["sweep"] for r in table] == ["0"] * curve + ["1"] * curve, f"sweep ids {[r['sweep'] for r in table]}")
     check(all(r["status"] == "ok" for r in table), f"statuses {[r['status'] for r in table]}")
     times = [float(r["time_s"]) for r in table]
@@ -361,8 +361,8 @@ def device_resume_modbus():
     # from the last kept row, so the new ones have other times and values).
     check(rows[curve:len(kept)] != kept[curve:], "the interrupted curve's rows were kept, not measured again")
     uninterrupted = list(csv.DictReader(io.StringIO(read(path("device_uninterrupted.csv")))))
-    check([(r["vpp"], r["frequency_hz"], r["sweep"], r["status"]) for r in uninterrupted] ==
-          [(r["vpp"], r["frequency_hz"], r["sweep"], r["status"]) for r in table], "rows differ from an uninterrupted run")
+    check([(r["amplitude_v"], r["frequency_hz"], r["sweep"], r["status"]) for r in uninterrupted] ==
+          [(r["amplitude_v"], r["frequency_hz"], r["sweep"], r["status"]) for r in table], "rows differ from an uninterrupted run")
     worst = 0.0
     for r, u in zip(table, uninterrupted):
         a, b = float(r["speed_mm_s"]), float(u["speed_mm_s"])

@@ -2,15 +2,16 @@
 """`swum sweep / pick / log` against a running swum-emu (the real binaries, independent
 processes): Modbus TCP on 127.0.0.1 always, CAN on vcan0 in the guest tier.
 
-  live_device_integration.py pick_modbus | sweep_log_modbus | interrupt_modbus | errors | rtu_modbus | pick_can
-                             | canopen_can
+  live_device_integration.py pick_modbus | sweep_log_modbus | board_current_modbus | interrupt_modbus | errors
+                             | rtu_modbus | pick_can | canopen_can
 
 The picked frequencies must match the model's own offline optimum (the same `swum pick` rule on
 an offline sweep of the same grid) within one sweep step plus the larger reported margin, fall
-with voltage (resonance drift), and beat the naive fixed 40.4 kHz by >= 20 % at 300 and 400 Vpp.
+with voltage (resonance drift), and beat the naive fixed 40.4 kHz by >= 20 % at 300 and 400 V.
 """
 import csv
 import json
+import math
 import os
 import signal
 import subprocess
@@ -25,7 +26,7 @@ except ImportError:
     sys.modules["serial_asyncio"] = types.SimpleNamespace(create_serial_connection=None)
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "../firmware_sim"))
-from emu_harness import CONFIG, Emulator, RegisterMap  # noqa: E402
+from emu_harness import CONFIG, Emulator, RegisterMap, deadline  # noqa: E402
 
 SWUM = os.environ["SWUM_BINARY"]
 MAP = RegisterMap()
@@ -48,7 +49,7 @@ def check(condition, message):
 
 
 def picks(stdout):
-    return {p["vpp"]: p for p in json.loads(stdout)}
+    return {p["amplitude_v"]: p for p in json.loads(stdout)}
 
 
 def offline_picks(grid):
@@ -64,19 +65,19 @@ def compare_with_offline(live, grid, step_hz):
 def compare_picks(live, offline, step_hz):
     """live against the offline picks on the same grid (offline_picks)."""
     previous = None
-    for vpp in sorted(live):
-        lp, op = live[vpp], offline[vpp]
-        check(lp["decided"] and op["decided"], f"{vpp} Vpp undecided: {lp['reason']} / {op['reason']}")
+    for amplitude_v in sorted(live):
+        lp, op = live[amplitude_v], offline[amplitude_v]
+        check(lp["decided"] and op["decided"], f"{amplitude_v} V undecided: {lp['reason']} / {op['reason']}")
         tolerance = step_hz + max(lp["margin_hz"], op["margin_hz"])
         diff = abs(lp["frequency_hz"] - op["frequency_hz"])
-        print(f"{vpp:5g} Vpp: live {lp['frequency_hz']:.0f} Hz ({lp['speed_mm_s']:.1f} mm/s, gain "
+        print(f"{amplitude_v:5g} V: live {lp['frequency_hz']:.0f} Hz ({lp['speed_mm_s']:.1f} mm/s, gain "
               f"{lp['gain_percent']:+.0f} %), offline {op['frequency_hz']:.0f} Hz; |diff| {diff:.0f} <= {tolerance:.0f}")
-        check(diff <= tolerance + 1e-6, f"{vpp} Vpp: live pick {lp['frequency_hz']} vs offline {op['frequency_hz']}")
+        check(diff <= tolerance + 1e-6, f"{amplitude_v} V: live pick {lp['frequency_hz']} vs offline {op['frequency_hz']}")
         if previous is not None:
             check(lp["frequency_hz"] <= previous["frequency_hz"],
-                  f"drift direction: {vpp} Vpp picks above {previous['vpp']} Vpp")
-        if vpp >= 300:
-            check(lp["gain_percent"] >= 20.0, f"{vpp} Vpp: gain {lp['gain_percent']} % over naive 40.4 kHz")
+                  f"drift direction: {amplitude_v} V picks above {previous['amplitude_v']} V")
+        if amplitude_v >= 300:
+            check(lp["gain_percent"] >= 20.0, f"{amplitude_v} V: gain {lp['gain_percent']} % over naive 40.4 kHz")
         previous = lp
     lo, hi = min(live), max(live)
     check(live[hi]["frequency_hz"] < live[lo]["frequency_hz"] - 300.0, "no resonance drift between lowest and highest voltage")
@@ -88,7 +89,7 @@ def png(path):
 
 
 def pick_modbus():
-    grid = ["--vpp", "100,200,300,400", "--frequency-hz", "39000:41000:50"]
+    grid = ["--amplitude-v", "100,200,300,400", "--frequency-hz", "39000:41000:50"]
     with Emulator("--speedup", "4", *EMU_ARGS) as emu:
         device = f"tcp://{emu.host}:{emu.port}"
         sweep_csv = os.path.join(OUT, "live_sweep.csv")
@@ -101,7 +102,7 @@ def pick_modbus():
             rows = list(csv.DictReader(f))
         check(len(rows) == 4 * 41, f"{len(rows)} rows")
         check(all(r["status"] == "ok" and r["speed_spread_mm_s"] != "" for r in rows), "failed or spread-less rows")
-        for name in ("speed_vs_frequency.png", "frequency_vs_vpp.png", "speed_vs_load.png"):
+        for name in ("speed_vs_frequency.png", "frequency_vs_amplitude_v.png", "speed_vs_load.png"):
             check(png(os.path.join(plots, name)), f"{name} missing or not a PNG")
         # The drive is off after the command.
         state = read_state(emu)
@@ -118,7 +119,7 @@ def read_state(emu):
 
 
 def sweep_log_modbus():
-    grid = ["--vpp", "150,350", "--frequency-hz", "39600:40600:100"]
+    grid = ["--amplitude-v", "150,350", "--frequency-hz", "39600:40600:100"]
     with Emulator("--speedup", "4", *EMU_ARGS) as emu:
         device = f"tcp://{emu.host}:{emu.port}"
         live_csv, offline_csv = os.path.join(OUT, "live.csv"), os.path.join(OUT, "offline.csv")
@@ -131,7 +132,7 @@ def sweep_log_modbus():
             live = list(csv.DictReader(f))
         with open(offline_csv) as f:
             offline = list(csv.DictReader(f))
-        check(list(live[0].keys()) == ["vpp", "frequency_hz", "load_n", "time_s", "sweep", "speed_mm_s", "tip_normal_um",
+        check(list(live[0].keys()) == ["amplitude_v", "frequency_hz", "load_n", "time_s", "sweep", "speed_mm_s", "tip_normal_um",
                                        "tip_tangential_um", "speed_spread_mm_s", "status", *ELECTRICAL],
               f"columns {list(live[0])}")
         check(list(offline[0].keys()) == [k for k in live[0].keys()
@@ -147,13 +148,13 @@ def sweep_log_modbus():
         check(all(b - a >= 0.060 + 0.030 - 0.0015 for a, b in zip(times, times[1:])),
               f"time_s does not advance by settle + dwell per point: {times}")
         # Downward per voltage.
-        for vpp in ("150", "350"):
-            f = [float(r["frequency_hz"]) for r in live if r["vpp"] == vpp]
-            check(f == sorted(f, reverse=True), f"{vpp} Vpp not swept downward: {f}")
-        by_point = {(r["vpp"], float(r["frequency_hz"])): float(r["speed_mm_s"]) for r in offline}
+        for amplitude_v in ("150", "350"):
+            f = [float(r["frequency_hz"]) for r in live if r["amplitude_v"] == amplitude_v]
+            check(f == sorted(f, reverse=True), f"{amplitude_v} V not swept downward: {f}")
+        by_point = {(r["amplitude_v"], float(r["frequency_hz"])): float(r["speed_mm_s"]) for r in offline}
         worst = 0.0
         for r in live:
-            model = by_point[(r["vpp"], float(r["frequency_hz"]))]
+            model = by_point[(r["amplitude_v"], float(r["frequency_hz"]))]
             error = abs(float(r["speed_mm_s"]) - model)
             worst = max(worst, error / max(abs(model), 20.0))
             check(error <= 0.03 * abs(model) + 1.0, f"{r}: live {r['speed_mm_s']} vs model {model}")
@@ -174,11 +175,84 @@ def sweep_log_modbus():
         print(out.strip())
 
 
+# The board designer's check (issue 34): the phase currents a device reports, over `swum sweep`
+# and `swum log` (the Modbus current registers and CSV columns), are those of the voltage as
+# named. Away from resonance the motional current is small, so each phase draws w C0 V, V the
+# terminal amplitude `--amplitude-v` names; a factor of two slipping back into the naming or the
+# drive (V read as peak-to-peak, the amplitude doubled) is a 50 % or 100 % error here.
+BOARD_C0_NF = 12.5         # written into the config below: C0 is the config's, not a constant of the test
+BOARD_TOLERANCE = 0.05     # the motional current off resonance, and the 1 ms current fit
+
+
+def board_config():
+    with open(CONFIG) as f:
+        text = f.read()
+    check("clamped_capacitance_nf" not in text and text.count("[stator]\n") == 1, "config/li2019.toml's [stator]")
+    path = os.path.join(OUT, "board_c0.toml")
+    with open(path, "w") as f:
+        f.write(text.replace("[stator]\n", f"[stator]\nclamped_capacitance_nf = {BOARD_C0_NF}\n"))
+    return path
+
+
+def check_reactive_current(row, what):
+    amplitude_v, frequency_hz = float(row["amplitude_v"]), float(row["frequency_hz"])
+    expected = 2 * math.pi * frequency_hz * BOARD_C0_NF * 1e-9 * amplitude_v
+    for column in ("current_a_a", "current_b_a"):
+        measured = float(row[column])
+        check(abs(measured / expected - 1.0) <= BOARD_TOLERANCE,
+              f"{what}: {column} {measured:.4f} A at {amplitude_v:g} V, {frequency_hz:g} Hz; w C0 V = {expected:.4f} A")
+    return float(row["current_a_a"]) / expected - 1.0
+
+
+def board_current_modbus():
+    config = board_config()
+    with Emulator("--speedup", "4", "--watchdog-ms", "0", config=config) as emu:  # the log holds the drive on
+        device = f"tcp://{emu.host}:{emu.port}"
+        sweep_csv = os.path.join(OUT, "board_sweep.csv")
+        status, out, err = swum("sweep", "--modbus", device, "--amplitude-v", "100,300", "--frequency",
+                                "45000:46000:1000", "--settle-ms", "150", "--dwell-ms", "50", "--out", sweep_csv)
+        check(status == 0, f"sweep failed: {err}")
+        with open(sweep_csv) as f:
+            rows = list(csv.DictReader(f))
+        check(len(rows) == 4, f"{len(rows)} sweep rows")
+        worst = max(abs(check_reactive_current(r, "swum sweep")) for r in rows)
+        print(f"swum sweep: currents within {100 * worst:.2f} % of w C0 V")
+
+        # swum log while the drive holds 200 V at 44 kHz (set over Modbus as a controller would).
+        from pymodbus.client import ModbusTcpClient
+        client = ModbusTcpClient(emu.host, port=emu.port, timeout=5)
+        check(client.connect(), "pymodbus connect")
+        for name, value in (("frequency_setpoint", 44000.0), ("amplitude_setpoint", 200.0), ("phase_setpoint", 90.0),
+                            ("command", 1)):
+            rr = client.write_registers(MAP.holding[name]["address"], MAP.encode(name, value), slave=1)
+            check(not rr.isError(), f"writing {name}: {rr}")
+        # Enabled and at the set-point, with full current windows, before the log starts.
+        expired = deadline(30)
+        while True:
+            values = MAP.decode_inputs(client.read_input_registers(0, MAP.input_count, slave=1).registers)
+            if values["state"] == 1 and abs(values["amplitude_output"] - 200.0) < 0.05 and values["current_a"] > 0:
+                break
+            check(not expired(), f"the drive never reached 200 V: {values}")
+            time.sleep(0.01)
+        time.sleep(0.1)
+        log_csv = os.path.join(OUT, "board_log.csv")
+        status, out, err = swum("log", "--modbus", device, "--duration", "1", "--rate-hz", "50", "--out", log_csv)
+        client.write_registers(MAP.holding["command"]["address"], MAP.encode("command", 0), slave=1)
+        client.close()
+        check(status == 0, f"log failed: {err}")
+        with open(log_csv) as f:
+            steady = [r for r in csv.DictReader(f) if r["state"] == "1" and r["amplitude_v"] != ""
+                      and abs(float(r["amplitude_v"]) - 200.0) < 1e-6 and r["current_a_a"] != ""]
+        check(len(steady) >= 10, f"only {len(steady)} log rows at the 200 V set-point")
+        worst = max(abs(check_reactive_current(r, "swum log")) for r in steady[2:])  # past the first current window
+        print(f"swum log: currents within {100 * worst:.2f} % of w C0 V")
+
+
 def interrupt_modbus():
     from pymodbus.client import ModbusTcpClient
     with Emulator("--speedup", "1", *EMU_ARGS) as emu:
         out_csv = os.path.join(OUT, "interrupted.csv")
-        proc = subprocess.Popen([SWUM, "sweep", "--modbus", f"tcp://{emu.host}:{emu.port}", "--vpp", "300",
+        proc = subprocess.Popen([SWUM, "sweep", "--modbus", f"tcp://{emu.host}:{emu.port}", "--amplitude-v", "300",
                                  "--frequency-hz", "39000:41000:10", "--out", out_csv],
                                 stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
         c = ModbusTcpClient(emu.host, port=emu.port, timeout=5)
@@ -219,15 +293,15 @@ def errors():
     port = s.getsockname()[1]
     s.close()
     cases = [
-        (["sweep", "--modbus", f"tcp://127.0.0.1:{port}", "--vpp", "100", "--frequency-hz", "40000", "--out",
+        (["sweep", "--modbus", f"tcp://127.0.0.1:{port}", "--amplitude-v", "100", "--frequency-hz", "40000", "--out",
           os.path.join(OUT, "x.csv")], 1, "cannot connect"),
-        (["sweep", "--modbus", "udp://x", "--vpp", "100", "--frequency-hz", "40000", "--out", os.path.join(OUT, "x.csv")],
+        (["sweep", "--modbus", "udp://x", "--amplitude-v", "100", "--frequency-hz", "40000", "--out", os.path.join(OUT, "x.csv")],
          2, "expected tcp://HOST:PORT"),
         (["log", "--can", "nosuchcan0", "--duration-s", "1", "--out", os.path.join(OUT, "x.csv")], 1, "nosuchcan0"),
         (["log", "--can", "vcan0:300", "--duration-s", "1", "--out", os.path.join(OUT, "x.csv")], 2, "node must be"),
         (["log", "--modbus", "tcp://127.0.0.1:1", "--can", "vcan0", "--out", os.path.join(OUT, "x.csv")], 2, "excludes"),
-        (["pick", "--vpp", "100"], 2, "exactly one source"),
-        (["sweep", "--vpp", "100", "--frequency-hz", "40000", "--out", os.path.join(OUT, "x.csv")], 2, "either --config"),
+        (["pick", "--amplitude-v", "100"], 2, "exactly one source"),
+        (["sweep", "--amplitude-v", "100", "--frequency-hz", "40000", "--out", os.path.join(OUT, "x.csv")], 2, "either --config"),
     ]
     for args, want_status, want_text in cases:
         status, out, err = swum(*args, timeout=60)
@@ -268,7 +342,7 @@ def rtu_modbus():
     try:
         with Emulator("--speedup", "2", *EMU_ARGS, modbus=f"rtu:{os.ttyname(emu_slave)}:115200"):
             device = f"rtu:{os.ttyname(host_slave)}:115200"
-            grid = ["--vpp", "250", "--frequency-hz", "40000:40300:100"]
+            grid = ["--amplitude-v", "250", "--frequency-hz", "40000:40300:100"]
             live_csv, offline_csv = os.path.join(OUT, "rtu.csv"), os.path.join(OUT, "rtu_offline.csv")
             status, out, err = swum("sweep", "--modbus", device, *grid, "--timeout-ms", "2000", "--out", live_csv)
             check(status == 0, f"RTU sweep failed ({status}): {err}")
@@ -289,7 +363,7 @@ def rtu_modbus():
 
 
 def pick_can():
-    grid = ["--vpp", "100,400", "--frequency-hz", "39200:40700:50"]
+    grid = ["--amplitude-v", "100,400", "--frequency-hz", "39200:40700:50"]
     # The offline pick first, before swum-emu runs: at --speedup 0 the emulator takes a whole
     # vCPU of the guest, and the model sweep on all cores beside it took about ten times as long.
     offline = offline_picks(grid)
@@ -305,7 +379,7 @@ def pick_can():
         # (kAliveResyncNs, on its monotonic clock off lockstep), so at least that long after the
         # first session's last frame.
         time.sleep(max(0.0, first_session_end + 1.2 - time.monotonic()))
-        status, out, err = swum("sweep", "--can", "vcan0:5", "--vpp", "200", "--frequency-hz", "40300:40400:100",
+        status, out, err = swum("sweep", "--can", "vcan0:5", "--amplitude-v", "200", "--frequency-hz", "40300:40400:100",
                                 "--connect-timeout-ms", "5000", "--timeout-ms", "2000",
                                 "--out", os.path.join(OUT, "second.csv"), timeout=600)
         check(status == 0, f"second CAN session failed ({status}): {err}")
@@ -324,7 +398,7 @@ def canopen_can():
     docs/canopen.md "The host tool as a master") against swum-emu --can-profile cia402 on vcan0:
     in lockstep (each SYNC one 1 ms cycle) the sweep's speeds equal the Modbus path's at the same
     points; a log in lockstep advances one cycle per row; a log on the wall clock; an absent node."""
-    grid = ["--vpp", "150", "--frequency-hz", "40300:40500:200"]
+    grid = ["--amplitude-v", "150", "--frequency-hz", "40300:40500:200"]
     timing = ["--settle-ms", "80", "--dwell-ms", "40"]
     slow = ["--connect-timeout-ms", "20000", "--timeout-ms", "20000"]  # a TCG guest's latency
     # The Modbus path first (free-running swum-emu on loopback, its own clock for settle and dwell).
@@ -381,8 +455,8 @@ def canopen_can():
 
 if __name__ == "__main__":
     scenario = sys.argv[1] if len(sys.argv) > 1 else ""
-    functions = {f.__name__: f for f in (pick_modbus, sweep_log_modbus, interrupt_modbus, errors, rtu_modbus, pick_can,
-                                         canopen_can)}
+    functions = {f.__name__: f for f in (pick_modbus, sweep_log_modbus, board_current_modbus, interrupt_modbus, errors,
+                                         rtu_modbus, pick_can, canopen_can)}
     if scenario not in functions:
         sys.exit(f"usage: {sys.argv[0]} {'|'.join(functions)}")
     functions[scenario]()

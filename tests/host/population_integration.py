@@ -26,10 +26,10 @@ SWUM = os.environ["SWUM_BINARY"]
 SOURCE = os.environ["SWUM_SOURCE_DIR"]
 OUT = tempfile.mkdtemp(prefix="swum-population-")
 # Small enough for a few seconds on two cores: 6 motors x 2 voltages x 17 frequencies. Down to
-# 39000 Hz: on the way down (the operating point's curve) the softer motors' 400 Vpp peaks lie
+# 39000 Hz: on the way down (the operating point's curve) the softer motors' 400 V peaks lie
 # below 39300 Hz, where a sweep from rest at each point had collapsed earlier.
 STUDY = ["--config", "config/li2019.toml", "--spreads", "config/population.toml", "--seed", "5",
-         "--vpp", "200,400", "--frequency-hz", "39000:40600:100", "--yield", "0.5"]
+         "--amplitude-v", "200,400", "--frequency-hz", "39000:40600:100", "--yield", "0.5"]
 
 
 def path(name):

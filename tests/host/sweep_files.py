@@ -5,7 +5,7 @@ import csv
 
 from live_device_integration import check
 
-SPEED_ONLY = ["vpp", "frequency_hz", "load_n", "time_s", "sweep", "speed_mm_s", "status"]
+SPEED_ONLY = ["amplitude_v", "frequency_hz", "load_n", "time_s", "sweep", "speed_mm_s", "status"]
 
 
 def speed_only(rows, path):
@@ -19,8 +19,8 @@ def speed_only(rows, path):
 
 def relative_rms_gap(rows, device_rows):
     """RMS of (speed - device speed) / max(|device speed|, 5 % of the largest), as the workflow."""
-    check([(r["vpp"], r["frequency_hz"], r["load_n"]) for r in rows]
-          == [(r["vpp"], r["frequency_hz"], r["load_n"]) for r in device_rows], "the sweeps' points differ")
+    check([(r["amplitude_v"], r["frequency_hz"], r["load_n"]) for r in rows]
+          == [(r["amplitude_v"], r["frequency_hz"], r["load_n"]) for r in device_rows], "the sweeps' points differ")
     device = [float(r["speed_mm_s"]) for r in device_rows]
     floor = 0.05 * max(abs(v) for v in device)
     gaps = [(float(r["speed_mm_s"]) - v) / max(abs(v), floor) for r, v in zip(rows, device)]

@@ -1,6 +1,6 @@
 #!/usr/bin/python3
 """`swum track` against swum-emu in lockstep with the thermal motor (config/li2019_thermal.toml),
-ten minutes of emulated running at 400 Vpp (docs/host.md "swum track", docs/validation.md
+ten minutes of emulated running at 400 V (docs/host.md "swum track", docs/validation.md
 "Tracking the drift"):
 
   track_thermal.py ten_minutes   the cold pick held fixed loses a share of the best speed; tracking
@@ -32,7 +32,7 @@ from emu_harness import SOURCE_DIR, Emulator  # noqa: E402
 SWUM = os.environ["SWUM_BINARY"]
 THERMAL = os.path.join(SOURCE_DIR, "config/li2019_thermal.toml")
 OUT = os.environ.get("SWUM_TRACK_OUT") or tempfile.mkdtemp(prefix="swum-track-")
-VPP = 400
+V = 400
 MARGIN_HZ = 100
 DURATION_S = 600
 
@@ -57,7 +57,7 @@ LINK = ["--connect-timeout-ms", "60000", "--timeout-ms", "60000"]
 
 
 def track_command(emu, method, out, duration_s=DURATION_S, *extra):
-    return [SWUM, "track", "--modbus", f"tcp://{emu.host}:{emu.port}", *LINK, "--vpp", str(VPP), "--method", method,
+    return [SWUM, "track", "--modbus", f"tcp://{emu.host}:{emu.port}", *LINK, "--amplitude-v", str(V), "--method", method,
             "--margin-hz", str(MARGIN_HZ), "--duration-s", str(duration_s), "--out", out, *extra]
 
 
@@ -76,7 +76,7 @@ def ten_minutes():
                  for m, e in zip(methods, emus)}
         # The reference while the runs go: the model's best speed at peak + margin per temperature rise.
         band_csv = os.path.join(OUT, "band.csv")
-        band = subprocess.run([SWUM, "band", "--config", THERMAL, "--vpp", str(VPP), "--margin-hz", str(MARGIN_HZ),
+        band = subprocess.run([SWUM, "band", "--config", THERMAL, "--amplitude-v", str(V), "--margin-hz", str(MARGIN_HZ),
                                "--temperature-rise-k", "0,10,20,30,40,50,60,70,80,90,100", "--out", band_csv,
                                "--jobs", "1"], capture_output=True, text=True, timeout=600)
         check(band.returncode == 0, f"swum band: {band.stderr}")
@@ -94,7 +94,7 @@ def ten_minutes():
         check(float(rows[-1]["time_s"]) >= DURATION_S - 0.02 - 1e-6, f"{m}: ends at {rows[-1]['time_s']} s")
         check(all(r["state"] == "1" for r in rows), f"{m}: the drive was not on throughout")
         check(all(r["motional_phase_a_deg"] != "" for r in rows), f"{m}: electrical port missing")
-    report = subprocess.run([SWUM, "track-report", "--band", os.path.join(OUT, "band.csv"), "--vpp", str(VPP),
+    report = subprocess.run([SWUM, "track-report", "--band", os.path.join(OUT, "band.csv"), "--amplitude-v", str(V),
                              "--skip-s", "30", "--block-s", "30", "--plot-dir", OUT, "--json",
                              *[a for m in methods for a in ("--run", f"{m}={os.path.join(OUT, f'track_{m}.csv')}")]],
                             capture_output=True, text=True, timeout=120)

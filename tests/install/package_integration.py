@@ -36,7 +36,7 @@ USER_TEST = '''from swum_bench import Command, assert_within
 
 class OpenLoop:
     def cycle(self, sample):
-        return Command(action="enable", frequency_hz=40000, vpp=300)
+        return Command(action="enable", frequency_hz=40000, amplitude_v=300)
 
 
 def test_the_motor_runs(swum_bench):
@@ -113,7 +113,7 @@ def use_it(work, env, data_dir, version):
     check(r.returncode == 0, f"swum-emu without --config: {r.returncode}: {r.stderr}")
     ready = next((line for line in r.stdout.splitlines() if line.startswith("swum-emu ready")), "")
     check(f" default_config={default}" in ready, f"the ready line does not name the installed default motor: {ready!r}")
-    r = run(["swum", "pick", "--config", default, "--vpp", "300"], cwd=work, env=env)
+    r = run(["swum", "pick", "--config", default, "--amplitude-v", "300"], cwd=work, env=env)
     check(r.returncode == 0 and re.search(r"\d{5}(\.\d+)? Hz", r.stdout), f"swum pick: {r.returncode}: {r.stdout}{r.stderr}")
     print("swum pick on the installed motor:", r.stdout.strip().splitlines()[0])
     controller_test(work, env, "the package")

@@ -133,7 +133,7 @@ TEST_F(CanDbc, CommandEncodingAgrees) {
   c.alive = 9;
   c.frequency_hz = 40123.4;
   c.phase_deg = -90.5;
-  c.amplitude_vpp = 399.75;
+  c.amplitude_v = 399.75;
   const CanFrame f = encode_command(c, ids.command);
   expect_frame("Command", f,
                {{"Mode", 1},
@@ -162,7 +162,7 @@ TEST_F(CanDbc, CommandEncodingAgrees) {
   EXPECT_EQ(d.alive, 15);
   EXPECT_NEAR(d.frequency_hz, 39999.9, 1e-6);
   EXPECT_NEAR(d.phase_deg, 170.3, 1e-9);
-  EXPECT_NEAR(d.amplitude_vpp, 12.25, 1e-12);
+  EXPECT_NEAR(d.amplitude_v, 12.25, 1e-12);
 }
 
 TEST_F(CanDbc, AuxEncodingAgrees) {
@@ -170,7 +170,7 @@ TEST_F(CanDbc, AuxEncodingAgrees) {
   a.alive = 3;
   a.load_n = -1.5;
   a.frequency_slew_hz_per_s = 1e6;
-  a.amplitude_slew_vpp_per_s = 1e5;
+  a.amplitude_slew_v_per_s = 1e5;
   const CanFrame f = encode_aux(a, ids.aux);
   expect_frame("AuxCommand", f,
                {{"Reserved1", 0},
@@ -196,7 +196,7 @@ TEST_F(CanDbc, TelemetryEncodingAgrees) {
   t.position_m = 0.0123;
   t.tip_normal_um = 2.945;
   t.tip_tangential_um = 1.062;
-  t.output.vpp = 399.9;
+  t.output.amplitude_v = 399.9;
   t.output.phase_deg = -90.25;
   t.output.frequency_hz = 40123.456;
   t.output.load_n = -0.5;

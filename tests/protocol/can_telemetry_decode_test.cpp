@@ -15,7 +15,7 @@ Telemetry sample_telemetry() {
   t.fault = FaultCode::none;
   t.enable_line = true;
   t.at_setpoint = false;
-  t.output.vpp = 312.5;
+  t.output.amplitude_v = 312.5;
   t.output.frequency_hz = 39876.543;
   t.output.phase_deg = -90.25;
   t.output.load_n = -1.234;
@@ -58,7 +58,7 @@ TEST(CanTelemetryDecode, InvertsEveryEncoder) {
   ASSERT_EQ(decode_drive(encode_drive(t, ids.drive), d), Reason::none);
   EXPECT_NEAR(d.tip_normal_um, 2.345, 1e-3);
   EXPECT_NEAR(d.tip_tangential_um, 3.456, 1e-3);
-  EXPECT_NEAR(d.vpp, 312.5, 0.05);
+  EXPECT_NEAR(d.amplitude_v, 312.5, 0.05);
   EXPECT_NEAR(d.phase_deg, -90.25, 0.005);
 
   LoopStatsFields l;

@@ -28,7 +28,7 @@ int main() {
   c.alive = 11;
   c.frequency_hz = 40321.7;
   c.phase_deg = -123.4;
-  c.amplitude_vpp = 345.5;
+  c.amplitude_v = 345.5;
   const auto cf = can::encode_command(c, ids.command);
   print("Command", cf,
         {{"Mode", 1},
@@ -41,7 +41,7 @@ int main() {
   a.alive = 4;
   a.load_n = -2.345;
   a.frequency_slew_hz_per_s = 250000;
-  a.amplitude_slew_vpp_per_s = 5000;
+  a.amplitude_slew_v_per_s = 5000;
   const auto af = can::encode_aux(a, ids.aux);
   print(
       "AuxCommand", af,
@@ -50,7 +50,7 @@ int main() {
   t.state = AmpState::enabled;
   t.enable_line = true;
   t.at_setpoint = false;
-  t.output.vpp = 400;
+  t.output.amplitude_v = 400;
   t.output.phase_deg = 90;
   t.output.frequency_hz = 40000.5;
   t.output.load_n = 0.75;

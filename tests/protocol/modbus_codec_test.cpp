@@ -104,7 +104,7 @@ TEST(RegisterMap, BadAddressesAndQuantities) {
 }
 
 TEST(RegisterMap, WriteMultipleBecomesOneCommand) {
-  // frequency 40123.456 Hz, amplitude 400.0 Vpp, phase -90.00 deg
+  // frequency 40123.456 Hz, amplitude 400.0 V, phase -90.00 deg
   const std::uint32_t mhz = 40123456;
   const Decision d = run(write_multiple(holding::kFrequency, {static_cast<std::uint16_t>(mhz >> 16),
                                                               static_cast<std::uint16_t>(mhz & 0xFFFF), 4000,
@@ -113,7 +113,7 @@ TEST(RegisterMap, WriteMultipleBecomesOneCommand) {
   ASSERT_TRUE(d.has_command);
   EXPECT_EQ(d.command.fields, Command::kFrequency | Command::kAmplitude | Command::kPhase);
   EXPECT_NEAR(d.command.frequency_hz, 40123.456, 1e-6);
-  EXPECT_NEAR(d.command.amplitude_vpp, 400.0, 1e-9);
+  EXPECT_NEAR(d.command.amplitude_v, 400.0, 1e-9);
   EXPECT_NEAR(d.command.phase_deg, -90.0, 1e-9);
   EXPECT_EQ(d.command.source, CommandSource::modbus);
 }
@@ -129,7 +129,7 @@ TEST(RegisterMap, WriteSingleCommandRegister) {
 }
 
 TEST(RegisterMap, OutOfRangeValuesAreIllegalDataValue) {
-  const Decision amp = run({kWriteSingleRegister, 0, holding::kAmplitude, 0x1B, 0x58});  // 7000 = 700 Vpp
+  const Decision amp = run({kWriteSingleRegister, 0, holding::kAmplitude, 0x1B, 0x58});  // 7000 = 700 V
   EXPECT_EQ(amp.exception, kIllegalDataValue);
   EXPECT_EQ(amp.reason, Reason::amplitude_out_of_range);
   const std::uint32_t mhz = 60000000;
@@ -185,7 +185,7 @@ TEST(RegisterMapJson, InputRegistersAgreeWithTheCode) {
   t.tip_normal_um = 2.945;
   t.tip_tangential_um = 1.062;
   t.output.frequency_hz = 40123.456;
-  t.output.vpp = 399.9;
+  t.output.amplitude_v = 399.9;
   t.output.phase_deg = -90.25;
   t.output.load_n = 1.234;
   t.tick = 987654;
@@ -280,11 +280,11 @@ TEST(RegisterMapJson, HoldingRegistersAgreeWithTheCode) {
   const nlohmann::json map = load_map();
   Telemetry t;
   t.setpoints.frequency_hz = 40400.5;
-  t.setpoints.amplitude_vpp = 321.4;
+  t.setpoints.amplitude_v = 321.4;
   t.setpoints.phase_deg = -45.5;
   t.setpoints.load_n = -2.5;
   t.setpoints.frequency_slew_hz_per_s = 1e6;
-  t.setpoints.amplitude_slew_vpp_per_s = 1e5;
+  t.setpoints.amplitude_slew_v_per_s = 1e5;
   std::array<std::uint16_t, holding::kCount> regs{};
   fill_holding(t, regs);
   const std::map<std::string, double> expected{
@@ -312,11 +312,11 @@ TEST(RegisterMapJson, HoldingRegistersAgreeWithTheCode) {
     const Command& c = d.command;
     const std::map<std::string, double> written{{"command", static_cast<double>(c.action)},
                                                 {"frequency_setpoint", c.frequency_hz},
-                                                {"amplitude_setpoint", c.amplitude_vpp},
+                                                {"amplitude_setpoint", c.amplitude_v},
                                                 {"phase_setpoint", c.phase_deg},
                                                 {"load_force", c.load_n},
                                                 {"frequency_slew", c.frequency_slew_hz_per_s},
-                                                {"amplitude_slew", c.amplitude_slew_vpp_per_s}};
+                                                {"amplitude_slew", c.amplitude_slew_v_per_s}};
     EXPECT_NEAR(written.at(name), expected.at(name), 1e-6) << name;
   }
   EXPECT_EQ(words, holding::kCount);

@@ -45,18 +45,18 @@ TEST(ModbusScales, BothDirectionsAreReciprocal) {
 
 TEST(ModbusRoundTrip, DriveWriteBecomesTheSameCommandOnTheDevice) {
   struct Case {
-    double frequency_hz, vpp, phase_deg, load_n;
+    double frequency_hz, amplitude_v, phase_deg, load_n;
   };
   for (const Case c : {Case{40123.456, 400.0, -90.0, 0.0}, Case{30000.0, 0.0, 180.0, -30.0},
                        Case{49999.999, 599.9, 0.01, 2.345}, Case{40400.0, 137.5, 90.0, -0.001}}) {
     std::array<std::uint16_t, modbus::kDriveWriteCount> r{};
-    ASSERT_EQ(modbus::encode_drive_write(c.frequency_hz, c.vpp, c.phase_deg, c.load_n, r), "");
+    ASSERT_EQ(modbus::encode_drive_write(c.frequency_hz, c.amplitude_v, c.phase_deg, c.load_n, r), "");
     const modbus::Decision d = device_decides(modbus::holding::kFrequency, r);
     ASSERT_EQ(d.exception, modbus::kNoException) << to_string(d.reason);
     ASSERT_TRUE(d.has_command);
     EXPECT_EQ(d.command.fields, Command::kFrequency | Command::kAmplitude | Command::kPhase | Command::kLoad);
     EXPECT_NEAR(d.command.frequency_hz, c.frequency_hz, 0.5e-3);
-    EXPECT_NEAR(d.command.amplitude_vpp, c.vpp, 0.05);
+    EXPECT_NEAR(d.command.amplitude_v, c.amplitude_v, 0.05);
     EXPECT_NEAR(d.command.phase_deg, c.phase_deg, 0.005);
     EXPECT_NEAR(d.command.load_n, c.load_n, 0.5e-3);
   }
@@ -65,7 +65,7 @@ TEST(ModbusRoundTrip, DriveWriteBecomesTheSameCommandOnTheDevice) {
 TEST(ModbusRoundTrip, DriveWriteRefusesWhatDoesNotFitInsteadOfWrapping) {
   std::array<std::uint16_t, modbus::kDriveWriteCount> r{};
   EXPECT_EQ(modbus::encode_drive_write(-1.0, 10.0, 0.0, 0.0, r), "frequency -1.000000 Hz does not fit the register");
-  EXPECT_NE(modbus::encode_drive_write(40000.0, 6553.6, 0.0, 0.0, r).find("amplitude (0.1 Vpp) 65536"),
+  EXPECT_NE(modbus::encode_drive_write(40000.0, 6553.6, 0.0, 0.0, r).find("amplitude (0.1 V) 65536"),
             std::string::npos);
   EXPECT_NE(modbus::encode_drive_write(40000.0, 10.0, 327.68, 0.0, r).find("phase (0.01 deg)"), std::string::npos);
   EXPECT_NE(modbus::encode_drive_write(40000.0, 10.0, 0.0, -32.769, r).find("load (mN)"), std::string::npos);
@@ -78,7 +78,7 @@ TEST(ModbusRoundTrip, SlewWriteRoundsDownButNeverToUnlimited) {
   const modbus::Decision d = device_decides(modbus::holding::kFrequencySlew, r);
   ASSERT_TRUE(d.has_command) << to_string(d.reason);
   EXPECT_EQ(d.command.frequency_slew_hz_per_s, 1234.0);
-  EXPECT_EQ(d.command.amplitude_slew_vpp_per_s, 1.0);  // 0.4 would round to 0 = unlimited
+  EXPECT_EQ(d.command.amplitude_slew_v_per_s, 1.0);  // 0.4 would round to 0 = unlimited
   ASSERT_EQ(modbus::encode_slew_write(0.0, 0.0, r), "");
   EXPECT_EQ(device_decides(modbus::holding::kFrequencySlew, r).command.frequency_slew_hz_per_s, 0.0);
   EXPECT_EQ(modbus::encode_slew_write(-1.0, 0.0, r), "slew limit out of range");
@@ -96,10 +96,10 @@ TEST(ModbusRoundTrip, CommandCodesAreTheDevicesActions) {
 TEST(ModbusRoundTrip, StepWriteIsOneCommandAndTheTicksToRun) {
   AmplifierSetpoints s;
   s.frequency_hz = 40123.456;
-  s.amplitude_vpp = 137.5;
+  s.amplitude_v = 137.5;
   s.phase_deg = -90.0;
   s.frequency_slew_hz_per_s = 1000.0;
-  s.amplitude_slew_vpp_per_s = 0.0;
+  s.amplitude_slew_v_per_s = 0.0;
   std::array<std::uint16_t, modbus::holding::kCount> r{};
   ASSERT_EQ(modbus::encode_step_write(Action::enable, s, 10, r), "");
   const modbus::Decision d = device_decides(modbus::holding::kCommand, r);
@@ -108,13 +108,13 @@ TEST(ModbusRoundTrip, StepWriteIsOneCommandAndTheTicksToRun) {
   EXPECT_EQ(d.advance_ticks, 10);
   EXPECT_EQ(d.command.action, Action::enable);
   EXPECT_NEAR(d.command.frequency_hz, s.frequency_hz, 0.5e-3);
-  EXPECT_NEAR(d.command.amplitude_vpp, s.amplitude_vpp, 0.05);
+  EXPECT_NEAR(d.command.amplitude_v, s.amplitude_v, 0.05);
   EXPECT_NEAR(d.command.phase_deg, s.phase_deg, 0.005);
   EXPECT_EQ(d.command.frequency_slew_hz_per_s, 1000.0);
-  EXPECT_EQ(d.command.amplitude_slew_vpp_per_s, 0.0);
+  EXPECT_EQ(d.command.amplitude_slew_v_per_s, 0.0);
   EXPECT_NE(modbus::encode_step_write(Action::none, s, 0, r).find("advance of 0 ticks"), std::string::npos);
   EXPECT_NE(modbus::encode_step_write(Action::none, s, 65536, r).find("65536"), std::string::npos);
-  s.amplitude_vpp = 6553.6;
+  s.amplitude_v = 6553.6;
   EXPECT_NE(modbus::encode_step_write(Action::none, s, 10, r).find("amplitude"), std::string::npos);
 }
 
@@ -162,7 +162,7 @@ TEST(ModbusRoundTrip, InputRegistersDecodeToWhatTheDeviceFilled) {
   EXPECT_NEAR(d.tip_normal_um, t.tip_normal_um, 0.5e-3);
   EXPECT_NEAR(d.tip_tangential_um, t.tip_tangential_um, 0.5e-3);
   EXPECT_NEAR(d.output.frequency_hz, t.output.frequency_hz, 0.5e-3);
-  EXPECT_NEAR(d.output.vpp, t.output.vpp, 0.05);
+  EXPECT_NEAR(d.output.amplitude_v, t.output.amplitude_v, 0.05);
   EXPECT_NEAR(d.output.phase_deg, t.output.phase_deg, 0.005);
   EXPECT_NEAR(d.output.load_n, t.output.load_n, 0.5e-3);
   EXPECT_EQ(d.stats.lateness_p50_ns, 3000u);
@@ -200,27 +200,27 @@ TEST(CanRoundTrip, CommandAndAuxFramesDecodeToWhatWasEncoded) {
   c.alive = can::next_alive(15);
   c.frequency_hz = 40321.7;
   c.phase_deg = -89.9;
-  c.amplitude_vpp = 412.25;
+  c.amplitude_v = 412.25;
   can::CommandFrame back;
   ASSERT_EQ(can::decode_command(can::encode_command(c, ids.command), back), Reason::none);
   EXPECT_EQ(back.mode, c.mode);
   EXPECT_EQ(back.alive, 0);  // 15 + 1 wraps in 4 bits
   EXPECT_NEAR(back.frequency_hz, c.frequency_hz, 0.05);
   EXPECT_NEAR(back.phase_deg, c.phase_deg, 0.05);
-  EXPECT_NEAR(back.amplitude_vpp, c.amplitude_vpp, 0.125);
+  EXPECT_NEAR(back.amplitude_v, c.amplitude_v, 0.125);
   EXPECT_EQ(can::to_command(back).action, Action::enable);
 
   can::AuxFrame a;
   a.alive = 3;
   a.load_n = -2.345;
   a.frequency_slew_hz_per_s = 1'000'000.0;
-  a.amplitude_slew_vpp_per_s = 100'000.0;
+  a.amplitude_slew_v_per_s = 100'000.0;
   can::AuxFrame aux_back;
   ASSERT_EQ(can::decode_aux(can::encode_aux(a, ids.aux), aux_back), Reason::none);
   EXPECT_NEAR(aux_back.load_n, a.load_n, 0.5e-3);
-  // 16 bits of 100 Hz/s and 10 Vpp/s: saturate at 6 553 500 Hz/s and 655 350 Vpp/s.
+  // 16 bits of 100 Hz/s and 10 V/s: saturate at 6 553 500 Hz/s and 655 350 V/s.
   EXPECT_EQ(aux_back.frequency_slew_hz_per_s, 1'000'000.0);
-  EXPECT_EQ(aux_back.amplitude_slew_vpp_per_s, 100'000.0);
+  EXPECT_EQ(aux_back.amplitude_slew_v_per_s, 100'000.0);
 }
 
 TEST(CanRoundTrip, TelemetryFramesDecodeToWhatTheDeviceEncoded) {
@@ -250,7 +250,7 @@ TEST(CanRoundTrip, TelemetryFramesDecodeToWhatTheDeviceEncoded) {
 }
 
 // The electrical port (docs/protocols.md "Electrical port"): known values, as a motor near
-// resonance at 300 Vpp gives them, survive encode -> decode on both buses within one count.
+// resonance at 300 V gives them, survive encode -> decode on both buses within one count.
 TEST(ElectricalRoundTrip, KnownValuesSurviveModbusAndCanWithinOneCount) {
   Telemetry t = sample();
   t.electrical = {0.183456, 0.179012, 61.234, 58.765, -4.321, 3.219, 8.7654, 8.1234};

@@ -39,9 +39,11 @@ std::vector<double> speeds(const MotorModel& model, const std::vector<OperatingP
   return out;
 }
 
-OperatingPoint point(double vpp, double frequency_hz, double load_n) {
+// `paper_v` as the facts file quotes it; the model runs at the terminal amplitude its motor's
+// options.paper_voltage_axis reads from it.
+OperatingPoint point(const MotorModel& model, double paper_v, double frequency_hz, double load_n) {
   OperatingPoint p;
-  p.vpp = vpp;
+  p.amplitude_v = amplitude_v_of_paper_voltage(model.parameters().options.paper_voltage_axis, paper_v);
   p.frequency_hz = frequency_hz;
   p.load_n = load_n;
   return p;
@@ -51,11 +53,12 @@ OperatingPoint point(double vpp, double frequency_hz, double load_n) {
 // the best grid point and its neighbours (within half a fine step): the grid alone would make
 // the value a staircase in the parameters.
 double peak_frequency(const MotorModel& model, const Fact& f) {
-  const SpeedPeak peak = frequency_of_max_speed(model, f.vpp, f.search_hz[0], f.search_hz[1], f.search_hz[2], f.load_n);
+  const SpeedPeak peak = frequency_of_max_speed(model, point(model, f.paper_v, 0.0, 0.0).amplitude_v, f.search_hz[0],
+                                                f.search_hz[1], f.search_hz[2], f.load_n);
   if (!peak.found) return kNan;
   const double h = f.search_hz[2] / 4.0;
-  const std::vector<double> s = speeds(model, {point(f.vpp, peak.frequency_hz - h, f.load_n),
-                                               point(f.vpp, peak.frequency_hz + h, f.load_n)});
+  const std::vector<double> s = speeds(model, {point(model, f.paper_v, peak.frequency_hz - h, f.load_n),
+                                               point(model, f.paper_v, peak.frequency_hz + h, f.load_n)});
   return parabola_peak_hz(peak.frequency_hz - h, s[0], peak.frequency_hz, peak.speed_mm_s, peak.frequency_hz + h, s[1]);
 }
 
@@ -63,18 +66,18 @@ double peak_frequency(const MotorModel& model, const Fact& f) {
 // first crossing, then the linear interpolation of the threshold inside the last bracket.
 double dead_zone_onset(const MotorModel& model, const Fact& f) {
   std::vector<OperatingPoint> grid;
-  std::vector<double> voltages = evenly_spaced(f.search_vpp[0], f.search_vpp[1], 10.0);
-  if (voltages.back() < f.search_vpp[1]) voltages.push_back(f.search_vpp[1]);  // the range's top, off the grid
-  for (double v : voltages) grid.push_back(point(v, f.frequency_hz, f.load_n));
+  std::vector<double> voltages = evenly_spaced(f.search_paper_v[0], f.search_paper_v[1], 10.0);
+  if (voltages.back() < f.search_paper_v[1]) voltages.push_back(f.search_paper_v[1]);  // the range's top, off the grid
+  for (double v : voltages) grid.push_back(point(model, v, f.frequency_hz, f.load_n));
   const std::vector<double> s = speeds(model, grid);
   std::size_t i = 0;
   while (i < s.size() && !(s[i] > f.threshold_mm_s)) ++i;
   if (i == s.size()) return kNan;
-  if (i == 0) return grid[0].vpp;
-  double lo = grid[i - 1].vpp, hi = grid[i].vpp, s_lo = s[i - 1], s_hi = s[i];
+  if (i == 0) return voltages[0];  // as quoted, as the fact's value
+  double lo = voltages[i - 1], hi = voltages[i], s_lo = s[i - 1], s_hi = s[i];
   for (int k = 0; k < 3; ++k) {
     const double mid = 0.5 * (lo + hi);
-    const double sm = speeds(model, {point(mid, f.frequency_hz, f.load_n)})[0];
+    const double sm = speeds(model, {point(model, mid, f.frequency_hz, f.load_n)})[0];
     if (sm > f.threshold_mm_s) {
       hi = mid;
       s_hi = sm;
@@ -93,12 +96,12 @@ double fact_value(const MotorModel& model, const Fact& f) {
     case FactKind::dead_zone_onset: return dead_zone_onset(model, f);
     case FactKind::saturation_ratio: {
       std::vector<OperatingPoint> p;
-      for (double v : f.ratio_vpp) p.push_back(point(v, f.frequency_hz, 0.0));
+      for (double v : f.ratio_paper_v) p.push_back(point(model, v, f.frequency_hz, 0.0));
       const std::vector<double> s = speeds(model, p);
       const double low = s[1] - s[0];
       return low > 0.0 ? (s[3] - s[2]) / low : kNan;
     }
-    case FactKind::speed: return speeds(model, {point(f.vpp, f.frequency_hz, f.load_n)})[0];
+    case FactKind::speed: return speeds(model, {point(model, f.paper_v, f.frequency_hz, f.load_n)})[0];
   }
   return kNan;
 }

@@ -97,11 +97,11 @@ DisagreementMap map_disagreement(const MeasurementSet& set, const Predictions& p
   if (map.largest.size() > 5) map.largest.resize(5);
 
   // Per quantity: vectors of the residual and of each variable.
-  const std::array<std::string_view, 5> variables{"vpp", "frequency", "load", "time", "amplitude"};
+  const std::array<std::string_view, 5> variables{"amplitude_v", "frequency", "load", "time", "amplitude"};
   auto variable_of = [&](const ResidualValue& r, std::size_t v) {
     const Measurement& m = set.rows[r.slot.row];
     switch (v) {
-      case 0: return m.vpp;
+      case 0: return m.amplitude_v;
       case 1: return m.frequency_hz;
       case 2: return m.load_n;
       case 3: return m.time_s.value_or(0.0);
@@ -150,15 +150,15 @@ DisagreementMap map_disagreement(const MeasurementSet& set, const Predictions& p
   //    robust scale of successive residual differences, 1.4826 median|dr| / sqrt(2) - a smooth
   //    model error cancels in the differences, and the median ignores the few steps across a
   //    resonance peak or a dead-zone edge, so structure is not counted as noise;
-  // 3. what a quadratic surface in (vpp, frequency, load[, time]) leaves (an upper bound: any
+  // 3. what a quadratic surface in (amplitude_v, frequency, load[, time]) leaves (an upper bound: any
   //    structure a quadratic cannot follow counts as noise).
   std::map<std::tuple<int, double, double, double>, std::vector<double>> groups;
   std::map<std::tuple<int, double, double, int>, std::vector<std::pair<double, double>>> curves;
   for (const auto& r : map.residuals) {
     const Measurement& m = set.rows[r.slot.row];
-    groups[{static_cast<int>(r.slot.quantity), m.vpp, m.frequency_hz, m.load_n}].push_back(r.relative);
-    curves[{static_cast<int>(r.slot.quantity), m.vpp, m.load_n, m.sweep.value_or(-1)}].emplace_back(m.frequency_hz,
-                                                                                                    r.relative);
+    groups[{static_cast<int>(r.slot.quantity), m.amplitude_v, m.frequency_hz, m.load_n}].push_back(r.relative);
+    curves[{static_cast<int>(r.slot.quantity), m.amplitude_v, m.load_n, m.sweep.value_or(-1)}].emplace_back(
+        m.frequency_hz, r.relative);
   }
   double within = 0.0;
   int dof = 0;

@@ -51,7 +51,7 @@ struct ResidualValue {
 // Residual against one variable of the operating point: quadratic regression r ~ 1 + x + x^2
 // per quantity; the largest F statistic (2 and n-3 degrees of freedom) over the quantities.
 struct TrendTest {
-  std::string_view variable;  // "vpp", "frequency", "load", "time", "amplitude"
+  std::string_view variable;  // "amplitude_v", "frequency", "load", "time", "amplitude"
   double f_statistic = 0.0;
   double explained_fraction = 0.0;  // R^2 of that regression
   Quantity quantity = Quantity::speed;

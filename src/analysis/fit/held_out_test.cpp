@@ -111,7 +111,7 @@ HeldOutEvidence compare_held_out(const MeasurementSet& set, const ResidualModel&
   double ss0 = 0.0, ss1 = 0.0;
   for (std::size_t k : held_out_slots) {
     const Measurement& m = set.rows[model.slots()[k].row];
-    auto& p = points[{m.vpp, m.frequency_hz, m.load_n}];
+    auto& p = points[{m.amplitude_v, m.frequency_hz, m.load_n}];
     p[0] += r0[k] * r0[k];
     p[1] += r1[k] * r1[k];
     p[2] += 1.0;
@@ -165,7 +165,8 @@ std::vector<bool> held_out_rows(const MeasurementSet& set, const HeldOutSplit& o
   std::vector<std::size_t> group(set.rows.size());
   for (std::size_t i = 0; i < set.rows.size(); ++i) {
     const Measurement& m = set.rows[i];
-    group[i] = group_of.try_emplace(std::make_tuple(m.vpp, m.frequency_hz, m.load_n), group_of.size()).first->second;
+    group[i] =
+        group_of.try_emplace(std::make_tuple(m.amplitude_v, m.frequency_hz, m.load_n), group_of.size()).first->second;
   }
   const std::size_t points = group_of.size();
   std::vector<std::size_t> permutation(points);

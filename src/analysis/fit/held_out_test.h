@@ -51,7 +51,7 @@ struct HeldOutSplit {
   std::uint64_t seed = 2019;
 };
 
-// Held-out flag per row: operating points (vpp, frequency, load; a point's repeats stay
+// Held-out flag per row: operating points (amplitude_v, frequency, load; a point's repeats stay
 // together, whatever their time) in a seeded random order; the first of them are held out.
 // held_points / point_count receive the counts.
 [[nodiscard]] std::vector<bool> held_out_rows(const MeasurementSet& set, const HeldOutSplit& split, int& held_points,
@@ -67,7 +67,7 @@ struct HeldOutSplit {
 [[nodiscard]] double sign_flip_p_value(std::span<const double> differences, std::uint64_t seed = 2019);
 
 // Compares residuals r0 (current model) and r1 (candidate) over the held-out slots; values are
-// grouped by operating point (vpp, frequency, load). `seed` fixes the bootstrap.
+// grouped by operating point (amplitude_v, frequency, load). `seed` fixes the bootstrap.
 [[nodiscard]] HeldOutEvidence compare_held_out(const MeasurementSet& set, const ResidualModel& model,
                                                std::span<const double> r0, std::span<const double> r1,
                                                std::span<const std::size_t> held_out_slots, std::uint64_t seed = 2019);

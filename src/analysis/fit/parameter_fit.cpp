@@ -202,7 +202,7 @@ ParameterFit fit_parameters(const ParameterEvaluator& evaluator, const ResidualM
     const Eigen::Map<const Eigen::VectorXd> ji(&j[i * m], mk);
     bread += slope * ji * ji.transpose();
     const Measurement& row = residuals.set().rows[residuals.slots()[train_slots[i]].row];
-    auto [it, added] = scores.try_emplace({row.vpp, row.frequency_hz, row.load_n}, Eigen::VectorXd::Zero(mk));
+    auto [it, added] = scores.try_emplace({row.amplitude_v, row.frequency_hz, row.load_n}, Eigen::VectorXd::Zero(mk));
     it->second += w * r[i] * ji;
     weighted_square_sum += w * r[i] * w * r[i];
     slope_sum += slope;

@@ -7,7 +7,7 @@
 namespace swum {
 
 struct AmplitudeMeasurement {
-  double vpp = 0.0;  // as DriveInput::vpp
+  double amplitude_v = 0.0;  // as DriveInput::amplitude_v
   double frequency_hz = 0.0;
   std::optional<double> tip_normal_um;      // U, amplitude of u_tip (um)
   std::optional<double> tip_tangential_um;  // W, amplitude of w_tip = phiB(L) q2 (um, eq. 30)

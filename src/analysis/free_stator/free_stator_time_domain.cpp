@@ -21,8 +21,8 @@ void FreeStatorOde::derivative(double t, const Vector& x, Vector& dx) const {
   dx[3] = (modal_force_n(force.b2, x[2], va, vb) - c2_n_s_m * x[3]) / m2_kg;
 }
 
-FreeStatorAmplitudes simulate_free_stator(const ModalConstants& constants, const StatorParameters& stator, double vpp,
-                                          double frequency_hz, const std::array<double, 4>& initial,
+FreeStatorAmplitudes simulate_free_stator(const ModalConstants& constants, const StatorParameters& stator,
+                                          double amplitude_v, double frequency_hz, const std::array<double, 4>& initial,
                                           const FreeStatorRunOptions& options) {
   FreeStatorOde ode;
   ode.force = make_stator_force_coefficients(constants, stator);
@@ -30,7 +30,7 @@ FreeStatorAmplitudes simulate_free_stator(const ModalConstants& constants, const
   ode.c1_n_s_m = constants.c1_n_s_m;
   ode.m2_kg = constants.m2_kg;
   ode.c2_n_s_m = constants.c2_n_s_m;
-  ode.amplitude_v = constants.drive_amplitude_per_volt * vpp;
+  ode.amplitude_v = constants.drive_amplitude_per_volt * amplitude_v;
   ode.omega_rad_s = 2.0 * std::numbers::pi * frequency_hz;
   const double phase = options.phase_deg * std::numbers::pi / 180.0;
   ode.cos_phase = std::cos(phase);

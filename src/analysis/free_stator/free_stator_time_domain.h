@@ -41,7 +41,7 @@ struct FreeStatorAmplitudes {
 
 // Integrates from `initial` (t = 0) and measures the last window.
 [[nodiscard]] FreeStatorAmplitudes simulate_free_stator(const ModalConstants& constants, const StatorParameters& stator,
-                                                        double vpp, double frequency_hz,
+                                                        double amplitude_v, double frequency_hz,
                                                         const std::array<double, 4>& initial,
                                                         const FreeStatorRunOptions& options = {});
 

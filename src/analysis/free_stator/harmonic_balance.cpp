@@ -113,16 +113,16 @@ FreeStatorHarmonicBalance::FreeStatorHarmonicBalance(const MotorModel& model, co
 
 double FreeStatorHarmonicBalance::tip_lever(StatorMode mode) const { return mode_data(mode).tip_lever; }
 
-FreeStatorHarmonicBalance::Drive FreeStatorHarmonicBalance::drive(double vpp, double frequency_hz) const {
-  return {amplitude_per_volt_ * vpp, 2.0 * std::numbers::pi * frequency_hz};
+FreeStatorHarmonicBalance::Drive FreeStatorHarmonicBalance::drive(double amplitude_v, double frequency_hz) const {
+  return {amplitude_per_volt_ * amplitude_v, 2.0 * std::numbers::pi * frequency_hz};
 }
 
-std::vector<ModeHarmonics> FreeStatorHarmonicBalance::closed_form_seeds(StatorMode which, double vpp,
+std::vector<ModeHarmonics> FreeStatorHarmonicBalance::closed_form_seeds(StatorMode which, double amplitude_v,
                                                                         double frequency_hz) const {
   // §6.3 with the DC offset of the quadratic terms kept (first harmonic + DC, as the AFT).
   const Mode& mode = mode_data(which);
   const ModeForceCoefficients& m = mode.force;
-  const Drive d = drive(vpp, frequency_hz);
+  const Drive d = drive(amplitude_v, frequency_hz);
   const double v0 = d.amplitude_v;
   const double w = d.omega_rad_s;
   // First harmonic of c0(t) = lin0_a V_A + lin0_b V_B (V_A = V0 sin wt, V_B = V0 sin(wt+phi)).
@@ -155,11 +155,11 @@ std::vector<ModeHarmonics> FreeStatorHarmonicBalance::closed_form_seeds(StatorMo
   return seeds;
 }
 
-bool FreeStatorHarmonicBalance::polish(StatorMode which, double vpp, double frequency_hz, const ModeHarmonics& guess,
-                                       ModeBranch& out) const {
+bool FreeStatorHarmonicBalance::polish(StatorMode which, double amplitude_v, double frequency_hz,
+                                       const ModeHarmonics& guess, ModeBranch& out) const {
   const Mode& mode = mode_data(which);
   const ModeForceCoefficients& m = mode.force;
-  const Drive d = drive(vpp, frequency_hz);
+  const Drive d = drive(amplitude_v, frequency_hz);
   const double v0 = d.amplitude_v;
   const double w = d.omega_rad_s;
   const double mw2 = mode.mass_kg * w * w;
@@ -315,37 +315,37 @@ void FreeStatorHarmonicBalance::fill_sensitivities(const Mode& mode, const Drive
   }
 }
 
-ModeResponse FreeStatorHarmonicBalance::solve_mode(StatorMode which, double vpp, double frequency_hz,
+ModeResponse FreeStatorHarmonicBalance::solve_mode(StatorMode which, double amplitude_v, double frequency_hz,
                                                    std::span<const ModeHarmonics> extra) const {
   ModeResponse response;
   auto add = [&](const ModeHarmonics& seed) {
     ModeBranch branch;
-    if (!polish(which, vpp, frequency_hz, seed, branch)) return;
+    if (!polish(which, amplitude_v, frequency_hz, seed, branch)) return;
     for (const ModeBranch& b : response.branches) {
       if (same_solution(b.harmonics, branch.harmonics)) return;
     }
     response.branches.push_back(branch);
   };
-  for (const ModeHarmonics& seed : closed_form_seeds(which, vpp, frequency_hz)) add(seed);
+  for (const ModeHarmonics& seed : closed_form_seeds(which, amplitude_v, frequency_hz)) add(seed);
   for (const ModeHarmonics& seed : extra) add(seed);
   std::sort(response.branches.begin(), response.branches.end(),
             [](const ModeBranch& x, const ModeBranch& y) { return x.tip_amplitude_um > y.tip_amplitude_um; });
   return response;
 }
 
-StatorResponse FreeStatorHarmonicBalance::solve(double vpp, double frequency_hz) const {
+StatorResponse FreeStatorHarmonicBalance::solve(double amplitude_v, double frequency_hz) const {
   StatorResponse r;
-  r.vpp = vpp;
+  r.amplitude_v = amplitude_v;
   r.frequency_hz = frequency_hz;
-  r.normal = solve_mode(StatorMode::l1, vpp, frequency_hz);
-  r.tangential = solve_mode(StatorMode::b2, vpp, frequency_hz);
+  r.normal = solve_mode(StatorMode::l1, amplitude_v, frequency_hz);
+  r.tangential = solve_mode(StatorMode::b2, amplitude_v, frequency_hz);
   return r;
 }
 
-void FreeStatorHarmonicBalance::peak(StatorMode which, double vpp, double& peak_hz, double& peak_um) const {
+void FreeStatorHarmonicBalance::peak(StatorMode which, double amplitude_v, double& peak_hz, double& peak_um) const {
   const Mode& mode = mode_data(which);
   const ModeForceCoefficients& m = mode.force;
-  const double v0 = amplitude_per_volt_ * vpp;
+  const double v0 = amplitude_per_volt_ * amplitude_v;
   const double mass = mode.mass_kg;
   const double c = mode.damping_n_s_m;
   // Closed-form estimate (§6.3): the peak of A(w) has D + k3 A^2 = C^2/(2M).
@@ -365,7 +365,7 @@ void FreeStatorHarmonicBalance::peak(StatorMode which, double vpp, double& peak_
   }
   const double f_estimate = std::sqrt(w2) / (2.0 * std::numbers::pi);
   auto amplitude = [&](double f) {
-    const ModeResponse r = solve_mode(which, vpp, f);
+    const ModeResponse r = solve_mode(which, amplitude_v, f);
     return r.branches.empty() ? -1.0 : r.branches.front().tip_amplitude_um;
   };
   // Golden-section search for the maximum of the largest branch (unimodal near the peak).
@@ -396,11 +396,11 @@ void FreeStatorHarmonicBalance::peak(StatorMode which, double vpp, double& peak_
   peak_um = std::max(a1, a2);
 }
 
-BackbonePoint FreeStatorHarmonicBalance::backbone(double vpp) const {
+BackbonePoint FreeStatorHarmonicBalance::backbone(double amplitude_v) const {
   BackbonePoint p;
-  p.vpp = vpp;
-  peak(StatorMode::l1, vpp, p.normal_peak_hz, p.normal_peak_um);
-  peak(StatorMode::b2, vpp, p.tangential_peak_hz, p.tangential_peak_um);
+  p.amplitude_v = amplitude_v;
+  peak(StatorMode::l1, amplitude_v, p.normal_peak_hz, p.normal_peak_um);
+  peak(StatorMode::b2, amplitude_v, p.tangential_peak_hz, p.tangential_peak_um);
   return p;
 }
 
@@ -452,25 +452,25 @@ std::vector<SweepPoint> sweep(std::size_t count, Solve&& solve_at) {
 
 }  // namespace
 
-std::vector<SweepPoint> sweep_frequency(const FreeStatorHarmonicBalance& hb, double vpp,
+std::vector<SweepPoint> sweep_frequency(const FreeStatorHarmonicBalance& hb, double amplitude_v,
                                         std::span<const double> frequencies_hz) {
   auto points = sweep(frequencies_hz.size(), [&](std::size_t i, StatorMode mode, std::span<const ModeHarmonics> seeds) {
-    return hb.solve_mode(mode, vpp, frequencies_hz[i], seeds);
+    return hb.solve_mode(mode, amplitude_v, frequencies_hz[i], seeds);
   });
   for (std::size_t i = 0; i < points.size(); ++i) {
-    points[i].response.vpp = vpp;
+    points[i].response.amplitude_v = amplitude_v;
     points[i].response.frequency_hz = frequencies_hz[i];
   }
   return points;
 }
 
 std::vector<SweepPoint> sweep_voltage(const FreeStatorHarmonicBalance& hb, double frequency_hz,
-                                      std::span<const double> vpps) {
-  auto points = sweep(vpps.size(), [&](std::size_t i, StatorMode mode, std::span<const ModeHarmonics> seeds) {
-    return hb.solve_mode(mode, vpps[i], frequency_hz, seeds);
+                                      std::span<const double> amplitudes_v) {
+  auto points = sweep(amplitudes_v.size(), [&](std::size_t i, StatorMode mode, std::span<const ModeHarmonics> seeds) {
+    return hb.solve_mode(mode, amplitudes_v[i], frequency_hz, seeds);
   });
   for (std::size_t i = 0; i < points.size(); ++i) {
-    points[i].response.vpp = vpps[i];
+    points[i].response.amplitude_v = amplitudes_v[i];
     points[i].response.frequency_hz = frequency_hz;
   }
   return points;

@@ -59,7 +59,7 @@ struct ModeResponse {
 };
 
 struct StatorResponse {
-  double vpp = 0.0;
+  double amplitude_v = 0.0;
   double frequency_hz = 0.0;
   ModeResponse normal;      // L1, tip normal amplitude U
   ModeResponse tangential;  // B2, tip tangential amplitude W
@@ -68,7 +68,7 @@ struct StatorResponse {
 
 // Peak of the amplitude-frequency curve of one mode at one voltage (paper Fig. 9).
 struct BackbonePoint {
-  double vpp = 0.0;
+  double amplitude_v = 0.0;
   double normal_peak_hz = 0.0;
   double normal_peak_um = 0.0;
   double tangential_peak_hz = 0.0;
@@ -86,19 +86,21 @@ class FreeStatorHarmonicBalance {
   // Every real branch of both modes (closed-form seeds polished by AFT Newton), deduplicated,
   // each with its stability. `extra_seeds_*` (e.g. the previous point of a continuation) are
   // polished too, so branches the closed form misses are kept when they are tracked.
-  [[nodiscard]] StatorResponse solve(double vpp, double frequency_hz) const;
-  [[nodiscard]] ModeResponse solve_mode(StatorMode mode, double vpp, double frequency_hz,
+  [[nodiscard]] StatorResponse solve(double amplitude_v, double frequency_hz) const;
+  [[nodiscard]] ModeResponse solve_mode(StatorMode mode, double amplitude_v, double frequency_hz,
                                         std::span<const ModeHarmonics> extra_seeds = {}) const;
 
   // AFT Newton from one initial guess; false if it does not converge.
-  bool polish(StatorMode mode, double vpp, double frequency_hz, const ModeHarmonics& guess, ModeBranch& out) const;
+  bool polish(StatorMode mode, double amplitude_v, double frequency_hz, const ModeHarmonics& guess,
+              ModeBranch& out) const;
 
   // §6.3 closed form only (no AFT): the real positive roots, descending amplitude.
-  [[nodiscard]] std::vector<ModeHarmonics> closed_form_seeds(StatorMode mode, double vpp, double frequency_hz) const;
+  [[nodiscard]] std::vector<ModeHarmonics> closed_form_seeds(StatorMode mode, double amplitude_v,
+                                                             double frequency_hz) const;
 
   // Frequency of maximum amplitude of each mode at each voltage (paper Fig. 9), located by a
   // golden-section search on the largest-amplitude branch around the closed-form estimate.
-  [[nodiscard]] BackbonePoint backbone(double vpp) const;
+  [[nodiscard]] BackbonePoint backbone(double amplitude_v) const;
 
   [[nodiscard]] double tip_lever(StatorMode mode) const;  // |phiL(L)| = 1, |phiB(L)|
   [[nodiscard]] const HarmonicBalanceOptions& options() const { return options_; }
@@ -121,9 +123,9 @@ class FreeStatorHarmonicBalance {
   };
 
   [[nodiscard]] const Mode& mode_data(StatorMode m) const { return modes_[static_cast<int>(m)]; }
-  [[nodiscard]] Drive drive(double vpp, double frequency_hz) const;
+  [[nodiscard]] Drive drive(double amplitude_v, double frequency_hz) const;
   void fill_sensitivities(const Mode& mode, const Drive& d, ModeBranch& branch, const double (&jacobian)[3][3]) const;
-  void peak(StatorMode mode, double vpp, double& peak_hz, double& peak_um) const;
+  void peak(StatorMode mode, double amplitude_v, double& peak_hz, double& peak_um) const;
 
   HarmonicBalanceOptions options_;
   double amplitude_per_volt_ = 0.5;
@@ -143,9 +145,9 @@ struct SweepPoint {
   int followed_tangential = -1;
 };
 
-[[nodiscard]] std::vector<SweepPoint> sweep_frequency(const FreeStatorHarmonicBalance& hb, double vpp,
+[[nodiscard]] std::vector<SweepPoint> sweep_frequency(const FreeStatorHarmonicBalance& hb, double amplitude_v,
                                                       std::span<const double> frequencies_hz);
 [[nodiscard]] std::vector<SweepPoint> sweep_voltage(const FreeStatorHarmonicBalance& hb, double frequency_hz,
-                                                    std::span<const double> vpps);
+                                                    std::span<const double> amplitudes_v);
 
 }  // namespace swum

@@ -35,7 +35,8 @@ class GaussianSource {
 
 }  // namespace
 
-std::vector<AmplitudeMeasurement> synthesize_amplitudes(const MotorParameters& parameters, std::span<const double> vpps,
+std::vector<AmplitudeMeasurement> synthesize_amplitudes(const MotorParameters& parameters,
+                                                        std::span<const double> amplitudes_v,
                                                         std::span<const double> frequencies_hz,
                                                         const SyntheticAmplitudeOptions& options) {
   const MotorModel model(parameters);
@@ -43,11 +44,11 @@ std::vector<AmplitudeMeasurement> synthesize_amplitudes(const MotorParameters& p
   GaussianSource noise(options.seed);
   std::vector<AmplitudeMeasurement> out;
   for (double f : frequencies_hz) {
-    const std::vector<SweepPoint> sweep = sweep_voltage(hb, f, vpps);
+    const std::vector<SweepPoint> sweep = sweep_voltage(hb, f, amplitudes_v);
     for (const SweepPoint& p : sweep) {
       if (p.followed_normal < 0 || p.followed_tangential < 0) continue;
       AmplitudeMeasurement m;
-      m.vpp = p.response.vpp;
+      m.amplitude_v = p.response.amplitude_v;
       m.frequency_hz = f;
       const double u = p.response.normal.branches[p.followed_normal].tip_amplitude_um;
       const double w = p.response.tangential.branches[p.followed_tangential].tip_amplitude_um;

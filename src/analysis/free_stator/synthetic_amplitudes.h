@@ -21,10 +21,10 @@ struct SyntheticAmplitudeOptions {
   HarmonicBalanceOptions harmonic_balance;
 };
 
-// Grid vpps x frequencies (voltages swept upwards in the given order at each frequency).
+// Grid amplitudes_v x frequencies (voltages swept upwards in the given order at each frequency).
 // Points where the sweep has no stable branch are left out.
 [[nodiscard]] std::vector<AmplitudeMeasurement> synthesize_amplitudes(const MotorParameters& parameters,
-                                                                      std::span<const double> vpps,
+                                                                      std::span<const double> amplitudes_v,
                                                                       std::span<const double> frequencies_hz,
                                                                       const SyntheticAmplitudeOptions& options = {});
 

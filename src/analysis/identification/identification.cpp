@@ -39,18 +39,18 @@ StatorParameters with_theta(const FitContext& ctx, const double* theta) {
 // (implicit function theorem, harmonic_balance.cpp).
 class AmplitudeResidual final : public ceres::SizedCostFunction<1, kP> {
  public:
-  AmplitudeResidual(const FitContext* ctx, StatorMode mode, double vpp, double frequency_hz, double measured_um,
+  AmplitudeResidual(const FitContext* ctx, StatorMode mode, double amplitude_v, double frequency_hz, double measured_um,
                     double normaliser_um)
       : ctx_(ctx),
         mode_(mode),
-        vpp_(vpp),
+        amplitude_v_(amplitude_v),
         frequency_hz_(frequency_hz),
         measured_um_(measured_um),
         normaliser_um_(normaliser_um) {}
 
   bool Evaluate(double const* const* parameters, double* residuals, double** jacobians) const override {
     const FreeStatorHarmonicBalance hb(ctx_->constants, with_theta(*ctx_, parameters[0]), ctx_->hb_options);
-    const auto branch = predicted_branch(hb, mode_, vpp_, frequency_hz_, measured_um_);
+    const auto branch = predicted_branch(hb, mode_, amplitude_v_, frequency_hz_, measured_um_);
     if (!branch) return false;
     residuals[0] = (branch->tip_amplitude_um - measured_um_) / normaliser_um_;
     if (jacobians != nullptr && jacobians[0] != nullptr) {
@@ -64,12 +64,12 @@ class AmplitudeResidual final : public ceres::SizedCostFunction<1, kP> {
  private:
   const FitContext* ctx_;
   StatorMode mode_;
-  double vpp_, frequency_hz_, measured_um_, normaliser_um_;
+  double amplitude_v_, frequency_hz_, measured_um_, normaliser_um_;
 };
 
 struct Observation {
   StatorMode mode;
-  double vpp, frequency_hz, measured_um, normaliser_um;
+  double amplitude_v, frequency_hz, measured_um, normaliser_um;
 };
 
 // Residuals and Jacobian (rows: observations, columns: theta) at theta; false if any point has
@@ -80,7 +80,7 @@ bool evaluate_all(const FitContext& ctx, const std::vector<Observation>& obs, co
   j.resize(static_cast<Eigen::Index>(obs.size()), kP);
   for (std::size_t i = 0; i < obs.size(); ++i) {
     const Observation& o = obs[i];
-    AmplitudeResidual cost(&ctx, o.mode, o.vpp, o.frequency_hz, o.measured_um, o.normaliser_um);
+    AmplitudeResidual cost(&ctx, o.mode, o.amplitude_v, o.frequency_hz, o.measured_um, o.normaliser_um);
     const double* blocks[1] = {theta.data()};
     double row[kP];
     double* jac[1] = {row};
@@ -120,7 +120,7 @@ FitOutcome fit(const FitContext& ctx, const std::vector<Observation>& obs, const
     }
     ceres::Problem problem;
     for (const Observation& o : obs) {
-      problem.AddResidualBlock(new AmplitudeResidual(&ctx, o.mode, o.vpp, o.frequency_hz, o.measured_um,
+      problem.AddResidualBlock(new AmplitudeResidual(&ctx, o.mode, o.amplitude_v, o.frequency_hz, o.measured_um,
                                                      o.normaliser_um),
                                nullptr, theta.data());
     }
@@ -188,9 +188,9 @@ void set_nonlinear_parameter(StatorParameters& s, NonlinearParameter p, double v
   }
 }
 
-std::optional<ModeBranch> predicted_branch(const FreeStatorHarmonicBalance& hb, StatorMode mode, double vpp,
+std::optional<ModeBranch> predicted_branch(const FreeStatorHarmonicBalance& hb, StatorMode mode, double amplitude_v,
                                            double frequency_hz, std::optional<double> measured_um) {
-  const ModeResponse r = hb.solve_mode(mode, vpp, frequency_hz);
+  const ModeResponse r = hb.solve_mode(mode, amplitude_v, frequency_hz);
   const ModeBranch* best = nullptr;
   double best_score = std::numeric_limits<double>::infinity();
   for (int pass = 0; pass < 2 && best == nullptr; ++pass) {  // stable first, then any
@@ -241,7 +241,8 @@ IdentificationResult identify_nonlinear_parameters(const MotorParameters& prior,
       const std::optional<double>& value = axis == 0 ? m.tip_normal_um : m.tip_tangential_um;
       if (!value) continue;
       const double floor = std::max(options.amplitude_floor_fraction * max_amplitude[axis], 1e-9);
-      obs.push_back({static_cast<StatorMode>(axis), m.vpp, m.frequency_hz, *value, std::max(std::abs(*value), floor)});
+      obs.push_back(
+          {static_cast<StatorMode>(axis), m.amplitude_v, m.frequency_hz, *value, std::max(std::abs(*value), floor)});
     }
   }
   result.residual_count = static_cast<int>(obs.size());
@@ -384,14 +385,14 @@ IdentificationResult identify_nonlinear_parameters(const MotorParameters& prior,
     PointPrediction pp;
     pp.measurement = m;
     if (m.tip_normal_um) {
-      if (auto b = predicted_branch(hb, StatorMode::l1, m.vpp, m.frequency_hz, m.tip_normal_um)) {
+      if (auto b = predicted_branch(hb, StatorMode::l1, m.amplitude_v, m.frequency_hz, m.tip_normal_um)) {
         pp.predicted_normal_um = b->tip_amplitude_um;
         sum2[0] += std::pow(b->tip_amplitude_um - *m.tip_normal_um, 2);
         ++count[0];
       }
     }
     if (m.tip_tangential_um) {
-      if (auto b = predicted_branch(hb, StatorMode::b2, m.vpp, m.frequency_hz, m.tip_tangential_um)) {
+      if (auto b = predicted_branch(hb, StatorMode::b2, m.amplitude_v, m.frequency_hz, m.tip_tangential_um)) {
         pp.predicted_tangential_um = b->tip_amplitude_um;
         sum2[1] += std::pow(b->tip_amplitude_um - *m.tip_tangential_um, 2);
         ++count[1];

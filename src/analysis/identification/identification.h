@@ -82,7 +82,7 @@ void set_nonlinear_parameter(StatorParameters& s, NonlinearParameter p, double v
 // Tip amplitude of `mode` on the stable branch nearest to `measured_um` (the largest stable
 // branch without a measurement); nullopt if the harmonic balance finds no branch.
 [[nodiscard]] std::optional<ModeBranch> predicted_branch(const FreeStatorHarmonicBalance& hb, StatorMode mode,
-                                                         double vpp, double frequency_hz,
+                                                         double amplitude_v, double frequency_hz,
                                                          std::optional<double> measured_um);
 
 // Needs at least kNonlinearParameterCount amplitude values (ok = false otherwise).

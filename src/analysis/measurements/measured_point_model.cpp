@@ -123,7 +123,7 @@ std::vector<Predictions> predict_points(std::span<const MotorParameters> paramet
         OperatingChain& chain = group.emplace_back();
         for (std::size_t i : chains[c]) {
           OperatingPoint point;
-          point.vpp = points[i].vpp;
+          point.amplitude_v = points[i].amplitude_v;
           point.frequency_hz = points[i].frequency_hz;
           point.load_n = points[i].load_n;
           point.stator_temperature_rise_k = slow[m][i].temperature_rise_k;

@@ -15,15 +15,15 @@ namespace swum {
 namespace {
 
 // Column identifiers: the three operating-point columns, time, then the quantities.
-enum Column : int { kVpp, kFrequency, kLoad, kTime, kSpeed, kNormal, kTangential, kSweep, kColumnCount };
+enum Column : int { kAmplitudeV, kFrequency, kLoad, kTime, kSpeed, kNormal, kTangential, kSweep, kColumnCount };
 constexpr std::array<std::string_view, kColumnCount> kNames{
-    "vpp", "frequency_hz", "load_n", "time_s", "speed_mm_s", "tip_normal_um", "tip_tangential_um", "sweep"};
+    "amplitude_v", "frequency_hz", "load_n", "time_s", "speed_mm_s", "tip_normal_um", "tip_tangential_um", "sweep"};
 struct PlausibleRange {
   double max_abs;
   const char* text;
 };
 constexpr std::array<PlausibleRange, kColumnCount> kPlausibleRange{{
-    {10000.0, "0..10000 Vpp"},
+    {10000.0, "0..10000 V"},
     {200000.0, "1000..200000 Hz"},
     {1000.0, "-1000..1000 N"},
     {1.0e8, "0..1e8 s"},
@@ -140,6 +140,9 @@ MeasurementSet parse_csv(std::string_view text, std::string_view source, bool ne
   auto control_index = [&](Control c) { return control[static_cast<std::size_t>(c)]; };
   const CsvTable table = read_csv_table(text);
   if (!table.header) reader.fail(1, 0, "no header line (the file is empty)");
+  if (std::string retired = csv_retired_column_message(table, source); !retired.empty()) {
+    throw MeasurementError(retired);
+  }
   MeasurementSet set;
   int stretch = -1;  // sweep id of a log's current running stretch
   bool in_stretch = false;
@@ -182,11 +185,11 @@ MeasurementSet parse_csv(std::string_view text, std::string_view source, bool ne
       }
       reader.fail(line_number, c + 1, "unknown column '" + printable_cell(name) + "' (" + known_columns() + ")");
     }
-    for (int k : {kVpp, kFrequency, kLoad}) {
+    for (int k : {kAmplitudeV, kFrequency, kLoad}) {
       if (index[static_cast<std::size_t>(k)] < 0) {
         reader.fail(line_number, n + 1,
                     "missing column " + std::string(kNames[static_cast<std::size_t>(k)]) +
-                        " (required: vpp, frequency_hz, load_n)");
+                        " (required: amplitude_v, frequency_hz, load_n)");
       }
     }
     for (Quantity q : kQuantities) {
@@ -259,10 +262,10 @@ MeasurementSet parse_csv(std::string_view text, std::string_view source, bool ne
         if (reason.empty()) reason = "no_device_time";
         continue;
       }
-      const bool required = k == kVpp || k == kFrequency || k == kLoad || k == kTime || k == kSweep;
+      const bool required = k == kAmplitudeV || k == kFrequency || k == kLoad || k == kTime || k == kSweep;
       if (required && !value) reader.fail(line_number, c + 1, "column " + name + " is empty");
       if (!value) continue;
-      if ((k == kVpp || k == kTime || k == kNormal || k == kTangential || k == kSweep) && *value < 0.0) {
+      if ((k == kAmplitudeV || k == kTime || k == kNormal || k == kTangential || k == kSweep) && *value < 0.0) {
         reader.fail(line_number, c + 1, "column " + name + ": must be >= 0");
       }
       // Ranges a measurement of this kind of motor can have (a typo like 4e10 for 40000 must
@@ -275,7 +278,7 @@ MeasurementSet parse_csv(std::string_view text, std::string_view source, bool ne
         reader.fail(line_number, c + 1, "column sweep: " + format_cell(*value) + " is not a whole number");
       }
     }
-    if (reason.empty() && control_index(Control::state) >= 0 && *v[kVpp] == 0.0) reason = "drive_off";
+    if (reason.empty() && control_index(Control::state) >= 0 && *v[kAmplitudeV] == 0.0) reason = "drive_off";
     if (const int c = control_index(Control::phase); c >= 0) {
       const auto phase = reader.number(cells[static_cast<std::size_t>(c)], line_number, c + 1, "phase_deg");
       if (!phase) reader.fail(line_number, c + 1, "column phase_deg is empty");
@@ -288,7 +291,7 @@ MeasurementSet parse_csv(std::string_view text, std::string_view source, bool ne
       continue;
     }
     Measurement m;
-    m.vpp = *v[kVpp];
+    m.amplitude_v = *v[kAmplitudeV];
     m.frequency_hz = *v[kFrequency];
     m.load_n = *v[kLoad];
     m.time_s = v[kTime];
@@ -329,7 +332,7 @@ MeasurementSet parse_operating_points_csv(std::string_view text, std::string_vie
 }
 
 std::string format_measurements_header(const MeasurementSet& set) {
-  std::string out = "vpp,frequency_hz,load_n";
+  std::string out = "amplitude_v,frequency_hz,load_n";
   if (set.has_time) out += ",time_s";
   if (set.has_sweep) out += ",sweep";
   for (Quantity q : kQuantities) {
@@ -341,7 +344,7 @@ std::string format_measurements_header(const MeasurementSet& set) {
 std::string format_measurement_row(const MeasurementSet& set, const Measurement& m) {
   std::string out;
   auto add = [&](double value) { out += format_number(value, "%.10g"); };
-  add(m.vpp);
+  add(m.amplitude_v);
   out += ",";
   add(m.frequency_hz);
   out += ",";
@@ -382,7 +385,7 @@ std::string measurement_note(const MeasurementSet& set) {
 
 std::size_t count_operating_points(const MeasurementSet& set) {
   std::set<std::array<double, 3>> points;
-  for (const Measurement& m : set.rows) points.insert({m.vpp, m.frequency_hz, m.load_n});
+  for (const Measurement& m : set.rows) points.insert({m.amplitude_v, m.frequency_hz, m.load_n});
   return points.size();
 }
 

@@ -1,5 +1,5 @@
 // Measured operating points of a real motor (the input of the discrepancy workflow,
-// docs/discrepancy.md): CSV with the columns vpp,frequency_hz,load_n, at least one of
+// docs/discrepancy.md): CSV with the columns amplitude_v,frequency_hz,load_n, at least one of
 // speed_mm_s, tip_normal_um, tip_tangential_um, and optionally time_s (elapsed session time)
 // and sweep (id of the continuous sweep a row belongs to). The outputs of `swum sweep` and
 // `swum log` are read as they are (docs/host.md, "Sweep and log files as measurements"):
@@ -43,7 +43,7 @@ inline constexpr std::array<Quantity, kQuantityCount> kQuantities{Quantity::spee
 [[nodiscard]] std::optional<Quantity> quantity_from_name(std::string_view name);
 
 struct Measurement {
-  double vpp = 0.0;
+  double amplitude_v = 0.0;
   double frequency_hz = 0.0;
   double load_n = 0.0;
   std::optional<double> time_s;
@@ -75,9 +75,9 @@ struct MeasurementSet {
 // Parses `text` (named `source_name` in errors). Header required (any column order; '#'
 // comment and blank lines skipped). Errors (MeasurementError naming line and column): unknown,
 // duplicate or missing columns, no quantity column, wrong cell count, non-numeric or
-// non-finite cells, vpp < 0, frequency <= 0, negative amplitudes, time_s < 0 or empty,
+// non-finite cells, amplitude_v < 0, frequency <= 0, negative amplitudes, time_s < 0 or empty,
 // sweep not a whole number >= 0, a row without any measured value, no data rows, values
-// outside plausible ranges (vpp <= 10000, frequency 1000..200000 Hz, |load| <= 1000 N,
+// outside plausible ranges (amplitude_v <= 10000, frequency 1000..200000 Hz, |load| <= 1000 N,
 // time_s <= 1e8 s, |speed| <= 1e6 mm/s, amplitudes <= 1000 um), an unknown `status` word or
 // `state` value, no row left to use.
 //
@@ -85,7 +85,7 @@ struct MeasurementSet {
 // kInformationalColumns are ignored (listed in ignored_columns). Rows are left out (counted in
 // skipped_by_reason) when `status` is not ok/unsettled (diverged, fault_numerical,
 // fault_command_timeout, fault_<n>, timeout, no_drive: the reason is the status word), when a
-// `state` column says the drive was not running (state 0 or vpp 0: "drive_off"; state 2: the
+// `state` column says the drive was not running (state 0 or amplitude_v 0: "drive_off"; state 2: the
 // fault, named from `fault_code` as in a sweep's status), or when `phase_deg` is not 90
 // ("phase_not_90_deg": predictions are made at 90 deg). Without a `sweep` column, a file with
 // a `state` column (a log) gets sweep ids: each stretch of consecutive rows used is one sweep.
@@ -111,7 +111,7 @@ inline constexpr std::array<std::string_view, 15> kInformationalColumns{"speed_s
 // (2 fault_numerical, 1 timeout)"), or "" when the whole file was used as it is.
 [[nodiscard]] std::string measurement_note(const MeasurementSet& set);
 
-// Distinct operating points (vpp, frequency_hz, load_n) among the rows.
+// Distinct operating points (amplitude_v, frequency_hz, load_n) among the rows.
 [[nodiscard]] std::size_t count_operating_points(const MeasurementSet& set);
 
 // Operating points only (the input of `swum synth`): the same rules, but quantity columns are

@@ -32,7 +32,7 @@ struct SynthOptions {
 // tasks of `parallel`, one call at a time); what it throws stops the synthesis.
 using SynthRowReady = std::function<void(const Measurement& row)>;
 
-// `points` carry vpp, frequency_hz, load_n and optionally time_s and sweep (their values are
+// `points` carry amplitude_v, frequency_hz, load_n and optionally time_s and sweep (their values are
 // ignored). Diverged points are left out. The result keeps the points' order (repeats adjacent;
 // with frequency jitter each repeat is a reading of its own, at its own jittered frequency).
 [[nodiscard]] MeasurementSet synthesize_measurements(const MotorParameters& parameters,

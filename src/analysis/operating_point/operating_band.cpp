@@ -32,13 +32,13 @@ void widen(std::optional<FrequencyRange>& range, double f) {
 
 }  // namespace
 
-OperatingChain down_sweep_chain(std::vector<double> frequencies_hz, double vpp, double load_n, double rise_k,
+OperatingChain down_sweep_chain(std::vector<double> frequencies_hz, double amplitude_v, double load_n, double rise_k,
                                 double phase_deg) {
   std::sort(frequencies_hz.begin(), frequencies_hz.end(), std::greater<>());
   OperatingChain chain;
   for (double f : frequencies_hz) {
     OperatingPoint point;
-    point.vpp = vpp;
+    point.amplitude_v = amplitude_v;
     point.frequency_hz = f;
     point.load_n = load_n;
     point.phase_deg = phase_deg;

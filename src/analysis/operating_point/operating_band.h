@@ -31,12 +31,12 @@ struct BandGrid {
 // resonance: one continuous down-sweep, the frequencies from the highest to the lowest, each
 // point from the state the previous one left (the first from rest), the slow states frozen at
 // `rise_k` over ambient (0: the cold motor).
-OperatingChain down_sweep_chain(std::vector<double> frequencies_hz, double vpp, double load_n, double rise_k = 0.0,
-                                double phase_deg = 90.0);
+OperatingChain down_sweep_chain(std::vector<double> frequencies_hz, double amplitude_v, double load_n,
+                                double rise_k = 0.0, double phase_deg = 90.0);
 
 // One chain's curve and its pick.
 struct BandRow {
-  double vpp = 0.0;
+  double amplitude_v = 0.0;
   double load_n = 0.0;
   double temperature_rise_k = 0.0;
   std::vector<CurveSample> curve;  // the chain's points, highest frequency first (ok = false: diverged)

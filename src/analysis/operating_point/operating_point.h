@@ -51,7 +51,7 @@ PickResult pick_operating_point(std::vector<CurveSample> samples, const PickOpti
 // The pick at one drive voltage and load (swum pick: a row per voltage and load, as swum band's
 // rows; swum population: a row per voltage).
 struct VoltagePick {
-  double vpp = 0.0;
+  double amplitude_v = 0.0;
   PickResult result;
   double load_n = 0.0;
 };

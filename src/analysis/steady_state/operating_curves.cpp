@@ -28,12 +28,12 @@ namespace {
 
 // The forward speed at each frequency (0 when the point diverged or did not move forward), all
 // points in one batch.
-std::vector<double> forward_speeds(const MotorModel& model, double vpp, const std::vector<double>& frequencies,
+std::vector<double> forward_speeds(const MotorModel& model, double amplitude_v, const std::vector<double>& frequencies,
                                    double load_n) {
   std::vector<OperatingPoint> points;
   for (double f : frequencies) {
     OperatingPoint p;
-    p.vpp = vpp;
+    p.amplitude_v = amplitude_v;
     p.frequency_hz = f;
     p.load_n = load_n;
     points.push_back(p);
@@ -45,9 +45,9 @@ std::vector<double> forward_speeds(const MotorModel& model, double vpp, const st
   return speeds;
 }
 
-SpeedPeak best_of(const MotorModel& model, double vpp, const std::vector<double>& frequencies, double load_n) {
+SpeedPeak best_of(const MotorModel& model, double amplitude_v, const std::vector<double>& frequencies, double load_n) {
   SpeedPeak peak;
-  const std::vector<double> speeds = forward_speeds(model, vpp, frequencies, load_n);
+  const std::vector<double> speeds = forward_speeds(model, amplitude_v, frequencies, load_n);
   for (std::size_t i = 0; i < frequencies.size(); ++i) {
     if (!(speeds[i] > 0.0)) continue;
     if (!peak.found || speeds[i] > peak.speed_mm_s) peak = {frequencies[i], speeds[i], true};
@@ -57,12 +57,12 @@ SpeedPeak best_of(const MotorModel& model, double vpp, const std::vector<double>
 
 }  // namespace
 
-SpeedPeak frequency_of_max_speed(const MotorModel& model, double vpp, double start_hz, double stop_hz, double step_hz,
-                                 double load_n) {
+SpeedPeak frequency_of_max_speed(const MotorModel& model, double amplitude_v, double start_hz, double stop_hz,
+                                 double step_hz, double load_n) {
   std::vector<double> descending = evenly_spaced(start_hz, stop_hz, step_hz);
   std::reverse(descending.begin(), descending.end());
   // Every coarse point at once (independent runs from rest, in SIMD lanes), then the walk down.
-  const std::vector<double> speeds = forward_speeds(model, vpp, descending, load_n);
+  const std::vector<double> speeds = forward_speeds(model, amplitude_v, descending, load_n);
   SpeedPeak coarse;
   for (std::size_t i = 0; i < descending.size(); ++i) {
     const double speed = speeds[i];
@@ -72,7 +72,7 @@ SpeedPeak frequency_of_max_speed(const MotorModel& model, double vpp, double sta
   if (!coarse.found) return coarse;
   const double lo = std::max(start_hz, coarse.frequency_hz - step_hz);
   const double hi = std::min(stop_hz, coarse.frequency_hz + step_hz);
-  const SpeedPeak fine = best_of(model, vpp, evenly_spaced(lo, hi, step_hz / 4.0), load_n);
+  const SpeedPeak fine = best_of(model, amplitude_v, evenly_spaced(lo, hi, step_hz / 4.0), load_n);
   return (fine.found && fine.speed_mm_s >= coarse.speed_mm_s) ? fine : coarse;
 }
 

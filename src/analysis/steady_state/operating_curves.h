@@ -29,13 +29,13 @@ struct SpeedPeak {
   bool found = false;  // false when no point moved forward (all speeds <= 0 or diverged)
 };
 
-/// Frequency of maximum forward speed of the motor resonance at `vpp`, found as the paper's
+/// Frequency of maximum forward speed of the motor resonance at `amplitude_v`, found as the paper's
 /// experiments find it (model_spec §8 E9-E10): approaching from above, walking the grid
 /// stop:start:-step down until the speed collapses below half the best speed seen (the
 /// softening resonance jumps down there), then refined on a grid of step/4 within one
 /// coarse step either side. Lobes below the collapse (a second regime under the stator
 /// resonance, not reported by the paper) are not part of that resonance and are ignored.
-[[nodiscard]] SpeedPeak frequency_of_max_speed(const MotorModel& model, double vpp, double start_hz, double stop_hz,
-                                               double step_hz, double load_n = 0.0);
+[[nodiscard]] SpeedPeak frequency_of_max_speed(const MotorModel& model, double amplitude_v, double start_hz,
+                                               double stop_hz, double step_hz, double load_n = 0.0);
 
 }  // namespace swum

@@ -107,7 +107,7 @@ SteadyStateResult run_to_steady_state(const MotorModel& model, const OperatingPo
                                       const SteadyStateOptions& opt) {
   MotorSimulator sim(model);
   DriveInput drive;
-  drive.vpp = point.vpp;
+  drive.amplitude_v = point.amplitude_v;
   drive.frequency_hz = point.frequency_hz;
   drive.phase_deg = point.phase_deg;
   drive.load_n = point.load_n;
@@ -167,7 +167,7 @@ SteadyStateResult run_to_steady_state(const MotorModel& model, const OperatingPo
 SteadyStateResult run_to_steady_state_reference(const MotorModel& model, const OperatingPoint& point,
                                                 const SteadyStateOptions& opt) {
   DriveInput drive;
-  drive.vpp = point.vpp;
+  drive.amplitude_v = point.amplitude_v;
   drive.frequency_hz = point.frequency_hz;
   drive.phase_deg = point.phase_deg;
   drive.load_n = point.load_n;

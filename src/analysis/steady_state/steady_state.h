@@ -13,7 +13,7 @@
 namespace swum {
 
 struct OperatingPoint {
-  double vpp = 0.0;  // as DriveInput::vpp (convention per options.voltage_convention)
+  double amplitude_v = 0.0;  // as DriveInput::amplitude_v: terminal amplitude of each phase (V)
   double frequency_hz = 40000.0;
   double load_n = 0.0;
   double phase_deg = 90.0;

@@ -18,7 +18,7 @@ std::uint64_t phase_steps(double duration_s, double dt) {
 
 DriveInput drive_of(const OperatingPoint& p) {
   DriveInput drive;
-  drive.vpp = p.vpp;
+  drive.amplitude_v = p.amplitude_v;
   drive.frequency_hz = p.frequency_hz;
   drive.phase_deg = p.phase_deg;
   drive.load_n = p.load_n;

@@ -9,19 +9,20 @@ namespace swum {
 PaperFacts::PaperFacts(const MotorModel& nonlinear, const MotorModel& linear)
     : nonlinear_(nonlinear), linear_(linear) {}
 
-double PaperFacts::speed_mm_s(const MotorModel& model, double vpp, double frequency_hz, double load_n) {
+double PaperFacts::speed_mm_s(const MotorModel& model, double paper_v, double frequency_hz, double load_n) {
   OperatingPoint p;
-  p.vpp = vpp;
+  p.amplitude_v = amplitude_v_of_paper_voltage(model.parameters().options.paper_voltage_axis, paper_v);
   p.frequency_hz = frequency_hz;
   p.load_n = load_n;
   const SteadyStateResult r = run_to_steady_state(model, p);
   return r.diverged ? std::nan("") : r.speed_mm_s;
 }
 
-SpeedPeak PaperFacts::peak(const MotorModel& model, double vpp) {
-  const auto key = std::make_pair(&model, vpp);
+SpeedPeak PaperFacts::peak(const MotorModel& model, double paper_v) {
+  const auto key = std::make_pair(&model, paper_v);
   if (auto it = peaks_.find(key); it != peaks_.end()) return it->second;
-  return peaks_[key] = frequency_of_max_speed(model, vpp, 39000.0, 41000.0, 100.0);
+  const double amplitude_v = amplitude_v_of_paper_voltage(model.parameters().options.paper_voltage_axis, paper_v);
+  return peaks_[key] = frequency_of_max_speed(model, amplitude_v, 39000.0, 41000.0, 100.0);
 }
 
 FactResult PaperFacts::natural_frequencies() const {
@@ -63,10 +64,10 @@ FactResult PaperFacts::saturation() {
   return r;
 }
 
-FactResult PaperFacts::peak_frequency(double vpp, double paper_hz) {
-  const SpeedPeak p = peak(nonlinear_, vpp);
-  const SpeedPeak lin = peak(linear_, vpp);
-  FactResult r{format_numbers("E10 peak at %.0f Vpp", vpp), "frequency of maximum no-load speed",
+FactResult PaperFacts::peak_frequency(double paper_v, double paper_hz) {
+  const SpeedPeak p = peak(nonlinear_, paper_v);
+  const SpeedPeak lin = peak(linear_, paper_v);
+  FactResult r{format_numbers("E10 peak at %.0f Vpp", paper_v), "frequency of maximum no-load speed",
                format_numbers("%.2f kHz (±0.2)", paper_hz / 1000.0), "", false};
   r.model_value = (p.found ? format_numbers("%.3f kHz (%.1f mm/s)", p.frequency_hz / 1000.0, p.speed_mm_s)
                            : std::string("no forward motion")) +
@@ -91,13 +92,13 @@ FactResult PaperFacts::drift() {
   return r;
 }
 
-FactResult PaperFacts::load_advantage(double vpp, double aware_hz) {
-  FactResult r{format_numbers("E12 load at %.0f Vpp", vpp),
+FactResult PaperFacts::load_advantage(double paper_v, double aware_hz) {
+  FactResult r{format_numbers("E12 load at %.0f Vpp", paper_v),
                "under load the drift-aware frequency is faster than 40.4 kHz",
                format_numbers("%.2f kHz better than 40.4 kHz", aware_hz / 1000.0), "", true};
   for (double load_n : {1.0, 2.0, 3.0}) {
-    const double aware = speed_mm_s(nonlinear_, vpp, aware_hz, load_n);
-    const double naive = speed_mm_s(nonlinear_, vpp, kNaiveFrequencyHz, load_n);
+    const double aware = speed_mm_s(nonlinear_, paper_v, aware_hz, load_n);
+    const double naive = speed_mm_s(nonlinear_, paper_v, kNaiveFrequencyHz, load_n);
     if (!r.model_value.empty()) r.model_value += "; ";
     r.model_value += format_numbers("%.0f N: %.1f vs %.1f mm/s", load_n, aware, naive);
     r.holds = r.holds && aware > naive;

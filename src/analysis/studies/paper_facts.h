@@ -2,6 +2,10 @@
 // model: one place defines each criterion and its tolerance, used by the validation
 // tests and by `swum validate` (docs/validation.md). Each check reports the paper's
 // value, the model's value and whether the fact holds.
+//
+// Every voltage here is one the paper quotes, on its axis labelled "Vpp" (`paper_v`): the
+// model is driven at the terminal amplitude its options.paper_voltage_axis reads from it
+// (amplitude_v_of_paper_voltage, docs/validation.md "The amplitude reading").
 #pragma once
 
 #include <map>
@@ -28,17 +32,17 @@ class PaperFacts {
   // this object.
   PaperFacts(const MotorModel& nonlinear, const MotorModel& linear);
 
-  FactResult natural_frequencies() const;                  // E1, within 0.2 %
-  FactResult dead_zone();                                  // E8, 40 kHz
-  FactResult saturation();                                 // E8, NL saturates, linear not
-  FactResult peak_frequency(double vpp, double paper_hz);  // E10, within ±200 Hz
-  FactResult drift();                                      // E10/E11
-  FactResult load_advantage(double vpp, double aware_hz);  // E12 vs 40.4 kHz, 1-3 N
+  FactResult natural_frequencies() const;                      // E1, within 0.2 %
+  FactResult dead_zone();                                      // E8, 40 kHz
+  FactResult saturation();                                     // E8, NL saturates, linear not
+  FactResult peak_frequency(double paper_v, double paper_hz);  // E10, within ±200 Hz
+  FactResult drift();                                          // E10/E11
+  FactResult load_advantage(double paper_v, double aware_hz);  // E12 vs 40.4 kHz, 1-3 N
   std::vector<FactResult> all();
 
   // Frequency of maximum no-load speed (39-41 kHz, 100 Hz grid refined to 25 Hz), memoised.
-  SpeedPeak peak(const MotorModel& model, double vpp);
-  double speed_mm_s(const MotorModel& model, double vpp, double frequency_hz, double load_n = 0.0);
+  SpeedPeak peak(const MotorModel& model, double paper_v);
+  double speed_mm_s(const MotorModel& model, double paper_v, double frequency_hz, double load_n = 0.0);
 
   static constexpr double kPeakToleranceHz = 200.0;
   static constexpr double kNaiveFrequencyHz = 40400.0;

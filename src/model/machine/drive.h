@@ -33,7 +33,7 @@ struct DriveWaveform {
 [[nodiscard]] inline DriveWaveform make_drive_waveform(const DriveInput& input, double amplitude_per_volt,
                                                        double time_step_s) {
   DriveWaveform w;
-  w.amplitude_v = amplitude_per_volt * input.vpp;
+  w.amplitude_v = amplitude_per_volt * input.amplitude_v;
   w.amplitude_a_v = w.amplitude_v;
   w.amplitude_b_v = w.amplitude_v;
   const double phase = input.phase_deg * std::numbers::pi / 180.0;

@@ -36,7 +36,7 @@ InterfaceForces MotorOde::forces(double t, const Vector& x) const {
 
 void MotorOde::derivative(double t, const Vector& x, Vector& dxdt) const {
   const DriveInput in = schedule_(t);
-  const double v0 = k_.drive_amplitude_per_volt * in.vpp;
+  const double v0 = k_.drive_amplitude_per_volt * in.amplitude_v;
   const double phase = in.phase_deg * std::numbers::pi / 180.0;
   const double va = v0 * std::sin(x[6]);
   const double vb = v0 * std::sin(x[6] + phase);

@@ -132,7 +132,7 @@ ModalConstants compute_modal_constants(const MotorParameters& p) {
   c.b[4] = scaled(electrical(1, 3, ddphib(3)), -1.5);
 
   c.kappa_s_per_m = 3.6 * std::pow(10.0, p.contact.erf_steepness_exponent);
-  c.drive_amplitude_per_volt = p.options.voltage_convention == VoltageConvention::peak_to_peak ? 0.5 : 1.0;
+  c.drive_amplitude_per_volt = 1.0;  // inputs are terminal amplitudes (options.paper_voltage_axis reads the paper only)
 
   c.f_l1_hz = std::sqrt(c.k1_n_m / c.m1_kg) / kTwoPi;
   c.f_b2_hz = std::sqrt(c.k2_n_m / c.m2_kg) / kTwoPi;

@@ -44,7 +44,7 @@ struct ModalConstants {
   std::array<ElectricalCoefficient, 5> b{};
 
   double kappa_s_per_m = 0.0;             // erf steepness 3.6 * 10^a
-  double drive_amplitude_per_volt = 0.0;  // V0 per commanded volt (0.5: peak-to-peak)
+  double drive_amplitude_per_volt = 0.0;  // V0 per input volt: 1 (inputs are terminal amplitudes)
 
   double f_l1_hz = 0.0;               // sqrt(K1/M1)/2pi
   double f_b2_hz = 0.0;               // sqrt(K2/M2)/2pi

@@ -536,7 +536,7 @@ void BatchSimulator::set_lane(std::size_t lane, const MotorState& state, const D
 
 void BatchSimulator::set_idle(std::size_t lane) {
   DriveInput none;
-  none.vpp = 0.0;
+  none.amplitude_v = 0.0;
   set_lane(lane, model_.rest_state(), none);
   a_->lane_idle[lane] = 1U;
   const std::size_t first = lane / kLanePadding * kLanePadding;

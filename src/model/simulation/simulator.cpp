@@ -16,7 +16,7 @@ MotorSimulator::MotorSimulator(const MotorModel& model)
       position_limit_m_(model.parameters().numerics.divergence_limit_um * 1e-6),
       speed_limit_m_s_(model.parameters().numerics.divergence_speed_limit_m_s),
       fused_step_(model.parameters().numerics.step_kernel == StepKernel::fused) {
-  drive_.vpp = 0.0;
+  drive_.amplitude_v = 0.0;
   set_drive(drive_);
 }
 
@@ -25,7 +25,7 @@ void MotorSimulator::set_drive(const DriveInput& input) {
                              input.phase_deg == drive_.phase_deg;
   if (same_waveform) {
     // Only amplitude and load changed: no trigonometric calls (set_drive may run every tick).
-    waveform_.amplitude_v = model_.coefficients().drive_amplitude_per_volt * input.vpp;
+    waveform_.amplitude_v = model_.coefficients().drive_amplitude_per_volt * input.amplitude_v;
   } else {
     waveform_ = make_drive_waveform(input, model_.coefficients().drive_amplitude_per_volt, dt_);
     waveform_valid_ = true;

@@ -96,10 +96,10 @@ TEST(EmuOptions, DefaultsAreTheDocumentedOnes) {
   EXPECT_EQ(o.heartbeat_ms, 1000.0);
   EXPECT_EQ(o.frequency_min_hz, 30000.0);
   EXPECT_EQ(o.frequency_max_hz, 50000.0);
-  EXPECT_EQ(o.amplitude_max_vpp, 600.0);
+  EXPECT_EQ(o.max_amplitude_v, 600.0);
   EXPECT_EQ(o.load_max_n, 30.0);
   EXPECT_EQ(o.frequency_slew_hz_per_s, 1e6);
-  EXPECT_EQ(o.amplitude_slew_vpp_per_s, 1e5);
+  EXPECT_EQ(o.amplitude_slew_v_per_s, 1e5);
   EXPECT_EQ(o.frequency_hz, 40000.0);
   EXPECT_EQ(o.phase_deg, 90.0);
   EXPECT_FALSE(o.realtime);
@@ -146,13 +146,13 @@ TEST(EmuOptions, EachOptionSetsItsField) {
                                           "35000",
                                           "--max-frequency-hz",
                                           "45000",
-                                          "--amplitude-max",
+                                          "--max-amplitude-v",
                                           "300",
                                           "--max-load-n",
                                           "5",
                                           "--frequency-slew-hz-per-s",
                                           "2e7",
-                                          "--amplitude-slew",
+                                          "--amplitude-slew-v-per-s",
                                           "0",
                                           "--frequency-hz",
                                           "41000",
@@ -182,10 +182,10 @@ TEST(EmuOptions, EachOptionSetsItsField) {
   EXPECT_EQ(o.heartbeat_ms, 0.0);
   EXPECT_EQ(o.frequency_min_hz, 35000.0);
   EXPECT_EQ(o.frequency_max_hz, 45000.0);
-  EXPECT_EQ(o.amplitude_max_vpp, 300.0);
+  EXPECT_EQ(o.max_amplitude_v, 300.0);
   EXPECT_EQ(o.load_max_n, 5.0);
   EXPECT_EQ(o.frequency_slew_hz_per_s, 2e7);
-  EXPECT_EQ(o.amplitude_slew_vpp_per_s, 0.0);
+  EXPECT_EQ(o.amplitude_slew_v_per_s, 0.0);
   EXPECT_EQ(o.frequency_hz, 41000.0);
   EXPECT_EQ(o.phase_deg, -90.0);
   EXPECT_TRUE(o.realtime);
@@ -272,8 +272,9 @@ TEST(EmuOptions, UsageErrorsKeepCli11TextAndExitCode) {
     EXPECT_EQ(e.err(), c.first_line + "\n" + kRunWithHelp);
   }
   // Non-negative checks name the largest double as the upper end.
-  for (const char* option : {"--duration-s", "--speedup", "--watchdog-ms", "--heartbeat-ms",
-                             "--frequency-slew-hz-per-s", "--amplitude-slew", "--encoder-resolution-um", "--cpu"}) {
+  for (const char* option :
+       {"--duration-s", "--speedup", "--watchdog-ms", "--heartbeat-ms", "--frequency-slew-hz-per-s",
+        "--amplitude-slew-v-per-s", "--encoder-resolution-um", "--cpu"}) {
     const EmuCliExit e = cli_exit({"--config", kConfig, option, "-1"});
     EXPECT_EQ(e.exit_code(), 105) << option;
     EXPECT_EQ(e.err().rfind(std::string(option) + ": Value -1 not in range 0.000000 to 1797693134862315708", 0), 0u)
@@ -304,21 +305,21 @@ TEST(EmuOptions, ModbusMillisecondsRefusedWithOptionAndText) {
 TEST(EmuOptions, AmplifierConfigInSiUnits) {
   const AmplifierConfig amp = amplifier_config(
       parse_with_config({"--watchdog-ms", "250", "--min-frequency-hz", "35000", "--max-frequency-hz", "45000",
-                         "--amplitude-max", "300", "--max-load-n", "5", "--frequency-slew-hz-per-s", "2e7",
-                         "--amplitude-slew", "0", "--frequency-hz", "41000", "--drive-phase-deg", "-90"}));
+                         "--max-amplitude-v", "300", "--max-load-n", "5", "--frequency-slew-hz-per-s", "2e7",
+                         "--amplitude-slew-v-per-s", "0", "--frequency-hz", "41000", "--drive-phase-deg", "-90"}));
   EXPECT_DOUBLE_EQ(amp.watchdog_s, 0.25);
   EXPECT_EQ(amp.limits.min_frequency_hz, 35000.0);
   EXPECT_EQ(amp.limits.max_frequency_hz, 45000.0);
-  EXPECT_EQ(amp.limits.max_amplitude_vpp, 300.0);
+  EXPECT_EQ(amp.limits.max_amplitude_v, 300.0);
   EXPECT_EQ(amp.limits.max_abs_load_n, 5.0);
   EXPECT_EQ(amp.frequency_slew_hz_per_s, 2e7);
-  EXPECT_EQ(amp.amplitude_slew_vpp_per_s, 0.0);
+  EXPECT_EQ(amp.amplitude_slew_v_per_s, 0.0);
   // A default slew above the largest a command may ask for raises that limit; a smaller one not.
   EXPECT_EQ(amp.limits.max_frequency_slew_hz_per_s, 2e7);
-  EXPECT_EQ(amp.limits.max_amplitude_slew_vpp_per_s, 1e7);
+  EXPECT_EQ(amp.limits.max_amplitude_slew_v_per_s, 1e7);
   EXPECT_EQ(amp.frequency_hz, 41000.0);
   EXPECT_EQ(amp.phase_deg, -90.0);
-  EXPECT_EQ(amp.amplitude_vpp, 0.0);
+  EXPECT_EQ(amp.amplitude_v, 0.0);
 }
 
 TEST(EmuOptions, DefaultAmplifierConfigIsTheAmplifiersOwn) {
@@ -327,13 +328,13 @@ TEST(EmuOptions, DefaultAmplifierConfigIsTheAmplifiersOwn) {
   EXPECT_DOUBLE_EQ(amp.watchdog_s, own.watchdog_s);
   EXPECT_EQ(amp.limits.min_frequency_hz, own.limits.min_frequency_hz);
   EXPECT_EQ(amp.limits.max_frequency_hz, own.limits.max_frequency_hz);
-  EXPECT_EQ(amp.limits.max_amplitude_vpp, own.limits.max_amplitude_vpp);
+  EXPECT_EQ(amp.limits.max_amplitude_v, own.limits.max_amplitude_v);
   EXPECT_EQ(amp.limits.max_abs_phase_deg, own.limits.max_abs_phase_deg);
   EXPECT_EQ(amp.limits.max_abs_load_n, own.limits.max_abs_load_n);
   EXPECT_EQ(amp.limits.max_frequency_slew_hz_per_s, own.limits.max_frequency_slew_hz_per_s);
-  EXPECT_EQ(amp.limits.max_amplitude_slew_vpp_per_s, own.limits.max_amplitude_slew_vpp_per_s);
+  EXPECT_EQ(amp.limits.max_amplitude_slew_v_per_s, own.limits.max_amplitude_slew_v_per_s);
   EXPECT_EQ(amp.frequency_slew_hz_per_s, own.frequency_slew_hz_per_s);
-  EXPECT_EQ(amp.amplitude_slew_vpp_per_s, own.amplitude_slew_vpp_per_s);
+  EXPECT_EQ(amp.amplitude_slew_v_per_s, own.amplitude_slew_v_per_s);
   EXPECT_EQ(amp.frequency_hz, own.frequency_hz);
   EXPECT_EQ(amp.phase_deg, own.phase_deg);
 }
@@ -601,9 +602,9 @@ TEST(EmuOptions, CanProfileIsSwumOrCia402AndOnlyWithCan) {
   const EmuOptions o = parse_with_config({"--can", "vcan0", "--can-profile", "cia402"});
   EXPECT_EQ(o.can_profile, "cia402");
   EXPECT_FALSE(o.heartbeat_given);
-  EXPECT_EQ(canopen_profile_config(o, AmplifierLimits{}, 1.0).heartbeat_ms, -1);  // the EDS default
+  EXPECT_EQ(canopen_profile_config(o, AmplifierLimits{}).heartbeat_ms, -1);  // the EDS default
   const EmuOptions h = parse_with_config({"--can", "vcan0", "--can-profile", "cia402", "--heartbeat-ms", "250"});
-  EXPECT_EQ(canopen_profile_config(h, AmplifierLimits{}, 1.0).heartbeat_ms, 250);
+  EXPECT_EQ(canopen_profile_config(h, AmplifierLimits{}).heartbeat_ms, 250);
   EXPECT_NE(cli_exit({"--config", kConfig, "--can", "vcan0", "--can-profile", "canopen"}).exit_code(), 0);
   EXPECT_EQ(parse_error({"--can-profile", "cia402"}), "--can-profile: only with --can");
   EXPECT_EQ(parse_error({"--can", "vcan0", "--can-profile", "cia402", "--heartbeat-ms", "70000"}),

@@ -10,9 +10,9 @@ namespace {
 AmplifierConfig config() {
   AmplifierConfig c;
   c.tick_s = 1e-4;
-  c.watchdog_s = 0.01;               // 100 ticks
-  c.amplitude_slew_vpp_per_s = 1e5;  // 10 Vpp per tick
-  c.frequency_slew_hz_per_s = 1e6;   // 100 Hz per tick
+  c.watchdog_s = 0.01;              // 100 ticks
+  c.amplitude_slew_v_per_s = 1e5;   // 10 V per tick
+  c.frequency_slew_hz_per_s = 1e6;  // 100 Hz per tick
   return c;
 }
 Command action(Action a) {
@@ -21,29 +21,29 @@ Command action(Action a) {
   c.action = a;
   return c;
 }
-Command amplitude(double vpp) {
+Command amplitude(double amplitude_v) {
   Command c;
   c.fields = Command::kAmplitude;
-  c.amplitude_vpp = vpp;
+  c.amplitude_v = amplitude_v;
   return c;
 }
 
 TEST(Amplifier, StartsDisabledWithNoDrive) {
   Amplifier amp(config());
   EXPECT_EQ(amp.state(), AmpState::disabled);
-  EXPECT_EQ(amp.tick(0, true).vpp, 0.0);
+  EXPECT_EQ(amp.tick(0, true).amplitude_v, 0.0);
 }
 
 TEST(Amplifier, EnableRampsAmplitudeAtTheSlewLimit) {
   Amplifier amp(config());
   EXPECT_EQ(amp.apply(amplitude(400), 0), Reason::none);
-  EXPECT_EQ(amp.tick(0, true).vpp, 0.0);  // still disabled
+  EXPECT_EQ(amp.tick(0, true).amplitude_v, 0.0);  // still disabled
   EXPECT_EQ(amp.apply(action(Action::enable), 1), Reason::none);
   EXPECT_EQ(amp.state(), AmpState::enabled);
-  EXPECT_NEAR(amp.tick(1, true).vpp, 10.0, 1e-9);
-  EXPECT_NEAR(amp.tick(2, true).vpp, 20.0, 1e-9);
+  EXPECT_NEAR(amp.tick(1, true).amplitude_v, 10.0, 1e-9);
+  EXPECT_NEAR(amp.tick(2, true).amplitude_v, 20.0, 1e-9);
   for (std::uint64_t t = 3; t < 60; ++t) amp.tick(t, true);
-  EXPECT_DOUBLE_EQ(amp.output().vpp, 400.0);
+  EXPECT_DOUBLE_EQ(amp.output().amplitude_v, 400.0);
   EXPECT_TRUE(amp.at_setpoint());
 }
 
@@ -65,9 +65,9 @@ TEST(Amplifier, DisableCutsTheDriveAtOnce) {
   amp.apply(amplitude(100), 0);
   amp.apply(action(Action::enable), 0);
   for (std::uint64_t t = 0; t < 20; ++t) amp.tick(t, true);
-  EXPECT_GT(amp.output().vpp, 0.0);
+  EXPECT_GT(amp.output().amplitude_v, 0.0);
   amp.apply(action(Action::disable), 20);
-  EXPECT_EQ(amp.tick(20, true).vpp, 0.0);
+  EXPECT_EQ(amp.tick(20, true).amplitude_v, 0.0);
   EXPECT_EQ(amp.state(), AmpState::disabled);
 }
 
@@ -82,7 +82,7 @@ TEST(Amplifier, WatchdogFaultsAfterTheTimeoutAndOnlyResetClearsIt) {
   amp.tick(101, true);
   EXPECT_EQ(amp.state(), AmpState::fault);
   EXPECT_EQ(amp.fault(), FaultCode::command_timeout);
-  EXPECT_EQ(amp.output().vpp, 0.0);
+  EXPECT_EQ(amp.output().amplitude_v, 0.0);
   // Enable is refused in fault; a reset brings it to disabled.
   EXPECT_EQ(amp.apply(action(Action::enable), 102), Reason::fault_active);
   EXPECT_EQ(amp.apply(action(Action::disable), 102), Reason::none);
@@ -114,10 +114,10 @@ TEST(Amplifier, OutOfRangeIsRejectedAndChangesNothing) {
   Command c;
   c.fields = Command::kFrequency | Command::kAmplitude;
   c.frequency_hz = 40000.0;
-  c.amplitude_vpp = 700.0;
+  c.amplitude_v = 700.0;
   EXPECT_EQ(amp.apply(c, 0), Reason::amplitude_out_of_range);
-  EXPECT_EQ(amp.setpoints().amplitude_vpp, before.amplitude_vpp);
-  c.amplitude_vpp = 100;
+  EXPECT_EQ(amp.setpoints().amplitude_v, before.amplitude_v);
+  c.amplitude_v = 100;
   c.frequency_hz = 60000.0;
   EXPECT_EQ(amp.apply(c, 0), Reason::frequency_out_of_range);
   c.frequency_hz = std::nan("");
@@ -144,8 +144,8 @@ TEST(Amplifier, EnableLineLowForcesDisableAndRefusesEnable) {
   amp.apply(amplitude(100), 0);
   amp.apply(action(Action::enable), 0);
   amp.tick(0, true);
-  EXPECT_GT(amp.output().vpp, 0.0);
-  EXPECT_EQ(amp.tick(1, false).vpp, 0.0);
+  EXPECT_GT(amp.output().amplitude_v, 0.0);
+  EXPECT_EQ(amp.tick(1, false).amplitude_v, 0.0);
   EXPECT_EQ(amp.state(), AmpState::disabled);
   EXPECT_EQ(amp.apply(action(Action::enable), 2), Reason::enable_line_low);
   amp.tick(3, true);
@@ -156,7 +156,7 @@ TEST(Amplifier, RaisedFaultLatches) {
   Amplifier amp(config());
   amp.apply(action(Action::enable), 0);
   amp.raise_fault(FaultCode::numerical);
-  EXPECT_EQ(amp.tick(1, true).vpp, 0.0);
+  EXPECT_EQ(amp.tick(1, true).amplitude_v, 0.0);
   EXPECT_EQ(amp.state(), AmpState::fault);
   EXPECT_EQ(amp.fault(), FaultCode::numerical);
 }

@@ -179,7 +179,7 @@ TEST(Cia402Drive, ProfileVelocityReaches300MmSAndHoldsItThroughA1Point5NLoadStep
   EXPECT_GT(unloaded.output.frequency_hz, 39800.0);
   EXPECT_LT(unloaded.output.frequency_hz, 40200.0);
   EXPECT_EQ(unloaded.output.phase_deg, 90.0);
-  EXPECT_NEAR(unloaded.cia402.terminal_amplitude_v, unloaded.output.vpp, 1e-12);  // convention "amplitude"
+  EXPECT_NEAR(unloaded.cia402.terminal_amplitude_v, unloaded.output.amplitude_v, 1e-12);  // convention "amplitude"
 
   // The load: the speed leaves the window, the loop raises the amplitude and is back in it.
   const double lost_s = b.run_until([](const Telemetry& t) { return !reached(t); }, 0.1);
@@ -199,7 +199,7 @@ TEST(Cia402Drive, ProfileVelocityReaches300MmSAndHoldsItThroughA1Point5NLoadStep
   EXPECT_EQ(loaded.output.load_n, 1.5);
   EXPECT_TRUE(reached(loaded));
   EXPECT_NEAR(loaded.speed_m_s * 1e3, 300.0, 1.0);
-  EXPECT_GT(loaded.output.vpp, unloaded.output.vpp + 10.0);  // more voltage for the same speed
+  EXPECT_GT(loaded.output.amplitude_v, unloaded.output.amplitude_v + 10.0);  // more voltage for the same speed
   EXPECT_NEAR(loaded.electrical.motional_phase_a_deg, 15.0, 1.0);
   EXPECT_EQ(loaded.state, AmpState::enabled);
   EXPECT_EQ(b.core.drive().commands_refused(), 0U);
@@ -248,7 +248,7 @@ TEST(Cia402Drive, HaltDeceleratesAtTheProfileDecelerationAndStaysEnabled) {
   EXPECT_NEAR(b.speed_mm_s(), 0.0, 10.0);
   EXPECT_EQ(state_bits(b.statusword()), kOperationEnabled);
   EXPECT_EQ(b.core.amplifier().state(), AmpState::enabled);
-  EXPECT_EQ(b.core.telemetry().output.vpp, 0.0);
+  EXPECT_EQ(b.core.telemetry().output.amplitude_v, 0.0);
   b.request.controlword = kEnableOperation;  // halt released: off again to the target
   EXPECT_LT(b.run_until(reached, 2.0), 0.5);
   EXPECT_NEAR(b.speed_mm_s(), 300.0, 10.0);
@@ -297,7 +297,7 @@ TEST(Cia402Drive, QuickStopOption0SwitchesTheDriveOffAtOnce) {
   b.tick();
   EXPECT_EQ(b.statusword(), kSwitchOnDisabled);
   EXPECT_EQ(b.core.amplifier().state(), AmpState::disabled);
-  EXPECT_EQ(b.core.telemetry().output.vpp, 0.0);
+  EXPECT_EQ(b.core.telemetry().output.amplitude_v, 0.0);
   EXPECT_GT(b.speed_mm_s(), 250.0);  // the mover coasts: no ramp
 }
 
@@ -309,7 +309,7 @@ TEST(Cia402Drive, QuickStopOptions5And6StayInQuickStopActiveUntilEnableOperation
     EXPECT_EQ(state_bits(r.statusword_after), kQuickStopActive) << option;
     EXPECT_NE(r.statusword_after & kStatuswordTargetReached, 0) << option;  // stopped
     EXPECT_EQ(r.amplifier_after, AmpState::enabled) << option;              // powered at standstill
-    EXPECT_EQ(b.core.telemetry().output.vpp, 0.0);
+    EXPECT_EQ(b.core.telemetry().output.amplitude_v, 0.0);
     b.request.controlword = kEnableOperation;  // 16
     b.tick();
     EXPECT_EQ(state_bits(b.statusword()), kOperationEnabled) << option;
@@ -336,7 +336,7 @@ TEST(Cia402Drive, OverTemperatureFaultsWith0x4310AndAResetEdgeReturnsToSwitchOnD
   EXPECT_EQ(b.statusword(), kFault);  // bit 3 fault
   EXPECT_NE(b.statusword() & 0x0008, 0);
   EXPECT_EQ(b.cia402().error_code, 0x4310);
-  EXPECT_EQ(b.core.telemetry().output.vpp, 0.0);
+  EXPECT_EQ(b.core.telemetry().output.amplitude_v, 0.0);
   b.run_s(0.2);
   EXPECT_NEAR(b.speed_mm_s(), 0.0, 2.0);  // no drive: the mover stopped
   EXPECT_EQ(b.statusword(), kFault);
@@ -458,7 +458,7 @@ TEST(Cia402Drive, HeartbeatLossOption0DoesNothing) {
 }
 
 // Mode -1: the amplifier's set-points straight from 0x2001-0x2005, the terminal amplitude in mV
-// as the model's "vpp" input (convention "amplitude": the same volts).
+// as the model's "amplitude_v" input (convention "amplitude": the same volts).
 TEST(Cia402Drive, OpenLoopDrivesTheCommandedFrequencyAmplitudeAndPhase) {
   Bench b;
   b.request.frequency_mhz = 40000000;
@@ -469,9 +469,9 @@ TEST(Cia402Drive, OpenLoopDrivesTheCommandedFrequencyAmplitudeAndPhase) {
   b.run_s(0.1);
   const Telemetry& t = b.core.telemetry();
   EXPECT_EQ(t.output.frequency_hz, 40000.0);
-  EXPECT_EQ(t.output.vpp, 400.0);
+  EXPECT_EQ(t.output.amplitude_v, 400.0);
   EXPECT_EQ(t.output.phase_deg, 90.0);
-  EXPECT_EQ(t.setpoints.amplitude_slew_vpp_per_s, 100000.0);
+  EXPECT_EQ(t.setpoints.amplitude_slew_v_per_s, 100000.0);
   EXPECT_EQ(t.setpoints.frequency_slew_hz_per_s, 1000000.0);
   EXPECT_EQ(t.cia402.terminal_amplitude_v, 400.0);
   EXPECT_TRUE(reached(t));  // at the set-points
@@ -513,7 +513,7 @@ TEST(Cia402Drive, ModeNoneAndUnsupportedModesDriveZeroVolts) {
     b.run_s(0.05);
     EXPECT_EQ(state_bits(b.statusword()), kOperationEnabled) << mode;
     EXPECT_EQ(b.core.amplifier().state(), AmpState::enabled) << mode;
-    EXPECT_EQ(b.core.telemetry().output.vpp, 0.0) << mode;
+    EXPECT_EQ(b.core.telemetry().output.amplitude_v, 0.0) << mode;
     EXPECT_EQ(b.cia402().mode_display, 0) << mode;
     EXPECT_EQ((b.statusword() & kStatuswordWarning) != 0, mode != 0) << mode;  // a mode it does not have
   }
@@ -530,7 +530,7 @@ TEST(Cia402Drive, ModeDisplayFollowsTheSupportedModeAndAModeChangeRestartsTheLoo
   b.request.mode = -1;
   b.run_s(0.05);
   EXPECT_EQ(b.cia402().mode_display, -1);
-  EXPECT_EQ(b.core.telemetry().setpoints.amplitude_vpp, 100.0);
+  EXPECT_EQ(b.core.telemetry().setpoints.amplitude_v, 100.0);
   b.request.mode = 3;  // back: the demand starts from the speed the mover has
   b.tick();
   EXPECT_EQ(b.cia402().mode_display, 3);
@@ -607,13 +607,10 @@ TEST(Cia402Drive, TheObserverSeesEveryCommandTheDriveApplies) {
   EXPECT_GE(observer.commands, 100U);  // one per 1 ms cycle, and the enable
 }
 
-// The amplitude conversion of 0x2002 for a peak-to-peak model: twice the volts at the "vpp"
-// input. The drive alone on an amplifier, no model.
-TEST(Cia402Drive, PeakToPeakConventionDoublesTheAmplifierInput) {
-  EXPECT_EQ(vpp_per_terminal_volt(VoltageConvention::amplitude), 1.0);
-  EXPECT_EQ(vpp_per_terminal_volt(VoltageConvention::peak_to_peak), 2.0);
+// 0x2002 and 0x2005 are the terminal amplitude and its slew, the amplifier's own input: one to
+// one, whatever motor runs (no factor of two anywhere). The drive alone on an amplifier, no model.
+TEST(Cia402Drive, TheAmplitudeObjectsAreTheAmplifierInputOneToOne) {
   Cia402DriveConfig config;
-  config.vpp_per_terminal_volt = 2.0;
   Cia402Drive drive(config);
   AmplifierConfig amplifier_config;
   Amplifier amplifier(amplifier_config);
@@ -631,17 +628,15 @@ TEST(Cia402Drive, PeakToPeakConventionDoublesTheAmplifierInput) {
     ++tick;
   }
   EXPECT_EQ(drive.state(), Cia402State::operation_enabled);
-  EXPECT_EQ(amplifier.setpoints().amplitude_vpp, 300.0);
-  EXPECT_EQ(amplifier.setpoints().amplitude_slew_vpp_per_s, 2000.0);
-  EXPECT_NEAR(drive.values(amplifier.output()).terminal_amplitude_v, amplifier.output().vpp / 2.0, 1e-12);
+  EXPECT_EQ(amplifier.setpoints().amplitude_v, 150.0);
+  EXPECT_EQ(amplifier.setpoints().amplitude_slew_v_per_s, 1000.0);
+  EXPECT_GT(amplifier.output().amplitude_v, 0.0);
+  EXPECT_EQ(drive.values(amplifier.output()).terminal_amplitude_v, amplifier.output().amplitude_v);
 }
 
 TEST(Cia402Drive, RefusesAConfigurationItCannotRun) {
   Cia402DriveConfig bad;
   bad.control_cycle_s = 0.0;
-  EXPECT_THROW(Cia402Drive{bad}, std::invalid_argument);
-  bad = {};
-  bad.vpp_per_terminal_volt = 0.0;
   EXPECT_THROW(Cia402Drive{bad}, std::invalid_argument);
   bad = {};
   bad.tracker_cycles = 0;

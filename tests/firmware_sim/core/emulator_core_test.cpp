@@ -20,11 +20,11 @@ CoreConfig core_config(double watchdog_s) {
 
 void submit(SharedState& shared, Command c) { ASSERT_EQ(shared.submit(c), Reason::none); }
 
-Command run_at(double vpp, double frequency_hz) {
+Command run_at(double amplitude_v, double frequency_hz) {
   Command c;
   c.fields = Command::kAction | Command::kAmplitude | Command::kFrequency;
   c.action = Action::enable;
-  c.amplitude_vpp = vpp;
+  c.amplitude_v = amplitude_v;
   c.frequency_hz = frequency_hz;
   return c;
 }
@@ -80,7 +80,7 @@ TEST(EmulatorCore, WatchdogFaultsAndTheMoverCoastsToRest) {
   for (int i = 0; i < 201; ++i) core.tick();  // silence > 20 ms
   EXPECT_EQ(core.telemetry().state, AmpState::fault);
   EXPECT_EQ(core.telemetry().fault, FaultCode::command_timeout);
-  EXPECT_EQ(core.telemetry().output.vpp, 0.0);
+  EXPECT_EQ(core.telemetry().output.amplitude_v, 0.0);
   for (int i = 0; i < 1000; ++i) core.tick();  // 100 ms more
   EXPECT_LT(std::abs(core.telemetry().speed_m_s), 1e-4);
 }
@@ -97,7 +97,7 @@ TEST(EmulatorCore, NumericalBlowUpRaisesAFaultAndKeepsRunning) {
   const Telemetry& t = core.telemetry();
   EXPECT_EQ(t.state, AmpState::fault);
   EXPECT_EQ(t.fault, FaultCode::numerical);
-  EXPECT_EQ(t.output.vpp, 0.0);
+  EXPECT_EQ(t.output.amplitude_v, 0.0);
   EXPECT_TRUE(std::isfinite(t.position_m));
   EXPECT_TRUE(std::isfinite(t.speed_m_s));
   EXPECT_GE(t.divergences, 1U);
@@ -119,10 +119,10 @@ TEST(EmulatorCore, EnableLineLowTurnsTheDriveOff) {
   EmulatorCore core(test::li2019_model(), core_config(0), shared);
   submit(shared, run_at(400, 40000));
   for (int i = 0; i < 20; ++i) core.tick();
-  EXPECT_GT(core.telemetry().output.vpp, 0.0);
+  EXPECT_GT(core.telemetry().output.amplitude_v, 0.0);
   shared.enable_line = false;
   core.tick();
-  EXPECT_EQ(core.telemetry().output.vpp, 0.0);
+  EXPECT_EQ(core.telemetry().output.amplitude_v, 0.0);
   EXPECT_EQ(core.telemetry().state, AmpState::disabled);
   submit(shared, run_at(400, 40000));
   core.tick();
@@ -136,13 +136,13 @@ TEST(EmulatorCore, CommandsApplyInOrderAtTheNextTick) {
   for (int i = 1; i <= 100; ++i) {
     Command c;
     c.fields = Command::kAmplitude;
-    c.amplitude_vpp = i;
+    c.amplitude_v = i;
     submit(shared, c);
   }
   EXPECT_EQ(core.telemetry().applied_commands, 0U);
   core.tick();
   EXPECT_EQ(core.telemetry().applied_commands, 100U);
-  EXPECT_DOUBLE_EQ(core.telemetry().setpoints.amplitude_vpp, 100.0);
+  EXPECT_DOUBLE_EQ(core.telemetry().setpoints.amplitude_v, 100.0);
 }
 
 TEST(EmulatorCore, FullQueueRefusesInsteadOfDropping) {

@@ -27,11 +27,11 @@ struct Rig {
   }
 };
 
-Command enable_at(double vpp) {
+Command enable_at(double amplitude_v) {
   Command c;
   c.fields = Command::kAction | Command::kAmplitude | Command::kFrequency;
   c.action = Action::enable;
-  c.amplitude_vpp = vpp;
+  c.amplitude_v = amplitude_v;
   c.frequency_hz = 40000.0;
   c.source = CommandSource::modbus;
   return c;
@@ -62,7 +62,7 @@ TEST(LockstepLoop, CommandQueuedBeforeAStepActsFromItsFirstTick) {
   const Telemetry t = rig.shared.telemetry.load();
   EXPECT_EQ(t.state, AmpState::enabled);
   EXPECT_EQ(t.applied_commands, 1U);
-  EXPECT_GT(t.output.vpp, 0.0);  // driving during that very tick (slew-limited)
+  EXPECT_GT(t.output.amplitude_v, 0.0);  // driving during that very tick (slew-limited)
   rig.stop = true;
   thread.join();
 }

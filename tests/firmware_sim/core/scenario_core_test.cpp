@@ -1,5 +1,5 @@
 // Scenario events in the emulator core (docs/scenarios.md): for every event type, its effect on
-// the telemetry the core publishes with the li2019 motor driven at 400 Vpp, 40 kHz (the model,
+// the telemetry the core publishes with the li2019 motor driven at 400 V, 40 kHz (the model,
 // the amplifier's trips, the reported sensors, the SharedState flags for the transports); the
 // CAN transport's emulated bus-off and CAN SYNC lockstep on the fake bus.
 #include <gtest/gtest.h>
@@ -31,7 +31,7 @@ using namespace std::chrono_literals;
 using test::eventually;
 using test::scenario_of;
 
-constexpr double kDriveVpp = 400.0;
+constexpr double kDriveAmplitudeV = 400.0;
 constexpr double kDriveHz = 40000.0;
 
 Command command(Action action) {
@@ -44,7 +44,7 @@ Command command(Action action) {
 Command enable_drive() {
   Command c = command(Action::enable);
   c.fields |= Command::kAmplitude | Command::kFrequency;
-  c.amplitude_vpp = kDriveVpp;
+  c.amplitude_v = kDriveAmplitudeV;
   c.frequency_hz = kDriveHz;
   return c;
 }
@@ -156,8 +156,8 @@ TEST(ScenarioCore, VoltageSagToHalfAboutHalvesTheSpeed) {
   Bench b({"voltage_sag@0:factor=0.5"});
   const double speed = b.run_through(kSteadyTick).speed_m_s;
   const double nominal = nominal_speed_m_s(kSteadyTick);
-  EXPECT_NEAR(speed / nominal, 0.5, 0.05);              // measured 0.503
-  EXPECT_EQ(b.core.telemetry().output.vpp, kDriveVpp);  // commanded output unchanged; applied is lower
+  EXPECT_NEAR(speed / nominal, 0.5, 0.05);                             // measured 0.503
+  EXPECT_EQ(b.core.telemetry().output.amplitude_v, kDriveAmplitudeV);  // commanded output unchanged; applied is lower
 }
 
 // phase_short (over_current, 3) and over_temperature (4) trip an enabled amplifier while they
@@ -168,7 +168,7 @@ void expect_trip_holds_until_clear(std::string_view fault, std::string_view clea
   const Telemetry& tripped = b.run_through(100);
   EXPECT_EQ(tripped.state, AmpState::fault);
   EXPECT_EQ(tripped.fault, code);
-  EXPECT_EQ(tripped.output.vpp, 0.0);
+  EXPECT_EQ(tripped.output.amplitude_v, 0.0);
   EXPECT_FALSE(protocol::drive_on(tripped));
   b.run_through(199);
   b.submit(command(Action::reset_fault));
@@ -176,7 +176,7 @@ void expect_trip_holds_until_clear(std::string_view fault, std::string_view clea
   const Telemetry& again = b.run_through(200);
   EXPECT_EQ(again.state, AmpState::fault);
   EXPECT_EQ(again.fault, code);
-  EXPECT_EQ(again.output.vpp, 0.0);
+  EXPECT_EQ(again.output.amplitude_v, 0.0);
   b.run_through(299);  // cleared at tick 300; the latched fault stays until a reset
   EXPECT_EQ(b.run_through(310).state, AmpState::fault);
   b.submit(command(Action::reset_fault));
@@ -248,7 +248,7 @@ TEST(ScenarioCore, GuideFrictionSlowsALoadedMover) {
   EXPECT_GT(rough_speed, 0.3 * plain_speed);
 }
 
-// In this model the preload barely sets the speed at 400 Vpp (measured at 60 ms: unloaded
+// In this model the preload barely sets the speed at 400 V (measured at 60 ms: unloaded
 // 0.6100 -> 0.6175 m/s with 30 % of the preload, under 4 N 0.4865 -> 0.4769 m/s); it shows in the
 // tip's normal amplitude (4.55 -> 4.30 um): less contact force, a softer stator tip.
 TEST(ScenarioCore, PreloadLossLowersTheTipAmplitudeAndTheLoadedSpeed) {
@@ -401,7 +401,7 @@ io::CanFrame command_frame(const protocol::can::Ids& ids, std::uint8_t alive) {
   c.mode = 1;  // enable
   c.alive = alive;
   c.frequency_hz = kDriveHz;
-  c.amplitude_vpp = kDriveVpp;
+  c.amplitude_v = kDriveAmplitudeV;
   return protocol::can::encode_command(c, ids.command);
 }
 
@@ -466,7 +466,7 @@ TEST(ScenarioCan, TelemetrySilenceSendsOnlyTheHeartbeat) {
 // The telemetry set a SYNC sends (Status ... Output): the state and the clock's tick.
 struct TelemetrySet {
   std::uint64_t state = 99, tick = 0;
-  double drive_vpp = -1.0;
+  double drive_amplitude_v = -1.0;
 };
 
 bool receive_set(io::CanBus& peer, const protocol::can::Ids& ids, TelemetrySet& set) {
@@ -475,7 +475,7 @@ bool receive_set(io::CanBus& peer, const protocol::can::Ids& ids, TelemetrySet& 
     io::CanFrame f;
     while (peer.receive(f, 1ms).ok()) {
       if (f.id == ids.status) set.state = protocol::can::raw_value(f, sig::kStatusState);
-      if (f.id == ids.drive) set.drive_vpp = protocol::can::physical_value(f, sig::kDriveAmplitude);
+      if (f.id == ids.drive) set.drive_amplitude_v = protocol::can::physical_value(f, sig::kDriveAmplitude);
       if (f.id == ids.clock) set.tick = protocol::can::raw_value(f, sig::kClockTick);
       if (f.id == ids.output) return true;  // ends a set
     }
@@ -549,7 +549,7 @@ TEST(ScenarioCan, SyncSendsTheSampledTelemetryThenRunsOneCycleWithTheLatchedComm
   ASSERT_TRUE(receive_set(*rig.peer, rig.ids, second));
   EXPECT_EQ(second.tick, 10U);  // ... and the next SYNC reports it (one cycle of delay)
   EXPECT_EQ(second.state, static_cast<std::uint64_t>(AmpState::enabled));
-  EXPECT_GT(second.drive_vpp, 0.0);
+  EXPECT_GT(second.drive_amplitude_v, 0.0);
   ASSERT_TRUE(rig.ticks_become(20));
   EXPECT_EQ(rig.transport->stats().accepted.load(), 1U);  // the command; SYNCs are steps, not commands
 }
@@ -628,7 +628,7 @@ TEST(ScenarioCoreRuntime, OverTemperatureTripsTheEnabledAmplifierAtTheNextTick) 
   const Telemetry& tripped = b.run_through(100);
   EXPECT_EQ(tripped.state, AmpState::fault);
   EXPECT_EQ(tripped.fault, FaultCode::over_temperature);
-  EXPECT_EQ(tripped.output.vpp, 0.0);
+  EXPECT_EQ(tripped.output.amplitude_v, 0.0);
   RuntimeEvent left;
   EXPECT_FALSE(b.shared.runtime_events.try_pop(left));  // drained by the tick
 }
@@ -658,7 +658,7 @@ TEST(ScenarioCoreRuntime, ClearOfOverTemperatureLetsAResetAndEnableRunAgain) {
 TEST(ScenarioCoreRuntime, PhaseOpenBRemovesThePhaseBDriveCurrentAndPowerUntilCleared) {
   RuntimeBench b;
   const Telemetry nominal = b.run_through(299);    // a copy: the core's telemetry moves on
-  ASSERT_GT(nominal.electrical.current_b_a, 0.5);  // measured 0.886 A at 400 Vpp, 40 kHz
+  ASSERT_GT(nominal.electrical.current_b_a, 0.5);  // measured 0.886 A at 400 V, 40 kHz
   ASSERT_GT(nominal.electrical.power_b_w, 5.0);    // measured 12 W
   b.push(phase_open_b());
   const Telemetry open = b.run_through(kSteadyTick);  // 30 ms later: settled

@@ -56,8 +56,8 @@ Telemetry sample_telemetry() {
   t.state = AmpState::fault;
   t.fault = FaultCode::over_temperature;
   t.setpoints.frequency_hz = 40000.0;
-  t.setpoints.amplitude_vpp = 400.0;
-  t.output.vpp = 0.0;
+  t.setpoints.amplitude_v = 400.0;
+  t.output.amplitude_v = 0.0;
   t.speed_m_s = 0.61;
   t.position_m = 0.0123;
   t.electrical.current_b_a = 0.25;
@@ -98,16 +98,18 @@ TEST(HttpJson, StateHasEveryTopLevelKeyAndTheNestedOnes) {
   for (const auto& [key, value] : j.items()) keys.insert(key);
   EXPECT_EQ(keys, expected);
   for (const char* key :
-       {"frequency_hz", "amplitude_vpp", "phase_deg", "load_n", "frequency_slew_hz_per_s", "amplitude_slew_vpp_per_s"})
+       {"frequency_hz", "amplitude_v", "phase_deg", "load_n", "frequency_slew_hz_per_s", "amplitude_slew_v_per_s"})
     EXPECT_TRUE(j["setpoints"].contains(key)) << key;
-  for (const char* key : {"vpp", "frequency_hz", "phase_deg", "load_n"}) EXPECT_TRUE(j["output"].contains(key)) << key;
+  for (const char* key : {"amplitude_v", "frequency_hz", "phase_deg", "load_n"})
+    EXPECT_TRUE(j["output"].contains(key)) << key;
   for (const char* key : {"current_a_a", "current_b_a", "phase_a_deg", "phase_b_deg", "motional_phase_a_deg",
                           "motional_phase_b_deg", "power_a_w", "power_b_w"})
     EXPECT_TRUE(j["electrical"].contains(key)) << key;
   for (const char* key : {"overruns", "lateness_p50_ns", "lateness_p99_ns", "lateness_p999_ns", "lateness_max_ns",
                           "compute_p99_ns", "compute_max_ns"})
     EXPECT_TRUE(j["loop"].contains(key)) << key;
-  EXPECT_EQ(j["resonance"], (json{{"vpp", 400.0}, {"normal_peak_hz", 41000.0}, {"tangential_peak_hz", 39000.0}}));
+  EXPECT_EQ(j["resonance"],
+            (json{{"amplitude_v", 400.0}, {"normal_peak_hz", 41000.0}, {"tangential_peak_hz", 39000.0}}));
   EXPECT_EQ(j["rejects"]["count"], 3);
   EXPECT_EQ(j["rejects"]["last"], "fault_active");
 }
@@ -123,7 +125,7 @@ TEST(HttpJson, StateCarriesTheValuesInSiUnits) {
   EXPECT_DOUBLE_EQ(j["stator_temperature_c"].get<double>(), 21.5);
   EXPECT_EQ(j["loop"]["lateness_p99_ns"], 4200);
   EXPECT_EQ(j["state"], to_string(AmpState::fault));
-  EXPECT_FALSE(j["drive_on"].get<bool>());  // in fault, 0 Vpp
+  EXPECT_FALSE(j["drive_on"].get<bool>());  // in fault, 0 V
 }
 
 // The CANopen node's NMT state and CiA 402 drive (docs/canopen.md): null without CANopen.

@@ -19,19 +19,19 @@ constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 TEST(ResonancePeak, PeaksAreFiniteAndBetween30And50Khz) {
   ResonancePeak peak(test::li2019_model());
-  for (const double vpp : {1.0, 50.0, 200.0, 400.0}) {
-    const ResonanceEstimate e = peak.at(vpp, kReferenceAmbientC);
-    EXPECT_EQ(e.vpp, vpp);
-    ASSERT_TRUE(std::isfinite(e.normal_peak_hz)) << vpp;
-    ASSERT_TRUE(std::isfinite(e.tangential_peak_hz)) << vpp;
-    EXPECT_GT(e.normal_peak_hz, 30e3) << vpp;
-    EXPECT_LT(e.normal_peak_hz, 50e3) << vpp;
-    EXPECT_GT(e.tangential_peak_hz, 30e3) << vpp;
-    EXPECT_LT(e.tangential_peak_hz, 50e3) << vpp;
+  for (const double amplitude_v : {1.0, 50.0, 200.0, 400.0}) {
+    const ResonanceEstimate e = peak.at(amplitude_v, kReferenceAmbientC);
+    EXPECT_EQ(e.amplitude_v, amplitude_v);
+    ASSERT_TRUE(std::isfinite(e.normal_peak_hz)) << amplitude_v;
+    ASSERT_TRUE(std::isfinite(e.tangential_peak_hz)) << amplitude_v;
+    EXPECT_GT(e.normal_peak_hz, 30e3) << amplitude_v;
+    EXPECT_LT(e.normal_peak_hz, 50e3) << amplitude_v;
+    EXPECT_GT(e.tangential_peak_hz, 30e3) << amplitude_v;
+    EXPECT_LT(e.tangential_peak_hz, 50e3) << amplitude_v;
   }
 }
 
-TEST(ResonancePeak, PeaksSoftenFrom50To400Vpp) {
+TEST(ResonancePeak, PeaksSoftenFrom50To400V) {
   ResonancePeak peak(test::li2019_model());
   const ResonanceEstimate low = peak.at(50.0, kReferenceAmbientC);
   const ResonanceEstimate high = peak.at(400.0, kReferenceAmbientC);
@@ -50,28 +50,28 @@ TEST(ResonancePeak, PeaksAreTheHarmonicBalanceBackboneAtTheWholeVolt) {
   EXPECT_EQ(e.tangential_peak_hz, expected.tangential_peak_hz);
 }
 
-TEST(ResonancePeak, VppIsRoundedToTheNearestVolt) {
+TEST(ResonancePeak, AmplitudeIsRoundedToTheNearestVolt) {
   ResonancePeak peak(test::li2019_model());
   const ResonanceEstimate at_100 = peak.at(100.0, kReferenceAmbientC);
   const ResonanceEstimate below = peak.at(100.4, kReferenceAmbientC);
-  EXPECT_EQ(below.vpp, 100.0);
+  EXPECT_EQ(below.amplitude_v, 100.0);
   EXPECT_EQ(below.normal_peak_hz, at_100.normal_peak_hz);
   EXPECT_EQ(below.tangential_peak_hz, at_100.tangential_peak_hz);
   const ResonanceEstimate above = peak.at(100.6, kReferenceAmbientC);
-  EXPECT_EQ(above.vpp, 101.0);
+  EXPECT_EQ(above.amplitude_v, 101.0);
   const ResonanceEstimate at_101 = peak.at(101.0, kReferenceAmbientC);
   EXPECT_EQ(above.normal_peak_hz, at_101.normal_peak_hz);
   EXPECT_EQ(above.tangential_peak_hz, at_101.tangential_peak_hz);
 }
 
-TEST(ResonancePeak, VppBelowOneVoltOrNaNIsOneVolt) {
+TEST(ResonancePeak, AmplitudeBelowOneVoltOrNaNIsOneVolt) {
   ResonancePeak peak(test::li2019_model());
   const ResonanceEstimate one = peak.at(1.0, kReferenceAmbientC);
-  for (const double vpp : {0.0, 0.3, 1.4, -50.0, kNaN}) {
-    const ResonanceEstimate e = peak.at(vpp, kReferenceAmbientC);
-    EXPECT_EQ(e.vpp, 1.0) << vpp;
-    EXPECT_EQ(e.normal_peak_hz, one.normal_peak_hz) << vpp;
-    EXPECT_EQ(e.tangential_peak_hz, one.tangential_peak_hz) << vpp;
+  for (const double amplitude_v : {0.0, 0.3, 1.4, -50.0, kNaN}) {
+    const ResonanceEstimate e = peak.at(amplitude_v, kReferenceAmbientC);
+    EXPECT_EQ(e.amplitude_v, 1.0) << amplitude_v;
+    EXPECT_EQ(e.normal_peak_hz, one.normal_peak_hz) << amplitude_v;
+    EXPECT_EQ(e.tangential_peak_hz, one.tangential_peak_hz) << amplitude_v;
   }
 }
 
@@ -98,7 +98,7 @@ TEST(ResonancePeak, WithTheThermalEffectTheReferenceTemperatureIsUnshifted) {
 }
 
 // The linear peak (1 V: no softening) moves by sqrt of the stiffness factor, as a linear
-// oscillator's; at 400 Vpp the softening is there too, and it shrinks as the damping grows with
+// oscillator's; at 400 V the softening is there too, and it shrinks as the damping grows with
 // the temperature (x ~ F / (c w): less amplitude, less softening), so a hot peak moves less
 // than sqrt(stiffness) alone would say. The value is the balance with the simulator's factors.
 TEST(ResonancePeak, WithTheThermalEffectAHotterStatorMovesItsPeaksByStiffnessAndDamping) {

@@ -41,7 +41,7 @@ constexpr std::uint8_t kNode = 5;
 
 struct Rig {
   SharedState shared;
-  CanopenProfile profile{CanopenProfileConfig{kNode, 1.0, AmplifierLimits{}, 100}, shared};
+  CanopenProfile profile{CanopenProfileConfig{kNode, AmplifierLimits{}, 100}, shared};
   RecordingPort port;
   std::int64_t now_ns = 1'000'000'000;
   CanRxResult rx(const io::CanFrame& f) { return profile.receive(f, CanRxTime{now_ns, now_ns}, port); }

@@ -2,7 +2,7 @@
 // CANopen master (bench/swum_bench/canopen_link.py, written apart from this C++) can be tested on
 // a host without SocketCAN: tests/bench/test_canopen_link_profile.py drives it.
 //
-//   canopen_stdio_slave NODE VPP_PER_TERMINAL_VOLT
+//   canopen_stdio_slave NODE
 //
 // Each input line is one of:
 //   III#HEX                 a frame (cansend text), given to the profile as CanTransport gives it:
@@ -57,8 +57,8 @@ void print_request(const swum::emu::DriveRequest& r) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  if (argc != 3) {
-    std::fprintf(stderr, "usage: canopen_stdio_slave NODE VPP_PER_TERMINAL_VOLT\n");
+  if (argc != 2) {
+    std::fprintf(stderr, "usage: canopen_stdio_slave NODE\n");
     return 2;
   }
   swum::emu::SharedState shared;
@@ -66,7 +66,6 @@ int main(int argc, char** argv) {
   shared.lockstep = &clock;  // SYNC is the clock: synchronous PDOs act and are sampled at it
   swum::emu::CanopenProfileConfig config;
   config.node = static_cast<std::uint8_t>(std::atoi(argv[1]));
-  config.vpp_per_terminal_amplitude_v = std::atof(argv[2]);
   config.heartbeat_ms = 0;  // no heartbeat frames between the answers
   swum::emu::CanopenProfile profile(config, shared);
   PrintingPort port;

@@ -44,7 +44,7 @@ class CanTransportTest : public ::testing::Test {
     c.mode = mode;
     c.alive = alive;
     c.frequency_hz = frequency;
-    c.amplitude_vpp = 400;
+    c.amplitude_v = 400;
     ASSERT_TRUE(peer->send(protocol::can::encode_command(c, ids.command)).ok());
   }
   Reason wait_reject(std::uint64_t before) {
@@ -70,7 +70,7 @@ TEST_F(CanTransportTest, ValidCommandIsQueued) {
   EXPECT_EQ(c.source, CommandSource::can);
   EXPECT_EQ(c.action, Action::enable);
   EXPECT_NEAR(c.frequency_hz, 40000, 1e-9);
-  EXPECT_NEAR(c.amplitude_vpp, 400, 1e-9);
+  EXPECT_NEAR(c.amplitude_v, 400, 1e-9);
   // The fake timestamps at delivery: the receive time is that, on CLOCK_MONOTONIC.
   EXPECT_GE(static_cast<std::int64_t>(c.accepted_ns), before - 1'000'000);  // clock-pair reading jitter
   EXPECT_LE(static_cast<std::int64_t>(c.accepted_ns), after);
@@ -146,7 +146,7 @@ StampedCommand command_through(const StampRewritingBus::Rewrite& rewrite) {
   protocol::can::CommandFrame c;
   c.mode = 1;
   c.alive = 1;
-  c.amplitude_vpp = 100;
+  c.amplitude_v = 100;
   out.sent_ns = monotonic_now_ns();
   EXPECT_TRUE(peer->send(protocol::can::encode_command(c, protocol::can::ids_for_node(3).command)).ok());
   EXPECT_TRUE(eventually([&] { return shared.commands.try_pop(out.command); }, 2000ms));

@@ -18,14 +18,14 @@ const std::string kThermalConfig = swum::test::source_path("config/li2019_therma
 TEST(SwumBand, WritesTheRowsAndPrintsTheBand) {
   const auto out = swum::test::scratch_path("band", "band.csv");
   std::filesystem::remove(out);
-  auto r = run_swum({"band", "--config", kConfig, "--vpp", "100,400", "--frequency-hz", "39000:40500:50", "--out",
-                     out.string(), "--jobs", "2"});
+  auto r = run_swum({"band", "--config", kConfig, "--amplitude-v", "100,400", "--frequency-hz", "39000:40500:50",
+                     "--out", out.string(), "--jobs", "2"});
   ASSERT_EQ(r.status, 0) << r.output;
   EXPECT_EQ(r.output.rfind("operating band 39546 .. 40395 Hz (849 Hz wide)", 0), 0u) << r.output;
   EXPECT_NE(r.output.find("rows: 2 decided, 0 undecided\n"), std::string::npos) << r.output;
   const std::string csv = swum::test::read_file(out);
   EXPECT_EQ(csv.substr(0, csv.find('\n') + 1),
-            "vpp,load_n,temperature_rise_k,decided,frequency_hz,speed_mm_s,peak_frequency_hz,peak_speed_mm_s,"
+            "amplitude_v,load_n,temperature_rise_k,decided,frequency_hz,speed_mm_s,peak_frequency_hz,peak_speed_mm_s,"
             "margin_hz,collapse_hz,reason\n");
   EXPECT_NE(csv.find("\n100,0,0,1,40395,"), std::string::npos) << csv;
   EXPECT_NE(csv.find("\n400,0,0,1,39546,"), std::string::npos) << csv;
@@ -33,7 +33,7 @@ TEST(SwumBand, WritesTheRowsAndPrintsTheBand) {
 }
 
 TEST(SwumBand, JsonHasTheSummaryAndTheRowsOverTemperatureRises) {
-  auto r = run_swum({"band", "--config", kThermalConfig, "--vpp", "400", "--temperature-rise-k", "0,50",
+  auto r = run_swum({"band", "--config", kThermalConfig, "--amplitude-v", "400", "--temperature-rise-k", "0,50",
                      "--frequency-hz", "38750:40000:50", "--json"});
   ASSERT_EQ(r.status, 0) << r.output;
   const auto j = nlohmann::json::parse(r.output);
@@ -44,7 +44,7 @@ TEST(SwumBand, JsonHasTheSummaryAndTheRowsOverTemperatureRises) {
   ASSERT_EQ(rows.size(), 2u);
   EXPECT_EQ(rows[0].at("temperature_rise_k"), 0.0);
   EXPECT_EQ(rows[1].at("temperature_rise_k"), 50.0);
-  for (const char* key : {"vpp", "load_n", "frequency_hz", "speed_mm_s", "peak_frequency_hz", "peak_speed_mm_s",
+  for (const char* key : {"amplitude_v", "load_n", "frequency_hz", "speed_mm_s", "peak_frequency_hz", "peak_speed_mm_s",
                           "margin_hz", "collapse_hz"}) {
     EXPECT_TRUE(rows[1].at(key).is_number()) << key;
   }
@@ -55,10 +55,10 @@ TEST(SwumBand, JsonHasTheSummaryAndTheRowsOverTemperatureRises) {
 }
 
 TEST(SwumBand, AnUndecidedRowIsReportedAndFailsTheRun) {
-  auto r = run_swum({"band", "--config", kConfig, "--vpp", "100", "--frequency-hz", "39000:40000:50"});
+  auto r = run_swum({"band", "--config", kConfig, "--amplitude-v", "100", "--frequency-hz", "39000:40000:50"});
   EXPECT_EQ(r.status, 1) << r.output;
   EXPECT_NE(r.output.find("no operating band: no row decided\n"), std::string::npos) << r.output;
-  EXPECT_NE(r.output.find("100 Vpp, 0 N, 0 K rise: speed is highest at the top of the sweep"), std::string::npos);
+  EXPECT_NE(r.output.find("100 V, 0 N, 0 K rise: speed is highest at the top of the sweep"), std::string::npos);
   EXPECT_NE(r.output.find("swum: error: 1 of 1 rows undecided: the band may not cover them (see reason)\n"),
             std::string::npos)
       << r.output;
@@ -90,33 +90,35 @@ TEST_P(SwumBandRejects, WithOneLineNamingTheProblem) {
 
 INSTANTIATE_TEST_SUITE_P(
     BadInput, SwumBandRejects,
-    ::testing::Values(BadBand{{"--config", kConfig, "--vpp", "100,x"}, 2, "swum: error: --vpp: 'x' is not a number\n"},
-                      BadBand{{"--config", kConfig, "--vpp", "100", "--load", "0,,1"},
+    ::testing::Values(BadBand{{"--config", kConfig, "--amplitude-v", "100,x"},
+                              2,
+                              "swum: error: --amplitude-v: 'x' is not a number\n"},
+                      BadBand{{"--config", kConfig, "--amplitude-v", "100", "--load", "0,,1"},
                               2,
                               "swum: error: --load: empty entry in list '0,,1'\n"},
-                      BadBand{{"--config", kConfig, "--vpp", "100", "--temperature-rise-k", "0,50"},
+                      BadBand{{"--config", kConfig, "--amplitude-v", "100", "--temperature-rise-k", "0,50"},
                               2,
                               "swum: error: --temperature-rise-k: 50 K needs the thermal effect, but " + kConfig +
                                   " has [effects.thermal] enabled = false\n"},
-                      BadBand{{"--config", kThermalConfig, "--vpp", "100", "--temperature-rise-k", "nan"},
+                      BadBand{{"--config", kThermalConfig, "--amplitude-v", "100", "--temperature-rise-k", "nan"},
                               2,
                               "swum: error: --temperature-rise-k: 'nan' is not finite\n"},
-                      BadBand{{"--config", kThermalConfig, "--vpp", "100", "--temperature-rise-k", "500"},
+                      BadBand{{"--config", kThermalConfig, "--amplitude-v", "100", "--temperature-rise-k", "500"},
                               2,
                               "swum: error: --temperature-rise-k: 500 is outside 0..300 K\n"},
-                      BadBand{{"--config", kConfig, "--vpp", "100", "--margin-hz", "-5"},
+                      BadBand{{"--config", kConfig, "--amplitude-v", "100", "--margin-hz", "-5"},
                               2,
                               "swum: error: --margin-hz: must be within 0..10000\n"},
-                      BadBand{{"--config", kConfig, "--vpp", "100", "--frequency-hz", "40500:39000:50"},
+                      BadBand{{"--config", kConfig, "--amplitude-v", "100", "--frequency-hz", "40500:39000:50"},
                               2,
                               "swum: error: --frequency-hz: STOP in '40500:39000:50' is below START\n"},
-                      BadBand{{"--config", kConfig, "--vpp", "100", "--jobs", "-1"},
+                      BadBand{{"--config", kConfig, "--amplitude-v", "100", "--jobs", "-1"},
                               2,
                               "swum: error: --jobs: must be within 0..1024 (0 = all cores)\n"},
-                      BadBand{{"--config", kConfig, "--vpp", "100", "--bogus"},
+                      BadBand{{"--config", kConfig, "--amplitude-v", "100", "--bogus"},
                               2,
                               "swum: error: The following argument was not expected: --bogus (see swum --help)\n"},
-                      BadBand{{"--config", "/nonexistent/motor.toml", "--vpp", "100"},
+                      BadBand{{"--config", "/nonexistent/motor.toml", "--amplitude-v", "100"},
                               1,
                               "swum: error: cannot read /nonexistent/motor.toml: No such file or directory\n"}));
 

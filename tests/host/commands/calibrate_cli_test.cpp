@@ -41,13 +41,13 @@ fs::path preload_23_config() {
   return path;
 }
 
-// A tiny measured sweep of the motor with preload 23 N: 200 and 300 Vpp x 40.0-40.5 kHz, no
+// A tiny measured sweep of the motor with preload 23 N: 200 and 300 V x 40.0-40.5 kHz, no
 // load, speed only, 0.2 % noise (12 operating points, 4 held out).
 fs::path synthesised_sweep() {
   const fs::path points = scratch("points.csv");
-  std::string text = "vpp,frequency_hz,load_n\n";
-  for (int vpp : {200, 300}) {
-    for (int f = 40000; f <= 40500; f += 100) text += std::to_string(vpp) + "," + std::to_string(f) + ",0\n";
+  std::string text = "amplitude_v,frequency_hz,load_n\n";
+  for (int amplitude_v : {200, 300}) {
+    for (int f = 40000; f <= 40500; f += 100) text += std::to_string(amplitude_v) + "," + std::to_string(f) + ",0\n";
   }
   write(points, text);
   const fs::path out = scratch("measured.csv");
@@ -106,24 +106,25 @@ TEST(SwumCalibrate, BadInputsAreOneLineErrorsNamingWhatAndWhere) {
   expect_one_line_error({"--config", kConfig, "--measured", missing.string()}, "cannot read " + missing.string(), out);
 
   const fs::path bad = scratch("bad.csv");
-  write(bad, "vpp,frequency_hz,load_n,speed_mm_s\n100,40000,0,12\n100,40100,zero,3\n");
+  write(bad, "amplitude_v,frequency_hz,load_n,speed_mm_s\n100,40000,0,12\n100,40100,zero,3\n");
   expect_one_line_error({"--config", kConfig, "--measured", bad.string()},
                         bad.string() + ":3:3: column load_n: 'zero' is not a number", out);
 
   const fs::path kind = scratch("unknown_kind.toml");
-  write(kind, "[[fact]]\nkind = \"peak_frequency\"\nvpp = 250\ntarget = 40200\ntolerance = 200\n\n"
-              "[[fact]]\nkind = \"magic\"\nvpp = 250\ntarget = 1\ntolerance = 1\n");
+  write(kind, "[[fact]]\nkind = \"peak_frequency\"\npaper_v = 250\ntarget = 40200\ntolerance = 200\n\n"
+              "[[fact]]\nkind = \"magic\"\npaper_v = 250\ntarget = 1\ntolerance = 1\n");
   expect_one_line_error({"--config", kConfig, "--facts", kind.string()}, kind.string() + ":7: unknown kind 'magic'",
                         out);
   const fs::path tolerance = scratch("tolerance_0.toml");
-  write(tolerance, "[[fact]]\nkind = \"peak_frequency\"\nvpp = 250\ntarget = 40200\ntolerance = 0\n");
+  write(tolerance, "[[fact]]\nkind = \"peak_frequency\"\npaper_v = 250\ntarget = 40200\ntolerance = 0\n");
   expect_one_line_error({"--config", kConfig, "--facts", tolerance.string()}, tolerance.string() + ":", out);
   expect_one_line_error({"--config", kConfig, "--facts", tolerance.string()}, "tolerance", out);
 
   // Six distinct operating points (one repeated): too few to hold a quarter out.
   const fs::path few = scratch("few.csv");
-  write(few, "vpp,frequency_hz,load_n,speed_mm_s\n100,40000,0,12\n200,40100,0,30\n200,40100,0,31\n100,40200,0,10\n"
-             "100,40300,0,9\n100,40400,0,8\n100,40500,0,7\n");
+  write(few,
+        "amplitude_v,frequency_hz,load_n,speed_mm_s\n100,40000,0,12\n200,40100,0,30\n200,40100,0,31\n100,40200,0,10\n"
+        "100,40300,0,9\n100,40400,0,8\n100,40500,0,7\n");
   expect_one_line_error({"--config", kConfig, "--measured", few.string()},
                         few.string() + ": 6 distinct operating points; calibration needs at least 8", out);
 
@@ -203,7 +204,7 @@ TEST(SwumCalibrate, FitsThePreloadOfASynthesisedSweepAndHoldsE311AtItsPrior) {
   EXPECT_NE(text.find("\n#   contact.preload_n = "), std::string::npos) << text.substr(0, 600);
   EXPECT_NE(text.find("\n#   stator.e311_c_per_v_m = "), std::string::npos) << text.substr(0, 600);
   const CliRun sim = run_swum(
-      {"simulate", "--config", fitted.string(), "--vpp", "200", "--frequency-hz", "40200", "--json"});
+      {"simulate", "--config", fitted.string(), "--amplitude-v", "200", "--frequency-hz", "40200", "--json"});
   EXPECT_EQ(sim.status, 0) << sim.output;
 
   // The report directory: report.md, summary.json (the same object) and the plots.

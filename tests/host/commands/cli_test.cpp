@@ -59,8 +59,8 @@ TEST(SwumCli, VersionPrintsTheProjectVersion) {
 }
 
 TEST(SwumCli, SimulateJsonHasTheContractFields) {
-  const CliRun r = swum(
-      {"simulate", "--config", kConfig, "--vpp", "400", "--frequency-hz", "40000", "--duration-s", "0.02", "--json"});
+  const CliRun r = swum({"simulate", "--config", kConfig, "--amplitude-v", "400", "--frequency-hz", "40000",
+                         "--duration-s", "0.02", "--json"});
   ASSERT_EQ(r.status, 0) << r.output;
   const auto j = nlohmann::json::parse(r.output);
   for (const char* key :
@@ -73,10 +73,10 @@ TEST(SwumCli, SimulateJsonHasTheContractFields) {
 }
 
 TEST(SwumCli, SimulateWholeDurationRunsAllOfIt) {
-  const CliRun early = swum(
-      {"simulate", "--config", kConfig, "--vpp", "400", "--frequency-hz", "40000", "--duration-s", "0.3", "--json"});
-  const CliRun whole = swum({"simulate", "--config", kConfig, "--vpp", "400", "--frequency-hz", "40000", "--duration-s",
-                             "0.3", "--whole-duration", "--json"});
+  const CliRun early = swum({"simulate", "--config", kConfig, "--amplitude-v", "400", "--frequency-hz", "40000",
+                             "--duration-s", "0.3", "--json"});
+  const CliRun whole = swum({"simulate", "--config", kConfig, "--amplitude-v", "400", "--frequency-hz", "40000",
+                             "--duration-s", "0.3", "--whole-duration", "--json"});
   ASSERT_EQ(early.status, 0) << early.output;
   ASSERT_EQ(whole.status, 0) << whole.output;
   const auto e = nlohmann::json::parse(early.output);
@@ -90,8 +90,8 @@ TEST(SwumCli, SimulateWholeDurationRunsAllOfIt) {
 
 TEST(SwumCli, SimulateTraceIsACsvWithTimeAndForces) {
   const fs::path trace = scratch("trace.csv");
-  const CliRun r = swum({"simulate", "--config", kConfig, "--vpp", "300", "--frequency-hz", "40000", "--duration-s",
-                         "0.004", "--trace", trace.string()});
+  const CliRun r = swum({"simulate", "--config", kConfig, "--amplitude-v", "300", "--frequency-hz", "40000",
+                         "--duration-s", "0.004", "--trace", trace.string()});
   ASSERT_EQ(r.status, 0) << r.output;
   std::ifstream in(trace);
   std::string header;
@@ -106,13 +106,13 @@ TEST(SwumCli, SimulateTraceIsACsvWithTimeAndForces) {
 TEST(SwumCli, SweepWritesOneRowPerPointAndAPlot) {
   const fs::path csv = scratch("sweep.csv");
   const fs::path png = scratch("sweep.png");
-  const CliRun r = swum({"sweep", "--config", kConfig, "--vpp", "200,400", "--frequency-hz", "40000:40400:200",
+  const CliRun r = swum({"sweep", "--config", kConfig, "--amplitude-v", "200,400", "--frequency-hz", "40000:40400:200",
                          "--jobs", "2", "--out", csv.string(), "--plot", png.string()});
   ASSERT_EQ(r.status, 0) << r.output;
   std::istringstream text(slurp(csv));
   std::string header;
   std::getline(text, header);
-  EXPECT_EQ(header, "vpp,frequency_hz,load_n,speed_mm_s,tip_normal_um,tip_tangential_um,status");
+  EXPECT_EQ(header, "amplitude_v,frequency_hz,load_n,speed_mm_s,tip_normal_um,tip_tangential_um,status");
   std::vector<std::string> rows;
   for (std::string line; std::getline(text, line);) rows.push_back(line);
   ASSERT_EQ(rows.size(), 6u);
@@ -146,27 +146,31 @@ TEST_P(SwumCliRejects, WithOneLineNamingTheProblem) {
 INSTANTIATE_TEST_SUITE_P(
     BadInput, SwumCliRejects,
     ::testing::Values(
-        BadArguments{{"simulate", "--config", kConfig, "--vpp", "nan", "--frequency-hz", "40000"}, 2, "--vpp"},
-        BadArguments{{"simulate", "--config", kConfig, "--vpp", "100", "--frequency-hz", "4e4x"}, 2, "--frequency-hz"},
-        BadArguments{{"simulate", "--config", kConfig, "--vpp", "-5", "--frequency-hz", "40000"}, 2, "--vpp"},
-        BadArguments{{"simulate", "--config", kConfig, "--vpp", "100", "--frequency-hz", "inf"}, 2, "--frequency-hz"},
-        BadArguments{{"simulate", "--config", kConfig, "--vpp", "100", "--frequency-hz", "40000", "--drive-phase-deg",
-                      "400"},
+        BadArguments{
+            {"simulate", "--config", kConfig, "--amplitude-v", "nan", "--frequency-hz", "40000"}, 2, "--amplitude-v"},
+        BadArguments{
+            {"simulate", "--config", kConfig, "--amplitude-v", "100", "--frequency-hz", "4e4x"}, 2, "--frequency-hz"},
+        BadArguments{
+            {"simulate", "--config", kConfig, "--amplitude-v", "-5", "--frequency-hz", "40000"}, 2, "--amplitude-v"},
+        BadArguments{
+            {"simulate", "--config", kConfig, "--amplitude-v", "100", "--frequency-hz", "inf"}, 2, "--frequency-hz"},
+        BadArguments{{"simulate", "--config", kConfig, "--amplitude-v", "100", "--frequency-hz", "40000",
+                      "--drive-phase-deg", "400"},
                      2,
                      "--drive-phase-deg"},
-        BadArguments{{"simulate", "--config", "/nonexistent/m.toml", "--vpp", "100", "--frequency-hz", "40000"},
+        BadArguments{{"simulate", "--config", "/nonexistent/m.toml", "--amplitude-v", "100", "--frequency-hz", "40000"},
                      1,
                      "/nonexistent/m.toml"},
-        BadArguments{{"simulate", "--vpp", "100", "--frequency-hz", "40000", "--config"}, 2, "--config"},
-        BadArguments{{"sweep", "--config", kConfig, "--vpp", "100,,200", "--frequency-hz", "40000", "--out",
+        BadArguments{{"simulate", "--amplitude-v", "100", "--frequency-hz", "40000", "--config"}, 2, "--config"},
+        BadArguments{{"sweep", "--config", kConfig, "--amplitude-v", "100,,200", "--frequency-hz", "40000", "--out",
                       "/tmp/x.csv"},
                      2,
-                     "--vpp"},
-        BadArguments{{"sweep", "--config", kConfig, "--vpp", "100", "--frequency-hz", "41000:40000:100", "--out",
-                      "/tmp/x.csv"},
+                     "--amplitude-v"},
+        BadArguments{{"sweep", "--config", kConfig, "--amplitude-v", "100", "--frequency-hz", "41000:40000:100",
+                      "--out", "/tmp/x.csv"},
                      2,
                      "--frequency-hz"},
-        BadArguments{{"sweep", "--config", kConfig, "--vpp", "100", "--frequency-hz", "40000", "--out",
+        BadArguments{{"sweep", "--config", kConfig, "--amplitude-v", "100", "--frequency-hz", "40000", "--out",
                       "/nonexistent/x.csv"},
                      1,
                      "/nonexistent/x.csv"},

@@ -23,10 +23,10 @@ fs::path scratch(const std::string& name) { return swum::test::scratch_path("swu
 
 void write(const fs::path& path, const std::string& text) { std::ofstream(path) << text; }
 
-// 32 points of a session: 120-390 Vpp, 40.0-40.9 kHz, loads 0-3 N, 3 s apart.
+// 32 points of a session: 120-390 V, 40.0-40.9 kHz, loads 0-3 N, 3 s apart.
 fs::path points_csv() {
   const fs::path path = scratch("points.csv");
-  std::string text = "vpp,frequency_hz,load_n,time_s\n";
+  std::string text = "amplitude_v,frequency_hz,load_n,time_s\n";
   for (int i = 0; i < 32; ++i) {
     text += std::to_string(120 + (i * 37) % 271) + "," + std::to_string(40000 + (i * 290) % 900) + "," +
             std::to_string(i % 4) + "," + std::to_string(3 * i) + "\n";
@@ -57,14 +57,14 @@ TEST(SwumDiscrepancy, NamesAHiddenGuideFrictionAndWritesTheReport) {
     EXPECT_TRUE(fs::exists(out / file)) << file;
   }
   // The augmented config re-reads and runs.
-  const CliRun sim = run_swum(
-      {"simulate", "--config", (out / "augmented.toml").string(), "--vpp", "200", "--frequency-hz", "40500", "--json"});
+  const CliRun sim = run_swum({"simulate", "--config", (out / "augmented.toml").string(), "--amplitude-v", "200",
+                               "--frequency-hz", "40500", "--json"});
   EXPECT_EQ(sim.status, 0) << sim.output;
 }
 
 TEST(SwumDiscrepancy, BadInputsAreOneLineErrorsWithExitCodes) {
   const fs::path bad = scratch("bad.csv");
-  write(bad, "vpp,frequency_hz,load_n,speed_mm_s\n100,40000,0,12\n100,40100,zero,3\n");
+  write(bad, "amplitude_v,frequency_hz,load_n,speed_mm_s\n100,40000,0,12\n100,40100,zero,3\n");
   CliRun r = run_swum(
       {"discrepancy", "--config", kConfig, "--measured", bad.string(), "--out", scratch("bad_out").string()});
   EXPECT_EQ(r.status, 1) << r.output;
@@ -85,7 +85,7 @@ TEST(SwumDiscrepancy, BadInputsAreOneLineErrorsWithExitCodes) {
   EXPECT_FALSE(fs::exists(out));
   // Too few operating points to hold any out: refused before any fitting, naming the count.
   const fs::path few = scratch("few.csv");
-  write(few, "vpp,frequency_hz,load_n,speed_mm_s\n100,40000,0,12\n200,40100,0,30\n200,40100,0,31\n");
+  write(few, "amplitude_v,frequency_hz,load_n,speed_mm_s\n100,40000,0,12\n200,40100,0,30\n200,40100,0,31\n");
   r = run_swum({"discrepancy", "--config", kConfig, "--measured", few.string(), "--out", scratch("few_out").string()});
   EXPECT_EQ(r.status, 1) << r.output;
   EXPECT_NE(r.output.find("2 distinct operating points; the workflow needs at least 16"), std::string::npos)
@@ -100,7 +100,7 @@ TEST(SwumDiscrepancy, BadInputsAreOneLineErrorsWithExitCodes) {
 // used to be dropped silently here while calibrate refused it), blanks around a name are dropped.
 TEST(SwumDiscrepancy, EmptyNamesInListsAreRefusedBeforeAnyWork) {
   const fs::path few = scratch("few_names.csv");
-  write(few, "vpp,frequency_hz,load_n,speed_mm_s\n100,40000,0,12\n200,40100,0,30\n");
+  write(few, "amplitude_v,frequency_hz,load_n,speed_mm_s\n100,40000,0,12\n200,40100,0,30\n");
   const std::string out = scratch("names_out").string();
   CliRun r = run_swum(
       {"discrepancy", "--config", kConfig, "--measured", few.string(), "--out", out, "--effects", "thermal,,wear"});
@@ -121,7 +121,7 @@ TEST(SwumDiscrepancy, EmptyNamesInListsAreRefusedBeforeAnyWork) {
 // to drop an empty name silently and refuse a name with a blank before it as unknown).
 TEST(SwumSynth, QuantityListsFollowTheOneCommaListRule) {
   const fs::path two = scratch("two_points.csv");
-  write(two, "vpp,frequency_hz,load_n\n100,40000,0\n200,40100,0\n");
+  write(two, "amplitude_v,frequency_hz,load_n\n100,40000,0\n200,40100,0\n");
   const fs::path out = scratch("quantities.csv");
   fs::remove(out);
   for (const std::string list : {"speed,,tip_normal", "speed,", ",speed", ""}) {
@@ -135,7 +135,7 @@ TEST(SwumSynth, QuantityListsFollowTheOneCommaListRule) {
                              " speed, tip_normal ", "--out", out.string()});
   ASSERT_EQ(r.status, 0) << r.output;
   const std::string text = swum::test::read_file(out);
-  EXPECT_NE(text.find("\nvpp,frequency_hz,load_n,speed_mm_s,tip_normal_um\n"), std::string::npos) << text;
+  EXPECT_NE(text.find("\namplitude_v,frequency_hz,load_n,speed_mm_s,tip_normal_um\n"), std::string::npos) << text;
   EXPECT_EQ(text.find("tip_tangential"), std::string::npos) << text;
   // Repeating the option adds to the list, as before.
   const CliRun repeated = run_swum({"synth", "--config", kConfig, "--points", two.string(), "--noise", "0",
@@ -154,7 +154,8 @@ TEST(SwumSynth, LinearRepeatsAndNoiseFreeDataAreReproducible) {
   }
   const std::string text = swum::test::read_file(a);
   EXPECT_EQ(text, swum::test::read_file(b));
-  EXPECT_NE(text.find("vpp,frequency_hz,load_n,time_s,speed_mm_s,tip_normal_um,tip_tangential_um"), std::string::npos);
+  EXPECT_NE(text.find("amplitude_v,frequency_hz,load_n,time_s,speed_mm_s,tip_normal_um,tip_tangential_um"),
+            std::string::npos);
   EXPECT_EQ(std::count(text.begin(), text.end(), '\n'), 2 + 64);  // comment, header, 2 x 32
 }
 

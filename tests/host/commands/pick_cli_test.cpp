@@ -19,34 +19,35 @@ const std::string kConfig = swum::test::source_path("config/li2019.toml");
 TEST(SwumPick, PicksLowerFrequencyAtHigherVoltageWithAGainOverNaive) {
   const auto sweep = swum::test::scratch_path("pick", "sweep.csv");
   const auto schedule = swum::test::scratch_path("pick", "schedule.csv");
-  auto r = run_swum({"sweep", "--config", kConfig, "--vpp", "100,300,400", "--frequency-hz", "39300:40600:50", "--out",
-                     sweep.string()});
+  auto r = run_swum({"sweep", "--config", kConfig, "--amplitude-v", "100,300,400", "--frequency-hz", "39300:40600:50",
+                     "--out", sweep.string()});
   ASSERT_EQ(r.status, 0) << r.output;
-  r = run_swum({"pick", "--sweep", sweep.string(), "--vpp", "100,300,400", "--json", "--schedule", schedule.string()});
+  r = run_swum(
+      {"pick", "--sweep", sweep.string(), "--amplitude-v", "100,300,400", "--json", "--schedule", schedule.string()});
   ASSERT_EQ(r.status, 0) << r.output;
   const auto j = nlohmann::json::parse(r.output);
   ASSERT_EQ(j.size(), 3u);
   double previous = 1e9;
   for (const auto& p : j) {
-    for (const char* key : {"vpp", "frequency_hz", "speed_mm_s", "naive_speed_mm_s"}) {
+    for (const char* key : {"amplitude_v", "frequency_hz", "speed_mm_s", "naive_speed_mm_s"}) {
       ASSERT_TRUE(p.at(key).is_number()) << key << " " << p.dump();
     }
     EXPECT_LT(p.at("frequency_hz").get<double>(), previous) << p.dump();
     previous = p.at("frequency_hz").get<double>();
-    if (p.at("vpp").get<double>() >= 300.0) {
+    if (p.at("amplitude_v").get<double>() >= 300.0) {
       EXPECT_GT(p.at("speed_mm_s").get<double>(), 1.2 * p.at("naive_speed_mm_s").get<double>());
       EXPECT_LT(p.at("drift_hz").get<double>(), -300.0);
     }
   }
-  EXPECT_EQ(swum::test::read_file(schedule).substr(0, 24), "vpp,load_n,frequency_hz\n");
+  EXPECT_EQ(swum::test::read_file(schedule).substr(0, 24), "amplitude_v,load_n,frequency_hz\n");
 }
 
 TEST(SwumPick, RefusesATooCoarseSweepWithAReason) {
   const auto sweep = swum::test::scratch_path("pick", "coarse.csv");
-  auto r = run_swum(
-      {"sweep", "--config", kConfig, "--vpp", "100", "--frequency-hz", "39300:40600:400", "--out", sweep.string()});
+  auto r = run_swum({"sweep", "--config", kConfig, "--amplitude-v", "100", "--frequency-hz", "39300:40600:400", "--out",
+                     sweep.string()});
   ASSERT_EQ(r.status, 0) << r.output;
-  r = run_swum({"pick", "--sweep", sweep.string(), "--vpp", "100"});
+  r = run_swum({"pick", "--sweep", sweep.string(), "--amplitude-v", "100"});
   EXPECT_EQ(r.status, 1) << r.output;
   EXPECT_NE(r.output.find("undecided"), std::string::npos) << r.output;
 }
@@ -57,8 +58,10 @@ TEST(SwumPick, RefusesATooCoarseSweepWithAReason) {
 // voltages and loads (one list each, rows voltage-major in both), the default margin and grid,
 // then another margin on a coarser grid given to both.
 void expect_pick_equals_band(const std::vector<std::string>& extra) {
-  std::vector<std::string> pick = {"pick", "--config", kConfig, "--vpp", "100,250,400", "--load", "0,1.5", "--json"};
-  std::vector<std::string> band = {"band", "--config", kConfig, "--vpp", "100,250,400", "--load", "0,1.5", "--json"};
+  std::vector<std::string> pick = {"pick",        "--config", kConfig, "--amplitude-v",
+                                   "100,250,400", "--load",   "0,1.5", "--json"};
+  std::vector<std::string> band = {"band",        "--config", kConfig, "--amplitude-v",
+                                   "100,250,400", "--load",   "0,1.5", "--json"};
   pick.insert(pick.end(), extra.begin(), extra.end());
   band.insert(band.end(), extra.begin(), extra.end());
   const auto p = run_swum(pick);
@@ -72,7 +75,7 @@ void expect_pick_equals_band(const std::vector<std::string>& extra) {
   for (std::size_t i = 0; i < rows.size(); ++i) {
     const auto& pi = picks.at(i);
     const auto& bi = rows.at(i);
-    EXPECT_EQ(pi.at("vpp"), bi.at("vpp"));
+    EXPECT_EQ(pi.at("amplitude_v"), bi.at("amplitude_v"));
     EXPECT_EQ(pi.at("load_n"), bi.at("load_n"));
     ASSERT_TRUE(pi.at("decided").get<bool>() && bi.at("decided").get<bool>()) << pi.dump() << bi.dump();
     EXPECT_EQ(pi.at("frequency_hz").get<double>(), bi.at("frequency_hz").get<double>()) << pi.dump() << bi.dump();
@@ -91,10 +94,10 @@ TEST(SwumPick, GivesBandsFrequencyForTheSameMotorVoltageLoadAndMargin) {
 // against the default 25 Hz one, within 10 Hz (the vertex of a parabola through the top three points
 // of a skewed peak; measured <= 5 Hz on this motor).
 TEST(SwumPick, TheOperatingFrequencyHardlyDependsOnTheGrid) {
-  const auto fine = run_swum({"pick", "--config", kConfig, "--vpp", "100,300,400", "--json"});
+  const auto fine = run_swum({"pick", "--config", kConfig, "--amplitude-v", "100,300,400", "--json"});
   ASSERT_EQ(fine.status, 0) << fine.output;
   const auto coarse = run_swum(
-      {"pick", "--config", kConfig, "--vpp", "100,300,400", "--frequency-hz", "39000:41000:50", "--json"});
+      {"pick", "--config", kConfig, "--amplitude-v", "100,300,400", "--frequency-hz", "39000:41000:50", "--json"});
   ASSERT_EQ(coarse.status, 0) << coarse.output;
   const auto a = nlohmann::json::parse(fine.output);
   const auto b = nlohmann::json::parse(coarse.output);

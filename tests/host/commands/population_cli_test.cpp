@@ -47,16 +47,16 @@ TEST(SwumPopulation, WithTheDefaultsPicksAsSwumPickAndBand) {
                                             "[contact]\npreload_n = { distribution = \"normal\", sigma = 0 }\n");
   const auto out = swum::test::scratch_path("population", "zero_defaults.csv");
   const auto summary = swum::test::scratch_path("population", "zero_defaults.json");
-  auto r = run_swum({"population", "--config", kConfig, "--spreads", spreads, "--motors", "1", "--vpp", "350", "--out",
-                     out.string(), "--summary", summary.string()});
+  auto r = run_swum({"population", "--config", kConfig, "--spreads", spreads, "--motors", "1", "--amplitude-v", "350",
+                     "--out", out.string(), "--summary", summary.string()});
   ASSERT_EQ(r.status, 0) << r.output;
   const auto s = nlohmann::json::parse(swum::test::read_file(summary));
   const auto& v = s.at("voltages").at(0);
   ASSERT_EQ(v.at("decided").get<int>(), 1) << s.dump();
-  r = run_swum({"pick", "--config", kConfig, "--vpp", "350", "--json"});
+  r = run_swum({"pick", "--config", kConfig, "--amplitude-v", "350", "--json"});
   ASSERT_EQ(r.status, 0) << r.output;
   const double pick = nlohmann::json::parse(r.output).at(0).at("frequency_hz").get<double>();
-  r = run_swum({"band", "--config", kConfig, "--vpp", "350", "--json"});
+  r = run_swum({"band", "--config", kConfig, "--amplitude-v", "350", "--json"});
   ASSERT_EQ(r.status, 0) << r.output;
   const double band = nlohmann::json::parse(r.output).at("rows").at(0).at("frequency_hz").get<double>();
   EXPECT_EQ(v.at("frequency_hz").at("min").get<double>(), pick) << s.dump();
@@ -68,10 +68,10 @@ TEST(SwumPopulation, ZeroSpreadReproducesSwumPickConfigExactly) {
                                             "[contact]\npreload_n = { distribution = \"normal\", sigma = 0 }\n");
   const auto out = swum::test::scratch_path("population", "zero.csv");
   const auto summary = swum::test::scratch_path("population", "zero.json");
-  auto r = run_swum({"population", "--config", kConfig, "--spreads", spreads, "--motors", "2", "--vpp", "300",
+  auto r = run_swum({"population", "--config", kConfig, "--spreads", spreads, "--motors", "2", "--amplitude-v", "300",
                      "--frequency-hz", kGrid, "--out", out.string(), "--summary", summary.string()});
   ASSERT_EQ(r.status, 0) << r.output;
-  r = run_swum({"pick", "--config", kConfig, "--vpp", "300", "--frequency-hz", kGrid, "--json"});
+  r = run_swum({"pick", "--config", kConfig, "--amplitude-v", "300", "--frequency-hz", kGrid, "--json"});
   ASSERT_EQ(r.status, 0) << r.output;
   const auto pick = nlohmann::json::parse(r.output).at(0);
   const auto s = nlohmann::json::parse(swum::test::read_file(summary));
@@ -99,9 +99,9 @@ TEST(SwumPopulation, OperatingFrequencySpreadGrowsWithTheStiffnessSpread) {
     const std::string spreads = write_scratch(
         name + ".toml", "[stator]\ntarget_l1_frequency_hz = { distribution = \"normal\", sigma = " + sigma + " }\n");
     const auto out = swum::test::scratch_path("population", name + ".csv");
-    const auto r = run_swum({"population", "--config", kConfig, "--spreads", spreads, "--motors", "5", "--vpp", "300",
-                             "--frequency-hz", "39000:41000:50", "--seed", "3", "--yield", "0.6", "--json", "--out",
-                             out.string()});
+    const auto r = run_swum({"population", "--config", kConfig, "--spreads", spreads, "--motors", "5", "--amplitude-v",
+                             "300", "--frequency-hz", "39000:41000:50", "--seed", "3", "--yield", "0.6", "--json",
+                             "--out", out.string()});
     EXPECT_EQ(r.status, 0) << r.output;
     return std::pair{nlohmann::json::parse(r.output.substr(r.output.find('{'))), csv_rows(swum::test::read_file(out))};
   };
@@ -137,8 +137,8 @@ TEST(SwumPopulation, RejectedDrawsAreRecordedAndCountAgainstTheYield) {
       "rejects.toml", "[stator]\nhalf_height_mm = { distribution = \"uniform\", min = 5.3, max = 5.8 }\n"
                       "length_mm = { distribution = \"uniform\", min = 5.0, max = 5.6 }\n");
   const auto out = swum::test::scratch_path("population", "rejects.csv");
-  const auto r = run_swum({"population", "--config", explicit_config, "--spreads", spreads, "--motors", "6", "--vpp",
-                           "300", "--frequency-hz", "40000", "--out", out.string()});
+  const auto r = run_swum({"population", "--config", explicit_config, "--spreads", spreads, "--motors", "6",
+                           "--amplitude-v", "300", "--frequency-hz", "40000", "--out", out.string()});
   EXPECT_EQ(r.status, 1) << r.output;  // one frequency: nothing can be picked, no yield
   EXPECT_NE(r.output.find("no oscillator range reaches 95 % yield"), std::string::npos) << r.output;
   int rejected = 0;
@@ -167,9 +167,9 @@ TEST(SwumPopulation, BadInputIsAOneLineErrorNamingWhatAndWhere) {
       {{"--motors", "0"}, 2, "--motors: must be within 1..1000000"},
       {{"--motors", "-3"}, 2, "--motors"},
       {{"--yield", "1.5"}, 2, "--yield"},
-      {{"--vpp", "100,abc"}, 2, "--vpp"},
-      {{"--vpp", "100,100"}, 2, "--vpp: a voltage is given twice"},
-      {{"--vpp", "100,100.00005"}, 2, "--vpp: a voltage is given twice"},  // one curve to the pick
+      {{"--amplitude-v", "100,abc"}, 2, "--amplitude-v"},
+      {{"--amplitude-v", "100,100"}, 2, "--amplitude-v: a voltage is given twice"},
+      {{"--amplitude-v", "100,100.00005"}, 2, "--amplitude-v: a voltage is given twice"},  // one curve to the pick
       {{"--seed", "-1"}, 2, "--seed"},
       {{"--frequency-hz", "41000:39000:50"}, 2, "--frequency-hz"},
       {{"--margin-hz", "-1"}, 2, "--margin-hz"},
@@ -180,8 +180,8 @@ TEST(SwumPopulation, BadInputIsAOneLineErrorNamingWhatAndWhere) {
       {{"--out", "/nonexistent/dir/motors.csv"}, 1, "/nonexistent/dir/motors.csv.partial"},
   };
   for (const Case& c : cases) {
-    std::vector<std::string> args = {"population", "--config", kConfig, "--spreads", good, "--motors",
-                                     "3",          "--vpp",    "300",   "--out",     out};
+    std::vector<std::string> args = {"population", "--config",      kConfig, "--spreads", good, "--motors",
+                                     "3",          "--amplitude-v", "300",   "--out",     out};
     for (std::size_t k = 0; k + 1 < c.args.size(); k += 2) {
       const auto it = std::find(args.begin(), args.end(), c.args[k]);
       if (it != args.end()) {

@@ -36,7 +36,8 @@ fs::path synthetic_csv(const std::string& name, const swum::MotorParameters& tru
   swum::SyntheticAmplitudeOptions so;
   so.relative_noise = 0.02;
   so.seed = 5;
-  const std::vector<double> v = {50, 85, 120, 155, 190, 225, 260, 295, 330, 365};
+  // The paper's 50..365 Vpp on the literal reading (model_spec §0): terminal amplitudes of half.
+  const std::vector<double> v = {25, 42.5, 60, 77.5, 95, 112.5, 130, 147.5, 165, 182.5};
   const std::vector<double> f = {39250.0, 39500.0, 39750.0};
   const auto data = swum::synthesize_amplitudes(truth, v, f, so);
   const fs::path path = scratch(name);
@@ -47,23 +48,25 @@ fs::path synthetic_csv(const std::string& name, const swum::MotorParameters& tru
 TEST(SwumStator, CsvHasTheContractColumnsAndEveryBranch) {
   const fs::path out = scratch("stator.csv");
   fs::remove(out);
-  const CliRun r = swum_run(
-      {"stator", "--config", kLiteral, "--vpp", "400", "--frequency-hz", "39000:39500:250", "--out", out.string()});
+  const CliRun r = swum_run({"stator", "--config", kLiteral, "--amplitude-v", "400", "--frequency-hz",
+                             "39000:39500:250", "--out", out.string()});
   ASSERT_EQ(r.status, 0) << r.output;
   const std::string csv = slurp(out);
-  EXPECT_EQ(csv.substr(0, csv.find('\n')), "vpp,frequency_hz,branch,stable,tip_normal_um,tip_tangential_um");
+  EXPECT_EQ(csv.substr(0, csv.find('\n')), "amplitude_v,frequency_hz,branch,stable,tip_normal_um,tip_tangential_um");
+  // The literal motor at the paper's 400 Vpp (a 200 V amplitude, model_spec §0):
   // 39.0 kHz: three tangential branches (upper and lower stable, middle unstable); 39.25 and
   // 39.5 kHz: one each.
   EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 1 + 3 + 1 + 1) << csv;
-  EXPECT_NE(csv.find("400,39000,1,0,"), std::string::npos) << csv;
+  EXPECT_NE(csv.find("200,39000,1,0,"), std::string::npos) << csv;
 }
 
 TEST(SwumStator, JsonHasRowsAndTheSofteningBackbone) {
-  const CliRun r = swum_run({"stator", "--config", kLiteral, "--vpp", "50,400", "--frequency-hz", "39500", "--json"});
+  const CliRun r = swum_run(
+      {"stator", "--config", kLiteral, "--amplitude-v", "50,400", "--frequency-hz", "39500", "--json"});
   ASSERT_EQ(r.status, 0) << r.output;
   const auto j = nlohmann::json::parse(r.output);
   ASSERT_EQ(j.at("rows").size(), 2u);
-  for (const char* key : {"vpp", "frequency_hz", "branch", "stable", "tip_normal_um", "tip_tangential_um"}) {
+  for (const char* key : {"amplitude_v", "frequency_hz", "branch", "stable", "tip_normal_um", "tip_tangential_um"}) {
     EXPECT_TRUE(j.at("rows")[0].contains(key)) << key;
   }
   ASSERT_EQ(j.at("backbone").size(), 2u);
@@ -75,8 +78,8 @@ TEST(SwumStator, PlotWritesBothAxes) {
   const fs::path png = scratch("stator.png");
   fs::remove(png);
   fs::remove(scratch("stator_normal.png"));
-  const CliRun r = swum_run({"stator", "--config", kLiteral, "--vpp", "100,400", "--frequency-hz", "38500:40000:50",
-                             "--plot", png.string(), "--out", scratch("s.csv").string()});
+  const CliRun r = swum_run({"stator", "--config", kLiteral, "--amplitude-v", "100,400", "--frequency-hz",
+                             "38500:40000:50", "--plot", png.string(), "--out", scratch("s.csv").string()});
   ASSERT_EQ(r.status, 0) << r.output;
   EXPECT_GT(fs::file_size(png), 1000u);
   EXPECT_GT(fs::file_size(scratch("stator_normal.png")), 1000u);
@@ -155,13 +158,15 @@ TEST_P(SwumIdentifyRejects, MalformedCsvWithFileLineColumn) {
 INSTANTIATE_TEST_SUITE_P(
     Cases, SwumIdentifyRejects,
     ::testing::Values(
-        BadCsv{"missing_column", "vpp,frequency_hz,tip_normal_um\n50,39500,0.4\n",
+        BadCsv{"missing_column", "amplitude_v,frequency_hz,tip_normal_um\n50,39500,0.4\n",
                "1:4: missing column tip_tangential_um"},
-        BadCsv{"non_numeric", "vpp,frequency_hz,tip_normal_um,tip_tangential_um\n50,39500,0.4,0.7\n100,39500,x,1\n",
+        BadCsv{"non_numeric",
+               "amplitude_v,frequency_hz,tip_normal_um,tip_tangential_um\n50,39500,0.4,0.7\n100,39500,x,1\n",
                "3:3: column tip_normal_um: 'x' is not a number"},
-        BadCsv{"negative_voltage", "vpp,frequency_hz,tip_normal_um,tip_tangential_um\n-50,39500,0.4,0.7\n",
-               "2:1: column vpp: negative value"},
-        BadCsv{"too_few", "vpp,frequency_hz,tip_normal_um,tip_tangential_um\n50,39500,0.4,0.7\n100,39500,0.8,\n",
+        BadCsv{"negative_voltage", "amplitude_v,frequency_hz,tip_normal_um,tip_tangential_um\n-50,39500,0.4,0.7\n",
+               "2:1: column amplitude_v: negative value"},
+        BadCsv{"too_few",
+               "amplitude_v,frequency_hz,tip_normal_um,tip_tangential_um\n50,39500,0.4,0.7\n100,39500,0.8,\n",
                "3: only 3 amplitude values"}),
     [](const auto& info) { return std::string(info.param.name); });
 

@@ -55,29 +55,29 @@ TEST_P(SwumTrackRejects, WithOneLineAndWritesNothing) {
 INSTANTIATE_TEST_SUITE_P(
     BadInput, SwumTrackRejects,
     ::testing::Values(
-        BadTrack{{"--modbus", kNoDevice, "--vpp", "400", "--method", "x"},
+        BadTrack{{"--modbus", kNoDevice, "--amplitude-v", "400", "--method", "x"},
                  2,
                  "swum: error: --method: x: expected phase, speed or fixed\n"},
-        BadTrack{{"--modbus", kNoDevice, "--vpp", "400", "--method", "speed", "--motional-phase-deg", "-10"},
+        BadTrack{{"--modbus", kNoDevice, "--amplitude-v", "400", "--method", "speed", "--motional-phase-deg", "-10"},
                  2,
                  "swum: error: --motional-phase-deg: only with --method phase\n"},
-        BadTrack{{"--modbus", kNoDevice, "--vpp", "400", "--method", "fixed", "--motional-phase-deg", "-10"},
+        BadTrack{{"--modbus", kNoDevice, "--amplitude-v", "400", "--method", "fixed", "--motional-phase-deg", "-10"},
                  2,
                  "swum: error: --motional-phase-deg: only with --method phase\n"},
-        BadTrack{{"--vpp", "400"},
+        BadTrack{{"--amplitude-v", "400"},
                  2,
                  "swum: error: no device: give --modbus tcp://HOST:PORT | rtu:DEVICE:BAUD, --can "
                  "IFACE[:NODE] or --canopen IFACE:NODE\n"},
-        BadTrack{{"--modbus", kNoDevice}, 2, "swum: error: --vpp is required (see swum --help)\n"},
-        BadTrack{{"--modbus", kNoDevice, "--vpp", "400", "--bogus"},
+        BadTrack{{"--modbus", kNoDevice}, 2, "swum: error: --amplitude-v is required (see swum --help)\n"},
+        BadTrack{{"--modbus", kNoDevice, "--amplitude-v", "400", "--bogus"},
                  2,
                  "swum: error: The following argument was not expected: --bogus (see swum --help)\n"},
         // A device that does not answer: exit 1, nothing written.
-        BadTrack{{"--modbus", kNoDevice, "--vpp", "400"}, 1, kRefused},
-        BadTrack{{"--modbus", kNoDevice, "--vpp", "400", "--method", "speed"}, 1, kRefused}));
+        BadTrack{{"--modbus", kNoDevice, "--amplitude-v", "400"}, 1, kRefused},
+        BadTrack{{"--modbus", kNoDevice, "--amplitude-v", "400", "--method", "speed"}, 1, kRefused}));
 
 TEST(SwumTrack, OutIsRequired) {
-  const auto r = run_swum({"track", "--modbus", kNoDevice, "--vpp", "400"});
+  const auto r = run_swum({"track", "--modbus", kNoDevice, "--amplitude-v", "400"});
   EXPECT_EQ(r.status, 2) << r.output;
   EXPECT_EQ(r.output, "swum: error: --out is required (see swum --help)\n");
 }
@@ -86,9 +86,9 @@ TEST(SwumTrack, NumericSettingsAreCheckedBeforeTheDeviceIsOpened) {
   // Against a device that does not answer the option's error comes first, and nothing is written.
   const std::string out = scratch("numeric.csv");
   const std::pair<std::vector<std::string>, std::string> cases[] = {
-      {{"--vpp", "0"}, "--vpp: must be in (0, 10000]"},
-      {{"--vpp", "400", "--margin-hz", "-5"}, "--margin-hz: -5 outside 0..5000"},
-      {{"--vpp", "400", "--cycle-ms", "0"}, "--cycle-ms: must be within (0, 10000]"},
+      {{"--amplitude-v", "0"}, "--amplitude-v: must be in (0, 10000]"},
+      {{"--amplitude-v", "400", "--margin-hz", "-5"}, "--margin-hz: -5 outside 0..5000"},
+      {{"--amplitude-v", "400", "--cycle-ms", "0"}, "--cycle-ms: must be within (0, 10000]"},
   };
   for (const auto& [extra, message] : cases) {
     std::filesystem::remove(out + ".partial");
@@ -102,7 +102,7 @@ TEST(SwumTrack, NumericSettingsAreCheckedBeforeTheDeviceIsOpened) {
 }
 
 const std::string kBandHeader =
-    "vpp,load_n,temperature_rise_k,decided,frequency_hz,speed_mm_s,peak_frequency_hz,peak_speed_mm_s,margin_hz,"
+    "amplitude_v,load_n,temperature_rise_k,decided,frequency_hz,speed_mm_s,peak_frequency_hz,peak_speed_mm_s,margin_hz,"
     "collapse_hz,reason\n";
 const std::string kTrackHeader =
     "cycle,time_s,mode,frequency_hz,speed_mm_s,motional_phase_a_deg,phase_a_deg,current_a_a,current_b_a,power_w,"
@@ -133,12 +133,12 @@ std::string run_file() {
 TEST(SwumTrackReport, SharesAsTextAndJson) {
   const std::string run = "phase=" + run_file();
   auto r = run_swum(
-      {"track-report", "--run", run, "--band", band(), "--vpp", "400", "--skip-s", "0", "--block-s", "10"});
+      {"track-report", "--run", run, "--band", band(), "--amplitude-v", "400", "--skip-s", "0", "--block-s", "10"});
   ASSERT_EQ(r.status, 0) << r.output;
   EXPECT_EQ(r.output, "run      min share  final share  final frequency (Hz)  final margin (Hz)  final rise (K)\n"
                       "phase        0.900        0.900               39400.0              100.0            20.0\n");
-  r = run_swum(
-      {"track-report", "--run", run, "--band", band(), "--vpp", "400", "--skip-s", "0", "--block-s", "2", "--json"});
+  r = run_swum({"track-report", "--run", run, "--band", band(), "--amplitude-v", "400", "--skip-s", "0", "--block-s",
+                "2", "--json"});
   ASSERT_EQ(r.status, 0) << r.output;
   const auto j = nlohmann::json::parse(r.output);
   ASSERT_EQ(j.size(), 1u);
@@ -170,7 +170,7 @@ std::string with_files(std::string text) {
 }
 
 struct BadReport {
-  std::vector<std::string> args;  // after --band @band --vpp 400
+  std::vector<std::string> args;  // after --band @band --amplitude-v 400
   int status;
   std::string message;
 };
@@ -184,7 +184,7 @@ class SwumTrackReportRejects : public ::testing::TestWithParam<BadReport> {};
 
 TEST_P(SwumTrackReportRejects, WithOneLine) {
   std::filesystem::remove(scratch("missing.csv"));
-  std::vector<std::string> args = {"track-report", "--band", band(), "--vpp", "400"};
+  std::vector<std::string> args = {"track-report", "--band", band(), "--amplitude-v", "400"};
   for (const std::string& arg : GetParam().args) args.push_back(with_files(arg));
   const auto r = run_swum(args);
   EXPECT_EQ(r.status, GetParam().status) << r.output;
@@ -207,12 +207,12 @@ INSTANTIATE_TEST_SUITE_P(
                                 "swum: error: hot: temperature rise 30.5 K at t = 2 s outside the band's 0..20 K\n"},
                       BadReport{{"--run", "phase=@run", "--load", "1"},
                                 1,
-                                "swum: error: @band: fewer than two decided rows at 400 Vpp and 1 N\n"}));
+                                "swum: error: @band: fewer than two decided rows at 400 V and 1 N\n"}));
 
 TEST(SwumTrackReport, AMissingBandFileIsNamed) {
   const std::string missing = scratch("no_band.csv");
   std::filesystem::remove(missing);
-  const auto r = run_swum({"track-report", "--run", "phase=" + run_file(), "--band", missing, "--vpp", "400"});
+  const auto r = run_swum({"track-report", "--run", "phase=" + run_file(), "--band", missing, "--amplitude-v", "400"});
   EXPECT_EQ(r.status, 1) << r.output;
   EXPECT_EQ(r.output, "swum: error: " + missing + ": cannot open\n");
 }
@@ -222,7 +222,7 @@ TEST(SwumTrackReport, AMissingBandFileIsNamed) {
 TEST(SwumTrackReport, RunSyntaxIsCheckedBeforeAnyFileIsRead) {
   const std::string missing = scratch("no_band.csv");
   std::filesystem::remove(missing);
-  const auto r = run_swum({"track-report", "--run", "phase", "--band", missing, "--vpp", "400"});
+  const auto r = run_swum({"track-report", "--run", "phase", "--band", missing, "--amplitude-v", "400"});
   EXPECT_EQ(r.status, 2) << r.output;
   EXPECT_EQ(r.output, "swum: error: --run: phase: expected NAME=FILE\n");
 }

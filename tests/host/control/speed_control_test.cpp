@@ -83,7 +83,7 @@ TEST(SpeedControl, RecoverableFaultIsResetAndReenabledAfterTheHoldoff) {
   ASSERT_NE(faulted, r.rows.end());
   const std::size_t f = faulted - r.rows.begin();
   EXPECT_EQ(r.rows[f + 1].action, DeviceAction::disable);
-  for (std::size_t i = f + 1; i <= f + 6; ++i) EXPECT_EQ(r.rows[i].vpp_command, 0.0) << i;
+  for (std::size_t i = f + 1; i <= f + 6; ++i) EXPECT_EQ(r.rows[i].amplitude_v_command, 0.0) << i;
   for (std::size_t i = f + 2; i <= f + 6; ++i) EXPECT_EQ(r.rows[i].action, DeviceAction::keep_alive) << i;
   EXPECT_EQ(r.rows[f + 7].action, DeviceAction::reset_fault);
   EXPECT_EQ(r.rows[f + 8].action, DeviceAction::enable);
@@ -100,7 +100,7 @@ TEST(SpeedControl, NonRecoverableFaultSwitchesTheDriveOffAndStops) {
     EXPECT_EQ(r.result.retries, 0);
     ASSERT_LT(r.rows.size(), 300u);
     EXPECT_EQ(r.rows.back().action, DeviceAction::disable);
-    EXPECT_EQ(r.rows.back().vpp_command, 0.0);
+    EXPECT_EQ(r.rows.back().amplitude_v_command, 0.0);
     EXPECT_EQ(std::count(device.actions.begin(), device.actions.end(), DeviceAction::reset_fault), 0);
     EXPECT_NE(device.state, 1);
   }

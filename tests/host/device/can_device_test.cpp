@@ -28,7 +28,7 @@ class FakeNode {
     telemetry_.state = protocol::AmpState::enabled;
     telemetry_.electrical = {0.1834, 0.1791, 61.23, 58.77, -4.32, 3.22, 8.77, 8.12};
     telemetry_.stator_temperature_c = 21.5;
-    telemetry_.output.vpp = 250.0;
+    telemetry_.output.amplitude_v = 250.0;
     telemetry_.output.frequency_hz = 40123.0;
     telemetry_.speed_m_s = 0.321;
     telemetry_.sim_time_s = 12.5;
@@ -98,7 +98,7 @@ TEST(CanDevice, ReadsCompleteTelemetrySetsWithTheDeviceClock) {
   const DeviceTelemetry b = device.read();
   EXPECT_EQ(a.state, 1);
   EXPECT_NEAR(a.speed_mm_s, 321.0, 1e-3);
-  EXPECT_NEAR(a.vpp, 250.0, 0.05);
+  EXPECT_NEAR(a.amplitude_v, 250.0, 0.05);
   EXPECT_NEAR(a.frequency_hz, 40123.0, 1e-3);
   ASSERT_TRUE(a.device_time_s && b.device_time_s);
   EXPECT_GT(*b.device_time_s, *a.device_time_s);
@@ -156,7 +156,7 @@ TEST(CanDevice, SendsValidCommandFramesWithAdvancingAliveCounters) {
   for (const auto& c : commands) EXPECT_EQ(c.reason, protocol::Reason::none) << protocol::to_string(c.reason);
   EXPECT_EQ(commands[0].frame.mode, 0);  // setpoint while disabled
   EXPECT_NEAR(commands[0].frame.frequency_hz, 39876.5, 0.05);
-  EXPECT_NEAR(commands[0].frame.amplitude_vpp, 321.25, 0.125);
+  EXPECT_NEAR(commands[0].frame.amplitude_v, 321.25, 0.125);
   EXPECT_NEAR(commands[0].frame.phase_deg, -90.0, 0.05);
   EXPECT_EQ(commands[1].frame.mode, 1);   // enable
   EXPECT_EQ(commands[20].frame.mode, 1);  // keep-alives repeat the mode

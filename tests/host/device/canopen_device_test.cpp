@@ -47,8 +47,7 @@ class Emulator {
     if (lockstep) shared_.lockstep = &clock_;
     core_ = std::make_unique<emu::EmulatorCore>(emu::test::li2019_model(), config, shared_);
     if (!scenario.events.empty()) core_->set_scenario(std::move(scenario), nullptr);
-    // li2019's voltage_convention is amplitude: the amplifier's vpp is the terminal amplitude.
-    auto profile = std::make_unique<emu::CanopenProfile>(emu::CanopenProfileConfig{kNode, 1.0, {}, -1}, shared_);
+    auto profile = std::make_unique<emu::CanopenProfile>(emu::CanopenProfileConfig{kNode, {}, -1}, shared_);
     emu::CanTransportConfig can;
     can.sync_ticks = kSyncTicks;
     transport_ = std::make_unique<emu::CanTransport>(network->attach("emu"), nullptr, std::move(profile), can, shared_,
@@ -234,7 +233,7 @@ TEST(CanopenDevice, LockstepStepsRunWholeSyncCyclesAndTheTelemetryIsTheCores) {
   EXPECT_NEAR(t.speed_mm_s, core.speed_m_s * 1e3, 0.0006);
   EXPECT_NEAR(t.position_mm, core.position_m * 1e3, 0.0006);
   EXPECT_NEAR(t.frequency_hz, 40200.0, 1e-9);
-  EXPECT_NEAR(t.vpp, 120.0, 1e-9);
+  EXPECT_NEAR(t.amplitude_v, 120.0, 1e-9);
   EXPECT_NEAR(t.phase_deg, 90.0, 1e-9);
   ASSERT_TRUE(t.stator_temperature_c);
   EXPECT_NEAR(*t.stator_temperature_c, core.stator_temperature_c, 0.006);
@@ -265,7 +264,7 @@ TEST(CanopenDevice, TheDeviceSweepMeasuresTheModelsSteadySpeedInLockstep) {
   for (const SweepRow& row : rows) {
     ASSERT_TRUE(row.ok) << row.status;
     OperatingPoint point;
-    point.vpp = row.vpp;
+    point.amplitude_v = row.amplitude_v;
     point.frequency_hz = row.frequency_hz;
     const SteadyStateResult model = run_to_steady_state(emu::test::li2019_model(), point);
     ASSERT_TRUE(model.ok) << model.failure;
@@ -285,8 +284,8 @@ SpeedControlResult control_run(std::vector<SpeedControlRow>& rows) {
   s.target_mm_s = 300.0;
   s.frequency_hz = 40000.0;
   s.duration_s = 0.3;
-  s.gains.kp_vpp_per_mm_s = kDefaultKpVppPerMmS;
-  s.gains.ki_vpp_per_mm = kDefaultKiVppPerMm;
+  s.gains.kp_v_per_mm_s = kDefaultKpVPerMmS;
+  s.gains.ki_v_per_mm = kDefaultKiVPerMm;
   SpeedControlHooks hooks;
   hooks.on_row = [&rows](const SpeedControlRow& row) { rows.push_back(row); };
   return run_speed_control(*device, s, hooks);
@@ -323,18 +322,17 @@ TEST(CanopenDevice, StepsThatAreNoWholeSyncCyclesAreRefused) {
   EXPECT_THROW((void)device->step({}, {}, DeviceAction::keep_alive, 0), DeviceError);
 }
 
-TEST(CanopenDevice, TheVoltageConventionScalesTheTerminalAmplitude) {
+// The set-point's amplitude is 0x2002's terminal amplitude one to one: 100 V is 100000 mV.
+TEST(CanopenDevice, TheAmplitudeIsTheTerminalAmplitudeOneToOne) {
   Emulator emu(true);
-  CanopenNode settings = lockstep_node();
-  settings.vpp_per_terminal_volt = 2.0;  // a peak_to_peak motor: 100 "vpp" is a 50 V amplitude
-  const auto device = open(emu, settings);
+  const auto device = open(emu);
   (void)frames(*emu.spy);
   device->set_drive({40300.0, 100.0, -90.0, 0.0});
   const auto rpdo1 = with_id(frames(*emu.spy), 0x200 + kNode);
   ASSERT_EQ(rpdo1.size(), 1U);
-  EXPECT_EQ(bytes_of(rpdo1[0]), (Bytes{0xE0, 0xED, 0x66, 0x02, 0x50, 0xC3, 0x00, 0x00}));  // 40300000 mHz, 50000 mV
+  EXPECT_EQ(bytes_of(rpdo1[0]), (Bytes{0xE0, 0xED, 0x66, 0x02, 0xA0, 0x86, 0x01, 0x00}));  // 40300000 mHz, 100000 mV
   (void)device->read();
-  EXPECT_EQ(emu.request().amplitude_mv, 50000U);
+  EXPECT_EQ(emu.request().amplitude_mv, 100000U);
   EXPECT_EQ(emu.request().phase_cdeg, -9000);
 }
 

@@ -66,35 +66,32 @@ TEST(CanopenPdoLayout, EveryEntryIsMappableAsTheEdsDescribesIt) {
 TEST(CanopenPdoLayout, RpdosCarryTheSetpointsInTheBussUnits) {
   DriveSetpoint s;
   s.frequency_hz = 40321.5;
-  s.vpp = 150.0;
+  s.amplitude_v = 150.0;
   s.phase_deg = -90.0;
   Setpoints out;
-  ASSERT_EQ(encode_setpoints(s, 2.0, out), "");  // peak_to_peak: 150 Vpp is a 75 V terminal amplitude
+  ASSERT_EQ(encode_setpoints(s, out), "");  // amplitude_v is 0x2002's terminal amplitude, one to one
   EXPECT_EQ(out.frequency_mhz, 40321500U);
-  EXPECT_EQ(out.amplitude_mv, 75000U);
+  EXPECT_EQ(out.amplitude_mv, 150000U);
   EXPECT_EQ(out.phase_cdeg, -9000);
   const protocol::CanFrame one = rpdo1(3, out);
   EXPECT_EQ(one.id, 0x203U);
-  EXPECT_EQ(bytes_of(one), (Bytes{0xDC, 0x41, 0x67, 0x02, 0xF8, 0x24, 0x01, 0x00}));
+  EXPECT_EQ(bytes_of(one), (Bytes{0xDC, 0x41, 0x67, 0x02, 0xF0, 0x49, 0x02, 0x00}));
   const protocol::CanFrame two = rpdo2(3, 0x000F, out);
   EXPECT_EQ(two.id, 0x303U);
   EXPECT_EQ(bytes_of(two), (Bytes{0x0F, 0x00, 0xD8, 0xDC}));
-  ASSERT_EQ(encode_setpoints(s, 1.0, out), "");  // amplitude: vpp is the terminal amplitude
-  EXPECT_EQ(out.amplitude_mv, 150000U);
 }
 
 TEST(CanopenPdoLayout, SetpointsTheObjectsCannotHoldAreNamed) {
   Setpoints out;
   DriveSetpoint s;
   s.phase_deg = 190.0;
-  EXPECT_EQ(encode_setpoints(s, 1.0, out),
-            "phase_deg 190 is outside what the CiA 402 drive takes (0x2003: -180..180 deg)");
+  EXPECT_EQ(encode_setpoints(s, out), "phase_deg 190 is outside what the CiA 402 drive takes (0x2003: -180..180 deg)");
   s = DriveSetpoint{};
-  s.vpp = -1.0;
-  EXPECT_EQ(encode_setpoints(s, 1.0, out), "vpp -1 is outside what the CiA 402 drive takes (0x2002: UNSIGNED32 mV)");
+  s.amplitude_v = -1.0;
+  EXPECT_EQ(encode_setpoints(s, out), "amplitude_v -1 is outside what the CiA 402 drive takes (0x2002: UNSIGNED32 mV)");
   s = DriveSetpoint{};
   s.frequency_hz = std::nan("");
-  EXPECT_NE(encode_setpoints(s, 1.0, out).find("frequency_hz nan"), std::string::npos);
+  EXPECT_NE(encode_setpoints(s, out).find("frequency_hz nan"), std::string::npos);
 }
 
 TEST(CanopenPdoLayout, TpdosBecomeTelemetry) {
@@ -107,13 +104,13 @@ TEST(CanopenPdoLayout, TpdosBecomeTelemetry) {
   EXPECT_EQ(decode_tpdo(3, frame(0x383, {0x3C, 0xF6, 0xFF, 0xFF, 0x28, 0x23}), a), "");
   // TPDO4: 25.31 °C.
   EXPECT_EQ(decode_tpdo(4, frame(0x483, {0xE3, 0x09, 0x00, 0x00}), a), "");
-  const DeviceTelemetry t = telemetry_of(a, 2.0);
+  const DeviceTelemetry t = telemetry_of(a);
   EXPECT_EQ(t.state, static_cast<int>(protocol::AmpState::enabled));
   EXPECT_TRUE(t.drive_on);
   EXPECT_EQ(t.fault_code, 0);
   EXPECT_DOUBLE_EQ(t.speed_mm_s, 123.456);
   EXPECT_DOUBLE_EQ(t.frequency_hz, 40123.456);
-  EXPECT_DOUBLE_EQ(t.vpp, 201.0);  // 100.5 V terminal amplitude, peak_to_peak convention
+  EXPECT_DOUBLE_EQ(t.amplitude_v, 100.5);  // 0x2011, one to one
   EXPECT_DOUBLE_EQ(t.position_mm, -2.5);
   EXPECT_DOUBLE_EQ(t.phase_deg, 90.0);
   ASSERT_TRUE(t.stator_temperature_c);
@@ -122,7 +119,7 @@ TEST(CanopenPdoLayout, TpdosBecomeTelemetry) {
   EXPECT_FALSE(t.device_time_s);
   // A fault: statusword 0x0208, error code 0x4310 -> over_temperature (4).
   EXPECT_EQ(decode_tpdo(1, frame(0x183, {0x08, 0x02, 0x10, 0x43, 0, 0, 0, 0}), a), "");
-  const DeviceTelemetry f = telemetry_of(a, 1.0);
+  const DeviceTelemetry f = telemetry_of(a);
   EXPECT_EQ(f.state, static_cast<int>(protocol::AmpState::fault));
   EXPECT_EQ(f.fault_code, 4);
   EXPECT_FALSE(f.drive_on);
@@ -137,11 +134,11 @@ TEST(CanopenPdoLayout, ErrorCodesBecomeSwumFaultCodesOrStayAsTheyAre) {
   for (const FaultCode fault : {FaultCode::none, FaultCode::command_timeout, FaultCode::numerical,
                                 FaultCode::over_current, FaultCode::over_temperature}) {
     a.error_code = canopen::error_code(fault);
-    EXPECT_EQ(telemetry_of(a, 1.0).fault_code, static_cast<int>(fault)) << protocol::to_string(fault);
+    EXPECT_EQ(telemetry_of(a).fault_code, static_cast<int>(fault)) << protocol::to_string(fault);
   }
   for (const std::uint16_t code : {0x8130, 0x1000, 0x8210, 0xFFFF}) {  // heartbeat, generic, PDO length, any
     a.error_code = code;
-    EXPECT_EQ(telemetry_of(a, 1.0).fault_code, code) << std::hex << code;
+    EXPECT_EQ(telemetry_of(a).fault_code, code) << std::hex << code;
   }
 }
 

@@ -24,7 +24,7 @@ DeviceSweepPlan plan_for(std::vector<double> voltages, std::vector<double> frequ
   p.frequencies_hz = std::move(frequencies);
   p.settle_s = 0.04;
   p.dwell_s = 0.02;
-  p.ramp_vpp_per_s = 4000.0;
+  p.amplitude_slew_v_per_s = 4000.0;
   p.poll_interval_s = 0.0;  // the fake answers instantly; its clock advances per read
   return p;
 }
@@ -40,13 +40,13 @@ TEST(DeviceSweep, SweepsEachVoltageDownwardAndMeasuresTheSteadySpeed) {
   for (const SweepRow& r : rows) {
     ASSERT_TRUE(r.ok) << r.status;
     // Settled for 40 ms = 8 time constants: within 0.1 % of the steady value.
-    EXPECT_NEAR(r.speed_mm_s, FakeDevice::steady_speed_mm_s(r.frequency_hz, r.vpp),
-                1e-3 * FakeDevice::steady_speed_mm_s(r.frequency_hz, r.vpp));
+    EXPECT_NEAR(r.speed_mm_s, FakeDevice::steady_speed_mm_s(r.frequency_hz, r.amplitude_v),
+                1e-3 * FakeDevice::steady_speed_mm_s(r.frequency_hz, r.amplitude_v));
     EXPECT_GE(r.speed_spread_mm_s, 0.0);
   }
   EXPECT_EQ(device.state, 0) << "drive must be off at the end";
   EXPECT_EQ(device.actions.back(), DeviceAction::disable);
-  EXPECT_EQ(device.slew_vpp_per_s, 4000.0);
+  EXPECT_EQ(device.slew_v_per_s, 4000.0);
   EXPECT_EQ(device.faults_tripped, 0);
 }
 
@@ -58,8 +58,8 @@ TEST(DeviceSweep, EachVoltageStartsAtZeroAmplitudeAboveResonance) {
   EXPECT_EQ(std::count(device.actions.begin(), device.actions.end(), DeviceAction::enable), 2);
   bool saw_zero_at_top = false;
   for (const DriveSetpoint& s : device.setpoints) {
-    if (s.vpp == 0.0 && s.frequency_hz == 40500.0) saw_zero_at_top = true;
-    if (s.vpp > 0.0) {
+    if (s.amplitude_v == 0.0 && s.frequency_hz == 40500.0) saw_zero_at_top = true;
+    if (s.amplitude_v > 0.0) {
       EXPECT_TRUE(saw_zero_at_top) << "voltage applied before a zero-amplitude start";
     }
   }
@@ -113,7 +113,7 @@ TEST(DeviceSweep, RecordsTheDeviceClockAndTheContinuousSweepOfEachPoint) {
     std::size_t k = device.setpoints.size();
     while (k-- > 0) {
       const DriveSetpoint& s = device.setpoints[k];
-      if (s.frequency_hz == r.frequency_hz && s.vpp == r.vpp && s.load_n == r.load_n) break;
+      if (s.frequency_hz == r.frequency_hz && s.amplitude_v == r.amplitude_v && s.load_n == r.load_n) break;
     }
     ASSERT_LT(k, device.setpoints.size());
     const double after_setpoint_s = session_start_s + *r.time_s - device.setpoint_times_s[k];
@@ -134,7 +134,7 @@ TEST(DeviceSweep, ARestartAfterAFaultStartsANewSweep) {
   ASSERT_EQ(rows.size(), 8u);
   std::vector<int> sweeps;
   for (const SweepRow& r : rows) sweeps.push_back(r.sweep.value_or(-1));
-  // 200 Vpp: two points, the fault (still the first curve), the restarted rest; then 250 Vpp.
+  // 200 V: two points, the fault (still the first curve), the restarted rest; then 250 V.
   EXPECT_EQ(sweeps, (std::vector<int>{0, 0, 0, 1, 2, 2, 2, 2}));
   EXPECT_EQ(rows[2].status, "fault_numerical");
   ASSERT_TRUE(rows[2].time_s && rows[3].time_s);
@@ -198,7 +198,7 @@ TEST(DeviceSweep, PointsAreListedInSweepOrder) {
   sweep_device(device, p, rows);
   ASSERT_EQ(points.size(), rows.size());
   for (std::size_t i = 0; i < rows.size(); ++i) {
-    EXPECT_EQ(points[i].vpp, rows[i].vpp) << i;
+    EXPECT_EQ(points[i].amplitude_v, rows[i].amplitude_v) << i;
     EXPECT_EQ(points[i].frequency_hz, rows[i].frequency_hz) << i;
     EXPECT_EQ(points[i].load_n, rows[i].load_n) << i;
   }
@@ -241,7 +241,7 @@ TEST(DeviceSweep, AResumedSweepStartsTheNextCurveFromItsTopFrequencyAtRest) {
   ASSERT_EQ(rows.size(), 6u);
   for (std::size_t i = 0; i < rows.size(); ++i) {
     ASSERT_TRUE(rows[i].ok) << rows[i].status;
-    EXPECT_EQ(rows[i].vpp, points[3 + i].vpp) << i;
+    EXPECT_EQ(rows[i].amplitude_v, points[3 + i].amplitude_v) << i;
     EXPECT_EQ(rows[i].frequency_hz, points[3 + i].frequency_hz) << i;
     EXPECT_EQ(rows[i].sweep, 4 + static_cast<int>(i / 3)) << i;
     EXPECT_GT(*rows[i].time_s, 12.5) << i;
@@ -249,13 +249,13 @@ TEST(DeviceSweep, AResumedSweepStartsTheNextCurveFromItsTopFrequencyAtRest) {
       EXPECT_GT(*rows[i].time_s, *rows[i - 1].time_s) << i;
     }
   }
-  // 100 Vpp is never driven; 200 Vpp starts at zero amplitude at the top frequency.
+  // 100 V is never driven; 200 V starts at zero amplitude at the top frequency.
   EXPECT_EQ(std::count(device.actions.begin(), device.actions.end(), DeviceAction::enable), 2);
-  for (const DriveSetpoint& s : device.setpoints) EXPECT_NE(s.vpp, 100.0);
+  for (const DriveSetpoint& s : device.setpoints) EXPECT_NE(s.amplitude_v, 100.0);
   const auto first_driven = std::find_if(device.setpoints.begin(), device.setpoints.end(),
-                                         [](const DriveSetpoint& s) { return s.vpp > 0.0; });
+                                         [](const DriveSetpoint& s) { return s.amplitude_v > 0.0; });
   ASSERT_NE(first_driven, device.setpoints.begin());
-  EXPECT_EQ(std::prev(first_driven)->vpp, 0.0);
+  EXPECT_EQ(std::prev(first_driven)->amplitude_v, 0.0);
   EXPECT_EQ(std::prev(first_driven)->frequency_hz, 40400.0);
   EXPECT_EQ(device.state, 0);
 }
@@ -271,7 +271,7 @@ TEST(DeviceSweep, RefusesAnEmptyOrSillyPlan) {
   p.keep_alive_s = 0.2;  // longer than the 50 ms the protocol allows
   EXPECT_THROW(sweep_device(device, p, rows), std::invalid_argument);
   p = plan_for({100}, {40000});
-  p.ramp_vpp_per_s = 0.4;  // would be sent as 0 = "unlimited": a voltage step
+  p.amplitude_slew_v_per_s = 0.4;  // would be sent as 0 = "unlimited": a voltage step
   EXPECT_THROW(sweep_device(device, p, rows), std::invalid_argument);
   p = plan_for({100}, {40000});
   p.settle_s = std::numeric_limits<double>::infinity();  // would wait forever

@@ -30,7 +30,7 @@ std::vector<SweepRow> live_sweep(FakeDevice& device, std::vector<double> voltage
   p.frequencies_hz = std::move(frequencies_hz);
   p.settle_s = 0.04;
   p.dwell_s = 0.02;
-  p.ramp_vpp_per_s = 4000.0;
+  p.amplitude_slew_v_per_s = 4000.0;
   p.poll_interval_s = 0.0;
   std::vector<SweepRow> rows;
   sweep_device(device, p, rows);
@@ -48,7 +48,8 @@ TEST(SweepTable, ADeviceSweepCarriesTimeAndSweepAndReadsBack) {
   const std::vector<SweepRow> rows = live_sweep_with_a_fault();
   const std::string csv = format_sweep_csv(rows);
   EXPECT_EQ(first_line(csv),
-            "vpp,frequency_hz,load_n,time_s,sweep,speed_mm_s,tip_normal_um,tip_tangential_um,speed_spread_mm_s,status,"
+            "amplitude_v,frequency_hz,load_n,time_s,sweep,speed_mm_s,tip_normal_um,tip_tangential_um,speed_spread_mm_s,"
+            "status,"
             "current_a_a,current_b_a,phase_a_deg,phase_b_deg,motional_phase_a_deg,motional_phase_b_deg,power_w,"
             "stator_temperature_c");
   const std::vector<SweepRow> again = parse_sweep_csv(csv, "sweep.csv");
@@ -76,7 +77,7 @@ TEST(SweepTable, ElectricalMeansOverTheDwellOrEmptyCells) {
   const std::vector<SweepRow> rows = live_sweep_with_a_fault();
   const SweepRow& first = rows.front();
   ASSERT_TRUE(first.ok && first.electrical && first.stator_temperature_c);
-  EXPECT_NEAR(first.electrical->current_a_a, 6e-4 * 200, 1e-9);  // the fake: 0.6 mA per Vpp
+  EXPECT_NEAR(first.electrical->current_a_a, 6e-4 * 200, 1e-9);  // the fake: 0.6 mA per V
   EXPECT_NEAR(first.electrical->current_b_a, 0.98 * 6e-4 * 200, 1e-9);
   EXPECT_NEAR(first.electrical->phase_a_deg, 60.0, 1e-9);
   EXPECT_NEAR(first.electrical->power_w, 0.039 * 200, 1e-9);  // both phases
@@ -108,7 +109,7 @@ TEST(SweepTable, AModelSweepKeepsTheOfflineLayout) {
   SweepRow ok{300, 40400, 0, true, "ok", 210.5, 1.4, 1.2};
   SweepRow diverged{300, 40300, 0, false, "diverged"};
   const std::string csv = format_sweep_csv({ok, diverged});
-  EXPECT_EQ(csv, "vpp,frequency_hz,load_n,speed_mm_s,tip_normal_um,tip_tangential_um,status\n"
+  EXPECT_EQ(csv, "amplitude_v,frequency_hz,load_n,speed_mm_s,tip_normal_um,tip_tangential_um,status\n"
                  "300,40400,0,210.5,1.4,1.2,ok\n300,40300,0,,,,diverged\n");
   const std::vector<SweepRow> again = parse_sweep_csv(csv, "model.csv");
   ASSERT_EQ(again.size(), 2u);
@@ -143,7 +144,7 @@ TEST(SweepTable, HeaderAndRowsAreTheWholeTable) {
 }
 
 TEST(SweepTable, ABadTimeOrSweepCellNamesLineAndColumn) {
-  const std::string header = "vpp,frequency_hz,load_n,time_s,sweep,speed_mm_s,status\n";
+  const std::string header = "amplitude_v,frequency_hz,load_n,time_s,sweep,speed_mm_s,status\n";
   auto error_of = [](const std::string& text) {
     try {
       (void)parse_sweep_csv(text, "s.csv");
@@ -180,7 +181,7 @@ TEST(MeasurementFiles, ADeviceSweepIsAMeasurementFile) {
 }
 
 TEST(MeasurementFiles, ALogIsAMeasurementFile) {
-  // The log of a fake device: off, running at 250 Vpp, a numerical fault, running again.
+  // The log of a fake device: off, running at 250 V, a numerical fault, running again.
   FakeDevice device;
   device.watchdog_s = 0.0;
   std::string csv = kLogCsvHeader;

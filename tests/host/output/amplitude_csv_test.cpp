@@ -9,7 +9,7 @@
 namespace swum::host {
 namespace {
 
-const char* kHeader = "vpp,frequency_hz,tip_normal_um,tip_tangential_um\n";
+const char* kHeader = "amplitude_v,frequency_hz,tip_normal_um,tip_tangential_um\n";
 
 std::string error_of(const std::string& text, int min_amplitudes = 4) {
   try {
@@ -25,7 +25,7 @@ TEST(AmplitudeCsv, ReadsRowsWithEmptyAmplitudeCells) {
                                                                "150,39500,1.2,\r\n",
                                         "data.csv");
   ASSERT_EQ(rows.size(), 3u);
-  EXPECT_DOUBLE_EQ(rows[0].vpp, 50.0);
+  EXPECT_DOUBLE_EQ(rows[0].amplitude_v, 50.0);
   EXPECT_DOUBLE_EQ(*rows[0].tip_tangential_um, 0.72);
   EXPECT_FALSE(rows[1].tip_normal_um.has_value());
   EXPECT_DOUBLE_EQ(*rows[1].tip_tangential_um, 1.28);
@@ -35,15 +35,15 @@ TEST(AmplitudeCsv, ReadsRowsWithEmptyAmplitudeCells) {
 
 TEST(AmplitudeCsv, ColumnsInAnyOrderAndExtraColumnsIgnored) {
   const auto rows = parse_amplitude_csv(
-      "branch,tip_tangential_um,vpp,frequency_hz,tip_normal_um\n0,1,2,39000,3\n1,4,5,39000,6\n", "data.csv");
+      "branch,tip_tangential_um,amplitude_v,frequency_hz,tip_normal_um\n0,1,2,39000,3\n1,4,5,39000,6\n", "data.csv");
   ASSERT_EQ(rows.size(), 2u);
-  EXPECT_DOUBLE_EQ(rows[1].vpp, 5.0);
+  EXPECT_DOUBLE_EQ(rows[1].amplitude_v, 5.0);
   EXPECT_DOUBLE_EQ(*rows[1].tip_normal_um, 6.0);
   EXPECT_DOUBLE_EQ(*rows[1].tip_tangential_um, 4.0);
 }
 
 TEST(AmplitudeCsv, MissingColumnNamesFileLineAndColumn) {
-  const std::string e = error_of("vpp,frequency_hz,tip_normal_um\n1,2,3\n");
+  const std::string e = error_of("amplitude_v,frequency_hz,tip_normal_um\n1,2,3\n");
   EXPECT_NE(e.find("data.csv:1:4:"), std::string::npos) << e;
   EXPECT_NE(e.find("missing column tip_tangential_um"), std::string::npos) << e;
 }

@@ -18,7 +18,7 @@ std::filesystem::path scratch_dir() {
 
 TEST(WritePngPlot, WritesAPngFile) {
   const auto path = scratch_dir() / "speed.png";
-  PlotSpec spec{"speed", "frequency (kHz)", "speed (mm/s)", {{"100 Vpp", {39.0, 40.0, 41.0}, {1.0, 5.0, 2.0}}}};
+  PlotSpec spec{"speed", "frequency (kHz)", "speed (mm/s)", {{"100 V", {39.0, 40.0, 41.0}, {1.0, 5.0, 2.0}}}};
   write_png_plot(spec, path);
   std::ifstream in(path, std::ios::binary);
   char magic[8] = {};

@@ -24,9 +24,9 @@ std::filesystem::path fresh_path(const std::string& name) {
   return path;
 }
 
-SweepRow point(double vpp, double frequency_hz) {
+SweepRow point(double amplitude_v, double frequency_hz) {
   SweepRow r;
-  r.vpp = vpp;
+  r.amplitude_v = amplitude_v;
   r.frequency_hz = frequency_hz;
   r.ok = true;
   r.speed_mm_s = 10.0;
@@ -77,12 +77,13 @@ TEST(ReadSweepPartial, NamesWhatDoesNotBelongToThisSweep) {
   write_text_file_atomically(partial_path(path), header + format_sweep_row(kModelSweep, kPlanned[1]));
   EXPECT_EQ(message_of([&] { read_sweep_partial(path.string(), header, kPlanned); }),
             "--resume: row 1 of " + partial +
-                " is not at this sweep's point 1 (vpp,frequency_hz,load_n 100,40000,0): other --vpp, --frequency-hz or "
+                " is not at this sweep's point 1 (amplitude_v,frequency_hz,load_n 100,40000,0): other --amplitude-v, "
+                "--frequency-hz or "
                 "--load?");
   write_text_file_atomically(partial_path(path), header + format_sweep_row(kModelSweep, kPlanned[0]));
   EXPECT_EQ(message_of([&] { read_sweep_partial(path.string(), header, {}); }),
             "--resume: " + partial +
-                " has 1 rows, more than the points of this sweep (0): other --vpp, --frequency-hz or --load?");
+                " has 1 rows, more than the points of this sweep (0): other --amplitude-v, --frequency-hz or --load?");
 }
 
 TEST(RefuseToOverwriteSweepPartial, OnlyWhenThePartialHoldsARow) {

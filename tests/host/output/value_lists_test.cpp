@@ -8,7 +8,7 @@ namespace swum::host {
 namespace {
 
 TEST(ParseFiniteNumber, AcceptsPlainAndSignedNumbers) {
-  EXPECT_DOUBLE_EQ(parse_finite_number("250", "--vpp"), 250.0);
+  EXPECT_DOUBLE_EQ(parse_finite_number("250", "--amplitude-v"), 250.0);
   EXPECT_DOUBLE_EQ(parse_finite_number(" +4.0e4 ", "--frequency-hz"), 40000.0);
   EXPECT_DOUBLE_EQ(parse_finite_number("-3", "--load"), -3.0);
 }
@@ -16,23 +16,23 @@ TEST(ParseFiniteNumber, AcceptsPlainAndSignedNumbers) {
 TEST(ParseFiniteNumber, RejectsGarbageNanAndInfWithTheOptionName) {
   for (const char* bad : {"", "abc", "12x", "nan", "inf", "-inf", "1e999"}) {
     try {
-      parse_finite_number(bad, "--vpp");
+      parse_finite_number(bad, "--amplitude-v");
       FAIL() << "accepted '" << bad << "'";
     } catch (const std::invalid_argument& e) {
-      EXPECT_NE(std::string(e.what()).find("--vpp"), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find("--amplitude-v"), std::string::npos) << e.what();
     }
   }
 }
 
 TEST(ParseNumberList, SplitsOnCommas) {
-  EXPECT_EQ(parse_number_list("100,250, 400", "--vpp"), (std::vector<double>{100, 250, 400}));
-  EXPECT_EQ(parse_number_list("7", "--vpp"), (std::vector<double>{7}));
+  EXPECT_EQ(parse_number_list("100,250, 400", "--amplitude-v"), (std::vector<double>{100, 250, 400}));
+  EXPECT_EQ(parse_number_list("7", "--amplitude-v"), (std::vector<double>{7}));
 }
 
 TEST(ParseNumberList, RejectsEmptyEntries) {
-  EXPECT_THROW(parse_number_list("100,,400", "--vpp"), std::invalid_argument);
-  EXPECT_THROW(parse_number_list("100,", "--vpp"), std::invalid_argument);
-  EXPECT_THROW(parse_number_list("", "--vpp"), std::invalid_argument);
+  EXPECT_THROW(parse_number_list("100,,400", "--amplitude-v"), std::invalid_argument);
+  EXPECT_THROW(parse_number_list("100,", "--amplitude-v"), std::invalid_argument);
+  EXPECT_THROW(parse_number_list("", "--amplitude-v"), std::invalid_argument);
 }
 
 TEST(ParseRange, ExpandsStartStopStepInclusive) {

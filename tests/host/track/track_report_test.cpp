@@ -240,7 +240,7 @@ TEST(ReadTrackCsv, OneLineErrorsNameTheFileAndTheLine) {
 }
 
 const std::string kBandHeader =
-    "vpp,load_n,temperature_rise_k,decided,frequency_hz,speed_mm_s,peak_frequency_hz,peak_speed_mm_s,margin_hz,"
+    "amplitude_v,load_n,temperature_rise_k,decided,frequency_hz,speed_mm_s,peak_frequency_hz,peak_speed_mm_s,margin_hz,"
     "collapse_hz,reason\n";
 
 TEST(ReadBandCsv, TheDecidedRowsAtTheVoltageAndLoadByRise) {
@@ -266,21 +266,24 @@ TEST(ReadBandCsv, OneLineErrorsNameTheFileAndTheLine) {
   const std::string row = "400,0,0,1,39600,600,39500,610,100,39450,ok\n";
   const std::string one = write_file("band_one.csv", kBandHeader + row + "400,0,25,0,,,,,,,undecided\n");
   EXPECT_EQ(error_of([&] { (void)read_band_csv(one, 400.0, 0.0); }),
-            one + ": fewer than two decided rows at 400 Vpp and 0 N");
+            one + ": fewer than two decided rows at 400 V and 0 N");
   EXPECT_EQ(error_of([&] { (void)read_band_csv(one, 300.0, 2.5); }),
-            one + ": fewer than two decided rows at 300 Vpp and 2.5 N");
+            one + ": fewer than two decided rows at 300 V and 2.5 N");
   const std::string cells = write_file("band_cells.csv", kBandHeader + row + "400,0,25,1,39400,510\n");
   EXPECT_EQ(error_of([&] { (void)read_band_csv(cells, 400.0, 0.0); }), cells + ":3: 6 cells, the header has 11");
   const std::string word = write_file("band_word.csv", kBandHeader + row + "400,0,25,1,39400,quick,,,,,ok\n");
   EXPECT_EQ(error_of([&] { (void)read_band_csv(word, 400.0, 0.0); }), word + ":3: speed_mm_s 'quick' is not a number");
-  const std::string vpp = write_file("band_vpp.csv", kBandHeader + "4OO,0,0,1,39600,600,39500,610,100,39450,ok\n");
-  EXPECT_EQ(error_of([&] { (void)read_band_csv(vpp, 400.0, 0.0); }), vpp + ":2: vpp '4OO' is not a number");
-  const std::string column = write_file("band_column.csv", "vpp,load_n,temperature_rise_k,frequency_hz,speed_mm_s\n");
+  const std::string amplitude_v = write_file("band_amplitude_v.csv",
+                                             kBandHeader + "4OO,0,0,1,39600,600,39500,610,100,39450,ok\n");
+  EXPECT_EQ(error_of([&] { (void)read_band_csv(amplitude_v, 400.0, 0.0); }),
+            amplitude_v + ":2: amplitude_v '4OO' is not a number");
+  const std::string column = write_file("band_column.csv",
+                                        "amplitude_v,load_n,temperature_rise_k,frequency_hz,speed_mm_s\n");
   EXPECT_EQ(error_of([&] { (void)read_band_csv(column, 400.0, 0.0); }), column + ": no column decided");
   const std::string twice = write_file("band_twice.csv",
                                        kBandHeader + row + "400,0,0,1,39610,601,39510,611,100,39460,ok\n");
   EXPECT_EQ(error_of([&] { (void)read_band_csv(twice, 400.0, 0.0); }),
-            twice + ": two decided rows at a 0 K rise, 400 Vpp and 0 N");
+            twice + ": two decided rows at a 0 K rise, 400 V and 0 N");
 }
 
 }  // namespace

@@ -1,6 +1,6 @@
 // `swum track`'s loop (host/track/track_run.h) on the fake device: one row per cycle with the
 // telemetry of that cycle, the first exchange enabling and the last one switching the drive off
-// (0 Vpp, disable) however the run ends (completed, Ctrl-C, a fault, the tracker's refusal, a
+// (0 V, disable) however the run ends (completed, Ctrl-C, a fault, the tracker's refusal, a
 // device error), the row format, and the settings refused before anything is sent.
 #include "track/track_run.h"
 
@@ -30,7 +30,7 @@ FakeDevice lockstep_device() {
 TrackRunSettings settings_for(TrackMethod method, double duration_s) {
   TrackRunSettings s;
   s.tracker.method = method;
-  s.vpp = 100.0;  // the fake's peak: 40400 Hz
+  s.amplitude_v = 100.0;  // the fake's peak: 40400 Hz
   s.duration_s = duration_s;
   s.cycle_s = 0.02;
   return s;
@@ -52,10 +52,10 @@ TrackRun run(FakeDevice& device, const TrackRunSettings& s, std::function<bool(c
   return r;
 }
 
-// The drive was switched off by the last exchange: 0 Vpp and disable.
+// The drive was switched off by the last exchange: 0 V and disable.
 void expect_drive_off_last(const FakeDevice& device) {
   ASSERT_FALSE(device.setpoints.empty());
-  EXPECT_EQ(device.setpoints.back().vpp, 0.0);
+  EXPECT_EQ(device.setpoints.back().amplitude_v, 0.0);
   ASSERT_FALSE(device.actions.empty());
   EXPECT_EQ(device.actions.back(), DeviceAction::disable);
 }
@@ -74,7 +74,7 @@ TEST(TrackRun, OneRowPerCycleWithThatCyclesTelemetry) {
     EXPECT_EQ(row.cycle, i);
     EXPECT_NEAR(row.time_s, 0.02 * static_cast<double>(i + 1), 1e-9) << i;  // device time after the cycle
     EXPECT_EQ(row.frequency_hz, device.setpoints[i].frequency_hz) << i;     // what was driven in the cycle
-    EXPECT_EQ(device.setpoints[i].vpp, 100.0) << i;
+    EXPECT_EQ(device.setpoints[i].amplitude_v, 100.0) << i;
     EXPECT_EQ(device.setpoints[i].phase_deg, 90.0) << i;
     EXPECT_EQ(row.mode, TrackMode::search) << i;  // the cold search takes longer than 10 cycles
     EXPECT_EQ(row.state, 1) << i;
@@ -324,9 +324,9 @@ TEST(TrackRun, BadSettingsAreRefusedNamingTheOptionBeforeAnythingIsSent) {
     std::string message;
   };
   const std::vector<Bad> cases = {
-      {[](TrackRunSettings& s) { s.vpp = 0.0; }, "--vpp: must be in (0, 10000]"},
-      {[](TrackRunSettings& s) { s.vpp = 10001.0; }, "--vpp: must be in (0, 10000]"},
-      {[](TrackRunSettings& s) { s.vpp = std::nan(""); }, "--vpp: must be in (0, 10000]"},
+      {[](TrackRunSettings& s) { s.amplitude_v = 0.0; }, "--amplitude-v: must be in (0, 10000]"},
+      {[](TrackRunSettings& s) { s.amplitude_v = 10001.0; }, "--amplitude-v: must be in (0, 10000]"},
+      {[](TrackRunSettings& s) { s.amplitude_v = std::nan(""); }, "--amplitude-v: must be in (0, 10000]"},
       {[](TrackRunSettings& s) { s.drive_phase_deg = 181.0; },
        "--drive-phase-deg: must be in -180..180 and not 0 (its sign is the direction)"},
       {[](TrackRunSettings& s) { s.cycle_s = 0.0; }, "--cycle-ms: must be within (0, 10000]"},

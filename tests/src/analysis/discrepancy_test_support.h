@@ -14,9 +14,9 @@
 namespace swum::test {
 
 // A measured operating point at a session time, in a sweep (or none: a spot point).
-inline Measurement measurement_at(double vpp, double frequency_hz, double time_s, std::optional<int> sweep) {
+inline Measurement measurement_at(double amplitude_v, double frequency_hz, double time_s, std::optional<int> sweep) {
   Measurement m;
-  m.vpp = vpp;
+  m.amplitude_v = amplitude_v;
   m.frequency_hz = frequency_hz;
   m.time_s = time_s;
   m.sweep = sweep;

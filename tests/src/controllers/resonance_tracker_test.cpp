@@ -89,7 +89,7 @@ TEST(ResonanceTracker, SpeedSearchFindsThePeakAndHoldsTheMargin) {
   EXPECT_FALSE(plant.collapsed);
 }
 
-// The resonance falls by 450 Hz with a 30 s time constant (the thermal motor at 400 Vpp): the
+// The resonance falls by 450 Hz with a 30 s time constant (the thermal motor at 400 V): the
 // periodic searches keep the drive at peak + margin, within the drift of one probe interval.
 TEST(ResonanceTracker, SpeedFollowsAResonanceFallingWithTemperature) {
   Plant plant{[](double t) { return 39450.0 - 450.0 * (1.0 - std::exp(-t / 30.0)); }};

@@ -13,11 +13,11 @@ namespace {
 using Cells = std::vector<std::string_view>;
 
 TEST(CsvCells, BlanksAroundCellsAreTrimmedByDefault) {
-  EXPECT_EQ(split_csv_cells(" vpp ,\tfrequency_hz, 1 \r"), (Cells{"vpp", "frequency_hz", "1"}));
+  EXPECT_EQ(split_csv_cells(" amplitude_v ,\tfrequency_hz, 1 \r"), (Cells{"amplitude_v", "frequency_hz", "1"}));
 }
 
 TEST(CsvCells, NoneKeepsEveryByte) {
-  EXPECT_EQ(split_csv_cells(" vpp ,\tok, 1 \r", CsvCellTrim::none), (Cells{" vpp ", "\tok", " 1 \r"}));
+  EXPECT_EQ(split_csv_cells(" amplitude_v ,\tok, 1 \r", CsvCellTrim::none), (Cells{" amplitude_v ", "\tok", " 1 \r"}));
 }
 
 TEST(CsvCells, EmptyCellsCountInBothModes) {

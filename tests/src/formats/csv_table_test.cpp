@@ -15,11 +15,12 @@ namespace {
 using Cells = std::vector<std::string_view>;
 
 TEST(CsvTable, HandWrittenSkipsCommentsAndBlankLinesAnywhereAndTrims) {
-  const std::string text = "# a comment\n\n  vpp , frequency_hz\r\n  # indented comment\n \t\n100, 40000\r\n200,,\n";
+  const std::string text =
+      "# a comment\n\n  amplitude_v , frequency_hz\r\n  # indented comment\n \t\n100, 40000\r\n200,,\n";
   const CsvTable t = read_csv_table(text);
   ASSERT_TRUE(t.header);
   EXPECT_EQ(t.header->line, 3);
-  EXPECT_EQ(t.header->cells, (Cells{"vpp", "frequency_hz"}));
+  EXPECT_EQ(t.header->cells, (Cells{"amplitude_v", "frequency_hz"}));
   ASSERT_EQ(t.rows.size(), 2u);
   EXPECT_EQ(t.rows[0].line, 6);
   EXPECT_EQ(t.rows[0].cells, (Cells{"100", "40000"}));
@@ -32,18 +33,18 @@ TEST(CsvTable, HandWrittenSkipsCommentsAndBlankLinesAnywhereAndTrims) {
 }
 
 TEST(CsvTable, AsWrittenTakesLineOneAsTheHeaderAndKeepsEveryByte) {
-  const CsvTable t = read_csv_table(" vpp,status\r\n\n100, ok\r\n# not a comment\n", CsvLines::as_written);
+  const CsvTable t = read_csv_table(" amplitude_v,status\r\n\n100, ok\r\n# not a comment\n", CsvLines::as_written);
   ASSERT_TRUE(t.header);
   EXPECT_EQ(t.header->line, 1);
-  EXPECT_EQ(t.header->cells, (Cells{" vpp", "status"}));
-  EXPECT_EQ(t.column("vpp"), -1);  // names are compared exactly
+  EXPECT_EQ(t.header->cells, (Cells{" amplitude_v", "status"}));
+  EXPECT_EQ(t.column("amplitude_v"), -1);  // names are compared exactly
   ASSERT_EQ(t.rows.size(), 2u);
   EXPECT_EQ(t.rows[0].line, 3);
   EXPECT_EQ(t.rows[0].cells, (Cells{"100", " ok"}));
   EXPECT_EQ(t.rows[1].line, 4);
   EXPECT_EQ(t.rows[1].cells, (Cells{"# not a comment"}));
   // An empty first line is the (empty) header; an empty text has none.
-  const CsvTable blank_first = read_csv_table("\nvpp\n", CsvLines::as_written);
+  const CsvTable blank_first = read_csv_table("\namplitude_v\n", CsvLines::as_written);
   ASSERT_TRUE(blank_first.header);
   EXPECT_EQ(blank_first.header->cells, (Cells{""}));
   EXPECT_FALSE(read_csv_table("", CsvLines::as_written).header);
@@ -75,9 +76,9 @@ TEST(CsvTable, MessagesNameSourceLineAndColumn) {
 
 TEST(CsvTable, NumberCellsAreEmptyFiniteOrAProblemNamingTheColumn) {
   std::optional<double> value = 1.0;
-  EXPECT_EQ(csv_number_problem("", "vpp", value), "");
+  EXPECT_EQ(csv_number_problem("", "amplitude_v", value), "");
   EXPECT_FALSE(value);
-  EXPECT_EQ(csv_number_problem("+2.5e3", "vpp", value), "");
+  EXPECT_EQ(csv_number_problem("+2.5e3", "amplitude_v", value), "");
   EXPECT_EQ(value, 2500.0);
   EXPECT_EQ(csv_number_problem("abc", "speed_mm_s", value), "column speed_mm_s: 'abc' is not a number");
   EXPECT_FALSE(value);

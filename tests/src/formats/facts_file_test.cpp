@@ -29,7 +29,7 @@ std::string read(const std::string& path) {
 // A valid fact of six lines: a bad fact appended after it starts on line 7.
 const std::string kGoodFact = "[[fact]]\n"
                               "kind = \"speed\"\n"
-                              "vpp = 100\n"
+                              "paper_v = 100\n"
                               "frequency_hz = 40000\n"
                               "target = 10\n"
                               "tolerance = 1\n";
@@ -60,15 +60,15 @@ TEST(FactsFile, ThePapersFactsLoad) {
   EXPECT_EQ(facts[0].max, 50.0);
   EXPECT_EQ(facts[0].tolerance, 10.0);
   EXPECT_EQ(facts[0].centre(), 50.0);
-  EXPECT_EQ(facts[0].unit(), "Vpp");
+  EXPECT_EQ(facts[0].unit(), "V");
 
   // The dead zone as the validation tests state it: still at 40 Vpp, moving at 75 Vpp.
   EXPECT_EQ(facts[1].kind, FactKind::speed);
-  EXPECT_EQ(facts[1].vpp, 40.0);
+  EXPECT_EQ(facts[1].paper_v, 40.0);
   EXPECT_EQ(facts[1].min, -1.0);
   EXPECT_EQ(facts[1].max, 1.0);
   EXPECT_EQ(facts[2].kind, FactKind::speed);
-  EXPECT_EQ(facts[2].vpp, 75.0);
+  EXPECT_EQ(facts[2].paper_v, 75.0);
   EXPECT_EQ(facts[2].min, 2.0);
   EXPECT_EQ(facts[2].max, kInfinity);
   EXPECT_EQ(facts[2].unit(), "mm/s");
@@ -83,7 +83,7 @@ TEST(FactsFile, ThePapersFactsLoad) {
   for (std::size_t k = 0; k < 3; ++k) {
     const Fact& f = facts[4 + k];
     EXPECT_EQ(f.kind, FactKind::peak_frequency) << f.id;
-    EXPECT_EQ(f.vpp, voltages[k]) << f.id;
+    EXPECT_EQ(f.paper_v, voltages[k]) << f.id;
     ASSERT_TRUE(f.target.has_value()) << f.id;
     EXPECT_EQ(*f.target, peaks[k]) << f.id;
     EXPECT_EQ(f.min, peaks[k] - 200.0) << f.id;
@@ -99,7 +99,7 @@ TEST(FactsFile, ThePapersFactsLoad) {
 TEST(FactsFile, DefaultsAreTheDocumentedOnes) {
   const std::vector<Fact> facts = parse_facts("[[fact]]\n"
                                               "kind = \"peak_frequency\"\n"
-                                              "vpp = 250\n"
+                                              "paper_v = 250\n"
                                               "target = 40200\n"
                                               "tolerance = 200\n"
                                               "[[fact]]\n"
@@ -114,7 +114,7 @@ TEST(FactsFile, DefaultsAreTheDocumentedOnes) {
                                               "tolerance = 0.05\n"
                                               "[[fact]]\n"
                                               "kind = \"speed\"\n"
-                                              "vpp = 200\n"
+                                              "paper_v = 200\n"
                                               "frequency_hz = 40000\n"
                                               "min = 20\n"
                                               "tolerance = 5\n",
@@ -136,16 +136,16 @@ TEST(FactsFile, DefaultsAreTheDocumentedOnes) {
   EXPECT_EQ(onset.id, "dead_zone_onset (line 6)");
   EXPECT_EQ(onset.load_n, 0.0);
   EXPECT_EQ(onset.threshold_mm_s, 2.0);
-  EXPECT_EQ(onset.search_vpp[0], 10.0);
-  EXPECT_EQ(onset.search_vpp[1], 200.0);
+  EXPECT_EQ(onset.search_paper_v[0], 10.0);
+  EXPECT_EQ(onset.search_paper_v[1], 200.0);
 
   const Fact& ratio = facts[2];
   EXPECT_EQ(ratio.kind, FactKind::saturation_ratio);
   EXPECT_EQ(ratio.id, "saturation_ratio (line 11)");
-  EXPECT_EQ(ratio.ratio_vpp[0], 100.0);
-  EXPECT_EQ(ratio.ratio_vpp[1], 200.0);
-  EXPECT_EQ(ratio.ratio_vpp[2], 300.0);
-  EXPECT_EQ(ratio.ratio_vpp[3], 400.0);
+  EXPECT_EQ(ratio.ratio_paper_v[0], 100.0);
+  EXPECT_EQ(ratio.ratio_paper_v[1], 200.0);
+  EXPECT_EQ(ratio.ratio_paper_v[2], 300.0);
+  EXPECT_EQ(ratio.ratio_paper_v[3], 400.0);
 
   const Fact& speed = facts[3];
   EXPECT_EQ(speed.kind, FactKind::speed);
@@ -158,7 +158,7 @@ TEST(FactsFile, GivenKeysOverrideTheDefaults) {
   const std::vector<Fact> facts = parse_facts("[[fact]]\n"
                                               "id = \"loaded peak\"\n"
                                               "kind = \"peak_frequency\"\n"
-                                              "vpp = 250\n"
+                                              "paper_v = 250\n"
                                               "load_n = 1.5\n"
                                               "search_hz = [38000, 42000.0, 50]\n"
                                               "target = 40200\n"
@@ -168,13 +168,13 @@ TEST(FactsFile, GivenKeysOverrideTheDefaults) {
                                               "frequency_hz = 41000\n"
                                               "load_n = -2\n"
                                               "threshold_mm_s = 0.5\n"
-                                              "search_vpp = [5, 300]\n"
+                                              "search_paper_v = [5, 300]\n"
                                               "max = 50\n"
                                               "tolerance = 10\n"
                                               "[[fact]]\n"
                                               "kind = \"saturation_ratio\"\n"
                                               "frequency_hz = 40000\n"
-                                              "vpp = [50, 150.5, 250, 450]\n"
+                                              "paper_v = [50, 150.5, 250, 450]\n"
                                               "max = 0.5\n"
                                               "tolerance = 0.05\n",
                                               "facts.toml");
@@ -187,23 +187,23 @@ TEST(FactsFile, GivenKeysOverrideTheDefaults) {
   EXPECT_EQ(facts[1].frequency_hz, 41000.0);
   EXPECT_EQ(facts[1].load_n, -2.0);
   EXPECT_EQ(facts[1].threshold_mm_s, 0.5);
-  EXPECT_EQ(facts[1].search_vpp[0], 5.0);
-  EXPECT_EQ(facts[1].search_vpp[1], 300.0);
-  EXPECT_EQ(facts[2].ratio_vpp[0], 50.0);
-  EXPECT_EQ(facts[2].ratio_vpp[1], 150.5);
-  EXPECT_EQ(facts[2].ratio_vpp[2], 250.0);
-  EXPECT_EQ(facts[2].ratio_vpp[3], 450.0);
+  EXPECT_EQ(facts[1].search_paper_v[0], 5.0);
+  EXPECT_EQ(facts[1].search_paper_v[1], 300.0);
+  EXPECT_EQ(facts[2].ratio_paper_v[0], 50.0);
+  EXPECT_EQ(facts[2].ratio_paper_v[1], 150.5);
+  EXPECT_EQ(facts[2].ratio_paper_v[2], 250.0);
+  EXPECT_EQ(facts[2].ratio_paper_v[3], 450.0);
 }
 
 TEST(FactsFile, IntegersAndFloatsAreTheSameNumbers) {
   const auto as_integers = parse_facts(kGoodFact, "a.toml");
   const auto as_floats = parse_facts(
-      "[[fact]]\nkind = \"speed\"\nvpp = 100.0\nfrequency_hz = 4.0e4\ntarget = 10.0\ntolerance = 1.0\n", "b.toml");
+      "[[fact]]\nkind = \"speed\"\npaper_v = 100.0\nfrequency_hz = 4.0e4\ntarget = 10.0\ntolerance = 1.0\n", "b.toml");
   ASSERT_EQ(as_integers.size(), 1u);
   ASSERT_EQ(as_floats.size(), 1u);
-  EXPECT_EQ(as_integers[0].vpp, 100.0);
+  EXPECT_EQ(as_integers[0].paper_v, 100.0);
   EXPECT_EQ(as_integers[0].frequency_hz, 40000.0);
-  EXPECT_EQ(as_integers[0].vpp, as_floats[0].vpp);
+  EXPECT_EQ(as_integers[0].paper_v, as_floats[0].paper_v);
   EXPECT_EQ(as_integers[0].frequency_hz, as_floats[0].frequency_hz);
   EXPECT_EQ(as_integers[0].target, as_floats[0].target);
   EXPECT_EQ(as_integers[0].tolerance, as_floats[0].tolerance);
@@ -224,7 +224,7 @@ TEST(FactsFile, TargetGivesTheBandTargetPlusMinusTolerance) {
 TEST(FactsFile, MinAndMaxGiveOneOrTwoSidedBands) {
   const auto band = [](const std::string& bounds) {
     const auto facts = parse_facts(
-        "[[fact]]\nkind = \"speed\"\nvpp = 100\nfrequency_hz = 40000\ntolerance = 2\n" + bounds, "facts.toml");
+        "[[fact]]\nkind = \"speed\"\npaper_v = 100\nfrequency_hz = 40000\ntolerance = 2\n" + bounds, "facts.toml");
     EXPECT_EQ(facts.size(), 1u);
     return facts.at(0);
   };
@@ -260,7 +260,7 @@ TEST(FactsFile, KindNamesAndUnits) {
   f.kind = FactKind::peak_frequency;
   EXPECT_EQ(f.unit(), "Hz");
   f.kind = FactKind::dead_zone_onset;
-  EXPECT_EQ(f.unit(), "Vpp");
+  EXPECT_EQ(f.unit(), "V");
   f.kind = FactKind::saturation_ratio;
   EXPECT_EQ(f.unit(), "");
   f.kind = FactKind::speed;
@@ -273,14 +273,14 @@ TEST(FactsFile, RejectsAreOneLineWithFileLineAndWhat) {
     const char* expected;
   };
   // Each bad fact follows kGoodFact, so its table starts on line 7.
-  const std::string peak = kGoodFact + "[[fact]]\nkind = \"peak_frequency\"\nvpp = 250\ntarget = 40200\n";
+  const std::string peak = kGoodFact + "[[fact]]\nkind = \"peak_frequency\"\npaper_v = 250\ntarget = 40200\n";
   const std::string onset = kGoodFact + "[[fact]]\nkind = \"dead_zone_onset\"\nfrequency_hz = 40000\nmax = 50\n";
   const std::string ratio = kGoodFact + "[[fact]]\nkind = \"saturation_ratio\"\nfrequency_hz = 40000\nmax = 0.5\n";
-  const std::string speed = kGoodFact + "[[fact]]\nkind = \"speed\"\nvpp = 100\nfrequency_hz = 40000\n";
+  const std::string speed = kGoodFact + "[[fact]]\nkind = \"speed\"\npaper_v = 100\nfrequency_hz = 40000\n";
   const Case cases[] = {
       // TOML errors, at the line of the error.
       {kGoodFact + "[[fact]\n", "facts.toml:7: TOML syntax error: Error while parsing table header"},
-      {kGoodFact + "[[fact]]\nkind = \"speed\"\nvpp = = 3\n",
+      {kGoodFact + "[[fact]]\nkind = \"speed\"\npaper_v = = 3\n",
        "facts.toml:9: TOML syntax error: Error while parsing value"},
       // Control characters of the file are shown as \xNN: the message stays one line (fuzz finding).
       {kGoodFact + "[[fact]]\nkind = \"peak\\nfrequency\"\n", "facts.toml:7: unknown kind 'peak\\x0afrequency'"},
@@ -292,34 +292,40 @@ TEST(FactsFile, RejectsAreOneLineWithFileLineAndWhat) {
       {"title = \"x\"\n" + kGoodFact, "facts.toml:1: unknown table or key 'title'"},
       {"fact = [1, 2]\n", "facts.toml:1: fact: expected a table"},
       // The kind.
-      {kGoodFact + "[[fact]]\nvpp = 100\n", "facts.toml:7: fact needs kind"},
+      {kGoodFact + "[[fact]]\npaper_v = 100\n", "facts.toml:7: fact needs kind"},
       {kGoodFact + "[[fact]]\nkind = 3\n", "facts.toml:7: kind: expected a string"},
-      {kGoodFact + "[[fact]]\nkind = \"peak\"\nvpp = 100\n", "facts.toml:7: unknown kind 'peak'"},
+      {kGoodFact + "[[fact]]\nkind = \"peak\"\npaper_v = 100\n", "facts.toml:7: unknown kind 'peak'"},
       // Unknown keys, also those of another kind.
       {peak + "tolerance = 200\nvolts = 3\n", "facts.toml:7: unknown key 'volts'"},
       {peak + "tolerance = 200\nfrequency_hz = 40000\n", "facts.toml:7: unknown key 'frequency_hz'"},
       {speed + "target = 1\ntolerance = 1\nthreshold_mm_s = 2\n", "facts.toml:7: unknown key 'threshold_mm_s'"},
       {ratio + "tolerance = 0.05\nload_n = 1\n", "facts.toml:7: unknown key 'load_n'"},
+      // The retired voltage keys, named with their new spelling.
+      {kGoodFact + "[[fact]]\nkind = \"speed\"\nvpp = 100\nfrequency_hz = 40000\ntarget = 1\ntolerance = 1\n",
+       "facts.toml:7: vpp: retired key; give the voltage as the source quotes it as paper_v (read through "
+       "options.paper_voltage_axis)"},
+      {onset + "tolerance = 10\nsearch_vpp = [10, 200]\n",
+       "facts.toml:7: search_vpp: retired key; give the voltage as the source quotes it as search_paper_v"},
       // Missing or non-numeric required keys.
       {kGoodFact + "[[fact]]\nkind = \"peak_frequency\"\ntarget = 40200\ntolerance = 200\n",
-       "facts.toml:7: peak_frequency fact needs vpp"},
+       "facts.toml:7: peak_frequency fact needs paper_v"},
       {kGoodFact + "[[fact]]\nkind = \"dead_zone_onset\"\nmax = 50\ntolerance = 10\n",
        "facts.toml:7: dead_zone_onset fact needs frequency_hz"},
       {kGoodFact + "[[fact]]\nkind = \"saturation_ratio\"\nmax = 0.5\ntolerance = 0.05\n",
        "facts.toml:7: saturation_ratio fact needs frequency_hz"},
-      {kGoodFact + "[[fact]]\nkind = \"speed\"\nvpp = 100\ntarget = 1\ntolerance = 1\n",
+      {kGoodFact + "[[fact]]\nkind = \"speed\"\npaper_v = 100\ntarget = 1\ntolerance = 1\n",
        "facts.toml:7: speed fact needs frequency_hz"},
       {kGoodFact + "[[fact]]\nkind = \"speed\"\nfrequency_hz = 40000\ntarget = 1\ntolerance = 1\n",
-       "facts.toml:7: speed fact needs vpp"},
-      {kGoodFact + "[[fact]]\nkind = \"peak_frequency\"\nvpp = \"250\"\ntarget = 40200\ntolerance = 200\n",
-       "facts.toml:7: vpp: expected a number"},
+       "facts.toml:7: speed fact needs paper_v"},
+      {kGoodFact + "[[fact]]\nkind = \"peak_frequency\"\npaper_v = \"250\"\ntarget = 40200\ntolerance = 200\n",
+       "facts.toml:7: paper_v: expected a number"},
       {speed + "target = \"fast\"\ntolerance = 1\n", "facts.toml:7: target: expected a number"},
       {speed + "target = nan\ntolerance = 1\n", "facts.toml:7: target: not a finite number"},
       {speed + "target = 1\ntolerance = 1\nid = 7\n", "facts.toml:7: id: expected a string"},
       {peak + "tolerance = 200\nsearch_hz = [39000, 41000]\n", "facts.toml:7: search_hz: expected an array of 3"},
       {peak + "tolerance = 200\nsearch_hz = [39000, \"41000\", 100]\n",
        "facts.toml:7: search_hz: expected an array of 3"},
-      {ratio + "tolerance = 0.05\nvpp = 100\n", "facts.toml:7: vpp: expected an array of 4"},
+      {ratio + "tolerance = 0.05\npaper_v = 100\n", "facts.toml:7: paper_v: expected an array of 4"},
       // The tolerance.
       {speed + "target = 1\n", "facts.toml:7: tolerance: required, and must be > 0"},
       {speed + "target = 1\ntolerance = 0\n", "facts.toml:7: tolerance: required, and must be > 0"},
@@ -330,11 +336,11 @@ TEST(FactsFile, RejectsAreOneLineWithFileLineAndWhat) {
       {speed + "tolerance = 1\n", "facts.toml:7: fact needs a target, or min and/or max"},
       {speed + "min = 3\nmax = 2\ntolerance = 1\n", "facts.toml:7: min > max"},
       // Operating points outside 1..10000 V, 1..200000 Hz (frequencies from 1 kHz), loads to 1 kN.
-      {kGoodFact + "[[fact]]\nkind = \"speed\"\nvpp = 0.5\nfrequency_hz = 40000\ntarget = 1\ntolerance = 1\n",
-       "facts.toml:7: vpp = 0.5"},
-      {kGoodFact + "[[fact]]\nkind = \"peak_frequency\"\nvpp = 20000\ntarget = 40200\ntolerance = 200\n",
-       "facts.toml:7: vpp = 20000"},
-      {kGoodFact + "[[fact]]\nkind = \"speed\"\nvpp = 100\nfrequency_hz = 300000\ntarget = 1\ntolerance = 1\n",
+      {kGoodFact + "[[fact]]\nkind = \"speed\"\npaper_v = 0.5\nfrequency_hz = 40000\ntarget = 1\ntolerance = 1\n",
+       "facts.toml:7: paper_v = 0.5"},
+      {kGoodFact + "[[fact]]\nkind = \"peak_frequency\"\npaper_v = 20000\ntarget = 40200\ntolerance = 200\n",
+       "facts.toml:7: paper_v = 20000"},
+      {kGoodFact + "[[fact]]\nkind = \"speed\"\npaper_v = 100\nfrequency_hz = 300000\ntarget = 1\ntolerance = 1\n",
        "facts.toml:7: frequency_hz = 300000"},
       {kGoodFact + "[[fact]]\nkind = \"dead_zone_onset\"\nfrequency_hz = 0\nmax = 50\ntolerance = 10\n",
        "facts.toml:7: frequency_hz = 0"},
@@ -344,9 +350,9 @@ TEST(FactsFile, RejectsAreOneLineWithFileLineAndWhat) {
       {peak + "tolerance = 200\nsearch_hz = [39000, 41000, 0]\n", "facts.toml:7: search_hz: expected [start, stop"},
       {peak + "tolerance = 200\nsearch_hz = [39000, 41000, 3000]\n", "facts.toml:7: search_hz: expected [start, stop"},
       {peak + "tolerance = 200\nsearch_hz = [100, 41000, 100]\n", "facts.toml:7: search_hz = 100"},
-      {onset + "tolerance = 10\nsearch_vpp = [200, 10]\n", "facts.toml:7: search_vpp: expected [low, high]"},
-      {onset + "tolerance = 10\nsearch_vpp = [10, 15]\n", "facts.toml:7: search_vpp: expected [low, high]"},
-      {onset + "tolerance = 10\nsearch_vpp = [0.5, 100]\n", "facts.toml:7: search_vpp: expected [low, high]"},
+      {onset + "tolerance = 10\nsearch_paper_v = [200, 10]\n", "facts.toml:7: search_paper_v: expected [low, high]"},
+      {onset + "tolerance = 10\nsearch_paper_v = [10, 15]\n", "facts.toml:7: search_paper_v: expected [low, high]"},
+      {onset + "tolerance = 10\nsearch_paper_v = [0.5, 100]\n", "facts.toml:7: search_paper_v: expected [low, high]"},
       {onset + "tolerance = 10\nthreshold_mm_s = 0\n", "facts.toml:7: threshold_mm_s: must be in (0, 10000]"},
       {onset + "tolerance = 10\nthreshold_mm_s = 1e300\n", "facts.toml:7: threshold_mm_s: must be in (0, 10000]"},
       // A misspelt key is named as such, not as the required key it was meant to be.
@@ -356,9 +362,11 @@ TEST(FactsFile, RejectsAreOneLineWithFileLineAndWhat) {
       {peak + "tolerance = 200\nsearch_hz = [39000, 41000, 0.001]\n", "facts.toml:7: search_hz: more than 2000"},
       {speed + "target = 1e308\ntolerance = 1e308\n", "facts.toml:7: target +- tolerance overflows"},
       // Ratio voltages that do not increase, or lie outside 1..10000 V.
-      {ratio + "tolerance = 0.05\nvpp = [100, 300, 200, 400]\n", "facts.toml:7: vpp: the four voltages must increase"},
-      {ratio + "tolerance = 0.05\nvpp = [100, 200, 200, 400]\n", "facts.toml:7: vpp: the four voltages must increase"},
-      {ratio + "tolerance = 0.05\nvpp = [0, 200, 300, 400]\n", "facts.toml:7: vpp = 0"},
+      {ratio + "tolerance = 0.05\npaper_v = [100, 300, 200, 400]\n",
+       "facts.toml:7: paper_v: the four voltages must increase"},
+      {ratio + "tolerance = 0.05\npaper_v = [100, 200, 200, 400]\n",
+       "facts.toml:7: paper_v: the four voltages must increase"},
+      {ratio + "tolerance = 0.05\npaper_v = [0, 200, 300, 400]\n", "facts.toml:7: paper_v = 0"},
   };
   for (const Case& c : cases) {
     const std::string message = error_of(c.text);

@@ -36,13 +36,13 @@ TEST(ParameterFile, EmptyTextGivesDefaults) {
 
 TEST(ParameterFile, CalibratedConfigIsReferencePlusTheCalibration) {
   auto p = parse_motor_parameters(read_text(swum::test::source_path("config/li2019.toml")), "li2019.toml");
-  EXPECT_EQ(p.options.voltage_convention, VoltageConvention::amplitude);
+  EXPECT_EQ(p.options.paper_voltage_axis, PaperVoltageAxis::amplitude);
   EXPECT_EQ(p.contact.preload_application, PreloadApplication::back_end_constant);
   EXPECT_GT(p.contact.tangential_stiffness_n_m, 0.0);
   EXPECT_EQ(p.mover.guide_friction_model, GuideFrictionModel::implicit_coulomb);
   // Undo the calibrated keys: what remains is the model_spec §9 reference set (the defaults).
   const MotorParameters d{};
-  p.options.voltage_convention = d.options.voltage_convention;
+  p.options.paper_voltage_axis = d.options.paper_voltage_axis;
   p.contact.preload_application = d.contact.preload_application;
   p.contact.tangential_stiffness_n_m = d.contact.tangential_stiffness_n_m;
   p.mover.guide_friction_model = d.mover.guide_friction_model;
@@ -63,7 +63,7 @@ TEST(ParameterFile, LiteralConfigHasLiteralLever) {
                                         "li2019_literal.toml");
   const MotorModel model(p);
   EXPECT_NEAR(model.constants().g_t, 4.07, 0.01);
-  EXPECT_EQ(p.options.voltage_convention, VoltageConvention::peak_to_peak);
+  EXPECT_EQ(p.options.paper_voltage_axis, PaperVoltageAxis::peak_to_peak);
   // The calibration terms are off: the paper as printed.
   EXPECT_EQ(p.contact.preload_application, PreloadApplication::both_ends);
   EXPECT_EQ(p.contact.tangential_stiffness_n_m, 0.0);
@@ -156,15 +156,27 @@ TEST(ParameterFile, NanAndInfRejected) {
 TEST(ParameterFile, WrongTypeNamesKey) {
   auto msg = error_of("[contact]\npreload_n = \"24.8\"\n");
   EXPECT_NE(msg.find("contact.preload_n must be a number"), std::string::npos) << msg;
-  msg = error_of("[options]\nvoltage_convention = 2\n");
-  EXPECT_NE(msg.find("options.voltage_convention must be a string"), std::string::npos) << msg;
-  msg = error_of("[options]\nvoltage_convention = \"rms\"\n");
+  msg = error_of("[options]\npaper_voltage_axis = 2\n");
+  EXPECT_NE(msg.find("options.paper_voltage_axis must be a string"), std::string::npos) << msg;
+  msg = error_of("[options]\npaper_voltage_axis = \"rms\"\n");
   EXPECT_NE(msg.find("unknown value \"rms\""), std::string::npos) << msg;
   EXPECT_NE(msg.find("\"peak_to_peak\""), std::string::npos) << msg;
   msg = error_of("[numerics]\nquadrature_points = 10.5\n");
   EXPECT_NE(msg.find("numerics.quadrature_points must be an integer"), std::string::npos) << msg;
   msg = error_of("contact = 3\n");
   EXPECT_NE(msg.find("must be a table"), std::string::npos) << msg;
+}
+
+// A file written before issue 34 says options.voltage_convention: it must not load (its inputs
+// would silently change meaning), and the one line names the key, the file and the new key.
+TEST(ParameterFile, TheRetiredVoltageConventionFailsNamingTheNewKey) {
+  for (const char* value : {"\"amplitude\"", "\"peak_to_peak\""}) {
+    const auto msg = error_of(std::string("[options]\nvoltage_convention = ") + value + "\n");
+    EXPECT_EQ(msg.find('\n'), std::string::npos) << msg;
+    EXPECT_NE(msg.find("test.toml:2"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("options.voltage_convention is retired"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("options.paper_voltage_axis"), std::string::npos) << msg;
+  }
 }
 
 TEST(ParameterFile, SyntaxErrorHasLine) {

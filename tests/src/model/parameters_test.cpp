@@ -32,10 +32,11 @@ TEST(ParameterSpecs, AccessorsRoundTrip) {
   spec->set(p, 0.5);
   EXPECT_EQ(p.mover.mass_kg, 0.5);
   EXPECT_EQ(spec->get(p), 0.5);
-  const auto* choice = find_parameter_spec("options", "voltage_convention");
+  const auto* choice = find_parameter_spec("options", "paper_voltage_axis");
   ASSERT_NE(choice, nullptr);
   choice->set(p, 1.0);
-  EXPECT_EQ(p.options.voltage_convention, VoltageConvention::amplitude);
+  EXPECT_EQ(p.options.paper_voltage_axis, PaperVoltageAxis::amplitude);
+  EXPECT_EQ(find_parameter_spec("options", "voltage_convention"), nullptr);
 }
 
 TEST(ValidateParameters, RejectsNanAndOutOfRangeNamingTheKey) {

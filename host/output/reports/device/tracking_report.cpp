@@ -46,13 +46,14 @@ std::string tracking_text(const std::vector<TrackRunSummary>& summaries) {
 }
 
 void write_tracking_plots(const std::filesystem::path& dir, const std::vector<TrackSeries>& runs,
-                          const std::vector<TrackRunSummary>& summaries, const BestSpeedCurve& best, double vpp,
+                          const std::vector<TrackRunSummary>& summaries, const BestSpeedCurve& best, double amplitude_v,
                           double ambient_c) {
-  PlotSpec share{"Share of the best speed at the same margin (" + format_number(vpp) + " Vpp)",
+  PlotSpec share{"Share of the best speed at the same margin (" + format_number(amplitude_v) + " V)",
                  "device time (s)",
                  "mean speed / best at that temperature",
                  {}};
-  PlotSpec frequency{"Drive frequency (" + format_number(vpp) + " Vpp)", "device time (s)", "frequency (kHz)", {}};
+  PlotSpec frequency{
+      "Drive frequency (" + format_number(amplitude_v) + " V)", "device time (s)", "frequency (kHz)", {}};
   PlotSpec speed{
       "Mover speed (dashed: best at the same margin, each run's temperature)", "device time (s)", "speed (mm/s)", {}};
   PlotSpec temperature{"Stator temperature", "device time (s)", "temperature (degC)", {}};

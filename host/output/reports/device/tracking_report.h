@@ -19,10 +19,10 @@ std::string tracking_json(const std::vector<TrackRunSummary>& summaries);
 std::string tracking_text(const std::vector<TrackRunSummary>& summaries);
 
 /// tracking_share.png, tracking_frequency.png, tracking_speed.png and tracking_temperature.png
-/// in `dir` (which must exist). `vpp`: the runs' drive amplitude (titles); `ambient_c`: the
+/// in `dir` (which must exist). `amplitude_v`: the runs' drive amplitude (titles); `ambient_c`: the
 /// ambient the best speed's temperature rise is measured from.
 void write_tracking_plots(const std::filesystem::path& dir, const std::vector<TrackSeries>& runs,
-                          const std::vector<TrackRunSummary>& summaries, const BestSpeedCurve& best, double vpp,
+                          const std::vector<TrackRunSummary>& summaries, const BestSpeedCurve& best, double amplitude_v,
                           double ambient_c);
 
 }  // namespace swum::host

@@ -175,19 +175,19 @@ std::vector<std::string> write_calibration_plots(const fs::path& dir, const Meas
     const auto qi = static_cast<std::size_t>(q);
     if (!set.has_quantity[qi]) continue;
     for (double load : loads) {
-      std::map<double, std::vector<std::size_t>> by_vpp;
+      std::map<double, std::vector<std::size_t>> by_amplitude_v;
       for (std::size_t i = 0; i < set.rows.size(); ++i) {
-        if (set.rows[i].load_n == load && set.rows[i].value(q)) by_vpp[set.rows[i].vpp].push_back(i);
+        if (set.rows[i].load_n == load && set.rows[i].value(q)) by_amplitude_v[set.rows[i].amplitude_v].push_back(i);
       }
-      if (by_vpp.empty()) continue;
+      if (by_amplitude_v.empty()) continue;
       PlotSpec spec;
       spec.title = "Measured (points) vs prior (dashed) and calibrated (line), load " + number(load, "%g") + " N";
       spec.x_label = "frequency (Hz)";
       spec.y_label = std::string(quantity_label(q));
-      for (auto& [vpp, rows] : by_vpp) {
+      for (auto& [amplitude_v, rows] : by_amplitude_v) {
         std::sort(rows.begin(), rows.end(),
                   [&](std::size_t a, std::size_t b) { return set.rows[a].frequency_hz < set.rows[b].frequency_hz; });
-        const std::string v = number(vpp, "%g") + " Vpp";
+        const std::string v = number(amplitude_v, "%g") + " V";
         PlotSeries measured{v + " measured", {}, {}, false, true, false};
         PlotSeries prior{v + " prior", {}, {}, true, false, true};
         PlotSeries fitted{v + " calibrated", {}, {}, true, false, false};

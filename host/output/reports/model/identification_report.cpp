@@ -85,12 +85,13 @@ std::string identification_fitted_header(const std::string& command_line, const 
 }
 
 std::string identification_residuals_csv(const IdentificationResult& r) {
-  std::string csv = "vpp,frequency_hz,tip_normal_um,fit_normal_um,tip_tangential_um,fit_tangential_um\n";
+  std::string csv = "amplitude_v,frequency_hz,tip_normal_um,fit_normal_um,tip_tangential_um,fit_tangential_um\n";
   auto cell = [](const std::optional<double>& v) { return v ? format_number(*v, "%.6g") : std::string(); };
   for (const PointPrediction& p : r.predictions) {
-    csv += format_number(p.measurement.vpp, "%.10g") + "," + format_number(p.measurement.frequency_hz, "%.10g") + "," +
-           cell(p.measurement.tip_normal_um) + "," + cell(p.predicted_normal_um) + "," +
-           cell(p.measurement.tip_tangential_um) + "," + cell(p.predicted_tangential_um) + "\n";
+    csv += format_number(p.measurement.amplitude_v, "%.10g") + "," +
+           format_number(p.measurement.frequency_hz, "%.10g") + "," + cell(p.measurement.tip_normal_um) + "," +
+           cell(p.predicted_normal_um) + "," + cell(p.measurement.tip_tangential_um) + "," +
+           cell(p.predicted_tangential_um) + "\n";
   }
   return csv;
 }
@@ -103,7 +104,7 @@ void write_identification_plots(const fs::path& dir, const MotorModel& fitted_mo
   double v_max = 0.0;
   for (const AmplitudeMeasurement& m : data) {
     by_frequency[m.frequency_hz].push_back(&m);
-    v_max = std::max(v_max, m.vpp);
+    v_max = std::max(v_max, m.amplitude_v);
   }
   std::vector<double> grid;
   for (int i = 0; i <= 80; ++i) grid.push_back(v_max * i / 80.0);
@@ -112,7 +113,7 @@ void write_identification_plots(const fs::path& dir, const MotorModel& fitted_mo
     const bool normal = mode == StatorMode::l1;
     PlotSpec spec;
     spec.title = std::string("Identification: tip ") + (normal ? "normal" : "tangential") + " amplitude, data and fit";
-    spec.x_label = "voltage (Vpp)";
+    spec.x_label = "amplitude (V)";
     spec.y_label = std::string("tip ") + (normal ? "normal" : "tangential") + " amplitude (um)";
     for (const auto& [f, points] : by_frequency) {
       PlotSeries measured;
@@ -121,7 +122,7 @@ void write_identification_plots(const fs::path& dir, const MotorModel& fitted_mo
       for (const AmplitudeMeasurement* m : points) {
         const auto& a = normal ? m->tip_normal_um : m->tip_tangential_um;
         if (!a) continue;
-        measured.x.push_back(m->vpp);
+        measured.x.push_back(m->amplitude_v);
         measured.y.push_back(*a);
       }
       if (measured.x.empty()) continue;
@@ -131,7 +132,7 @@ void write_identification_plots(const fs::path& dir, const MotorModel& fitted_mo
       for (const SweepPoint& p : sweep_voltage(hb, f, grid)) {
         const int k = normal ? p.followed_normal : p.followed_tangential;
         if (k < 0) continue;
-        fit.x.push_back(p.response.vpp);
+        fit.x.push_back(p.response.amplitude_v);
         fit.y.push_back(p.response.mode(mode).branches[k].tip_amplitude_um);
       }
       spec.series.push_back(std::move(measured));

@@ -22,7 +22,7 @@ std::string identification_summary_text(const IdentificationResult& r);
 /// `command_line`: the options after `swum identify` that name the inputs.
 std::string identification_fitted_header(const std::string& command_line, const IdentificationResult& r);
 
-/// vpp,frequency_hz and per axis the measured and the fitted amplitude, one row per point.
+/// amplitude_v,frequency_hz and per axis the measured and the fitted amplitude, one row per point.
 std::string identification_residuals_csv(const IdentificationResult& r);
 
 /// Data against fitted curves, fit_normal.png and fit_tangential.png in `dir` (paper Figs.

@@ -14,7 +14,7 @@ double realtime_factor(const SteadyStateResult& r, double wall_s) { return wall_
 
 std::string simulation_json(const OperatingPoint& point, const SteadyStateResult& r, double wall_s) {
   nlohmann::ordered_json j;
-  j["vpp"] = point.vpp;
+  j["amplitude_v"] = point.amplitude_v;
   j["frequency_hz"] = point.frequency_hz;
   j["load_n"] = point.load_n;
   j["phase_deg"] = point.phase_deg;
@@ -34,7 +34,7 @@ std::string simulation_json(const OperatingPoint& point, const SteadyStateResult
 }
 
 std::string simulation_text(const OperatingPoint& point, const SteadyStateResult& r, double wall_s) {
-  std::string out = format_numbers("operating point : %g Vpp, %g Hz, load %g N, phase %g deg\n", point.vpp,
+  std::string out = format_numbers("operating point : %g V, %g Hz, load %g N, phase %g deg\n", point.amplitude_v,
                                    point.frequency_hz, point.load_n, point.phase_deg);
   if (!r.ok) out += "note            : not settled (" + r.failure + ")\n";
   out += format_numbers("mover speed     : %.3f mm/s\n", r.speed_mm_s) +

@@ -9,7 +9,7 @@
 namespace swum::host {
 namespace {
 
-std::string vpp_label(double vpp) { return format_number(vpp, "%g") + " Vpp"; }
+std::string amplitude_v_label(double amplitude_v) { return format_number(amplitude_v, "%g") + " V"; }
 
 }  // namespace
 
@@ -22,7 +22,7 @@ std::vector<StatorRow> stator_rows(const std::vector<SweepPoint>& sweep) {
     for (std::size_t i = 0; i < n.size(); ++i) {
       for (std::size_t k = 0; k < t.size(); ++k) {
         StatorRow row;
-        row.vpp = p.response.vpp;
+        row.amplitude_v = p.response.amplitude_v;
         row.frequency_hz = p.response.frequency_hz;
         row.branch = branch++;
         row.normal_branch = static_cast<int>(i);
@@ -40,10 +40,10 @@ std::vector<StatorRow> stator_rows(const std::vector<SweepPoint>& sweep) {
 }
 
 std::string stator_csv(const std::vector<StatorRow>& rows) {
-  std::string out = "vpp,frequency_hz,branch,stable,tip_normal_um,tip_tangential_um\n";
+  std::string out = "amplitude_v,frequency_hz,branch,stable,tip_normal_um,tip_tangential_um\n";
   std::string line;
   for (const StatorRow& r : rows) {
-    line = printf_string("%.10g,%.10g,%d,%d,%.6f,%.6f\n", r.vpp, r.frequency_hz, r.branch, r.stable() ? 1 : 0,
+    line = printf_string("%.10g,%.10g,%d,%d,%.6f,%.6f\n", r.amplitude_v, r.frequency_hz, r.branch, r.stable() ? 1 : 0,
                          r.tip_normal_um, r.tip_tangential_um);
     out += line;
   }
@@ -51,11 +51,11 @@ std::string stator_csv(const std::vector<StatorRow>& rows) {
 }
 
 std::string stator_backbone_csv(const std::vector<BackbonePoint>& backbone) {
-  std::string out = "vpp,normal_peak_hz,normal_peak_um,tangential_peak_hz,tangential_peak_um\n";
+  std::string out = "amplitude_v,normal_peak_hz,normal_peak_um,tangential_peak_hz,tangential_peak_um\n";
   std::string line;
   for (const BackbonePoint& b : backbone) {
-    line = printf_string("%.10g,%.3f,%.6f,%.3f,%.6f\n", b.vpp, b.normal_peak_hz, b.normal_peak_um, b.tangential_peak_hz,
-                         b.tangential_peak_um);
+    line = printf_string("%.10g,%.3f,%.6f,%.3f,%.6f\n", b.amplitude_v, b.normal_peak_hz, b.normal_peak_um,
+                         b.tangential_peak_hz, b.tangential_peak_um);
     out += line;
   }
   return out;
@@ -65,7 +65,7 @@ std::string stator_json(const std::vector<StatorRow>& rows, const std::vector<Ba
   nlohmann::ordered_json j;
   j["rows"] = nlohmann::ordered_json::array();
   for (const StatorRow& r : rows) {
-    j["rows"].push_back({{"vpp", r.vpp},
+    j["rows"].push_back({{"amplitude_v", r.amplitude_v},
                          {"frequency_hz", r.frequency_hz},
                          {"branch", r.branch},
                          {"stable", r.stable()},
@@ -79,7 +79,7 @@ std::string stator_json(const std::vector<StatorRow>& rows, const std::vector<Ba
   }
   j["backbone"] = nlohmann::ordered_json::array();
   for (const BackbonePoint& b : backbone) {
-    j["backbone"].push_back({{"vpp", b.vpp},
+    j["backbone"].push_back({{"amplitude_v", b.amplitude_v},
                              {"normal_peak_hz", b.normal_peak_hz},
                              {"normal_peak_um", b.normal_peak_um},
                              {"tangential_peak_hz", b.tangential_peak_hz},
@@ -95,7 +95,7 @@ void write_stator_plot(const std::vector<SweepPoint>& sweep, const std::vector<d
   const char* axis = mode == StatorMode::l1 ? "normal" : "tangential";
   PlotSpec spec;
   spec.title = std::string("Free stator, tip ") + axis + " amplitude (harmonic balance)";
-  spec.x_label = vs_frequency ? "frequency (kHz)" : "voltage (Vpp)";
+  spec.x_label = vs_frequency ? "frequency (kHz)" : "amplitude (V)";
   spec.y_label = std::string("tip ") + axis + " amplitude (um)";
   auto branches_of = [&](const SweepPoint& p) -> const ModeResponse& { return p.response.mode(mode); };
   auto add_series = [&](const std::string& label, auto&& select, bool stable) {
@@ -106,7 +106,7 @@ void write_stator_plot(const std::vector<SweepPoint>& sweep, const std::vector<d
       if (!select(p)) continue;
       for (const ModeBranch& b : branches_of(p).branches) {
         if (b.stable != stable) continue;
-        s.x.push_back(vs_frequency ? p.response.frequency_hz * 1e-3 : p.response.vpp);
+        s.x.push_back(vs_frequency ? p.response.frequency_hz * 1e-3 : p.response.amplitude_v);
         s.y.push_back(b.tip_amplitude_um);
       }
     }
@@ -115,7 +115,7 @@ void write_stator_plot(const std::vector<SweepPoint>& sweep, const std::vector<d
   if (vs_frequency) {
     for (double v : voltages) {
       add_series(
-          vpp_label(v), [v](const SweepPoint& p) { return p.response.vpp == v; }, true);
+          amplitude_v_label(v), [v](const SweepPoint& p) { return p.response.amplitude_v == v; }, true);
     }
     add_series(
         "unstable branches", [](const SweepPoint&) { return true; }, false);

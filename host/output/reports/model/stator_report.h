@@ -13,7 +13,7 @@ namespace swum::host {
 
 // One state of the free stator: one branch of each (independent) mode.
 struct StatorRow {
-  double vpp = 0.0;
+  double amplitude_v = 0.0;
   double frequency_hz = 0.0;
   int branch = 0;  // index over the product of the two modes' branches (descending amplitude)
   int normal_branch = 0;
@@ -29,10 +29,10 @@ struct StatorRow {
 /// One row per combination of a normal and a tangential branch at each swept point.
 std::vector<StatorRow> stator_rows(const std::vector<SweepPoint>& sweep);
 
-/// vpp,frequency_hz,branch,stable,tip_normal_um,tip_tangential_um and one line per row.
+/// amplitude_v,frequency_hz,branch,stable,tip_normal_um,tip_tangential_um and one line per row.
 std::string stator_csv(const std::vector<StatorRow>& rows);
 
-/// vpp and each mode's peak frequency and amplitude, one line per voltage.
+/// amplitude_v and each mode's peak frequency and amplitude, one line per voltage.
 std::string stator_backbone_csv(const std::vector<BackbonePoint>& backbone);
 
 /// {"rows": [...], "backbone": [...]} (pretty, ordered keys, '\n' at the end).

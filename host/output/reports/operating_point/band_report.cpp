@@ -11,7 +11,7 @@ namespace swum::host {
 namespace {
 
 constexpr const char* kBandHeader =
-    "vpp,load_n,temperature_rise_k,decided,frequency_hz,speed_mm_s,peak_frequency_hz,peak_speed_mm_s,margin_hz,"
+    "amplitude_v,load_n,temperature_rise_k,decided,frequency_hz,speed_mm_s,peak_frequency_hz,peak_speed_mm_s,margin_hz,"
     "collapse_hz,reason\n";
 
 // The reasons are prose with commas; the table has no quoting.
@@ -33,8 +33,8 @@ std::string band_csv(const std::vector<BandRow>& rows) {
   std::string csv = kBandHeader;
   for (const BandRow& row : rows) {
     const PickResult& p = row.pick;
-    csv += format_number(row.vpp) + "," + format_number(row.load_n) + "," + format_number(row.temperature_rise_k) +
-           "," + (p.decided ? "1" : "0") + ",";
+    csv += format_number(row.amplitude_v) + "," + format_number(row.load_n) + "," +
+           format_number(row.temperature_rise_k) + "," + (p.decided ? "1" : "0") + ",";
     if (p.decided) {
       csv += format_number(p.frequency_hz, "%.10g") + "," + format_number(p.speed_mm_s) + "," +
              format_number(p.peak_frequency_hz, "%.10g") + "," + format_number(p.peak_speed_mm_s) + "," +
@@ -52,7 +52,7 @@ std::string band_json(const std::vector<BandRow>& rows, const BandSummary& s, do
   for (const BandRow& row : rows) {
     const PickResult& p = row.pick;
     Json j;
-    j["vpp"] = row.vpp;
+    j["amplitude_v"] = row.amplitude_v;
     j["load_n"] = row.load_n;
     j["temperature_rise_k"] = row.temperature_rise_k;
     j["decided"] = p.decided;
@@ -91,8 +91,8 @@ std::string band_text(const std::vector<BandRow>& rows, const BandSummary& s, do
                       static_cast<double>(s.undecided));
   for (const BandRow& row : rows) {
     if (row.pick.decided) continue;
-    t += format_numbers("  %g Vpp, %g N, %g K rise: ", row.vpp, row.load_n, row.temperature_rise_k) + row.pick.reason +
-         "\n";
+    t += format_numbers("  %g V, %g N, %g K rise: ", row.amplitude_v, row.load_n, row.temperature_rise_k) +
+         row.pick.reason + "\n";
   }
   if (!out_path.empty()) t += "rows -> " + out_path + "\n";
   return t;

@@ -19,9 +19,9 @@ void write_speed_vs_frequency_plot(const std::vector<SweepRow>& sweep, const std
   spec.y_label = "mover speed (mm/s)";
   PlotSeries picked{"picked", {}, {}, false, true};
   for (const VoltagePick& p : picks) {
-    PlotSeries curve{format_number(p.vpp) + " Vpp", {}, {}, true, true};
+    PlotSeries curve{format_number(p.amplitude_v) + " V", {}, {}, true, true};
     for (const SweepRow& r : sweep) {
-      if (r.ok && same(r.vpp, p.vpp) && same(r.load_n, load_n)) {
+      if (r.ok && same(r.amplitude_v, p.amplitude_v) && same(r.load_n, load_n)) {
         curve.x.push_back(r.frequency_hz / 1000.0);
         curve.y.push_back(r.speed_mm_s);
       }
@@ -40,18 +40,18 @@ void write_frequency_vs_voltage_plot(const std::vector<VoltagePick>& picks, doub
                                      const std::filesystem::path& path) {
   PlotSpec spec;
   spec.title = "Operating frequency vs drive voltage (resonance drift, cf. paper Fig. 15)";
-  spec.x_label = "drive voltage (Vpp)";
+  spec.x_label = "drive amplitude (V)";
   spec.y_label = "frequency (kHz)";
   PlotSeries picked{"picked (peak + margin)", {}, {}, true, true};
   PlotSeries peak{"speed peak", {}, {}, true, true};
   PlotSeries naive{"naive fixed " + format_number(naive_frequency_hz / 1000.0) + " kHz", {}, {}, true, false};
   for (const VoltagePick& p : picks) {
-    naive.x.push_back(p.vpp);
+    naive.x.push_back(p.amplitude_v);
     naive.y.push_back(naive_frequency_hz / 1000.0);
     if (!p.result.decided) continue;
-    picked.x.push_back(p.vpp);
+    picked.x.push_back(p.amplitude_v);
     picked.y.push_back(p.result.frequency_hz / 1000.0);
-    peak.x.push_back(p.vpp);
+    peak.x.push_back(p.amplitude_v);
     peak.y.push_back(p.result.peak_frequency_hz / 1000.0);
   }
   spec.series = {std::move(picked), std::move(peak), std::move(naive)};
@@ -68,11 +68,15 @@ void write_speed_vs_load_plot(const std::vector<SweepRow>& load_rows, const std:
     if (!p.result.decided) continue;
     for (const auto& [frequency, label] : {std::pair{p.result.frequency_hz, std::string("picked ")},
                                            std::pair{naive_frequency_hz, std::string("naive ")}}) {
-      PlotSeries s{
-          format_number(p.vpp) + " Vpp, " + label + format_number(frequency / 1000.0) + " kHz", {}, {}, true, true};
+      PlotSeries s{format_number(p.amplitude_v) + " V, " + label + format_number(frequency / 1000.0) + " kHz",
+                   {},
+                   {},
+                   true,
+                   true};
       std::map<double, double> by_load;
       for (const SweepRow& r : load_rows) {
-        if (r.ok && same(r.vpp, p.vpp) && same(r.frequency_hz, frequency)) by_load[r.load_n] = r.speed_mm_s;
+        if (r.ok && same(r.amplitude_v, p.amplitude_v) && same(r.frequency_hz, frequency))
+          by_load[r.load_n] = r.speed_mm_s;
       }
       for (const auto& [load, speed] : by_load) {
         s.x.push_back(load);

@@ -12,10 +12,10 @@ namespace {
 // Drift: from the peak of the lowest decided voltage at the same load.
 double drift_base_hz(const std::vector<VoltagePick>& picks, double load_n) {
   double base = NAN;
-  double base_vpp = INFINITY;
+  double base_amplitude_v = INFINITY;
   for (const auto& p : picks) {
-    if (p.result.decided && p.load_n == load_n && p.vpp < base_vpp) {
-      base_vpp = p.vpp;
+    if (p.result.decided && p.load_n == load_n && p.amplitude_v < base_amplitude_v) {
+      base_amplitude_v = p.amplitude_v;
       base = p.result.peak_frequency_hz;
     }
   }
@@ -33,7 +33,7 @@ std::string pick_text(const std::vector<VoltagePick>& picks) {
   std::string out;
   for (const auto& [v, r, load_n] : picks) {
     const double base = drift_base_hz(picks, load_n);
-    const std::string at = format_numbers("%6g Vpp, %g N", v, load_n);
+    const std::string at = format_numbers("%6g V, %g N", v, load_n);
     if (!r.decided) {
       out += at + ": undecided: " + r.reason + "\n";
       continue;
@@ -53,7 +53,7 @@ std::string pick_json(const std::vector<VoltagePick>& picks) {
   for (const auto& [v, r, load_n] : picks) {
     const double base = drift_base_hz(picks, load_n);
     nlohmann::ordered_json j;
-    j["vpp"] = v;
+    j["amplitude_v"] = v;
     j["load_n"] = load_n;
     j["decided"] = r.decided;
     j["frequency_hz"] = number_or_null(r.decided, r.frequency_hz);
@@ -70,7 +70,7 @@ std::string pick_json(const std::vector<VoltagePick>& picks) {
 }
 
 std::string pick_schedule_csv(const std::vector<VoltagePick>& picks) {
-  std::string schedule = "vpp,load_n,frequency_hz\n";
+  std::string schedule = "amplitude_v,load_n,frequency_hz\n";
   for (const auto& [v, r, load_n] : picks) {
     if (r.decided)
       schedule += format_number(v) + "," + format_number(load_n) + "," + format_number(r.frequency_hz) + "\n";

@@ -13,7 +13,7 @@ namespace {
 
 using Json = nlohmann::ordered_json;
 
-std::string voltage_label(double vpp) { return format_number(vpp) + "vpp"; }
+std::string voltage_label(double amplitude_v) { return format_number(amplitude_v) + "v"; }  // "400v": 400 V amplitude
 
 std::string csv_safe(std::string text) {
   std::replace(text.begin(), text.end(), ',', ';');
@@ -54,7 +54,7 @@ FrequencyBand voltage_band(const std::vector<MotorOutcome>& outcomes, std::size_
 }
 
 struct VoltageStatistics {
-  double vpp = 0.0;
+  double amplitude_v = 0.0;
   std::size_t decided = 0;
   Distribution frequency;
   Distribution speed;
@@ -73,7 +73,7 @@ std::vector<VoltageStatistics> per_voltage(const PopulationStudy& study, const s
       speeds.push_back(o.voltages[k].speed_mm_s);
     }
     VoltageStatistics s;
-    s.vpp = study.voltages[k];
+    s.amplitude_v = study.voltages[k];
     s.decided = frequencies.size();
     s.frequency = describe_distribution(frequencies);
     s.speed = describe_distribution(speeds);
@@ -127,7 +127,7 @@ std::string population_csv_row(const PopulationStudy& study, const MotorOutcome&
              format_number(v.peak_frequency_hz, "%.10g");
     } else {
       row += ",,,";
-      note += (note.empty() ? "" : " | ") + format_number(v.vpp) + " Vpp: " + v.reason;
+      note += (note.empty() ? "" : " | ") + format_number(v.amplitude_v) + " V: " + v.reason;
     }
   }
   if (o.rejected) {
@@ -159,7 +159,7 @@ std::string population_summary_json(const PopulationStudy& study, const std::vec
   Json voltages = Json::array();
   for (const VoltageStatistics& s : per_voltage(study, outcomes, in.yield)) {
     Json v;
-    v["vpp"] = s.vpp;
+    v["amplitude_v"] = s.amplitude_v;
     v["decided"] = s.decided;
     v["frequency_hz"] = distribution_json(s.frequency);
     v["speed_mm_s"] = distribution_json(s.speed);
@@ -181,10 +181,10 @@ std::string population_summary_text(const PopulationStudy& study, const std::vec
                   format_numbers("%.0f undecided at some voltage, %.0f rejected draws\n",
                                  static_cast<double>(count_status(outcomes, "undecided")),
                                  static_cast<double>(count_status(outcomes, "rejected")));
-  t += "   Vpp  motors   operating frequency (Hz): min      p5     p50     p95     max"
+  t += "   V  motors   operating frequency (Hz): min      p5     p50     p95     max"
        "   speed (mm/s): min     p5    p50    p95    max\n";
   for (const VoltageStatistics& s : per_voltage(study, outcomes, in.yield)) {
-    t += format_numbers("%6g  %6.0f", s.vpp, static_cast<double>(s.decided));
+    t += format_numbers("%6g  %6.0f", s.amplitude_v, static_cast<double>(s.decided));
     if (s.decided == 0) {
       t += "   no motor decided\n";
       continue;

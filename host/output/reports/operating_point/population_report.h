@@ -10,8 +10,8 @@
 
 namespace swum::host {
 
-/// motor,status,<each varied parameter>,frequency_hz_<V>vpp,speed_mm_s_<V>vpp,
-/// peak_frequency_hz_<V>vpp (per voltage),note
+/// motor,status,<each varied parameter>,frequency_hz_<V>amplitude_v,speed_mm_s_<V>amplitude_v,
+/// peak_frequency_hz_<V>amplitude_v (per voltage),note
 std::string population_csv_header(const PopulationStudy& study);
 /// One line (with '\n'); cells of an undecided voltage or a rejected motor are empty, the note
 /// says why (commas in it written as ';').

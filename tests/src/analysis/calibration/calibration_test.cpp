@@ -47,10 +47,10 @@ std::vector<Measurement> sweep_points() {
   std::vector<Measurement> points;
   int sweep = 0;
   for (double load : {0.0, 2.0}) {
-    for (double vpp : {150.0, 250.0, 350.0}) {
+    for (double amplitude_v : {150.0, 250.0, 350.0}) {
       for (double f = 41000.0; f >= 39100.0; f -= 100.0) {
         Measurement m;
-        m.vpp = vpp;
+        m.amplitude_v = amplitude_v;
         m.frequency_hz = f;
         m.load_n = load;
         m.sweep = sweep;
@@ -173,11 +173,11 @@ TEST(Calibration, BadFreeSetsAreRefusedBeforeAnyFit) {
   EXPECT_THROW((void)calibrate_to_measurements(prior, data, o, serial_for), std::invalid_argument);
 }
 
-Fact speed_fact(double vpp, double value, double relative_tolerance) {
+Fact speed_fact(double paper_v, double value, double relative_tolerance) {
   Fact f;
   f.kind = FactKind::speed;
-  f.id = "speed at " + std::to_string(static_cast<int>(vpp)) + " Vpp";
-  f.vpp = vpp;
+  f.id = "speed at " + std::to_string(static_cast<int>(paper_v)) + " V";
+  f.paper_v = paper_v;  // the calibrated motor reads it as the amplitude
   f.frequency_hz = 40000.0;
   f.target = value;
   f.tolerance = relative_tolerance * std::abs(value);
@@ -191,8 +191,8 @@ TEST(CalibrationFacts, FactsOfAPerturbedMotorBringItsParameterBack) {
   truth_motor.stator.damping_l1_n_s_m = 44.0;
   Fact peak;
   peak.kind = FactKind::peak_frequency;
-  peak.id = "peak at 250 Vpp";
-  peak.vpp = 250.0;
+  peak.id = "peak at 250 V";
+  peak.paper_v = 250.0;
   std::vector<Fact> facts{peak, speed_fact(300.0, 1.0, 0.02)};
   const std::vector<double> values = evaluate_facts({&truth_motor, 1}, facts, test::two_thread_for)[0];
   ASSERT_TRUE(std::isfinite(values[0]) && std::isfinite(values[1]));
@@ -217,7 +217,7 @@ TEST(CalibrationFacts, FactsOfAPerturbedMotorBringItsParameterBack) {
 }
 
 TEST(CalibrationFacts, ConflictingFactsAreNamedWithTheFrontBetweenThem) {
-  // With the L1 damping alone free, a faster motor at 300 Vpp and a slower one at 150 Vpp
+  // With the L1 damping alone free, a faster motor at 300 V and a slower one at 150 V
   // cannot both be had: less damping speeds both up.
   const MotorParameters prior = test::calibrated_motor();
   const std::vector<Fact> probe{speed_fact(300.0, 1.0, 0.1), speed_fact(150.0, 1.0, 0.1)};

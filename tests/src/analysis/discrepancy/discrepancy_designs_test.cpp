@@ -47,7 +47,7 @@ std::vector<Measurement> design_points(const Design& d, std::uint64_t seed) {
   std::mt19937_64 rng(seed);
   const double f_low = d.through_peak ? 39000.0 : 40000.0;
   const double f_high = 41000.0;
-  // Curves of `per_curve` frequencies; voltages spread over 100-400 Vpp.
+  // Curves of `per_curve` frequencies; voltages spread over 100-400 V.
   const int per_curve = d.points >= 200 ? 20 : 10;
   const int curves = std::max(1, d.points / per_curve);
   std::vector<double> voltages;
@@ -59,7 +59,7 @@ std::vector<Measurement> design_points(const Design& d, std::uint64_t seed) {
     const double load = d.sweeps ? static_cast<double>(c % 4) : 0.0;
     for (int k = 0; k < per_curve; ++k) {
       Measurement m;
-      m.vpp = voltages[static_cast<std::size_t>(c)];
+      m.amplitude_v = voltages[static_cast<std::size_t>(c)];
       // Sweeps go down from the top (as `swum sweep` on a device); spot points in any order.
       const double step = (f_high - f_low) / (per_curve - 1);
       m.frequency_hz = d.sweeps ? f_high - step * k : std::round(uniform(rng, f_low, f_high));
@@ -105,10 +105,10 @@ MeasurementSet clean_readings(const MotorParameters& p, const std::vector<Measur
 double held_out_gap(const MeasurementSet& data, const MeasurementSet& truth, const Predictions& predicted,
                     const std::vector<bool>& held_out) {
   std::map<std::tuple<double, double, double>, const Measurement*> truth_of;
-  for (const Measurement& m : truth.rows) truth_of[{m.vpp, m.frequency_hz, m.load_n}] = &m;
+  for (const Measurement& m : truth.rows) truth_of[{m.amplitude_v, m.frequency_hz, m.load_n}] = &m;
   MeasurementSet reference = data;
   for (Measurement& m : reference.rows) {
-    const Measurement* t = truth_of.at({m.vpp, m.frequency_hz, m.load_n});
+    const Measurement* t = truth_of.at({m.amplitude_v, m.frequency_hz, m.load_n});
     for (Quantity q : kQuantities) {
       if (m.value(q)) m.values[static_cast<std::size_t>(q)] = t->value(q);
     }

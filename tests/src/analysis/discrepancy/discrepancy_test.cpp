@@ -23,7 +23,7 @@ namespace {
 
 MotorParameters calibrated() { return test::calibrated_motor(); }
 
-// Realistic session: 100-400 Vpp, 40.0-41.0 kHz (above the softening peak, where a drive
+// Realistic session: 100-400 V, 40.0-41.0 kHz (above the softening peak, where a drive
 // operates), loads 0-3 N, one point every 3 s.
 std::vector<Measurement> session_points(int count, std::uint64_t seed) {
   std::mt19937_64 rng(seed);
@@ -31,7 +31,7 @@ std::vector<Measurement> session_points(int count, std::uint64_t seed) {
   std::vector<Measurement> points;
   for (int i = 0; i < count; ++i) {
     Measurement m;
-    m.vpp = std::round(uniform(100.0, 400.0));
+    m.amplitude_v = std::round(uniform(100.0, 400.0));
     m.frequency_hz = std::round(uniform(40000.0, 41000.0));
     m.load_n = static_cast<double>(rng() % 4);
     m.time_s = 3.0 * i;

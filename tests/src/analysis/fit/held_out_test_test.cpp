@@ -91,7 +91,7 @@ TEST(HeldOut, PoolsTheValuesOfOnePointAndBootstrapsTheReduction) {
   set.has_quantity = {true, true, false};
   for (int i = 0; i < 12; ++i) {
     Measurement m;
-    m.vpp = 100.0 + i;
+    m.amplitude_v = 100.0 + i;
     m.frequency_hz = 40000.0;
     m.values = {100.0, 1.0, std::nullopt};
     set.rows.push_back(m);

@@ -12,8 +12,10 @@
 namespace swum {
 namespace {
 
-// 10 voltages x 3 frequencies = 30 points (60 amplitudes), model_spec §6.5 / paper Figs. 7-8.
-const std::vector<double> kVoltages = {50, 85, 120, 155, 190, 225, 260, 295, 330, 365};
+// 10 voltages x 3 frequencies = 30 points (60 amplitudes), model_spec §6.5 / paper Figs. 7-8:
+// the paper's 50..365 Vpp, read as the library defaults read them (peak-to-peak, model_spec §0),
+// are these terminal amplitudes.
+const std::vector<double> kVoltages = {25, 42.5, 60, 77.5, 95, 112.5, 130, 147.5, 165, 182.5};
 const std::vector<double> kFrequencies = {39250.0, 39500.0, 39750.0};
 
 MotorParameters truth() { return MotorParameters{}; }  // Table 2 (library defaults)
@@ -78,8 +80,8 @@ TEST(Identification, RoundTripRecoversTheIdentifiableParameters) {
     double worst = 0.0;
     int n = 0;
     for (const auto& x : exact) {
-      const auto u = predicted_branch(hb, StatorMode::l1, x.vpp, x.frequency_hz, x.tip_normal_um);
-      const auto w = predicted_branch(hb, StatorMode::b2, x.vpp, x.frequency_hz, x.tip_tangential_um);
+      const auto u = predicted_branch(hb, StatorMode::l1, x.amplitude_v, x.frequency_hz, x.tip_normal_um);
+      const auto w = predicted_branch(hb, StatorMode::b2, x.amplitude_v, x.frequency_hz, x.tip_tangential_um);
       ASSERT_TRUE(u && w);
       for (double e :
            {u->tip_amplitude_um / *x.tip_normal_um - 1.0, w->tip_amplitude_um / *x.tip_tangential_um - 1.0}) {
@@ -90,7 +92,7 @@ TEST(Identification, RoundTripRecoversTheIdentifiableParameters) {
     }
     const double rms = std::sqrt(sum2 / n);
     std::printf("  fitted vs noise-free truth: rms %.4f, worst %.4f\n", rms, worst);
-    // Within the 2 % noise on average; the worst point sits at the B2 peak (190 Vpp, 39.25 kHz),
+    // Within the 2 % noise on average; the worst point sits at the B2 peak (190 V, 39.25 kHz),
     // where dW/dc1111 is largest.
     EXPECT_LT(rms, 0.02);
     EXPECT_LT(worst, 0.06);
@@ -134,7 +136,7 @@ TEST(Identification, TangentialOnlyDataStillDetermineC1111) {
 TEST(Identification, TooFewAmplitudesIsAFailureNotAFit) {
   std::vector<AmplitudeMeasurement> data(3);
   for (auto& d : data) {
-    d.vpp = 100;
+    d.amplitude_v = 100;
     d.frequency_hz = 39500;
     d.tip_normal_um = 1.0;
   }

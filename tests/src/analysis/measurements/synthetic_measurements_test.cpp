@@ -14,8 +14,8 @@
 namespace swum {
 namespace {
 
-Measurement at(double vpp, double frequency_hz, double time_s, int sweep) {
-  return test::measurement_at(vpp, frequency_hz, time_s, sweep);
+Measurement at(double amplitude_v, double frequency_hz, double time_s, int sweep) {
+  return test::measurement_at(amplitude_v, frequency_hz, time_s, sweep);
 }
 
 std::string text_of(const MeasurementSet& layout, const std::vector<Measurement>& rows) {

@@ -26,7 +26,7 @@ MotorParameters li2019_softening_when_hot() {
   return p;
 }
 
-// Coarse, to keep the test short: the peaks at 100 and 400 Vpp and 400 Vpp 50 K warmer, their
+// Coarse, to keep the test short: the peaks at 100 and 400 V and 400 V 50 K warmer, their
 // collapses below and peak + margin above.
 BandGrid coarse_grid(std::vector<double> voltages, std::vector<double> rises_k = {0.0}) {
   BandGrid grid;
@@ -37,9 +37,9 @@ BandGrid coarse_grid(std::vector<double> voltages, std::vector<double> rises_k =
   return grid;
 }
 
-const BandRow& row_at(const std::vector<BandRow>& rows, double vpp, double rise_k = 0.0) {
+const BandRow& row_at(const std::vector<BandRow>& rows, double amplitude_v, double rise_k = 0.0) {
   for (const BandRow& r : rows) {
-    if (r.vpp == vpp && r.temperature_rise_k == rise_k) return r;
+    if (r.amplitude_v == amplitude_v && r.temperature_rise_k == rise_k) return r;
   }
   throw std::logic_error("no row");
 }
@@ -52,7 +52,7 @@ TEST(OperatingBand, PicksAMarginAboveTheSofteningPeakAndThePeakFallsWithVoltage)
   const BandRow& high = row_at(rows, 400.0);
   ASSERT_TRUE(low.pick.decided) << low.pick.reason;
   ASSERT_TRUE(high.pick.decided) << high.pick.reason;
-  // At 400 Vpp the pick sits at least the margin above the peak, on the stable high side.
+  // At 400 V the pick sits at least the margin above the peak, on the stable high side.
   EXPECT_GE(high.pick.frequency_hz, high.pick.peak_frequency_hz + 100.0) << high.pick.reason;
   ASSERT_TRUE(high.pick.collapse_hz.has_value()) << "a down-sweep jumps below a softening peak";
   EXPECT_LT(*high.pick.collapse_hz, high.pick.peak_frequency_hz);
@@ -81,7 +81,7 @@ TEST(OperatingBand, AWarmerStatorWhoseStiffnessFallsMovesThePeakDown) {
   const BandRow& hot = row_at(rows, 400.0, 50.0);
   ASSERT_TRUE(cold.pick.decided) << cold.pick.reason;
   ASSERT_TRUE(hot.pick.decided) << hot.pick.reason;
-  // a_K = -5e-4 /K: about -10 Hz/K at 40 kHz (measured: ~450 Hz over 50 K at 400 Vpp).
+  // a_K = -5e-4 /K: about -10 Hz/K at 40 kHz (measured: ~450 Hz over 50 K at 400 V).
   EXPECT_GT(cold.pick.peak_frequency_hz - hot.pick.peak_frequency_hz, 200.0)
       << cold.pick.peak_frequency_hz << " vs " << hot.pick.peak_frequency_hz;
   EXPECT_GE(hot.pick.frequency_hz, hot.pick.peak_frequency_hz + 100.0);
@@ -114,7 +114,7 @@ TEST(OperatingBand, RowsDoNotDependOnTheThreads) {
   ASSERT_EQ(one.size(), 9u);
   ASSERT_EQ(two.size(), 9u);
   for (std::size_t i = 0; i < one.size(); ++i) {
-    EXPECT_EQ(one[i].vpp, two[i].vpp);
+    EXPECT_EQ(one[i].amplitude_v, two[i].amplitude_v);
     EXPECT_EQ(one[i].load_n, two[i].load_n);
     EXPECT_EQ(one[i].pick.frequency_hz, two[i].pick.frequency_hz);
     EXPECT_EQ(one[i].pick.speed_mm_s, two[i].pick.speed_mm_s);
@@ -123,9 +123,9 @@ TEST(OperatingBand, RowsDoNotDependOnTheThreads) {
     for (std::size_t k = 0; k < one[i].curve.size(); ++k)
       EXPECT_EQ(one[i].curve[k].speed_mm_s, two[i].curve[k].speed_mm_s);
   }
-  EXPECT_EQ(one[0].vpp, 200.0);
+  EXPECT_EQ(one[0].amplitude_v, 200.0);
   EXPECT_EQ(one[1].load_n, 1.0);
-  EXPECT_EQ(one[8].vpp, 400.0);
+  EXPECT_EQ(one[8].amplitude_v, 400.0);
 }
 
 TEST(OperatingBand, SummaryOfUndecidedRowsHasNoBand) {

@@ -17,9 +17,9 @@ namespace {
 
 MotorParameters calibrated() { return test::calibrated_motor(); }
 
-OperatingPoint at(double vpp, double frequency_hz, double load_n = 0.0) {
+OperatingPoint at(double amplitude_v, double frequency_hz, double load_n = 0.0) {
   OperatingPoint p;
-  p.vpp = vpp;
+  p.amplitude_v = amplitude_v;
   p.frequency_hz = frequency_hz;
   p.load_n = load_n;
   return p;
@@ -67,7 +67,7 @@ TEST(SteadyStateBatch, PointsAgreeWithTheScalarRunInEveryRegime) {
     const std::vector<SteadyStateResult> batch = run_points_to_steady_state(model, points);
     ASSERT_EQ(batch.size(), points.size());
     for (std::size_t i = 0; i < points.size(); ++i) {
-      SCOPED_TRACE(testing::Message() << points[i].vpp << " Vpp " << points[i].frequency_hz << " Hz "
+      SCOPED_TRACE(testing::Message() << points[i].amplitude_v << " V " << points[i].frequency_hz << " Hz "
                                       << points[i].load_n << " N");
       expect_agree(batch[i], run_to_steady_state(model, points[i]));
     }
@@ -76,7 +76,7 @@ TEST(SteadyStateBatch, PointsAgreeWithTheScalarRunInEveryRegime) {
 
 TEST(SteadyStateBatch, ChainsCarryTheStateLikeAScalarSweep) {
   const MotorModel model{calibrated()};
-  // Two downward sweeps through the 400 Vpp peak (hysteresis: a chain differs from points at rest).
+  // Two downward sweeps through the 400 V peak (hysteresis: a chain differs from points at rest).
   std::vector<OperatingChain> chains(2);
   for (double f = 40600.0; f >= 39300.0; f -= 260.0) chains[0].push_back(at(400.0, f));
   for (double f = 40400.0; f >= 39800.0; f -= 300.0) chains[1].push_back(at(200.0, f, 0.5));

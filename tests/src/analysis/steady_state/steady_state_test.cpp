@@ -17,6 +17,12 @@
 namespace swum {
 namespace {
 
+// The paper reference set (MotorParameters{}) reads the paper's voltages as peak-to-peak
+// (model_spec §0): its "400 V" is a 200 V terminal amplitude, the model's input.
+constexpr double literal_v(double paper_v) {
+  return amplitude_v_of_paper_voltage(PaperVoltageAxis::peak_to_peak, paper_v);
+}
+
 const MotorModel& reference_model() {
   static const MotorModel model{MotorParameters{}};
   return model;
@@ -60,43 +66,45 @@ void compare_with_reference(const MotorModel& model, const OperatingPoint& point
   expect_rel(fixed.tip_normal_um, ref.tip_normal_um, amplitude_rel, "tip normal");
   expect_rel(fixed.tip_tangential_um, ref.tip_tangential_um, amplitude_rel, "tip tangential");
   EXPECT_NEAR(fixed.contact_fraction, ref.contact_fraction, 0.02);
-  std::printf("  %g Vpp %g Hz %g N: speed %+.3f %%, tip normal %+.3f %%, tip tangential %+.3f %%\n", point.vpp,
+  std::printf("  %g V %g Hz %g N: speed %+.3f %%, tip normal %+.3f %%, tip tangential %+.3f %%\n", point.amplitude_v,
               point.frequency_hz, point.load_n, 100.0 * (fixed.speed_mm_s / ref.speed_mm_s - 1.0),
               100.0 * (fixed.tip_normal_um / ref.tip_normal_um - 1.0),
               100.0 * (fixed.tip_tangential_um / ref.tip_tangential_um - 1.0));
 }
-void compare_with_reference(const MotorModel& model, double vpp, double f_hz, double speed_rel, double amplitude_rel) {
-  compare_with_reference(model, OperatingPoint{vpp, f_hz}, speed_rel, amplitude_rel);
+void compare_with_reference(const MotorModel& model, double amplitude_v, double f_hz, double speed_rel,
+                            double amplitude_rel) {
+  compare_with_reference(model, OperatingPoint{amplitude_v, f_hz}, speed_rel, amplitude_rel);
 }
 
 // The accuracy contract of the fixed step (issue 16): 1 % on speed and tip amplitudes against
 // the adaptive reference at the calibrated config (config/li2019.toml, its time step and
 // scheme), every point started from rest. The grid: the drift-aware frequencies (speed maxima
-// 40.3 / 39.9 / 39.5 kHz at 100 / 250 / 400 Vpp), both flanks of the 100 Vpp and 400 Vpp speed
-// peaks (the 400 Vpp fold lies between 39.375 and 39.4 kHz: 39.4 kHz is its upper edge), two
+// 40.3 / 39.9 / 39.5 kHz at 100 / 250 / 400 V), both flanks of the 100 V and 400 V speed
+// peaks (the 400 V fold lies between 39.375 and 39.4 kHz: 39.4 kHz is its upper edge), two
 // loaded points, and drives at exactly 40 kHz at four voltages and two loads: with a whole
 // number of steps per drive period the stick-slip and separation events fall on the same step
 // phases in every period, so their timing errors do not average out and the error there
 // varies erratically with the step count (docs/performance.md; at 40.05 kHz it is a smooth
 // O(dt^2) bias). Worst errors at 48 steps per 40 kHz period (the config's step since issue 16):
-// speed +0.99 % (250 Vpp, 40 kHz), tip normal +0.29 %, tip tangential +0.47 % (100 Vpp,
-// 40.45 kHz). 44 steps would pass too (speed within 0.80 %; 40, 42 and 43 fail at 100 Vpp,
+// speed +0.99 % (250 V, 40 kHz), tip normal +0.29 %, tip tangential +0.47 % (100 V,
+// 40.45 kHz). 44 steps would pass too (speed within 0.80 %; 40, 42 and 43 fail at 100 V,
 // 40 kHz), but the SIMD lanes run settle and window lengths of whole 64-step blocks only, and
 // the fits' 5 ms windows (measured_point_model.h) are whole blocks only when the steps per
 // 40 kHz period are a multiple of 8 (docs/performance.md); ~0.8 s of reference per point.
 struct GridPoint {
-  double vpp, f_hz, load_n;
+  double amplitude_v, f_hz, load_n;
 };
 class SteadyStateContract : public ::testing::TestWithParam<GridPoint> {};
 
 TEST_P(SteadyStateContract, FixedStepWithinOnePercentOfReference) {
   const GridPoint& p = GetParam();
-  compare_with_reference(calibrated_model(), OperatingPoint{p.vpp, p.f_hz, p.load_n}, 0.01, 0.01);
+  compare_with_reference(calibrated_model(), OperatingPoint{p.amplitude_v, p.f_hz, p.load_n}, 0.01, 0.01);
 }
 
 std::string grid_point_name(const ::testing::TestParamInfo<GridPoint>& info) {
   const GridPoint& p = info.param;
-  std::string name = std::to_string(static_cast<int>(p.vpp)) + "Vpp_" + std::to_string(static_cast<int>(p.f_hz)) + "Hz";
+  std::string name = std::to_string(static_cast<int>(p.amplitude_v)) + "V_" + std::to_string(static_cast<int>(p.f_hz)) +
+                     "Hz";
   if (p.load_n > 0.0) name += "_" + std::to_string(static_cast<int>(1000.0 * p.load_n)) + "mN";
   return name;
 }
@@ -116,13 +124,13 @@ INSTANTIATE_TEST_SUITE_P(ValidationGrid, SteadyStateContract,
                          grid_point_name);
 
 // The speed-peak frequency of the fixed step within one grid step (25 Hz) of the reference's, on
-// a 25 Hz grid across the peak (100 Vpp: 40.2-40.4 kHz, a flat maximum; 400 Vpp: 39.375-39.525
+// a 25 Hz grid across the peak (100 V: 40.2-40.4 kHz, a flat maximum; 400 V: 39.375-39.525
 // kHz, the maximum just above the fold, where the speed falls from +800 to -80 mm/s). 25 Hz is
-// a tenth of the half-width of the 100 Vpp peak and below the 0.2 kHz uncertainty of the
+// a tenth of the half-width of the 100 V peak and below the 0.2 kHz uncertainty of the
 // paper's peak. At 48 (and 44, 64) steps per period both peaks coincide (40.275 and 39.45 kHz). ~7 s of reference per
 // peak.
 struct PeakGrid {
-  double vpp, f_first_hz, f_last_hz;
+  double amplitude_v, f_first_hz, f_last_hz;
 };
 class SteadyStatePeak : public ::testing::TestWithParam<PeakGrid> {};
 
@@ -136,7 +144,8 @@ TEST_P(SteadyStatePeak, PeakFrequencyWithinOneGridStepOfReference) {
   std::vector<Comparison> runs(grid.size());
   std::atomic<std::size_t> next{0};
   const auto run_points = [&] {
-    for (std::size_t k = next++; k < grid.size(); k = next++) runs[k] = run_both(calibrated_model(), {g.vpp, grid[k]});
+    for (std::size_t k = next++; k < grid.size(); k = next++)
+      runs[k] = run_both(calibrated_model(), {g.amplitude_v, grid[k]});
   };
   test::on_two_threads([&](int) { run_points(); });
   double best_fixed = -1e300, best_ref = -1e300, f_fixed = 0.0, f_ref = 0.0;
@@ -145,7 +154,8 @@ TEST_P(SteadyStatePeak, PeakFrequencyWithinOneGridStepOfReference) {
     const auto& [fixed, ref] = runs[k];
     ASSERT_TRUE(fixed.ok) << fixed.failure;
     ASSERT_TRUE(ref.ok) << ref.failure;
-    std::printf("  %g Vpp %g Hz: fixed %.2f mm/s, reference %.2f mm/s\n", g.vpp, f, fixed.speed_mm_s, ref.speed_mm_s);
+    std::printf("  %g V %g Hz: fixed %.2f mm/s, reference %.2f mm/s\n", g.amplitude_v, f, fixed.speed_mm_s,
+                ref.speed_mm_s);
     if (fixed.speed_mm_s > best_fixed) {
       best_fixed = fixed.speed_mm_s;
       f_fixed = f;
@@ -164,7 +174,7 @@ TEST_P(SteadyStatePeak, PeakFrequencyWithinOneGridStepOfReference) {
 INSTANTIATE_TEST_SUITE_P(SpeedPeaks, SteadyStatePeak,
                          ::testing::Values(PeakGrid{100.0, 40200.0, 40400.0}, PeakGrid{400.0, 39375.0, 39525.0}),
                          [](const ::testing::TestParamInfo<PeakGrid>& info) {
-                           return std::to_string(static_cast<int>(info.param.vpp)) + "Vpp";
+                           return std::to_string(static_cast<int>(info.param.amplitude_v)) + "V";
                          });
 
 // Rigid contact (paper reference set): the stick/slip events of the rigid Coulomb contact
@@ -174,22 +184,22 @@ TEST(SteadyStateReference, RigidContactConvergesFirstOrder) {
   MotorParameters p{};
   p.numerics.time_step_ns = 1e9 / (384.0 * 40000.0);
   const MotorModel fine(p);
-  compare_with_reference(fine, 250.0, 40200.0, 0.01, 0.01);
-  compare_with_reference(reference_model(), 400.0, 40000.0, 0.05, 0.04);
+  compare_with_reference(fine, literal_v(250.0), 40200.0, 0.01, 0.01);
+  compare_with_reference(reference_model(), literal_v(400.0), 40000.0, 0.05, 0.04);
 }
 
 TEST(SteadyState, ReproducesModelSpecSection92) {
   const auto& m = reference_model();
-  const auto v400 = run_to_steady_state(m, {400.0, 40000.0});
+  const auto v400 = run_to_steady_state(m, {literal_v(400.0), 40000.0});
   ASSERT_TRUE(v400.ok) << v400.failure;
   EXPECT_NEAR(v400.speed_mm_s, 198.0, 8.0);  // spec: 195 (sweep) .. 201 (max)
   EXPECT_GT(v400.contact_fraction, 0.4);
   EXPECT_LT(v400.contact_fraction, 0.8);  // intermittent contact
-  const auto v250 = run_to_steady_state(m, {250.0, 40200.0});
+  const auto v250 = run_to_steady_state(m, {literal_v(250.0), 40200.0});
   EXPECT_NEAR(v250.speed_mm_s, 74.0, 4.0);
-  const auto v300 = run_to_steady_state(m, {300.0, 40000.0});
-  EXPECT_NEAR(v300.speed_mm_s, 0.0, 1.0);  // dead zone up to 325 Vpp at 40 kHz
-  const auto v350 = run_to_steady_state(m, {350.0, 40000.0});
+  const auto v300 = run_to_steady_state(m, {literal_v(300.0), 40000.0});
+  EXPECT_NEAR(v300.speed_mm_s, 0.0, 1.0);  // dead zone up to 325 V at 40 kHz
+  const auto v350 = run_to_steady_state(m, {literal_v(350.0), 40000.0});
   EXPECT_NEAR(v350.speed_mm_s, 173.0, 15.0);
 }
 
@@ -197,33 +207,33 @@ TEST(SteadyState, ExactErfRootEqualsCoulombProjection) {
   MotorParameters p{};
   p.numerics.friction_solver = FrictionSolver::erf_newton;
   const MotorModel erf_model(p);
-  const auto a = run_to_steady_state(reference_model(), {400.0, 40000.0});
-  const auto b = run_to_steady_state(erf_model, {400.0, 40000.0});
+  const auto a = run_to_steady_state(reference_model(), {literal_v(400.0), 40000.0});
+  const auto b = run_to_steady_state(erf_model, {literal_v(400.0), 40000.0});
   EXPECT_NEAR(b.speed_mm_s, a.speed_mm_s, 1e-4 * a.speed_mm_s);
   EXPECT_NEAR(b.tip_tangential_um, a.tip_tangential_um, 1e-4 * a.tip_tangential_um);
 }
 
 TEST(SteadyState, PhaseSignReversesDirection) {
-  const auto fwd = run_to_steady_state(reference_model(), {400.0, 40000.0, 0.0, 90.0});
-  const auto rev = run_to_steady_state(reference_model(), {400.0, 40000.0, 0.0, -90.0});
+  const auto fwd = run_to_steady_state(reference_model(), {literal_v(400.0), 40000.0, 0.0, 90.0});
+  const auto rev = run_to_steady_state(reference_model(), {literal_v(400.0), 40000.0, 0.0, -90.0});
   EXPECT_GT(fwd.speed_mm_s, 100.0);
   EXPECT_NEAR(rev.speed_mm_s, -fwd.speed_mm_s, 0.02 * fwd.speed_mm_s);
 }
 
 TEST(SteadyState, LoadSlowsTheMover) {
-  const auto free = run_to_steady_state(reference_model(), {400.0, 40000.0, 0.0});
-  const auto loaded = run_to_steady_state(reference_model(), {400.0, 40000.0, 1.0});
+  const auto free = run_to_steady_state(reference_model(), {literal_v(400.0), 40000.0, 0.0});
+  const auto loaded = run_to_steady_state(reference_model(), {literal_v(400.0), 40000.0, 1.0});
   EXPECT_LT(loaded.speed_mm_s, free.speed_mm_s - 5.0);
 }
 
 TEST(SteadyState, LinearModelDoesNotMoveAt40kHz) {
   const MotorModel linear{linearised(MotorParameters{})};
-  const auto r = run_to_steady_state(linear, {400.0, 40000.0});
+  const auto r = run_to_steady_state(linear, {literal_v(400.0), 40000.0});
   EXPECT_LT(std::abs(r.speed_mm_s), 5.0);  // §9.2: 40 kHz is below the linear contact resonance
 }
 
 TEST(SteadyState, FrictionDoesNotChatterInStick) {
-  // 100 Vpp at 40.4 kHz: B2 locked by friction (§9.3), the contact sticks.
+  // 100 V at 40.4 kHz: B2 locked by friction (§9.3), the contact sticks.
   std::vector<double> ft;
   std::vector<double> fn;
   SteadyStateOptions opt;
@@ -237,7 +247,7 @@ TEST(SteadyState, FrictionDoesNotChatterInStick) {
       fn.push_back(s.normal_force_n);
     }
   };
-  const auto r = run_to_steady_state(reference_model(), {100.0, 40400.0}, opt);
+  const auto r = run_to_steady_state(reference_model(), {literal_v(100.0), 40400.0}, opt);
   ASSERT_GT(ft.size(), 1000U);
   double jump = 0.0;
   double limit = 0.0;
@@ -260,7 +270,7 @@ TEST(SteadyState, TraceIsSampledEveryNSteps) {
   opt.max_s = 0.0021;
   opt.trace_every_steps = 96;
   opt.trace = [&](const TraceSample&) { ++samples; };
-  const auto r = run_to_steady_state(reference_model(), {200.0, 40000.0}, opt);
+  const auto r = run_to_steady_state(reference_model(), {literal_v(200.0), 40000.0}, opt);
   EXPECT_EQ(static_cast<std::uint64_t>(samples), r.steps / 96);
 }
 
@@ -330,7 +340,7 @@ TEST(SteadyState, DivergenceIsReportedNotThrown) {
   const MotorModel model(p);
   SteadyStateOptions opt;
   opt.settle_s = 0.01;
-  const auto r = run_to_steady_state(model, {400.0, 40000.0}, opt);
+  const auto r = run_to_steady_state(model, {literal_v(400.0), 40000.0}, opt);
   EXPECT_TRUE(r.diverged);
   EXPECT_FALSE(r.ok);
   EXPECT_FALSE(r.failure.empty());

@@ -13,7 +13,7 @@ namespace {
 // The recurrence's cubic coefficients against the voltages at theta_n put into eqs. 14-15 (the
 // modal force of both modes at a few coordinates), step after step from one seed.
 struct Drive {
-  double vpp, frequency_hz, phase_deg, gain_a, gain_b;
+  double amplitude_v, frequency_hz, phase_deg, gain_a, gain_b;
 };
 
 class DriveRecurrenceAgrees : public ::testing::TestWithParam<Drive> {};
@@ -23,7 +23,7 @@ TEST_P(DriveRecurrenceAgrees, WithTheVoltagesStepByStep) {
   const MotorModel model{test::calibrated_parameters()};
   const MotorCoefficients& k = model.coefficients();
   const PairedForceCoefficients m = make_paired_force_coefficients(k.stator);
-  DriveWaveform w = make_drive_waveform({d.vpp, d.frequency_hz, d.phase_deg, 0.0}, k.drive_amplitude_per_volt,
+  DriveWaveform w = make_drive_waveform({d.amplitude_v, d.frequency_hz, d.phase_deg, 0.0}, k.drive_amplitude_per_volt,
                                         model.time_step_s());
   w.amplitude_a_v *= d.gain_a;
   w.amplitude_b_v *= d.gain_b;

@@ -18,7 +18,6 @@ MotorParameters jenkins_motor() {
   p.contact.preload_application = PreloadApplication::back_end_constant;
   p.contact.tangential_stiffness_n_m = 2e8;
   p.mover.guide_friction_model = GuideFrictionModel::implicit_coulomb;
-  p.options.voltage_convention = VoltageConvention::amplitude;
   p.stator.substrate_thickness_mm = 2.0;
   return p;
 }

@@ -173,7 +173,7 @@ std::string describe(const PowerBalance& b) {
   return text;
 }
 
-// Steady running at the calibrated motor's operating range (100 and 400 Vpp, no load and loaded):
+// Steady running at the calibrated motor's operating range (100 and 400 V, no load and loaded):
 // the electrical power in balances every sink. The gap is the step's error (the contact slip is
 // first order in dt): measured 1.0, 0.9 and 1.5 % at 48 steps per period (the product step),
 // 0.55, 0.50 and 0.8 % at half of it. Within 2 %, and halving the step cuts the gap by a quarter
@@ -182,8 +182,8 @@ TEST(Electrical, PowerBalanceInSteadyState) {
   const DriveInput cases[] = {{400.0, 40600.0, 90.0, 0.0}, {400.0, 40600.0, 90.0, 1.0}, {100.0, 40000.0, 90.0, 0.0}};
   const double product_step_ns = test::calibrated_parameters().numerics.time_step_ns;
   for (const DriveInput& drive : cases) {
-    SCOPED_TRACE("vpp " + std::to_string(drive.vpp) + " f " + std::to_string(drive.frequency_hz) + " load " +
-                 std::to_string(drive.load_n));
+    SCOPED_TRACE("amplitude_v " + std::to_string(drive.amplitude_v) + " f " + std::to_string(drive.frequency_hz) +
+                 " load " + std::to_string(drive.load_n));
     const PowerBalance coarse = measure_balance(product_step_ns, drive, 0.15, 0.05);
     const PowerBalance fine = measure_balance(product_step_ns / 2.0, drive, 0.15, 0.05);
     std::printf("dt %.1f ns: %s\ndt %.1f ns: %s\n", product_step_ns, describe(coarse).c_str(), product_step_ns / 2,
@@ -198,23 +198,23 @@ TEST(Electrical, PowerBalanceInSteadyState) {
 }
 
 // The tracked phase (phase A's motional current, C0 compensated) crosses 0 above the speed peak on
-// a continuous down-sweep, at a stable distance: measured +110 Hz at 400 Vpp (peak 39450 Hz) and
-// +147 Hz at 100 Vpp (peak 40275 Hz), 1.1 and 1.5 times the 100 Hz default margin of `swum track`.
-// The terminal phase (C0 = 10 nF carries ~1 A at 400 Vpp against ~0.1 A motional) stays at
+// a continuous down-sweep, at a stable distance: measured +110 Hz at 400 V (peak 39450 Hz) and
+// +147 Hz at 100 V (peak 40275 Hz), 1.1 and 1.5 times the 100 Hz default margin of `swum track`.
+// The terminal phase (C0 = 10 nF carries ~1 A at 400 V against ~0.1 A motional) stays at
 // 81..85 deg over the same sweeps: a board must compensate C0 to see the resonance.
 TEST(Electrical, MotionalPhaseCrossesZeroAboveTheSpeedPeak) {
   const MotorModel model(test::calibrated_parameters());
   struct Case {
-    double vpp, start_hz, stop_hz;
+    double amplitude_v, start_hz, stop_hz;
   };
   for (const Case c : {Case{400.0, 40000.0, 39325.0}, Case{100.0, 40700.0, 40100.0}}) {
-    SCOPED_TRACE("vpp " + std::to_string(c.vpp));
+    SCOPED_TRACE("amplitude_v " + std::to_string(c.amplitude_v));
     MotorSimulator sim(model);
     const double dt = sim.time_step_s();
     double peak_hz = 0.0, peak_speed = -1e300, crossing_hz = 0.0, previous_phase = 0.0, previous_hz = 0.0;
     double terminal_min = 1e300, terminal_max = -1e300;
     for (double f = c.start_hz; f >= c.stop_hz; f -= 25.0) {  // down, as an operator approaches it
-      sim.set_drive({c.vpp, f, 90.0, 0.0});
+      sim.set_drive({c.amplitude_v, f, 90.0, 0.0});
       sim.advance(static_cast<std::uint64_t>(std::llround(0.03 / dt)));
       ElectricalSums sums;
       const double x0 = sim.state().mover_position_m;
@@ -236,8 +236,8 @@ TEST(Electrical, MotionalPhaseCrossesZeroAboveTheSpeedPeak) {
       previous_hz = f;
     }
     ASSERT_GT(crossing_hz, 0.0) << "no zero crossing of the motional phase";
-    std::printf("%.0f Vpp: speed peak %.0f Hz, motional phase 0 at %.1f Hz (+%.1f Hz); terminal phase %.1f..%.1f deg\n",
-                c.vpp, peak_hz, crossing_hz, crossing_hz - peak_hz, terminal_min, terminal_max);
+    std::printf("%.0f V: speed peak %.0f Hz, motional phase 0 at %.1f Hz (+%.1f Hz); terminal phase %.1f..%.1f deg\n",
+                c.amplitude_v, peak_hz, crossing_hz, crossing_hz - peak_hz, terminal_min, terminal_max);
     EXPECT_GT(crossing_hz - peak_hz, 50.0);
     EXPECT_LT(crossing_hz - peak_hz, 200.0);
     EXPECT_GT(terminal_min, 70.0);

@@ -111,7 +111,7 @@ TEST(ModalConstants, FrequenciesAndPreload) {
   EXPECT_NEAR(c.f_b2_hz, 39469.0, 39469.0 * 2e-3);
   EXPECT_NEAR(c.f_l1_full_contact_hz, 40400.0, 40.0);
   EXPECT_NEAR(c.static_q1_m, 41.6e-9, 0.1e-9);
-  EXPECT_DOUBLE_EQ(c.drive_amplitude_per_volt, 0.5);
+  EXPECT_DOUBLE_EQ(c.drive_amplitude_per_volt, 1.0);  // the input is the terminal amplitude, on every motor
   EXPECT_DOUBLE_EQ(c.kappa_s_per_m, 3.6e6);
 }
 
@@ -137,9 +137,13 @@ TEST(ModalConstants, SwitchableReadings) {
   EXPECT_NEAR(cs.b[0].group_a, -base.b[0].group_a, 1e-12);
   EXPECT_NEAR(cs.a[0].group_a, base.a[0].group_a, 1e-12);
 
+  // The input is the terminal amplitude whatever the paper's axis reads: one volt drives V0 = 1 V.
+  EXPECT_DOUBLE_EQ(base.drive_amplitude_per_volt, 1.0);  // the default reads the paper peak-to-peak
   MotorParameters amplitude{};
-  amplitude.options.voltage_convention = VoltageConvention::amplitude;
+  amplitude.options.paper_voltage_axis = PaperVoltageAxis::amplitude;
   EXPECT_DOUBLE_EQ(compute_modal_constants(amplitude).drive_amplitude_per_volt, 1.0);
+  EXPECT_DOUBLE_EQ(amplitude_v_of_paper_voltage(PaperVoltageAxis::peak_to_peak, 400.0), 200.0);
+  EXPECT_DOUBLE_EQ(amplitude_v_of_paper_voltage(PaperVoltageAxis::amplitude, 400.0), 400.0);
 }
 
 TEST(ModalConstants, ExplicitGeometryEqualsCalibratedWhenGivenSameSize) {

@@ -1,5 +1,5 @@
 // Run-time faults of MotorSimulator (model_faults.h) on the calibrated motor
-// (config/li2019.toml) at 400 Vpp, 40 kHz: physical effect of each hook, the jam, recovery
+// (config/li2019.toml) at 400 V, 40 kHz: physical effect of each hook, the jam, recovery
 // after clearing, and bit-identity of the nominal dynamics.
 #include <gtest/gtest.h>
 
@@ -111,7 +111,7 @@ TEST(MotorSimulatorFaults, NominalFaultsAreBitIdentical) {
 }
 
 // Both phases at gain g are the drive at g V0: with g = 0.5 (exact in binary) the trajectory is
-// bit-identical to a 200 Vpp drive, through set_drive's fast path too.
+// bit-identical to a 200 V drive, through set_drive's fast path too.
 TEST(MotorSimulatorFaults, EqualPhaseGainsAreALowerVoltage) {
   const MotorModel model(calibrated());
   MotorSimulator sagged(model);
@@ -151,7 +151,7 @@ TEST(MotorSimulatorFaults, PhaseGainsScaleEachPhaseVoltage) {
 // (a0 = 0.107 N/V from A and B alike, b0 = -0.125 N/V from A, +0.125 N/V from B), and at
 // +90 deg the two phases drive the modes in quadrature. One phase alone drives the modes in
 // (anti)phase; only the different resonance lags of L1 and B2 at 40 kHz open the ellipse a
-// little. Measured (li2019, 400 Vpp, 40 kHz, 40 ms to settle, the 0.2 kg mover takes ~40 ms):
+// little. Measured (li2019, 400 V, 40 kHz, 40 ms to settle, the 0.2 kg mover takes ~40 ms):
 // 610 mm/s nominal, 149 mm/s with phase B open (0.24), -149 mm/s with phase A open (the
 // electrode pattern mirrors the bending forcing, so the motor runs backwards at the same speed).
 TEST(MotorSimulatorFaults, OnePhaseOpenCollapsesTheSpeed) {
@@ -162,7 +162,7 @@ TEST(MotorSimulatorFaults, OnePhaseOpenCollapsesTheSpeed) {
   RecordProperty("nominal_speed_mm_s", std::to_string(1e3 * nominal.speed_m_s));
   RecordProperty("phase_b_open_speed_mm_s", std::to_string(1e3 * open_b.speed_m_s));
   RecordProperty("phase_a_open_speed_mm_s", std::to_string(1e3 * open_a.speed_m_s));
-  ASSERT_GT(nominal.speed_m_s, 0.5);  // the calibrated motor at 400 Vpp
+  ASSERT_GT(nominal.speed_m_s, 0.5);  // the calibrated motor at 400 V
   EXPECT_LT(std::abs(open_b.speed_m_s), 0.35 * nominal.speed_m_s);
   EXPECT_GT(open_b.tip_tangential_um, 0.0);  // the stator still vibrates
   EXPECT_NEAR(open_a.speed_m_s, -open_b.speed_m_s, 0.02 * std::abs(open_b.speed_m_s));
@@ -195,7 +195,7 @@ TEST(MotorSimulatorFaults, PreloadLossLowersTheNormalForce) {
   const Window loss = steady(model, {.preload_factor = 0.5});
   RecordProperty("nominal_mean_normal_force_n", std::to_string(nominal.normal_force_n));
   RecordProperty("half_preload_mean_normal_force_n", std::to_string(loss.normal_force_n));
-  // Measured: mean F_N 41.3 N against 48.9 N (0.84). At 400 Vpp the tip strokes 4.5 um
+  // Measured: mean F_N 41.3 N against 48.9 N (0.84). At 400 V the tip strokes 4.5 um
   // against a static preload compression of 0.08 um, so the impacts, not F_P, carry most of
   // the mean normal force.
   EXPECT_LT(loss.normal_force_n, 0.9 * nominal.normal_force_n);

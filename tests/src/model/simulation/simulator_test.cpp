@@ -93,7 +93,7 @@ TEST(MotorSimulator, WindowedAdvanceEqualsStepsReadOneByOne) {
 
 TEST(MotorSimulator, WindowedAdvanceThroughDivergenceResets) {
   MotorParameters p{};
-  p.numerics.divergence_speed_limit_m_s = 0.005;  // the 400 Vpp mover passes 5 mm/s early: reset to rest, again
+  p.numerics.divergence_speed_limit_m_s = 0.005;  // the 400 V mover passes 5 mm/s early: reset to rest, again
   EXPECT_GT(expect_windowed_advance_equals_steps(p, {400.0, 40000.0, 90.0, 0.0}), 0U);
 }
 
@@ -162,7 +162,6 @@ namespace {
 
 MotorParameters calibrated_terms() {
   MotorParameters p{};
-  p.options.voltage_convention = VoltageConvention::amplitude;
   p.stator.substrate_thickness_mm = 2.0;
   p.stator.c1111_pa = -0.85e17;
   p.contact.preload_application = PreloadApplication::back_end_constant;
@@ -289,7 +288,7 @@ TEST(MotorSimulator, FusedJenkinsStepIsTheGenericStepToRounding) {
     const GenericRun g = run_generic_step(model, drive, kSteps);
     const MotorState& f = sim.state();
     // Scales: 1 um for the modes (amplitudes are ~1-5 um), 1 m/s for their velocities.
-    EXPECT_NEAR(f.q1_m, g.q[0], 1e-9 * 1e-6) << drive.vpp << " Vpp " << drive.frequency_hz << " Hz";
+    EXPECT_NEAR(f.q1_m, g.q[0], 1e-9 * 1e-6) << drive.amplitude_v << " V " << drive.frequency_hz << " Hz";
     EXPECT_NEAR(f.q2_m, g.q[1], 1e-9 * 1e-6);
     EXPECT_NEAR(f.q1_dot_m_s, g.v[0], 1e-9);
     EXPECT_NEAR(f.q2_dot_m_s, g.v[1], 1e-9);
@@ -317,7 +316,7 @@ TEST(MotorSimulator, FusedAndGenericKernelsAgreeOverManyPeriods) {
     b.advance(steps);
     EXPECT_NEAR(a.state().mover_position_m, b.state().mover_position_m,
                 1e-9 * std::max(1e-6, std::abs(b.state().mover_position_m)))
-        << drive.vpp << " Vpp " << drive.frequency_hz << " Hz";
+        << drive.amplitude_v << " V " << drive.frequency_hz << " Hz";
     EXPECT_NEAR(a.state().q1_m, b.state().q1_m, 1e-9 * 1e-6);
     EXPECT_NEAR(a.state().q2_m, b.state().q2_m, 1e-9 * 1e-6);
     EXPECT_NEAR(a.forces().normal_n, b.forces().normal_n, 1e-9 * 100.0);

@@ -126,7 +126,7 @@ TEST(DiscrepancyPlots, OnePngPerMeasuredQuantity) {
   DiscrepancyResult r = small_result();
   for (int i = 0; i < 3; ++i) {
     Measurement m;
-    m.vpp = 100.0;
+    m.amplitude_v = 100.0;
     m.frequency_hz = 40000.0 + 100.0 * i;
     m.values[static_cast<std::size_t>(Quantity::speed)] = 50.0 + i;
     set.rows.push_back(m);

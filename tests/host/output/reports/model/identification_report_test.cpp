@@ -37,7 +37,7 @@ IdentificationResult small_result() {
   r.starts_run = 6;
   r.rounds = 3;
   PointPrediction p;
-  p.measurement.vpp = 100.0;
+  p.measurement.amplitude_v = 100.0;
   p.measurement.frequency_hz = 40000.0;
   p.measurement.tip_normal_um = 1.5;
   p.predicted_normal_um = 1.4567891;
@@ -87,7 +87,7 @@ TEST(IdentificationFittedHeader, NamesTheInputsAndEachConstant) {
 
 TEST(IdentificationResidualsCsv, MeasuredAndFittedPerAxisEmptyWhereAbsent) {
   EXPECT_EQ(identification_residuals_csv(small_result()),
-            "vpp,frequency_hz,tip_normal_um,fit_normal_um,tip_tangential_um,fit_tangential_um\n"
+            "amplitude_v,frequency_hz,tip_normal_um,fit_normal_um,tip_tangential_um,fit_tangential_um\n"
             "100,40000,1.5,1.45679,,\n");
 }
 

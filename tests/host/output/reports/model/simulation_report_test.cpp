@@ -9,7 +9,7 @@ namespace {
 
 OperatingPoint point() {
   OperatingPoint p;
-  p.vpp = 250.0;
+  p.amplitude_v = 250.0;
   p.frequency_hz = 40000.0;
   p.load_n = 0.5;
   p.phase_deg = 90.0;
@@ -31,7 +31,7 @@ SteadyStateResult result() {
 }
 
 TEST(SimulationText, AlignedLinesAndTheRealTimeFactor) {
-  EXPECT_EQ(simulation_text(point(), result(), 0.5), "operating point : 250 Vpp, 40000 Hz, load 0.5 N, phase 90 deg\n"
+  EXPECT_EQ(simulation_text(point(), result(), 0.5), "operating point : 250 V, 40000 Hz, load 0.5 N, phase 90 deg\n"
                                                      "mover speed     : 123.457 mm/s\n"
                                                      "tip amplitudes  : normal 1.2346 um, tangential 2.5000 um\n"
                                                      "contact fraction: 0.457\n"
@@ -49,7 +49,7 @@ TEST(SimulationJson, PointValuesAndNoteOnlyWhenNotSettled) {
   const std::string text = simulation_json(point(), result(), 0.5);
   ASSERT_EQ(text.back(), '\n');
   const auto j = nlohmann::json::parse(text);
-  EXPECT_DOUBLE_EQ(j["vpp"].get<double>(), 250.0);
+  EXPECT_DOUBLE_EQ(j["amplitude_v"].get<double>(), 250.0);
   EXPECT_DOUBLE_EQ(j["load_n"].get<double>(), 0.5);
   EXPECT_EQ(j["steady"], true);
   EXPECT_FALSE(j.contains("note"));

@@ -18,7 +18,7 @@ ModeBranch branch(double amplitude_um, bool stable) {
 // second normal branch.
 std::vector<SweepPoint> sweep() {
   SweepPoint p;
-  p.response.vpp = 100.0;
+  p.response.amplitude_v = 100.0;
   p.response.frequency_hz = 40000.5;
   p.response.normal.branches = {branch(2.5, false), branch(1.25, true)};
   p.response.tangential.branches = {branch(0.75, true)};
@@ -44,11 +44,11 @@ TEST(StatorRows, OneRowPerPairOfBranchesWithTheFollowedOneMarked) {
 }
 
 TEST(StatorCsv, FixedDigitsPerColumn) {
-  EXPECT_EQ(stator_csv(stator_rows(sweep())), "vpp,frequency_hz,branch,stable,tip_normal_um,tip_tangential_um\n"
+  EXPECT_EQ(stator_csv(stator_rows(sweep())), "amplitude_v,frequency_hz,branch,stable,tip_normal_um,tip_tangential_um\n"
                                               "100,40000.5,0,0,2.500000,0.750000\n"
                                               "100,40000.5,1,1,1.250000,0.750000\n");
   EXPECT_EQ(stator_backbone_csv({{100.0, 40100.25, 3.5, 39900.0, 1.0}}),
-            "vpp,normal_peak_hz,normal_peak_um,tangential_peak_hz,tangential_peak_um\n"
+            "amplitude_v,normal_peak_hz,normal_peak_um,tangential_peak_hz,tangential_peak_um\n"
             "100,40100.250,3.500000,39900.000,1.000000\n");
 }
 

@@ -27,11 +27,13 @@ ValidationCurves curves() {
   ValidationCurves c;
   c.speed_vs_voltage_nonlinear = line(0.0);
   c.speed_vs_voltage_linear = line(1.0);
-  for (double vpp : {100.0, 250.0, 400.0}) c.speed_vs_frequency.push_back({vpp, line(vpp), line(vpp + 1)});
+  for (double paper_v : {100.0, 250.0, 400.0})
+    c.speed_vs_frequency.push_back({paper_v, line(paper_v), line(paper_v + 1)});
   c.peak_vs_voltage_nonlinear = {{100.0, 250.0, 400.0}, {40.3, 40.1, 39.7}};
   c.peak_vs_voltage_linear = {{100.0, 250.0, 400.0}, {40.5, 40.5, 40.5}};
   c.speed_vs_load = {{300.0, 40060.0, line(2.0)}, {400.0, 40400.0, line(3.0)}};
-  for (double vpp : {100.0, 400.0}) c.orbit_vs_voltage.push_back({vpp, 39500.0, {{-1.0, 0.0, 1.0}, {0.0, 1.0, 0.0}}});
+  for (double paper_v : {100.0, 400.0})
+    c.orbit_vs_voltage.push_back({paper_v, 39500.0, {{-1.0, 0.0, 1.0}, {0.0, 1.0, 0.0}}});
   c.orbit_vs_frequency.push_back({400.0, 39000.0, {{-2.0, 0.0, 2.0}, {0.0, 2.0, 0.0}}});
   return c;
 }

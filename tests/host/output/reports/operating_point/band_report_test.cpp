@@ -9,7 +9,7 @@ namespace {
 
 std::vector<BandRow> rows() {
   BandRow a;
-  a.vpp = 100.0;
+  a.amplitude_v = 100.0;
   a.load_n = 0.5;
   a.temperature_rise_k = 10.0;
   a.pick.decided = true;
@@ -21,7 +21,7 @@ std::vector<BandRow> rows() {
   a.pick.collapse_hz = 39950.0;
   a.pick.reason = "margin 125.5 Hz, above the peak";
   BandRow b;
-  b.vpp = 200.0;
+  b.amplitude_v = 200.0;
   b.pick.reason = "no peak, speed still rising";
   return {a, b};
 }
@@ -37,7 +37,7 @@ BandSummary summary() {
 
 TEST(BandCsv, OneRowPerChainWithEmptyCellsWhenUndecided) {
   EXPECT_EQ(band_csv(rows()),
-            "vpp,load_n,temperature_rise_k,decided,frequency_hz,speed_mm_s,peak_frequency_hz,peak_speed_mm_s,"
+            "amplitude_v,load_n,temperature_rise_k,decided,frequency_hz,speed_mm_s,peak_frequency_hz,peak_speed_mm_s,"
             "margin_hz,collapse_hz,reason\n"
             "100,0.5,10,1,40125.5,80.25,40000,90,125.5,39950,margin 125.5 Hz; above the peak\n"
             "200,0,0,0,,,,,,,no peak; speed still rising\n");
@@ -66,7 +66,7 @@ TEST(BandText, BandPeakCountsAndUndecidedReasons) {
             "operating band 40126 .. 40126 Hz (0 Hz wide): the picked frequencies, margin >= 100 Hz above the peak\n"
             "peak range 40000 .. 40000 Hz (0 Hz wide)\n"
             "rows: 1 decided, 1 undecided\n"
-            "  200 Vpp, 0 N, 0 K rise: no peak, speed still rising\n"
+            "  200 V, 0 N, 0 K rise: no peak, speed still rising\n"
             "rows -> band.csv\n");
   BandSummary none;
   EXPECT_EQ(band_text({}, none, 100.0, ""), "no operating band: no row decided\nrows: 0 decided, 0 undecided\n");

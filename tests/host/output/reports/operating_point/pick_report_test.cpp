@@ -8,8 +8,8 @@
 namespace swum::host {
 namespace {
 
-// 40 Vpp decided with a naive speed, 60 Vpp decided without one (40.4 kHz outside the sweep),
-// 80 Vpp undecided, all at 0 N; 60 Vpp again at 1.5 N (its drift from the lowest decided voltage
+// 40 V decided with a naive speed, 60 V decided without one (40.4 kHz outside the sweep),
+// 80 V undecided, all at 0 N; 60 V again at 1.5 N (its drift from the lowest decided voltage
 // at that load: itself).
 std::vector<VoltagePick> picks() {
   PickResult a;
@@ -40,12 +40,12 @@ TEST(PickGainPercent, IsTheGainOverTheNaiveSpeedOrNaN) {
 
 TEST(PickText, OneLinePerVoltageWithDriftFromTheLowestDecided) {
   EXPECT_EQ(pick_text(picks()),
-            "    40 Vpp, 0 N: run at 40150 Hz, 120.0 mm/s (naive 40.4 kHz: 100.0 mm/s, gain +20 %), drift +0 Hz; "
+            "    40 V, 0 N: run at 40150 Hz, 120.0 mm/s (naive 40.4 kHz: 100.0 mm/s, gain +20 %), drift +0 Hz; "
             "margin 150 Hz\n"
-            "    60 Vpp, 0 N: run at 40050 Hz, 150.0 mm/s (naive 40.4 kHz: n/a (40.4 kHz outside the sweep)), drift "
+            "    60 V, 0 N: run at 40050 Hz, 150.0 mm/s (naive 40.4 kHz: n/a (40.4 kHz outside the sweep)), drift "
             "-100 Hz; r2\n"
-            "    80 Vpp, 0 N: undecided: no peak\n"
-            "    60 Vpp, 1.5 N: run at 40050 Hz, 150.0 mm/s (naive 40.4 kHz: n/a (40.4 kHz outside the sweep)), drift "
+            "    80 V, 0 N: undecided: no peak\n"
+            "    60 V, 1.5 N: run at 40050 Hz, 150.0 mm/s (naive 40.4 kHz: n/a (40.4 kHz outside the sweep)), drift "
             "+0 Hz; r2\n");
 }
 
@@ -54,7 +54,7 @@ TEST(PickJson, NumbersOrNullPerVoltage) {
   ASSERT_EQ(text.back(), '\n');
   const auto j = nlohmann::json::parse(text);
   ASSERT_EQ(j.size(), 4u);
-  EXPECT_DOUBLE_EQ(j[0]["vpp"].get<double>(), 40.0);
+  EXPECT_DOUBLE_EQ(j[0]["amplitude_v"].get<double>(), 40.0);
   EXPECT_DOUBLE_EQ(j[0]["frequency_hz"].get<double>(), 40150.0);
   EXPECT_NEAR(j[0]["gain_percent"].get<double>(), 20.04, 1e-9);
   EXPECT_DOUBLE_EQ(j[0]["drift_hz"].get<double>(), 0.0);
@@ -70,14 +70,14 @@ TEST(PickJson, NumbersOrNullPerVoltage) {
   std::vector<std::string> keys;
   const auto ordered = nlohmann::ordered_json::parse(text);
   for (const auto& [key, value] : ordered[0].items()) keys.push_back(key);
-  EXPECT_EQ(keys,
-            (std::vector<std::string>{"vpp", "load_n", "decided", "frequency_hz", "speed_mm_s", "naive_speed_mm_s",
-                                      "gain_percent", "peak_frequency_hz", "drift_hz", "margin_hz", "reason"}));
+  EXPECT_EQ(keys, (std::vector<std::string>{"amplitude_v", "load_n", "decided", "frequency_hz", "speed_mm_s",
+                                            "naive_speed_mm_s", "gain_percent", "peak_frequency_hz", "drift_hz",
+                                            "margin_hz", "reason"}));
 }
 
 TEST(PickScheduleCsv, DecidedVoltagesOnly) {
-  EXPECT_EQ(pick_schedule_csv(picks()), "vpp,load_n,frequency_hz\n40,0,40150\n60,0,40050\n60,1.5,40050\n");
-  EXPECT_EQ(pick_schedule_csv({}), "vpp,load_n,frequency_hz\n");
+  EXPECT_EQ(pick_schedule_csv(picks()), "amplitude_v,load_n,frequency_hz\n40,0,40150\n60,0,40050\n60,1.5,40050\n");
+  EXPECT_EQ(pick_schedule_csv({}), "amplitude_v,load_n,frequency_hz\n");
 }
 
 }  // namespace
