@@ -69,7 +69,9 @@ void add_band_command(CLI::App& app) {
   CLI::App* sub = app.add_subcommand(
       "band", "Band of operating frequencies over voltages, loads and stator temperatures (model down-sweeps)");
   add_config_option(*sub, o->config_path, "motor parameter file (TOML)");
-  sub->add_option("--amplitude-v", o->amplitude_v_list, "voltages, comma list (V)")->required();
+  sub->add_option("--amplitude-v", o->amplitude_v_list,
+                  "terminal voltage amplitudes per phase, comma list (V, zero-to-peak)")
+      ->required();
   sub->add_option("--load", o->load_list, "loads, comma list (N)")->capture_default_str();
   sub->add_option("--temperature-rise-k", o->rise_list,
                   "stator temperature rises over ambient, comma list (K, 0..300; other than 0 needs [effects.thermal])")

@@ -202,7 +202,9 @@ void add_pick_command(CLI::App& app) {
   sub->add_option("--sweep", o->sweep_path, "sweep CSV (swum sweep --out)");
   sub->add_option("--config", o->config_path, "motor parameter file: sweep the model offline first");
   add_device_options(*sub, o->device, &o->tick_hz);
-  sub->add_option("--amplitude-v", o->amplitude_v_list, "voltages, comma list (V)")->required();
+  sub->add_option("--amplitude-v", o->amplitude_v_list,
+                  "terminal voltage amplitudes per phase, comma list (V, zero-to-peak)")
+      ->required();
   sub->add_option("--load", o->load_list,
                   "loads, comma list: the rows to use / to sweep at (N); a pick per voltage and load")
       ->capture_default_str();

@@ -181,7 +181,9 @@ void add_population_command(CLI::App& app) {
   sub->add_option("--seed", o->seed, "study seed: motor i's parameters depend on (seed, i) only")
       ->check(CLI::NonNegativeNumber)  // CLI11 reads "-1" into an unsigned as 2^64 - 1
       ->capture_default_str();
-  sub->add_option("--amplitude-v", o->amplitude_v_list, "voltages, comma list (V)")->required();
+  sub->add_option("--amplitude-v", o->amplitude_v_list,
+                  "terminal voltage amplitudes per phase, comma list (V, zero-to-peak)")
+      ->required();
   sub->add_option("--frequency-hz", o->frequency_range, "START:STOP:STEP swept per motor and voltage (Hz)")
       ->capture_default_str();
   sub->add_option("--load", o->load_n, "load (N)")->capture_default_str();

@@ -82,7 +82,8 @@ void add_simulate_command(CLI::App& app) {
   auto o = std::make_shared<SimulateOptions>();
   CLI::App* sub = app.add_subcommand("simulate", "Run one operating point to steady state");
   add_config_option(*sub, o->config_path, "motor parameter file (TOML)");
-  sub->add_option("--amplitude-v", o->amplitude_v, "drive voltage (V peak-to-peak)")->required();
+  sub->add_option("--amplitude-v", o->amplitude_v, "terminal voltage amplitude per phase (V, zero-to-peak)")
+      ->required();
   sub->add_option("--frequency-hz", o->frequency_hz, "drive frequency (Hz)")->required();
   sub->add_option("--load", o->load_n, "external load force on the mover (N)")->capture_default_str();
   sub->add_option("--drive-phase-deg", o->phase_deg, "phase of B relative to A (deg); sign = direction")

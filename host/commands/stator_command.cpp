@@ -88,7 +88,9 @@ void add_stator_command(CLI::App& app) {
   CLI::App* sub = app.add_subcommand(
       "stator", "Free-stator tip amplitudes by harmonic balance: all branches, stability, backbone");
   add_config_option(*sub, o->config_path, "motor parameter file (TOML)");
-  sub->add_option("--amplitude-v", o->amplitude_v_list, "drive voltages, comma list (V peak-to-peak)")->required();
+  sub->add_option("--amplitude-v", o->amplitude_v_list,
+                  "terminal voltage amplitudes per phase, comma list (V, zero-to-peak)")
+      ->required();
   sub->add_option("--frequency-hz", o->frequency_range, "START:STOP:STEP or one value (Hz)")->required();
   auto* json = sub->add_flag("--json", o->json, "print one JSON object (rows and backbone)");
   auto* out = sub->add_option("--out", o->out_path,

@@ -186,7 +186,9 @@ void add_sweep_command(CLI::App& app) {
                                      "Steady speed over voltages x frequencies x loads (model or live device)");
   sub->add_option("--config", o->config_path, "motor parameter file (TOML): sweep the model offline");
   add_device_options(*sub, o->device, &o->tick_hz);
-  sub->add_option("--amplitude-v", o->amplitude_v_list, "drive voltages, comma list (V peak-to-peak)")->required();
+  sub->add_option("--amplitude-v", o->amplitude_v_list,
+                  "terminal voltage amplitudes per phase, comma list (V, zero-to-peak)")
+      ->required();
   sub->add_option("--frequency-hz", o->frequency_range, "START:STOP:STEP or one value (Hz); swept downward on a device")
       ->required();
   sub->add_option("--load", o->load_list, "loads, comma list (N)")->capture_default_str();

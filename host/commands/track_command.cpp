@@ -88,7 +88,8 @@ void add_track_command(CLI::App& app) {
   CLI::App* sub = app.add_subcommand(
       "track", "Hold a live device a margin above its drifting resonance (by motional phase or speed)");
   add_device_options(*sub, o->device);
-  sub->add_option("--amplitude-v", o->settings.amplitude_v, "drive amplitude (V)")->required();
+  sub->add_option("--amplitude-v", o->settings.amplitude_v, "terminal voltage amplitude per phase (V, zero-to-peak)")
+      ->required();
   sub->add_option("--duration-s", o->settings.duration_s, "run length (s; device time in lockstep)")
       ->capture_default_str();
   sub->add_option("--method", o->method, "phase (PLL on the motional phase), speed (search), fixed (cold pick held)")

@@ -209,7 +209,7 @@ def board_current_modbus():
     with Emulator("--speedup", "4", "--watchdog-ms", "0", config=config) as emu:  # the log holds the drive on
         device = f"tcp://{emu.host}:{emu.port}"
         sweep_csv = os.path.join(OUT, "board_sweep.csv")
-        status, out, err = swum("sweep", "--modbus", device, "--amplitude-v", "100,300", "--frequency",
+        status, out, err = swum("sweep", "--modbus", device, "--amplitude-v", "100,300", "--frequency-hz",
                                 "45000:46000:1000", "--settle-ms", "150", "--dwell-ms", "50", "--out", sweep_csv)
         check(status == 0, f"sweep failed: {err}")
         with open(sweep_csv) as f:
@@ -236,7 +236,7 @@ def board_current_modbus():
             time.sleep(0.01)
         time.sleep(0.1)
         log_csv = os.path.join(OUT, "board_log.csv")
-        status, out, err = swum("log", "--modbus", device, "--duration", "1", "--rate-hz", "50", "--out", log_csv)
+        status, out, err = swum("log", "--modbus", device, "--duration-s", "1", "--rate-hz", "50", "--out", log_csv)
         client.write_registers(MAP.holding["command"]["address"], MAP.encode("command", 0), slave=1)
         client.close()
         check(status == 0, f"log failed: {err}")

@@ -39,7 +39,7 @@ TEST(SwumPick, PicksLowerFrequencyAtHigherVoltageWithAGainOverNaive) {
       EXPECT_LT(p.at("drift_hz").get<double>(), -300.0);
     }
   }
-  EXPECT_EQ(swum::test::read_file(schedule).substr(0, 24), "amplitude_v,load_n,frequency_hz\n");
+  EXPECT_EQ(swum::test::read_file(schedule).substr(0, 32), "amplitude_v,load_n,frequency_hz\n");
 }
 
 TEST(SwumPick, RefusesATooCoarseSweepWithAReason) {

@@ -48,7 +48,7 @@ fs::path synthetic_csv(const std::string& name, const swum::MotorParameters& tru
 TEST(SwumStator, CsvHasTheContractColumnsAndEveryBranch) {
   const fs::path out = scratch("stator.csv");
   fs::remove(out);
-  const CliRun r = swum_run({"stator", "--config", kLiteral, "--amplitude-v", "400", "--frequency-hz",
+  const CliRun r = swum_run({"stator", "--config", kLiteral, "--amplitude-v", "200", "--frequency-hz",
                              "39000:39500:250", "--out", out.string()});
   ASSERT_EQ(r.status, 0) << r.output;
   const std::string csv = slurp(out);
@@ -62,7 +62,7 @@ TEST(SwumStator, CsvHasTheContractColumnsAndEveryBranch) {
 
 TEST(SwumStator, JsonHasRowsAndTheSofteningBackbone) {
   const CliRun r = swum_run(
-      {"stator", "--config", kLiteral, "--amplitude-v", "50,400", "--frequency-hz", "39500", "--json"});
+      {"stator", "--config", kLiteral, "--amplitude-v", "25,200", "--frequency-hz", "39500", "--json"});
   ASSERT_EQ(r.status, 0) << r.output;
   const auto j = nlohmann::json::parse(r.output);
   ASSERT_EQ(j.at("rows").size(), 2u);
@@ -78,7 +78,7 @@ TEST(SwumStator, PlotWritesBothAxes) {
   const fs::path png = scratch("stator.png");
   fs::remove(png);
   fs::remove(scratch("stator_normal.png"));
-  const CliRun r = swum_run({"stator", "--config", kLiteral, "--amplitude-v", "100,400", "--frequency-hz",
+  const CliRun r = swum_run({"stator", "--config", kLiteral, "--amplitude-v", "50,200", "--frequency-hz",
                              "38500:40000:50", "--plot", png.string(), "--out", scratch("s.csv").string()});
   ASSERT_EQ(r.status, 0) << r.output;
   EXPECT_GT(fs::file_size(png), 1000u);
