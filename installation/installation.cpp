@@ -4,7 +4,8 @@
 #include <stdexcept>
 #include <system_error>
 
-// Set by installation/CMakeLists.txt for this file only (so a new commit recompiles one file).
+// Set by installation/CMakeLists.txt for this file only, so that a new version or commit recompiles
+// this one file.
 #ifndef SWUM_VERSION
 #error "SWUM_VERSION is not defined (installation/CMakeLists.txt)"
 #endif
@@ -54,9 +55,12 @@ std::optional<fs::path> find_data_dir(const fs::path& exe, const char* env, std:
   tried = installed.string();
   // A build of this checkout (the executable under its build folder) reads the checkout's
   // config/; an installed binary never does, even when the checkout is still there.
-  const fs::path build_dir = fs::path(SWUM_BUILD_DIR).lexically_normal();
-  const fs::path source_data = fs::path(SWUM_SOURCE_DATA_DIR).lexically_normal();
-  if (is_inside(exe.lexically_normal(), build_dir)) {
+  // Both sides with symbolic links resolved: /proc/self/exe is, a checkout reached through a link
+  // is not.
+  std::error_code ec;
+  const fs::path build_dir = fs::weakly_canonical(SWUM_BUILD_DIR, ec).lexically_normal();
+  const fs::path source_data = fs::weakly_canonical(SWUM_SOURCE_DATA_DIR, ec).lexically_normal();
+  if (is_inside(fs::weakly_canonical(exe, ec).lexically_normal(), build_dir)) {
     if (holds_default_config(source_data)) return source_data;
     tried += ", " + source_data.string();
   }

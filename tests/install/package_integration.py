@@ -144,8 +144,15 @@ def pip_install(tmp, work, env, version):
 
 
 def main():
-    version = project_version()
     tmp = tempfile.mkdtemp(prefix="swum-package-")
+    try:
+        run_all(tmp)
+    finally:
+        shutil.rmtree(tmp, ignore_errors=True)  # also after a failure: its messages say what went wrong
+
+
+def run_all(tmp):
+    version = project_version()
     work, home = os.path.join(tmp, "user-project"), os.path.join(tmp, "home")
     os.makedirs(work)
     os.makedirs(home)
@@ -163,6 +170,10 @@ def main():
         try:
             env = user_environment(home)
             use_it(work, env, "/usr/share/swum-hil", version)
+            # The packaged plugin out of the way first: its entry point would load the plugin even
+            # if pip's install had no working metadata of its own.
+            r = run(["dpkg", "--purge", "python3-swum-bench"])
+            check(r.returncode == 0, f"dpkg --purge python3-swum-bench: {r.stdout}{r.stderr}")
             pip_install(tmp, work, env, version)
         finally:
             r = run(["dpkg", "--purge", *reversed(PACKAGES)])
@@ -179,7 +190,6 @@ def main():
         use_it(work, env, os.path.join(root, "usr", "share", "swum-hil"), version)
         pip_install(tmp, work, env, version)
         print("(the uninstall check runs with SWUM_PACKAGE_TEST_INSTALL=system)")
-    shutil.rmtree(tmp)
     print("package: PASS")
 
 

@@ -17,12 +17,13 @@ struct CurveSample {
   double spread_mm_s = -1.0;  // measured spread of the speed at this point; < 0 = unknown
 };
 
-// The default floor of the margin above the softening peak, in every command (--margin-hz):
-// a cold pick must survive the peak's drift down as the stator warms and the rest of the collapse
-// zone's uncertainty (docs/host.md, "The operating point").
+// The default floor of the margin above the softening peak, in every command (--margin-hz): the
+// distance kept from the fold below the peak for what moves the peak up towards the drive (a
+// cooler stator, a lighter load, a lower amplitude) and for the peak's uncertainty; warming moves
+// the peak down, away from the drive (docs/host.md, "The operating point").
 inline constexpr double kDefaultMarginHz = 100.0;
 
-// The default frequency grid of a model or device curve (--frequency START:STOP:STEP, Hz): from
+// The default frequency grid of a model or device curve (--frequency-hz START:STOP:STEP, Hz): from
 // above every cold peak of the calibrated motor down past the collapse of a stator ~100 K warm.
 inline constexpr const char* kDefaultFrequencyGrid = "38000:41500:25";
 

@@ -4,6 +4,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cstdlib>
+
 #include <cstdio>
 #include <filesystem>
 #include <string>
@@ -228,6 +230,7 @@ TEST(EmuOptions, RetiredSpellingsNameTheirNewOnes) {
 // Without --config the calibrated motor of the data directory runs (docs/install.md): this test
 // binary is a build of the checkout, so that is the checkout's config/li2019.toml.
 TEST(EmuOptions, WithoutConfigTheDataDirectorysDefaultMotorRuns) {
+  ::unsetenv("SWUM_DATA_DIR");  // an installation's choice in the environment is not this test's
   const EmuOptions o = parse({});
   EXPECT_EQ(std::filesystem::path(o.config_path), std::filesystem::path(kConfig).lexically_normal());
   EXPECT_TRUE(o.config_is_default);

@@ -2,6 +2,8 @@
 // layout, and one-line errors with the right exit codes for bad input.
 #include <gtest/gtest.h>
 
+#include <cstdlib>
+
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
@@ -44,6 +46,7 @@ TEST(SwumCli, ModesJsonHasTheNaturalFrequencies) {
 // Without --config the commands use the calibrated motor of the data directory (docs/install.md):
 // this swum is a build of the checkout, so the checkout's config/li2019.toml.
 TEST(SwumCli, WithoutConfigTheDefaultMotorIsUsed) {
+  ::unsetenv("SWUM_DATA_DIR");  // an installation's choice in the environment is not this test's
   const CliRun given = swum({"modes", "--config", kConfig, "--json"});
   const CliRun defaulted = swum({"modes", "--json"});
   ASSERT_EQ(defaulted.status, 0) << defaulted.output;
