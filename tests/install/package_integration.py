@@ -7,7 +7,8 @@ default motor; `swum pick --config` on the installed motor), a ten-line controll
 plain `pytest`, and `man swum`; then uninstalls and checks that nothing is left. The same
 controller test runs once more with the bench installed by `pip install ./bench`.
 
-  SWUM_PACKAGE_TEST_INSTALL=system   dpkg -i / dpkg --purge into this system (CI: tools/test sets
+  SWUM_PACKAGE_TEST_INSTALL=system   (in the build's configure environment) dpkg -i / dpkg --purge into
+                                     this system, the test alone (CI: tools/test sets
                                      it when it runs as root on a throw-away clone); refuses
                                      when swum-hil is already installed
   otherwise                          dpkg-deb -x into a temporary root (PATH and PYTHONPATH point
@@ -163,7 +164,7 @@ def run_all(tmp):
         for p in PACKAGES:
             r = run(["dpkg-query", "-W", "-f", "${Status}", p])
             check("installed" not in r.stdout.split(), f"{p} is already installed here: this test installs and removes "
-                  "only what it installed itself (remove it, or run without SWUM_PACKAGE_TEST_INSTALL=system)")
+                  "only what it installed itself (remove it, or configure the build without SWUM_PACKAGE_TEST_INSTALL=system)")
         existed = {path for path in files if os.path.lexists(path)}
         r = run(["dpkg", "-i", *debs.values()])
         check(r.returncode == 0, f"dpkg -i: {r.stdout}{r.stderr}")
