@@ -61,7 +61,9 @@ def main():
     out = tempfile.mkdtemp(prefix="swum-bench-determinism-")
     quiet = run_suite(os.path.join(out, "quiet"))
     check(len(quiet) >= 4, f"only {len(quiet)} captures: {sorted(quiet)}")
-    hogs = [subprocess.Popen([sys.executable, "-c", "while True: pass"]) for _ in range(os.cpu_count() or 2)]
+    # Each hog dies with this process (PR_SET_PDEATHSIG), also when a time limit kills it.
+    hog = "import ctypes, signal; ctypes.CDLL(None).prctl(1, signal.SIGKILL)\nwhile True: pass"
+    hogs = [subprocess.Popen([sys.executable, "-c", hog]) for _ in range(os.cpu_count() or 2)]
     try:
         loaded = run_suite(os.path.join(out, "loaded"))
     finally:

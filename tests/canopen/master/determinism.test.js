@@ -24,7 +24,9 @@ function runScript(file) {
 }
 
 function startHogs() {
-  const hogs = os.cpus().map(() => spawn('/usr/bin/python3', ['-c', 'while True: pass'], { stdio: 'ignore' }));
+  // Each hog dies with its parent (PR_SET_PDEATHSIG), also when a time limit kills the test.
+  const hog = 'import ctypes, signal; ctypes.CDLL(None).prctl(1, signal.SIGKILL)\nwhile True: pass';
+  const hogs = os.cpus().map(() => spawn('/usr/bin/python3', ['-c', hog], { stdio: 'ignore' }));
   const stop = async () => {
     await Promise.all(hogs.map((h) => new Promise((resolve) => {
       if (h.exitCode !== null || h.signalCode !== null) {
