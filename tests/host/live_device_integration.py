@@ -80,7 +80,9 @@ def compare_picks(live, offline, step_hz):
             check(lp["gain_percent"] >= 20.0, f"{amplitude_v} V: gain {lp['gain_percent']} % over naive 40.4 kHz")
         previous = lp
     lo, hi = min(live), max(live)
-    check(live[hi]["frequency_hz"] < live[lo]["frequency_hz"] - 300.0, "no resonance drift between lowest and highest voltage")
+    if lo != hi:  # one voltage (pick_can) has no drift to check
+        check(live[hi]["frequency_hz"] < live[lo]["frequency_hz"] - 300.0,
+              "no resonance drift between lowest and highest voltage")
 
 
 def png(path):
@@ -363,7 +365,10 @@ def rtu_modbus():
 
 
 def pick_can():
-    grid = ["--amplitude-v", "100,400", "--frequency-hz", "39200:40700:50"]
+    # One voltage: this checks the CAN transport of a live pick against the offline one; the drift
+    # of the pick with voltage is host.live.pick_modbus's (two voltages here cost ~50 s of the
+    # serial guest tier, docs/testing.md "Time budget").
+    grid = ["--amplitude-v", "400", "--frequency-hz", "39200:40700:50"]
     # The offline pick first, before swum-emu runs: at --speedup 0 the emulator takes a whole
     # vCPU of the guest, and the model sweep on all cores beside it took about ten times as long.
     offline = offline_picks(grid)
