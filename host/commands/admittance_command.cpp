@@ -63,9 +63,11 @@ void run_admittance(const AdmittanceOptions& o) {
   report.phase = o.phase == "a" ? DrivenPhase::a : DrivenPhase::b;
   report.mounting = o.mounting == "free" ? Mounting::free : Mounting::assembled;
   const MotorModel model(mounted_parameters(parameters, report.mounting));
-  report.analytic = analytic_equivalent_circuit(model, report.phase);
+  report.analytic = analytic_equivalent_circuit(model, report.phase, report.mounting);
   CircuitFitOptions fit_options;
-  fit_options.first_mode_higher = model.constants().f_l1_hz >= model.constants().f_b2_hz;
+  for (std::size_t i = 0; i < kCircuitModes; ++i) {
+    fit_options.reference_inductance_h[i] = report.analytic.branches[i].inductance_h;
+  }
   for (double v : voltages) {
     AdmittanceSweepOptions sweep;
     sweep.phase = report.phase;

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <memory>
 #include <numbers>
+#include <optional>
 #include <vector>
 
 namespace swum {
@@ -52,52 +53,84 @@ double crossing(const Data& d, std::size_t i, std::size_t j, double level) {
   return d.f[i] + t * (d.f[j] - d.f[i]);
 }
 
-// Guesses from the data: C0 from B/w at the grid's two ends (the motional susceptance has
-// opposite signs below and above the resonance, so their mean cancels it to first order), one
-// branch from the conductance peak (G_max = 1/R, fs at the peak, Q = fs/width at half
-// height), split into two equal branches detuned by +-`detune` of the width.
-EquivalentCircuit guess(const Data& d, double detune, double width_ratio) {
+// A conductance peak: its frequency, height and width at half height (from the crossings on
+// both sides, twice the one found, or half the grid when neither is).
+struct Peak {
+  double frequency_hz = 0.0, conductance_s = 0.0, width_hz = 0.0;
+};
+
+Peak peak_at(const Data& d, std::size_t peak) {
   const std::size_t n = d.f.size();
-  EquivalentCircuit c;
-  c.clamped_capacitance_f = 0.5 * (d.b.front() / (kTwoPi * d.f.front()) + d.b.back() / (kTwoPi * d.f.back()));
-  const std::size_t peak = static_cast<std::size_t>(std::max_element(d.g.begin(), d.g.end()) - d.g.begin());
-  const double g_max = d.g[peak];
-  const double fs = d.f[peak];
+  Peak p{d.f[peak], d.g[peak], 0.0};
+  const double half = 0.5 * p.conductance_s;
   double low = NAN, high = NAN;
   for (std::size_t i = peak; i > 0; --i) {
-    if (d.g[i - 1] < 0.5 * g_max) {
-      low = crossing(d, i - 1, i, 0.5 * g_max);
+    if (d.g[i - 1] < half) {
+      low = crossing(d, i - 1, i, half);
       break;
     }
   }
   for (std::size_t i = peak; i + 1 < n; ++i) {
-    if (d.g[i + 1] < 0.5 * g_max) {
-      high = crossing(d, i, i + 1, 0.5 * g_max);
+    if (d.g[i + 1] < half) {
+      high = crossing(d, i, i + 1, half);
       break;
     }
   }
-  double width = 0.0;
   if (std::isfinite(low) && std::isfinite(high)) {
-    width = high - low;
+    p.width_hz = high - low;
   } else if (std::isfinite(low)) {
-    width = 2.0 * (fs - low);
+    p.width_hz = 2.0 * (p.frequency_hz - low);
   } else if (std::isfinite(high)) {
-    width = 2.0 * (high - fs);
+    p.width_hz = 2.0 * (high - p.frequency_hz);
   } else {
-    width = 0.5 * (d.f.back() - d.f.front());
+    p.width_hz = 0.5 * (d.f.back() - d.f.front());
   }
-  width = std::max(width, 1e-6 * fs);
-  const double r = 1.0 / g_max;
-  const double l = r * (fs / width) / (kTwoPi * fs);
-  // Two branches with the peak's conductance shared equally; widths in ratio width_ratio.
-  const double shift[kCircuitModes] = {+detune * width, -detune * width};
-  const double stretch[kCircuitModes] = {std::sqrt(width_ratio), 1.0 / std::sqrt(width_ratio)};
-  for (std::size_t i = 0; i < kCircuitModes; ++i) {
-    const double f_i = fs + shift[i];
-    MotionalBranch& b = c.branches[i];
-    b.resistance_ohm = 2.0 * r;
-    b.inductance_h = 2.0 * l / stretch[i];
-    b.capacitance_f = 1.0 / (std::pow(kTwoPi * f_i, 2) * b.inductance_h);
+  p.width_hz = std::max(p.width_hz, 1e-6 * p.frequency_hz);
+  return p;
+}
+
+// A branch with conductance share `share` of the peak, at `frequency_hz`, with the peak's
+// width stretched by `stretch` (G_max = 1/R, Q = fs/width, L = R Q/(2 pi fs)).
+MotionalBranch branch_from(const Peak& p, double share, double frequency_hz, double stretch) {
+  MotionalBranch b;
+  b.resistance_ohm = 1.0 / (share * p.conductance_s);
+  b.inductance_h = b.resistance_ohm / (kTwoPi * p.width_hz * stretch);
+  b.capacitance_f = 1.0 / (std::pow(kTwoPi * frequency_hz, 2) * b.inductance_h);
+  return b;
+}
+
+// C0 from B/w at the grid's two ends: the motional susceptance has opposite signs below and
+// above the resonance, so their mean cancels it to first order.
+double clamped_capacitance_guess_f(const Data& d) {
+  return 0.5 * (d.b.front() / (kTwoPi * d.f.front()) + d.b.back() / (kTwoPi * d.f.back()));
+}
+
+// Overlapping modes (one conductance peak): the highest peak split into two branches sharing
+// its conductance equally, detuned by +-`detune` of its width, widths in ratio `width_ratio`.
+EquivalentCircuit guess_overlapping(const Data& d, double detune, double width_ratio) {
+  EquivalentCircuit c;
+  c.clamped_capacitance_f = clamped_capacitance_guess_f(d);
+  const Peak p = peak_at(d, static_cast<std::size_t>(std::max_element(d.g.begin(), d.g.end()) - d.g.begin()));
+  c.branches[0] = branch_from(p, 0.5, p.frequency_hz + detune * p.width_hz, std::sqrt(width_ratio));
+  c.branches[1] = branch_from(p, 0.5, p.frequency_hz - detune * p.width_hz, 1.0 / std::sqrt(width_ratio));
+  return c;
+}
+
+// Separate modes: the two highest local maxima of the conductance, one branch each. Empty
+// when the conductance has fewer than two interior maxima.
+std::optional<EquivalentCircuit> guess_separate(const Data& d) {
+  std::vector<std::size_t> maxima;
+  for (std::size_t i = 1; i + 1 < d.g.size(); ++i) {
+    if (d.g[i] > d.g[i - 1] && d.g[i] >= d.g[i + 1]) maxima.push_back(i);
+  }
+  if (maxima.size() < 2) return std::nullopt;
+  std::partial_sort(maxima.begin(), maxima.begin() + 2, maxima.end(),
+                    [&](std::size_t i, std::size_t j) { return d.g[i] > d.g[j]; });
+  EquivalentCircuit c;
+  c.clamped_capacitance_f = clamped_capacitance_guess_f(d);
+  for (std::size_t k = 0; k < kCircuitModes; ++k) {
+    const Peak p = peak_at(d, maxima[k]);
+    c.branches[k] = branch_from(p, 1.0, p.frequency_hz, 1.0);
   }
   return c;
 }
@@ -196,14 +229,16 @@ CircuitFit fit_equivalent_circuit(std::span<const AdmittancePoint> points, const
   // A few detunings and width ratios of the two branches: the symmetric split is a saddle.
   Solve best;
   EquivalentCircuit best_start;
+  std::vector<EquivalentCircuit> starts;
   for (double detune : {0.05, 0.15, 0.3}) {
-    for (double ratio : {1.0, 1.6, 1.0 / 1.6}) {
-      const EquivalentCircuit start = guess(d, detune, ratio);
-      Solve s = solve_from(d, start, options.max_iterations);
-      if (s.usable && s.cost < best.cost) {
-        best = std::move(s);
-        best_start = start;
-      }
+    for (double ratio : {1.0, 1.6, 1.0 / 1.6}) starts.push_back(guess_overlapping(d, detune, ratio));
+  }
+  if (const auto separate = guess_separate(d)) starts.push_back(*separate);
+  for (const EquivalentCircuit& start : starts) {
+    Solve s = solve_from(d, start, options.max_iterations);
+    if (s.usable && s.cost < best.cost) {
+      best = std::move(s);
+      best_start = start;
     }
   }
   if (!best.usable) {
@@ -222,10 +257,14 @@ CircuitFit fit_equivalent_circuit(std::span<const AdmittancePoint> points, const
   out.circuit = circuit_of(value);
   out.standard_error = circuit_of(error);
   out.start = best_start;
-  // Label: branch 0 is the mode with the higher series resonance when the model's first mode is
-  // the higher one.
-  const bool swap = (series_resonance_hz(out.circuit.branches[0]) > series_resonance_hz(out.circuit.branches[1])) !=
-                    options.first_mode_higher;
+  // Label the branches (CircuitFitOptions::reference_inductance_h).
+  const auto& ref = options.reference_inductance_h;
+  bool swap = false;
+  if (ref[0] > 0.0 && ref[1] > 0.0) {
+    swap = (out.circuit.branches[0].inductance_h < out.circuit.branches[1].inductance_h) != (ref[0] < ref[1]);
+  } else {
+    swap = series_resonance_hz(out.circuit.branches[0]) < series_resonance_hz(out.circuit.branches[1]);
+  }
   if (swap) {
     std::swap(out.circuit.branches[0], out.circuit.branches[1]);
     std::swap(out.standard_error.branches[0], out.standard_error.branches[1]);

@@ -2,9 +2,12 @@
 // non-linear least squares with Ceres (Levenberg-Marquardt) on the complex residual
 // (Y_circuit - Y_measured)/|Y_measured| (relative weighting, real and imaginary part), over
 // the logarithms of C0 and of each mode's R1, L1, C1, started from guesses read off the data
-// (C0 from the susceptance at the grid's ends, the conductance peak's height, position and
-// width for the motional branches) and never from the analytic circuit; standard errors from
-// the covariance at the optimum (ceres::Covariance, scaled by the residual variance).
+// (C0 from the susceptance at the grid's ends; the motional branches from the conductance
+// peak's height, position and width: one peak split into two detuned branches for modes that
+// overlap, as L1 and B2 of the free stator 50 Hz apart, one branch per peak for separate ones)
+// and never from the analytic circuit; the solve with the least cost over these starts is
+// kept. Standard errors from the covariance at the optimum (ceres::Covariance, scaled by the
+// residual variance).
 #pragma once
 
 #include <array>
@@ -18,9 +21,12 @@ namespace swum {
 
 struct CircuitFitOptions {
   int max_iterations = 500;
-  // Series resonances of the two modes in the model's order (the guesses' labelling only: the
-  // fitted branch with the higher fs is named the mode with the higher natural frequency).
-  bool first_mode_higher = true;
+  // Which fitted branch is which mode: the motional inductances L1 = M/N^2 in the order of
+  // these (the analytic circuit's; a mode's mass and force factor do not depend on the
+  // mounting, its stiffness does, so the order holds in contact too; on li2019.toml L1's
+  // branch has the smaller inductance at every level tried, 1-400 V, free and assembled). All
+  // 0: the branch with the higher series resonance is mode 0 (L1).
+  std::array<double, kCircuitModes> reference_inductance_h{};
 };
 
 struct CircuitFit {

@@ -32,13 +32,16 @@ std::complex<double> circuit_admittance_s(const EquivalentCircuit& c, double fre
   return y;
 }
 
-EquivalentCircuit analytic_equivalent_circuit(const MotorModel& model, DrivenPhase phase) {
+EquivalentCircuit analytic_equivalent_circuit(const MotorModel& model, DrivenPhase phase, Mounting mounting) {
   const ModalConstants& k = model.constants();
   const StatorForceCoefficients& s = model.coefficients().stator;
   const bool a = phase == DrivenPhase::a;
   const double n[kCircuitModes] = {a ? s.l1.lin0_a : s.l1.lin0_b, a ? s.b2.lin0_a : s.b2.lin0_b};
   const double m[kCircuitModes] = {k.m1_kg, k.m2_kg};
-  const double kk[kCircuitModes] = {k.k1_n_m, k.k2_n_m};
+  const MotorCoefficients& mc = model.coefficients();
+  const bool held = mounting == Mounting::assembled;
+  const double kk[kCircuitModes] = {k.k1_n_m + (held ? mc.g_n * mc.contact_stiffness_n_m : 0.0),
+                                    k.k2_n_m + (held ? mc.g_t * mc.g_tv * mc.tangential_stiffness_n_m : 0.0)};
   const double c[kCircuitModes] = {k.c1_n_s_m, k.c2_n_s_m};
   EquivalentCircuit out;
   out.clamped_capacitance_f = model.parameters().stator.clamped_capacitance_nf * 1e-9;

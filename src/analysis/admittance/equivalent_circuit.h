@@ -45,7 +45,12 @@ struct EquivalentCircuit {
 
 // The circuit that follows from the modal constants of `model` for the driven phase: N = lin0
 // of that phase for each mode (StatorForceCoefficients), M_i, K_i, C_i, and C0 =
-// clamped_capacitance_nf. Exact for the linear free stator (no contact, small signal).
-[[nodiscard]] EquivalentCircuit analytic_equivalent_circuit(const MotorModel& model, DrivenPhase phase);
+// clamped_capacitance_nf. Free: exact for the linear free stator (no contact, small signal).
+// Assembled: the small-signal circuit with the tip held on the mover (in contact, sticking):
+// the contact springs add to the modal stiffnesses, K1 + gN k_e and K2 + gT gTv k_t (the
+// frequencies f_l1_full_contact_hz and f_b2_stick_hz of ModalConstants); R1 and L1 are the
+// free stator's. `model` is the mounted one (mounted_parameters).
+[[nodiscard]] EquivalentCircuit analytic_equivalent_circuit(const MotorModel& model, DrivenPhase phase,
+                                                            Mounting mounting = Mounting::free);
 
 }  // namespace swum

@@ -40,7 +40,10 @@ struct LevelFit {
 LevelFit fit_at(const MotorParameters& p, Mounting mounting, double amplitude_v) {
   const auto points = test::sweep(p, DrivenPhase::a, mounting, amplitude_v,
                                   test::frequency_grid(38000.0, 41000.0, 100.0));
-  const CircuitFit fit = fit_equivalent_circuit(points);
+  // Branches named by the order of their inductances (L1's is the smaller: M1/N^2 < M2/N^2).
+  CircuitFitOptions options;
+  options.reference_inductance_h = {1.0, 2.0};
+  const CircuitFit fit = fit_equivalent_circuit(points, options);
   EXPECT_TRUE(fit.ok) << fit.failure;
   return {series_resonance_hz(fit.circuit.branches[0]), series_resonance_hz(fit.circuit.branches[1]),
           fit.circuit.branches[0].resistance_ohm, fit.circuit.branches[1].resistance_ohm};
