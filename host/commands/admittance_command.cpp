@@ -1,4 +1,4 @@
-// `swum admittance [--config F] [--amplitude-v LIST] [--frequency-hz START:STOP:STEP] [--phase a|b]
+// `swum admittance [--config F] [--amplitude-v LIST] [--frequency-hz START:STOP:STEP] [--driven-phase a|b]
 // [--mounting free|assembled]`: one phase's admittance Y(f) as an impedance analyser measures it
 // (the other phase shorted), per drive level, and the Butterworth-Van Dyke circuit fitted to it
 // next to the analytic one from the modal constants (docs/host.md, docs/model.md "Equivalent
@@ -53,7 +53,7 @@ void run_admittance(const AdmittanceOptions& o) {
   for (double f : frequencies) {
     if (f < 1000.0 || f > 200000.0) throw std::invalid_argument("--frequency-hz: must be within 1000..200000 Hz");
   }
-  if (o.phase != "a" && o.phase != "b") throw std::invalid_argument("--phase: '" + o.phase + "' is not a or b");
+  if (o.phase != "a" && o.phase != "b") throw std::invalid_argument("--driven-phase: '" + o.phase + "' is not a or b");
   if (o.mounting != "free" && o.mounting != "assembled")
     throw std::invalid_argument("--mounting: '" + o.mounting + "' is not free or assembled");
 
@@ -103,7 +103,8 @@ void add_admittance_command(CLI::App& app) {
   sub->add_option("--frequency-hz", o->frequency_range,
                   "START:STOP:STEP (Hz), at least 8 points, swept from STOP down to START per level")
       ->capture_default_str();
-  sub->add_option("--phase", o->phase, "driven phase, a or b (the other is shorted, 0 V)")->capture_default_str();
+  sub->add_option("--driven-phase", o->phase, "driven phase, a or b (the other is shorted, 0 V)")
+      ->capture_default_str();
   sub->add_option("--mounting", o->mounting,
                   "free (the stator alone: no preload, no contact) or assembled (the motor as configured)")
       ->capture_default_str();

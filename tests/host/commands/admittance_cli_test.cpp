@@ -22,7 +22,7 @@ TEST(SwumAdmittance, JsonHasTheAnalyticAndTheFittedCircuitPerLevel) {
   std::filesystem::remove(csv);
   std::filesystem::remove_all(plots);
   auto r = run_swum({"admittance", "--config", kConfig, "--amplitude-v", "1,200", "--frequency-hz", "38000:41000:100",
-                     "--phase", "b", "--json", "--csv", csv.string(), "--plot-dir", plots.string()});
+                     "--driven-phase", "b", "--json", "--csv", csv.string(), "--plot-dir", plots.string()});
   ASSERT_EQ(r.status, 0) << r.output;
   const auto j = nlohmann::json::parse(r.output);
   EXPECT_EQ(j.at("phase"), "b");
@@ -61,7 +61,7 @@ TEST(SwumAdmittance, BadInputIsOneLineAndANonZeroStatus) {
                                                      {"--frequency-hz", "41000:38000:100"},
                                                      {"--frequency-hz", "39000:39100:50"},
                                                      {"--frequency-hz", ""},
-                                                     {"--phase", "c"},
+                                                     {"--driven-phase", "c"},
                                                      {"--mounting", "loose"}};
   for (const auto& args : bad) {
     std::vector<std::string> command = {"admittance", "--config", kConfig};
