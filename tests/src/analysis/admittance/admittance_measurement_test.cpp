@@ -60,8 +60,12 @@ TEST(AdmittanceMeasurement, FreeStatorSoftensWithDriveLevelAndTheLinearisedModel
   EXPECT_LT(high.fs_l1_hz, mid.fs_l1_hz - 50.0);
   EXPECT_LT(mid.fs_b2_hz, small.fs_b2_hz - 10.0);
   EXPECT_LT(high.fs_b2_hz, mid.fs_b2_hz - 50.0);
-  // R1 moves by more than 10 % (the e311/e3111 coupling terms change the force factor).
-  EXPECT_GT(std::abs(high.r1_l1_ohm / small.r1_l1_ohm - 1.0), 0.1);
+  // R1: at 100 V L1's falls and B2's rises, each by more than 10 % (3372 -> 2242 and
+  // 3048 -> 4962 ohm on a 50 Hz grid): the softening (c111, c1111) widens and tilts the peak of
+  // two overlapping modes, B2 the faster; with e311 = e3111 = 0 the shift is nearly the same,
+  // with c111 = c1111 = 0 it is smaller and the other way (docs/model.md).
+  EXPECT_LT(mid.r1_l1_ohm, 0.9 * small.r1_l1_ohm);
+  EXPECT_GT(mid.r1_b2_ohm, 1.1 * small.r1_b2_ohm);
   // Control: the linearised stator is the same circuit at every level.
   const LevelFit lin_small = fit_at(lin, Mounting::free, 1.0);
   const LevelFit lin_high = fit_at(lin, Mounting::free, 300.0);
