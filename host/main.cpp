@@ -25,6 +25,7 @@ int main(int argc, char** argv) {
   add_sweep_command(app);
   add_validate_command(app);
   add_stator_command(app);
+  add_admittance_command(app);
   add_identify_command(app);
   add_pick_command(app);
   add_band_command(app);

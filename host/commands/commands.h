@@ -10,6 +10,7 @@ void add_simulate_command(CLI::App& app);      // simulate_command.cpp
 void add_sweep_command(CLI::App& app);         // sweep_command.cpp
 void add_validate_command(CLI::App& app);      // validate_command.cpp
 void add_stator_command(CLI::App& app);        // stator_command.cpp
+void add_admittance_command(CLI::App& app);    // admittance_command.cpp
 void add_identify_command(CLI::App& app);      // identify_command.cpp
 void add_pick_command(CLI::App& app);          // pick_command.cpp
 void add_band_command(CLI::App& app);          // band_command.cpp
