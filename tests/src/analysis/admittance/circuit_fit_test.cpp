@@ -7,7 +7,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <complex>
 #include <cstdio>
+#include <vector>
 
 #include "admittance_test_support.h"
 #include "analysis/admittance/equivalent_circuit.h"
@@ -67,6 +69,35 @@ TEST(CircuitFit, TooFewPointsIsAFailureNotAThrow) {
   const CircuitFit fit = fit_equivalent_circuit(points);
   EXPECT_FALSE(fit.ok);
   EXPECT_FALSE(fit.failure.empty());
+}
+
+// Two identical modes: the data fix their summed branch (1/R_m + 1/R_m) but not how it is shared,
+// so J^T J is singular and every standard error is infinite, not the tiny one a pseudo-inverse
+// gives.
+TEST(CircuitFit, AnUndeterminedSplitHasInfiniteStandardErrors) {
+  EquivalentCircuit truth;
+  truth.clamped_capacitance_f = 1e-8;
+  truth.branches[0] = {3381.0, 0.8105, 20.02e-12};
+  truth.branches[1] = truth.branches[0];
+  std::vector<AdmittancePoint> points;
+  for (double f = 38000.0; f <= 41000.0; f += 100.0) {
+    const std::complex<double> y = circuit_admittance_siemens(truth, f);
+    AdmittancePoint p;
+    p.frequency_hz = f;
+    p.conductance_siemens = y.real();
+    p.susceptance_siemens = y.imag();
+    p.magnitude_siemens = std::abs(y);
+    points.push_back(p);
+  }
+  const CircuitFit fit = fit_equivalent_circuit(points);
+  ASSERT_TRUE(fit.ok) << fit.failure;
+  EXPECT_LT(fit.rms_relative_residual, 1e-8);
+  const double g = 1.0 / fit.circuit.branches[0].resistance_ohm + 1.0 / fit.circuit.branches[1].resistance_ohm;
+  EXPECT_NEAR(g * 3381.0 / 2.0, 1.0, 1e-4);
+  for (const MotionalBranch& e : fit.standard_error.branches) {
+    EXPECT_TRUE(std::isinf(e.resistance_ohm)) << e.resistance_ohm;
+    EXPECT_TRUE(std::isinf(e.inductance_h)) << e.inductance_h;
+  }
 }
 
 }  // namespace
