@@ -38,7 +38,6 @@ struct AdmittanceOptions {
 };
 
 constexpr double kMaxAmplitudeV = 1000.0;
-constexpr std::size_t kMinPoints = 8;  // the fit's 7 unknowns + 1
 
 void run_admittance(const AdmittanceOptions& o) {
   const std::vector<double> voltages = parse_number_list(o.amplitude_v_list, "--amplitude-v");
@@ -47,9 +46,9 @@ void run_admittance(const AdmittanceOptions& o) {
       throw std::invalid_argument("--amplitude-v: " + format_number(v, "%g") + " outside (0, 1000] V");
   }
   const std::vector<double> frequencies = parse_range_or_value(o.frequency_range, "--frequency-hz", 10000);
-  if (frequencies.size() < kMinPoints)
+  if (frequencies.size() < kCircuitFitMinimumPoints)
     throw std::invalid_argument("--frequency-hz: " + std::to_string(frequencies.size()) +
-                                " points; the circuit fit needs at least 8");
+                                " points; the circuit fit needs at least " + std::to_string(kCircuitFitMinimumPoints));
   for (double f : frequencies) {
     if (f < 1000.0 || f > 200000.0) throw std::invalid_argument("--frequency-hz: must be within 1000..200000 Hz");
   }
@@ -88,6 +87,12 @@ void run_admittance(const AdmittanceOptions& o) {
     if (error) throw CommandError("cannot create " + o.plot_dir + ": " + error.message());
     write_admittance_plots(report, o.plot_dir);
   }
+  // Diverged points or a failed fit: what was measured is printed and written (diverged = 1),
+  // and the run says which level went wrong and fails.
+  if (const std::string problem = admittance_problem(report); !problem.empty()) {
+    const bool diverged = problem.find("diverged") != std::string::npos;
+    throw CommandError(problem, diverged ? kExitDiverged : kExitFailure);
+  }
 }
 
 }  // namespace
@@ -101,7 +106,8 @@ void add_admittance_command(CLI::App& app) {
                   "drive levels: terminal voltage amplitudes of the driven phase, comma list (V, zero-to-peak)")
       ->capture_default_str();
   sub->add_option("--frequency-hz", o->frequency_range,
-                  "START:STOP:STEP (Hz), at least 8 points, swept from STOP down to START per level")
+                  "START:STOP:STEP (Hz), at least " + std::to_string(kCircuitFitMinimumPoints) +
+                      " points, swept from STOP down to START per level")
       ->capture_default_str();
   sub->add_option("--driven-phase", o->phase, "driven phase, a or b (the other is shorted, 0 V)")
       ->capture_default_str();
@@ -109,7 +115,8 @@ void add_admittance_command(CLI::App& app) {
                   "free (the stator alone: no preload, no contact) or assembled (the motor as configured)")
       ->capture_default_str();
   sub->add_option("--csv", o->csv_path,
-                  "write amplitude_v,frequency_hz,magnitude_s,phase_deg,conductance_s,susceptance_s,current_a");
+                  "write amplitude_v,frequency_hz,magnitude_siemens,phase_deg,conductance_siemens,susceptance_siemens,"
+                  "current_a,diverged");
   sub->add_flag("--json", o->json, "print one JSON object (analytic circuit, per level the fit and Y(f))");
   sub->add_option("--plot-dir", o->plot_dir,
                   "write admittance_magnitude.png, admittance_phase.png, admittance_circle.png here");

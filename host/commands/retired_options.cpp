@@ -13,6 +13,8 @@ constexpr std::array kRetired{
     RetiredOption{"--threads", "--jobs", "one name for worker threads in every command"},
     RetiredOption{"--plots", "--plot-dir", "--plot names one PNG file, --plot-dir a directory of plots"},
     RetiredOption{"--phase", "--drive-phase-deg", "the drive phase (B ahead of A), unlike track's motional phase"},
+    RetiredOption{"--phase", "--driven-phase", "which phase the analyser drives, a or b; the other is shorted",
+                  "swum admittance"},
     RetiredOption{"--phase-deg", "--motional-phase-deg", "track's motional-phase set-point, not the drive phase"},
     RetiredOption{"--frequency-slew", "--frequency-slew-hz-per-s", "every slew limit carries its unit"},
     RetiredOption{"--window-ms", "--dwell-ms", "the sampling window per point, as swum sweep and pick name it"},
@@ -34,19 +36,24 @@ bool spells(std::string_view arg, std::string_view option) {
 
 std::span<const RetiredOption> retired_options() { return kRetired; }
 
-const RetiredOption* find_retired_option(std::span<const std::string> args, std::span<const RetiredOption> table) {
+const RetiredOption* find_retired_option(std::span<const std::string> args, std::span<const RetiredOption> table,
+                                         std::string_view program) {
   for (const std::string& arg : args) {
     if (arg == "--") return nullptr;  // what follows is not an option
+    const RetiredOption* general = nullptr;
     for (const RetiredOption& retired : table) {
-      if (spells(arg, retired.old_spelling)) return &retired;
+      if (!spells(arg, retired.old_spelling)) continue;
+      if (!retired.program.empty() && retired.program == program) return &retired;
+      if (retired.program.empty() && general == nullptr) general = &retired;
     }
+    if (general != nullptr) return general;
   }
   return nullptr;
 }
 
 std::string retired_option_message(std::string_view program, std::span<const std::string> args,
                                    std::span<const RetiredOption> table) {
-  const RetiredOption* retired = find_retired_option(args, table);
+  const RetiredOption* retired = find_retired_option(args, table, program);
   if (retired == nullptr) return {};
   const std::string what = retired->new_spelling.empty() ? " was removed"
                                                          : " was renamed " + std::string(retired->new_spelling);

@@ -3,9 +3,11 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <numbers>
 #include <numeric>
 #include <stdexcept>
+#include <string>
 
 #include "model/machine/electrical.h"
 #include "model/motor_model.h"
@@ -43,12 +45,37 @@ void check_options(const AdmittanceSweepOptions& o) {
   }
   if (!(std::isfinite(o.amplitude_v) && o.amplitude_v > 0.0))
     throw std::invalid_argument("admittance: the amplitude must be > 0 V");
-  if (!(o.first_settle_time_constants >= 0.0 && o.settle_time_constants >= 0.0 && o.window_periods >= 1))
+  if (!(std::isfinite(o.first_settle_time_constants) && std::isfinite(o.settle_time_constants) &&
+        o.first_settle_time_constants >= 0.0 && o.settle_time_constants >= 0.0 && o.window_periods >= 1))
     throw std::invalid_argument("admittance: settle times must be >= 0 and the window at least one period");
 }
 
+// Steps of `seconds` (finite, >= 0, checked with the sweep's total against the cap first).
 std::uint64_t steps_for(double seconds, double dt) {
   return static_cast<std::uint64_t>(std::ceil(std::max(0.0, seconds) / dt));
+}
+
+std::string general(double v) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%g", v);
+  return text;
+}
+
+// The time constant must be finite and the whole sweep within kMaxAdmittanceSweepSteps, checked
+// in floating point before any count is cast to an integer.
+void check_duration(const MotorParameters& p, const AdmittanceSweepOptions& o, double tau_s, double dt) {
+  const std::string damping = "stator.damping_l1_n_s_m = " + general(p.stator.damping_l1_n_s_m) +
+                              ", damping_b2_n_s_m = " + general(p.stator.damping_b2_n_s_m);
+  if (!(std::isfinite(tau_s) && tau_s > 0.0))
+    throw std::invalid_argument("admittance: the modal damping (" + damping +
+                                ") gives no finite time constant 2M/C to settle for; it must be > 0");
+  double steps = o.first_settle_time_constants * tau_s / dt;
+  for (double f : o.frequencies_hz) steps += o.settle_time_constants * tau_s / dt + o.window_periods / f / dt;
+  if (!(steps <= kMaxAdmittanceSweepSteps))
+    throw std::invalid_argument(
+        "admittance: " + std::to_string(o.frequencies_hz.size()) + " points need " + general(steps) +
+        " simulator steps, over the cap of " + general(kMaxAdmittanceSweepSteps) + ": the modal damping (" + damping +
+        ") makes the settle time constant 2M/C " + general(tau_s) + " s; raise the damping or use fewer points");
 }
 
 }  // namespace
@@ -57,9 +84,9 @@ std::vector<AdmittancePoint> measure_admittance(const MotorParameters& parameter
   check_options(o);
   const MotorParameters mounted = mounted_parameters(parameters, o.mounting);
   const MotorModel model(mounted);
-  const ModalConstants& c = model.constants();
-  const double tau_s = std::max(2.0 * c.m1_kg / c.c1_n_s_m, 2.0 * c.m2_kg / c.c2_n_s_m);
+  const double tau_s = longest_modal_time_constant_s(mounted);
   const double dt = model.time_step_s();
+  check_duration(mounted, o, tau_s, dt);
 
   MotorSimulator sim(model);
   ModelFaults faults;
@@ -93,9 +120,9 @@ std::vector<AdmittancePoint> measure_admittance(const MotorParameters& parameter
     p.amplitude_v = o.amplitude_v;
     p.current_a = o.phase == DrivenPhase::a ? r.current_a_a : r.current_b_a;
     p.phase_deg = o.phase == DrivenPhase::a ? r.phase_a_deg : r.phase_b_deg;
-    p.magnitude_s = p.current_a / o.amplitude_v;
-    p.conductance_s = p.magnitude_s * std::cos(p.phase_deg * rad);
-    p.susceptance_s = p.magnitude_s * std::sin(p.phase_deg * rad);
+    p.magnitude_siemens = p.current_a / o.amplitude_v;
+    p.conductance_siemens = p.magnitude_siemens * std::cos(p.phase_deg * rad);
+    p.susceptance_siemens = p.magnitude_siemens * std::sin(p.phase_deg * rad);
     p.diverged = sim.diverged() || !r.valid;
   }
   return out;

@@ -39,20 +39,28 @@ struct AdmittanceSweepOptions {
 struct AdmittancePoint {
   double frequency_hz = 0.0;
   double amplitude_v = 0.0;
-  double current_a = 0.0;      // drive-frequency component, peak (A)
-  double magnitude_s = 0.0;    // |Y| (S)
-  double phase_deg = 0.0;      // arg Y (+90 = capacitive, current leads)
-  double conductance_s = 0.0;  // G = Re Y
-  double susceptance_s = 0.0;  // B = Im Y
-  bool diverged = false;       // the simulator's runaway guard tripped at this point
+  double current_a = 0.0;            // drive-frequency component, peak (A)
+  double magnitude_siemens = 0.0;    // |Y| (S)
+  double phase_deg = 0.0;            // arg Y (+90 = capacitive, current leads)
+  double conductance_siemens = 0.0;  // G = Re Y
+  double susceptance_siemens = 0.0;  // B = Im Y
+  bool diverged = false;             // the simulator's runaway guard tripped at this point
 };
 
-// The longest modal time constant 2 M_i / C_i of the stator (s).
+// The longest modal time constant 2 M_i / C_i of the stator (s); infinite when a modal damping
+// (stator.damping_l1_n_s_m, damping_b2_n_s_m) is 0.
 [[nodiscard]] double longest_modal_time_constant_s(const MotorParameters& parameters);
 
+// The most simulator steps one measure_admittance call takes (settles and windows of all points
+// together): about 4-10 s of computing. A sweep that would need more (a very small modal damping
+// makes the time constant, and so every settle, long) is refused before it starts.
+inline constexpr double kMaxAdmittanceSweepSteps = 2e8;
+
 // One row per frequency, in the order of options.frequencies_hz. Throws std::invalid_argument
-// (one line naming the option) on an empty grid, a non-positive frequency or a negative or
-// non-finite amplitude, and ParameterError on bad parameters.
+// (one line naming the option or parameter) on an empty grid, a non-positive frequency, a
+// negative or non-finite amplitude or settle factor, a modal damping of 0 (no finite time
+// constant to settle for) or a sweep longer than kMaxAdmittanceSweepSteps, and ParameterError
+// on bad parameters.
 [[nodiscard]] std::vector<AdmittancePoint> measure_admittance(const MotorParameters& parameters,
                                                               const AdmittanceSweepOptions& options);
 

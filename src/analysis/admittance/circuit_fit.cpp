@@ -7,6 +7,7 @@
 #include <memory>
 #include <numbers>
 #include <optional>
+#include <string>
 #include <vector>
 
 namespace swum {
@@ -14,9 +15,9 @@ namespace swum {
 namespace {
 
 constexpr double kTwoPi = 2.0 * std::numbers::pi;
-constexpr int kUnknowns = 1 + 3 * static_cast<int>(kCircuitModes);
+constexpr int kUnknowns = static_cast<int>(kCircuitFitUnknowns);
 
-using Theta = std::array<double, kUnknowns>;  // log(value / scale) of C0, R1, L1, C1, R2, L2, C2
+using Theta = std::array<double, kUnknowns>;  // log(value / scale) of C0, then R_m, L_m, C_m of each mode
 
 // One point's complex residual (Y_circuit - Y)/|Y| from theta.
 struct PointResidual {
@@ -56,13 +57,13 @@ double crossing(const Data& d, std::size_t i, std::size_t j, double level) {
 // A conductance peak: its frequency, height and width at half height (from the crossings on
 // both sides, twice the one found, or half the grid when neither is).
 struct Peak {
-  double frequency_hz = 0.0, conductance_s = 0.0, width_hz = 0.0;
+  double frequency_hz = 0.0, conductance_siemens = 0.0, width_hz = 0.0;
 };
 
 Peak peak_at(const Data& d, std::size_t peak) {
   const std::size_t n = d.f.size();
   Peak p{d.f[peak], d.g[peak], 0.0};
-  const double half = 0.5 * p.conductance_s;
+  const double half = 0.5 * p.conductance_siemens;
   double low = NAN, high = NAN;
   for (std::size_t i = peak; i > 0; --i) {
     if (d.g[i - 1] < half) {
@@ -93,7 +94,7 @@ Peak peak_at(const Data& d, std::size_t peak) {
 // width stretched by `stretch` (G_max = 1/R, Q = fs/width, L = R Q/(2 pi fs)).
 MotionalBranch branch_from(const Peak& p, double share, double frequency_hz, double stretch) {
   MotionalBranch b;
-  b.resistance_ohm = 1.0 / (share * p.conductance_s);
+  b.resistance_ohm = 1.0 / (share * p.conductance_siemens);
   b.inductance_h = b.resistance_ohm / (kTwoPi * p.width_hz * stretch);
   b.capacitance_f = 1.0 / (std::pow(kTwoPi * frequency_hz, 2) * b.inductance_h);
   return b;
@@ -193,7 +194,9 @@ Solve solve_from(const Data& d, const EquivalentCircuit& start, int max_iteratio
   if (!s.usable) return s;
   ceres::Covariance::Options co;
   co.algorithm_type = ceres::DENSE_SVD;
-  co.null_space_rank = -1;  // pseudo-inverse: a flat direction shows as a huge error, not a failure
+  // 0: a singular J^T J (an element the data do not determine) fails Compute, and every error is
+  // then infinite; a pseudo-inverse (-1) would drop that direction and report a tiny error.
+  co.null_space_rank = 0;
   ceres::Covariance covariance(co);
   std::vector<std::pair<const double*, const double*>> blocks = {{s.theta.data(), s.theta.data()}};
   if (covariance.Compute(blocks, &problem)) {
@@ -209,22 +212,22 @@ CircuitFit fit_equivalent_circuit(std::span<const AdmittancePoint> points, const
   CircuitFit out;
   std::vector<const AdmittancePoint*> sorted;
   for (const AdmittancePoint& p : points) {
-    if (!p.diverged && std::isfinite(p.conductance_s) && std::isfinite(p.susceptance_s) && p.magnitude_s > 0.0 &&
-        p.frequency_hz > 0.0)
+    if (!p.diverged && std::isfinite(p.conductance_siemens) && std::isfinite(p.susceptance_siemens) &&
+        p.magnitude_siemens > 0.0 && p.frequency_hz > 0.0)
       sorted.push_back(&p);
   }
   std::sort(sorted.begin(), sorted.end(),
             [](const AdmittancePoint* x, const AdmittancePoint* y) { return x->frequency_hz < y->frequency_hz; });
   out.points = static_cast<int>(sorted.size());
-  if (sorted.size() < static_cast<std::size_t>(kUnknowns) + 1) {
-    out.failure = "fewer than 8 usable points";
+  if (sorted.size() < kCircuitFitMinimumPoints) {
+    out.failure = "fewer than " + std::to_string(kCircuitFitMinimumPoints) + " usable points";
     return out;
   }
   Data d;
   for (const AdmittancePoint* p : sorted) {
     d.f.push_back(p->frequency_hz);
-    d.g.push_back(p->conductance_s);
-    d.b.push_back(p->susceptance_s);
+    d.g.push_back(p->conductance_siemens);
+    d.b.push_back(p->susceptance_siemens);
   }
   // A few detunings and width ratios of the two branches: the symmetric split is a saddle.
   Solve best;
@@ -259,12 +262,8 @@ CircuitFit fit_equivalent_circuit(std::span<const AdmittancePoint> points, const
   out.start = best_start;
   // Label the branches (CircuitFitOptions::reference_inductance_h).
   const auto& ref = options.reference_inductance_h;
-  bool swap = false;
-  if (ref[0] > 0.0 && ref[1] > 0.0) {
-    swap = (out.circuit.branches[0].inductance_h < out.circuit.branches[1].inductance_h) != (ref[0] < ref[1]);
-  } else {
-    swap = series_resonance_hz(out.circuit.branches[0]) < series_resonance_hz(out.circuit.branches[1]);
-  }
+  const bool ref_ascending = !(ref[0] > 0.0 && ref[1] > 0.0) || ref[0] < ref[1];
+  const bool swap = (out.circuit.branches[0].inductance_h < out.circuit.branches[1].inductance_h) != ref_ascending;
   if (swap) {
     std::swap(out.circuit.branches[0], out.circuit.branches[1]);
     std::swap(out.standard_error.branches[0], out.standard_error.branches[1]);

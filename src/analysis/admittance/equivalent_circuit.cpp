@@ -23,7 +23,7 @@ double quality_factor(const MotionalBranch& b) {
   return kTwoPi * series_resonance_hz(b) * b.inductance_h / b.resistance_ohm;
 }
 
-std::complex<double> circuit_admittance_s(const EquivalentCircuit& c, double frequency_hz) {
+std::complex<double> circuit_admittance_siemens(const EquivalentCircuit& c, double frequency_hz) {
   const double w = kTwoPi * frequency_hz;
   std::complex<double> y{0.0, w * c.clamped_capacitance_f};
   for (const MotionalBranch& b : c.branches) {

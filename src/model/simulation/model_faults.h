@@ -10,7 +10,7 @@
 namespace swum {
 
 struct ModelFaults {
-  double phase_a_gain = 1.0;           // V_A amplitude factor: 0 = phase A open, <1 = sag; [0, 2]
+  double phase_a_gain = 1.0;           // V_A amplitude factor: 0 = phase A shorted (V_A = 0), <1 = sag; [0, 2]
   double phase_b_gain = 1.0;           // V_B amplitude factor; [0, 2]
   double preload_factor = 1.0;         // F_P scale (preload loss), [0, 1]
   double guide_friction_factor = 1.0;  // guide friction scale (mu_s), [0, 10]

@@ -34,13 +34,16 @@ TEST(SwumAdmittance, JsonHasTheAnalyticAndTheFittedCircuitPerLevel) {
   EXPECT_EQ(small.at("amplitude_v"), 1.0);
   EXPECT_TRUE(small.at("fit_ok").get<bool>());
   EXPECT_EQ(small.at("points").size(), 31u);
-  const double r_fit = small.at("circuit").at("B2").at("resistance_ohm").get<double>();
-  const double r_analytic = j.at("analytic").at("circuit").at("B2").at("resistance_ohm").get<double>();
+  const double r_fit = small.at("circuit").at("B2").at("motional_resistance_ohm").get<double>();
+  const double r_analytic = j.at("analytic").at("circuit").at("B2").at("motional_resistance_ohm").get<double>();
   EXPECT_NEAR(r_fit / r_analytic, 1.0, 0.01);
-  EXPECT_GT(small.at("standard_error").at("B2").at("resistance_ohm").get<double>(), 0.0);
+  EXPECT_GT(small.at("standard_error").at("B2").at("motional_resistance_ohm").get<double>(), 0.0);
+  EXPECT_FALSE(small.at("points").at(0).at("diverged").get<bool>());
+  EXPECT_GT(small.at("points").at(0).at("current_a").get<double>(), 0.0);
   const std::string table = swum::test::read_file(csv);
   EXPECT_EQ(table.substr(0, table.find('\n') + 1),
-            "amplitude_v,frequency_hz,magnitude_s,phase_deg,conductance_s,susceptance_s,current_a\n");
+            "amplitude_v,frequency_hz,magnitude_siemens,phase_deg,conductance_siemens,susceptance_siemens,current_a,"
+            "diverged\n");
   EXPECT_EQ(std::count(table.begin(), table.end(), '\n'), 1 + 2 * 31);
   for (const char* name : {"admittance_magnitude.png", "admittance_phase.png", "admittance_circle.png"}) {
     EXPECT_GT(std::filesystem::file_size(plots / name), 1000u) << name;
@@ -51,7 +54,14 @@ TEST(SwumAdmittance, TextShowsBothCircuits) {
   auto r = run_swum({"admittance", "--config", kConfig, "--frequency-hz", "38000:41000:100"});
   ASSERT_EQ(r.status, 0) << r.output;
   EXPECT_NE(r.output.find("Admittance of phase a, free"), std::string::npos) << r.output;
-  EXPECT_NE(r.output.find("  R1 (ohm)     3381.05  "), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("  R_m (ohm)    3381.05  "), std::string::npos) << r.output;
+}
+
+TEST(SwumAdmittance, TheRetiredPhaseOptionPointsToDrivenPhase) {
+  const auto r = run_swum({"admittance", "--config", kConfig, "--phase", "b"});
+  EXPECT_NE(r.status, 0);
+  EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << r.output;
+  EXPECT_NE(r.output.find("swum admittance: --phase was renamed --driven-phase ("), std::string::npos) << r.output;
 }
 
 TEST(SwumAdmittance, BadInputIsOneLineAndANonZeroStatus) {

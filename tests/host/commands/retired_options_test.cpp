@@ -8,6 +8,7 @@
 
 #include <set>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace swum::host {
@@ -47,16 +48,27 @@ TEST(RetiredOptions, ARowWithoutANewSpellingSaysRemoved) {
             "swum log: --voltage-convention was removed (the drive's objects are terminal amplitudes)");
 }
 
+TEST(RetiredOptions, ACommandsOwnRowWinsOverTheEveryCommandRow) {
+  const std::vector<std::string> args{"--phase", "b"};
+  EXPECT_EQ(
+      retired_option_message("swum admittance", args).rfind("swum admittance: --phase was renamed --driven-phase (", 0),
+      0u);
+  EXPECT_EQ(retired_option_message("swum sweep", args).rfind("swum sweep: --phase was renamed --drive-phase-deg (", 0),
+            0u);
+}
+
 TEST(RetiredOptions, EveryRowIsARenameWithAReason) {
-  std::set<std::string_view> olds;
+  std::set<std::pair<std::string_view, std::string_view>> olds;
   for (const RetiredOption& r : retired_options()) {
     EXPECT_TRUE(r.old_spelling.starts_with("--")) << r.old_spelling;
     EXPECT_TRUE(r.new_spelling.empty() || r.new_spelling.starts_with("--")) << r.new_spelling;
     EXPECT_NE(r.old_spelling, r.new_spelling);
     EXPECT_FALSE(r.why.empty()) << r.old_spelling;
-    EXPECT_TRUE(olds.insert(r.old_spelling).second) << r.old_spelling << " twice";
+    EXPECT_TRUE(olds.insert({r.old_spelling, r.program}).second) << r.old_spelling << " twice";
   }
-  for (const RetiredOption& r : retired_options()) EXPECT_EQ(olds.count(r.new_spelling), 0u) << r.new_spelling;
+  for (const RetiredOption& r : retired_options()) {
+    for (const auto& old : olds) EXPECT_NE(old.first, r.new_spelling) << r.new_spelling;
+  }
 }
 
 }  // namespace

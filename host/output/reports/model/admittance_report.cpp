@@ -1,7 +1,9 @@
 #include "output/reports/model/admittance_report.h"
 
+#include <algorithm>
 #include <array>
 #include <nlohmann/json.hpp>
+#include <string>
 
 #include "formats/number_format.h"
 #include "output/plot.h"
@@ -13,16 +15,14 @@ namespace {
 
 constexpr std::array<const char*, kCircuitModes> kModeNames = {"L1", "B2"};
 
-std::string level_label(double amplitude_v) { return format_number(amplitude_v, "%g") + " V"; }
-
 nlohmann::ordered_json circuit_json(const EquivalentCircuit& c) {
   nlohmann::ordered_json j;
   j["clamped_capacitance_nf"] = finite_or_null(c.clamped_capacitance_f * 1e9);
   for (std::size_t i = 0; i < kCircuitModes; ++i) {
     const MotionalBranch& b = c.branches[i];
-    j[kModeNames[i]] = {{"resistance_ohm", finite_or_null(b.resistance_ohm)},
-                        {"inductance_h", finite_or_null(b.inductance_h)},
-                        {"capacitance_pf", finite_or_null(b.capacitance_f * 1e12)}};
+    j[kModeNames[i]] = {{"motional_resistance_ohm", finite_or_null(b.resistance_ohm)},
+                        {"motional_inductance_h", finite_or_null(b.inductance_h)},
+                        {"motional_capacitance_pf", finite_or_null(b.capacitance_f * 1e12)}};
   }
   return j;
 }
@@ -41,6 +41,11 @@ nlohmann::ordered_json derived_json(const EquivalentCircuit& c) {
   return j;
 }
 
+std::size_t diverged_points(const AdmittanceLevel& l) {
+  return static_cast<std::size_t>(
+      std::count_if(l.points.begin(), l.points.end(), [](const AdmittancePoint& p) { return p.diverged; }));
+}
+
 std::string row(const char* name, double analytic, double fitted, double error, const char* format) {
   return std::string("  ") + name + "  " + format_number(analytic, format) + "  " + format_number(fitted, format) +
          " +- " + format_number(error, "%.2g") + "\n";
@@ -49,13 +54,15 @@ std::string row(const char* name, double analytic, double fitted, double error, 
 }  // namespace
 
 std::string admittance_csv(const AdmittanceReport& r) {
-  std::string out = "amplitude_v,frequency_hz,magnitude_s,phase_deg,conductance_s,susceptance_s,current_a\n";
+  std::string out =
+      "amplitude_v,frequency_hz,magnitude_siemens,phase_deg,conductance_siemens,susceptance_siemens,current_a,"
+      "diverged\n";
   for (const AdmittanceLevel& l : r.levels) {
     for (const AdmittancePoint& p : l.points) {
       out += format_number(p.amplitude_v, "%.10g") + "," + format_number(p.frequency_hz, "%.10g") + "," +
-             format_number(p.magnitude_s, "%.8g") + "," + format_number(p.phase_deg, "%.6f") + "," +
-             format_number(p.conductance_s, "%.8g") + "," + format_number(p.susceptance_s, "%.8g") + "," +
-             format_number(p.current_a, "%.8g") + "\n";
+             format_number(p.magnitude_siemens, "%.8g") + "," + format_number(p.phase_deg, "%.6f") + "," +
+             format_number(p.conductance_siemens, "%.8g") + "," + format_number(p.susceptance_siemens, "%.8g") + "," +
+             format_number(p.current_a, "%.8g") + "," + (p.diverged ? "1" : "0") + "\n";
     }
   }
   return out;
@@ -66,7 +73,8 @@ std::string admittance_text(const AdmittanceReport& r) {
                     std::string(mounting_name(r.mounting)) + " (" + r.source + ")\n";
   out += "BVD circuit: analytic (modal constants)  fitted +- standard error\n";
   for (const AdmittanceLevel& l : r.levels) {
-    out += "amplitude " + level_label(l.amplitude_v) + ": ";
+    out += "amplitude " + amplitude_v_label(l.amplitude_v) + ": ";
+    if (const std::size_t n = diverged_points(l); n > 0) out += std::to_string(n) + " points diverged; ";
     if (!l.fit.ok) {
       out += "fit failed: " + l.fit.failure + "\n";
       continue;
@@ -82,9 +90,9 @@ std::string admittance_text(const AdmittanceReport& r) {
       const MotionalBranch& fb = f.branches[i];
       const MotionalBranch& eb = e.branches[i];
       out += std::string("  ") + kModeNames[i] + "\n";
-      out += row("R1 (ohm)   ", ab.resistance_ohm, fb.resistance_ohm, eb.resistance_ohm, "%.6g");
-      out += row("L1 (H)     ", ab.inductance_h, fb.inductance_h, eb.inductance_h, "%.6g");
-      out += row("C1 (pF)    ", ab.capacitance_f * 1e12, fb.capacitance_f * 1e12, eb.capacitance_f * 1e12, "%.6g");
+      out += row("R_m (ohm)  ", ab.resistance_ohm, fb.resistance_ohm, eb.resistance_ohm, "%.6g");
+      out += row("L_m (H)    ", ab.inductance_h, fb.inductance_h, eb.inductance_h, "%.6g");
+      out += row("C_m (pF)   ", ab.capacitance_f * 1e12, fb.capacitance_f * 1e12, eb.capacitance_f * 1e12, "%.6g");
       out += "  fs, fp (Hz) " + format_number(series_resonance_hz(ab), "%.1f") + ", " +
              format_number(parallel_resonance_hz(ab, a.clamped_capacitance_f), "%.1f") + "  " +
              format_number(series_resonance_hz(fb), "%.1f") + ", " +
@@ -118,16 +126,30 @@ std::string admittance_json(const AdmittanceReport& r) {
     nlohmann::ordered_json points = nlohmann::ordered_json::array();
     for (const AdmittancePoint& p : l.points) {
       points.push_back({{"frequency_hz", p.frequency_hz},
-                        {"magnitude_s", finite_or_null(p.magnitude_s)},
+                        {"magnitude_siemens", finite_or_null(p.magnitude_siemens)},
                         {"phase_deg", finite_or_null(p.phase_deg)},
-                        {"conductance_s", finite_or_null(p.conductance_s)},
-                        {"susceptance_s", finite_or_null(p.susceptance_s)}});
+                        {"conductance_siemens", finite_or_null(p.conductance_siemens)},
+                        {"susceptance_siemens", finite_or_null(p.susceptance_siemens)},
+                        {"current_a", finite_or_null(p.current_a)},
+                        {"diverged", p.diverged}});
     }
     lj["points"] = points;
     levels.push_back(lj);
   }
   j["levels"] = levels;
   return j.dump(2) + "\n";
+}
+
+std::string admittance_problem(const AdmittanceReport& r) {
+  for (const AdmittanceLevel& l : r.levels) {
+    const std::string at = "admittance at " + amplitude_v_label(l.amplitude_v) + ": ";
+    if (const std::size_t n = diverged_points(l); n > 0)
+      return at + std::to_string(n) + " of " + std::to_string(l.points.size()) +
+             " points diverged (the simulator's runaway guard; diverged = 1 in the output, left out of the fit "
+             "and the plots)";
+    if (!l.fit.ok) return at + "the circuit fit failed: " + l.fit.failure;
+  }
+  return {};
 }
 
 void write_admittance_plots(const AdmittanceReport& r, const std::filesystem::path& dir) {
@@ -137,16 +159,17 @@ void write_admittance_plots(const AdmittanceReport& r, const std::filesystem::pa
   PlotSpec phase{"Admittance phase" + title_tail, "frequency (kHz)", "phase of Y (deg)", {}};
   PlotSpec circle{"Admittance circle" + title_tail, "conductance G (mS)", "susceptance B (mS)", {}};
   for (const AdmittanceLevel& l : r.levels) {
-    PlotSeries m{level_label(l.amplitude_v), {}, {}};
-    PlotSeries p{level_label(l.amplitude_v), {}, {}};
-    PlotSeries c{level_label(l.amplitude_v), {}, {}};
+    PlotSeries m{amplitude_v_label(l.amplitude_v), {}, {}};
+    PlotSeries p{amplitude_v_label(l.amplitude_v), {}, {}};
+    PlotSeries c{amplitude_v_label(l.amplitude_v), {}, {}};
     for (const AdmittancePoint& q : l.points) {
+      if (q.diverged) continue;
       m.x.push_back(q.frequency_hz * 1e-3);
-      m.y.push_back(q.magnitude_s * 1e3);
+      m.y.push_back(q.magnitude_siemens * 1e3);
       p.x.push_back(q.frequency_hz * 1e-3);
       p.y.push_back(q.phase_deg);
-      c.x.push_back(q.conductance_s * 1e3);
-      c.y.push_back(q.susceptance_s * 1e3);
+      c.x.push_back(q.conductance_siemens * 1e3);
+      c.y.push_back(q.susceptance_siemens * 1e3);
     }
     magnitude.series.push_back(m);
     phase.series.push_back(p);

@@ -28,11 +28,16 @@ struct AdmittanceReport {
   std::vector<AdmittanceLevel> levels;
 };
 
-// Columns amplitude_v,frequency_hz,magnitude_s,phase_deg,conductance_s,susceptance_s,current_a.
+// Columns amplitude_v,frequency_hz,magnitude_siemens,phase_deg,conductance_siemens,
+// susceptance_siemens,current_a,diverged (1: the simulator's runaway guard tripped at that point;
+// its numbers are not a measurement).
 [[nodiscard]] std::string admittance_csv(const AdmittanceReport& report);
 [[nodiscard]] std::string admittance_text(const AdmittanceReport& report);
 [[nodiscard]] std::string admittance_json(const AdmittanceReport& report);
-// admittance_magnitude.png, admittance_phase.png, admittance_circle.png in `dir`.
+// One line naming the first level whose points diverged or whose fit failed; empty when none.
+[[nodiscard]] std::string admittance_problem(const AdmittanceReport& report);
+// admittance_magnitude.png, admittance_phase.png, admittance_circle.png in `dir`; diverged points
+// are left out.
 void write_admittance_plots(const AdmittanceReport& report, const std::filesystem::path& dir);
 
 }  // namespace swum::host

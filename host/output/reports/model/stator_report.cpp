@@ -5,13 +5,9 @@
 
 #include "formats/number_format.h"
 #include "output/plot.h"
+#include "output/reports/report_values.h"
 
 namespace swum::host {
-namespace {
-
-std::string amplitude_v_label(double amplitude_v) { return format_number(amplitude_v, "%g") + " V"; }
-
-}  // namespace
 
 std::vector<StatorRow> stator_rows(const std::vector<SweepPoint>& sweep) {
   std::vector<StatorRow> rows;

@@ -1,24 +1,16 @@
-// The calibrated motor and an admittance sweep of it, for the admittance tests.
+// An admittance sweep of a motor and the fit named as the CLI names it, for the admittance tests
+// (the calibrated motor is tests/support/calibrated_parameters.h's).
 #pragma once
 
-#include <fstream>
-#include <sstream>
-#include <string>
 #include <vector>
 
 #include "analysis/admittance/admittance_measurement.h"
-#include "formats/parameter_file.h"
-#include "test_paths.h"
+#include "analysis/admittance/circuit_fit.h"
+#include "analysis/admittance/equivalent_circuit.h"
+#include "calibrated_parameters.h"
+#include "model/motor_model.h"
 
 namespace swum::test {
-
-inline MotorParameters calibrated_motor() {
-  const std::string path = source_path("config/li2019.toml");
-  std::ifstream in(path);
-  std::stringstream text;
-  text << in.rdbuf();
-  return parse_motor_parameters(text.str(), path);
-}
 
 inline std::vector<double> frequency_grid(double start_hz, double stop_hz, double step_hz) {
   std::vector<double> f;
@@ -34,6 +26,16 @@ inline std::vector<AdmittancePoint> sweep(const MotorParameters& p, DrivenPhase 
   o.amplitude_v = amplitude_v;
   o.frequencies_hz = frequencies_hz;
   return measure_admittance(p, o);
+}
+
+// The fit with its branches named by the analytic circuit's inductances, as swum admittance does.
+inline CircuitFit fit_as_the_cli(const MotorParameters& p, DrivenPhase phase, Mounting mounting,
+                                 const std::vector<AdmittancePoint>& points) {
+  const MotorModel model(mounted_parameters(p, mounting));
+  const EquivalentCircuit analytic = analytic_equivalent_circuit(model, phase, mounting);
+  CircuitFitOptions options;
+  for (std::size_t i = 0; i < kCircuitModes; ++i) options.reference_inductance_h[i] = analytic.branches[i].inductance_h;
+  return fit_equivalent_circuit(points, options);
 }
 
 }  // namespace swum::test
