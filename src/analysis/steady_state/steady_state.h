@@ -110,6 +110,11 @@ void store_window(const WindowStatistics& sums, double duration_s, double start_
 [[nodiscard]] bool window_verdict(const SteadyStateOptions& options, double elapsed_s, double& previous_speed_mm_s,
                                   SteadyStateResult& r);
 [[nodiscard]] std::string diverged_failure(double time_s);
+// Whether the window that starts after `windows_done` windows and ends at elapsed_s (settle
+// included) can be the last of a run: the first window only when no second one fits (the
+// verdict needs two). The electrical port is sampled in those windows only (its readings are the
+// last window's), so a point that settles in two windows samples one.
+[[nodiscard]] bool window_may_be_last(const SteadyStateOptions& options, int windows_done, double elapsed_s);
 // A window's electrical readings for this point (none at zero amplitude, as the emulator).
 [[nodiscard]] ElectricalReadings window_electrical(const ElectricalSums& sums, const OperatingPoint& point);
 
