@@ -82,7 +82,7 @@ void add_band_command(CLI::App& app) {
                   "START:STOP:STEP (Hz); every chain runs it from STOP down to START (default: 41500 down to 38000 Hz "
                   "in 25 Hz steps)")
       ->capture_default_str();
-  sub->add_option("--out", o->out_path, "write the rows as CSV (atomically)");
+  sub->add_option("--out", o->out_path, "write the rows as CSV (atomically), with the electrical port at each pick");
   sub->add_flag("--json", o->json, "summary and rows as JSON on stdout");
   sub->add_option("--jobs", o->jobs, "worker threads (0: all cores)")->capture_default_str();
   sub->callback([o] { run_band(*o); });

@@ -201,7 +201,9 @@ void add_sweep_command(CLI::App& app) {
   sub->add_option("--amplitude-slew-v-per-s", o->amplitude_slew_v_per_s,
                   "device: amplitude slew limit for voltage ramps")
       ->capture_default_str();
-  sub->add_option("--out", o->out_path, "output CSV")->required();
+  sub->add_option("--out", o->out_path,
+                  "output CSV: speed, tip amplitudes and the electrical port per point (docs/host.md)")
+      ->required();
   sub->add_option("--plot", o->plot_path, "output PNG plot");
   sub->add_flag("--resume", o->resume,
                 "continue the unfinished sweep in OUT.partial (same options) instead of starting afresh");

@@ -38,6 +38,19 @@ SweepRow row_of(const SweepRow& at, const SteadyStateResult& r) {
   row.speed_mm_s = r.speed_mm_s;
   row.tip_normal_um = r.tip_normal_um;
   row.tip_tangential_um = r.tip_tangential_um;
+  const ElectricalReadings& e = r.electrical;
+  if (e.valid) {
+    row.electrical = SweepElectrical{e.current_a_a,
+                                     e.current_b_a,
+                                     e.phase_a_deg,
+                                     e.phase_b_deg,
+                                     e.motional_phase_a_deg,
+                                     e.motional_phase_b_deg,
+                                     e.power_a_w + e.power_b_w};
+    row.sizing = SweepSizing{e.rms_current_a_a,     e.rms_current_b_a,     e.peak_current_a_a, e.peak_current_b_a,
+                             e.voltage_a_v,         e.voltage_b_v,         e.power_a_w,        e.power_b_w,
+                             e.apparent_power_a_va, e.apparent_power_b_va, e.power_factor_a,   e.power_factor_b};
+  }
   return row;
 }
 

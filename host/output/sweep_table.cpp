@@ -1,6 +1,7 @@
 #include "output/sweep_table.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <iterator>
 #include <map>
@@ -24,6 +25,12 @@ std::string label_for(double amplitude_v, double load_n, bool several_loads) {
 
 }  // namespace
 
+std::array<double, std::size(kSizingColumns)> sizing_values(const SweepSizing& z) {
+  return {z.current_rms_a_a,     z.current_rms_b_a,     z.current_peak_a_a, z.current_peak_b_a,
+          z.voltage_a_v,         z.voltage_b_v,         z.power_a_w,        z.power_b_w,
+          z.apparent_power_a_va, z.apparent_power_b_va, z.power_factor_a,   z.power_factor_b};
+}
+
 bool is_physical_failure(const SweepRow& row) {
   return !row.ok && (row.status == "diverged" || row.status == "fault_numerical");
 }
@@ -35,6 +42,7 @@ SweepLayout sweep_layout_of(const std::vector<SweepRow>& rows) {
     layout.time = layout.time || row.time_s.has_value();
     layout.sweep = layout.sweep || row.sweep.has_value();
     layout.electrical = layout.electrical || row.electrical.has_value() || row.stator_temperature_c.has_value();
+    layout.sizing = layout.sizing || row.sizing.has_value();
   }
   return layout;
 }
@@ -47,6 +55,9 @@ std::string format_sweep_header(const SweepLayout& layout) {
   csv += layout.spread ? "speed_spread_mm_s,status" : "status";
   if (layout.electrical) {
     for (const char* name : kElectricalColumns) csv += std::string(",") + name;
+  }
+  if (layout.sizing) {
+    for (const char* name : kSizingColumns) csv += std::string(",") + name;
   }
   return csv + "\n";
 }
@@ -77,6 +88,12 @@ std::string format_sweep_row(const SweepLayout& layout, const SweepRow& row) {
     }
     csv += "," + (row.ok && row.stator_temperature_c ? format_number(*row.stator_temperature_c) : std::string());
   }
+  if (layout.sizing) {
+    const SweepSizing* z = row.ok && row.sizing ? &*row.sizing : nullptr;
+    const std::array<double, std::size(kSizingColumns)> values = z ? sizing_values(*z)
+                                                                   : std::array<double, std::size(kSizingColumns)>{};
+    for (double v : values) csv += "," + (z ? format_number(v) : std::string());
+  }
   return csv + "\n";
 }
 
@@ -101,6 +118,8 @@ std::vector<SweepRow> parse_sweep_csv(const std::string& text, const std::string
             csp = column("speed_spread_mm_s"), ctime = column("time_s"), csweep = column("sweep");
   int celectrical[std::size(kElectricalColumns)];
   for (std::size_t k = 0; k < std::size(kElectricalColumns); ++k) celectrical[k] = column(kElectricalColumns[k]);
+  int csizing[std::size(kSizingColumns)];
+  for (std::size_t k = 0; k < std::size(kSizingColumns); ++k) csizing[k] = column(kSizingColumns[k]);
   if (cv < 0 || cf < 0 || cs < 0) {
     throw std::runtime_error(source + ": not a sweep table (header needs amplitude_v, frequency_hz, speed_mm_s)");
   }
@@ -147,6 +166,11 @@ std::vector<SweepRow> parse_sweep_csv(const std::string& text, const std::string
                                          value(celectrical[6])};
       }
       if (!cell(celectrical[kValues]).empty()) row.stator_temperature_c = value(celectrical[kValues]);
+      if (std::all_of(std::begin(csizing), std::end(csizing), [&](int c) { return !cell(c).empty(); })) {
+        double v[std::size(kSizingColumns)];
+        for (std::size_t k = 0; k < std::size(kSizingColumns); ++k) v[k] = value(csizing[k]);
+        row.sizing = SweepSizing{v[0], v[1], v[2], v[3], v[4], v[5], v[6], v[7], v[8], v[9], v[10], v[11]};
+      }
     }
     rows.push_back(row);
   }

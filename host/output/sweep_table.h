@@ -20,6 +20,18 @@ struct SweepElectrical {
   bool operator==(const SweepElectrical&) const = default;
 };
 
+// Model sweeps: the figures a board is sized with (electrical.h ElectricalReadings, over the
+// point's last steady-state window), per phase.
+struct SweepSizing {
+  double current_rms_a_a = 0.0, current_rms_b_a = 0.0;          // true RMS of the terminal current
+  double current_peak_a_a = 0.0, current_peak_b_a = 0.0;        // largest |I| sampled
+  double voltage_a_v = 0.0, voltage_b_v = 0.0;                  // amplitude of the voltage applied
+  double power_a_w = 0.0, power_b_w = 0.0;                      // real power
+  double apparent_power_a_va = 0.0, apparent_power_b_va = 0.0;  // V_rms I_rms
+  double power_factor_a = 0.0, power_factor_b = 0.0;            // P / S
+  bool operator==(const SweepSizing&) const = default;
+};
+
 struct SweepRow {
   double amplitude_v = 0.0;
   double frequency_hz = 0.0;
@@ -41,6 +53,8 @@ struct SweepRow {
   // the stator temperature, means over the dwell window.
   std::optional<SweepElectrical> electrical = std::nullopt;
   std::optional<double> stator_temperature_c = std::nullopt;
+  // Model sweeps: the sizing figures (empty cells for a failed point or one at 0 V).
+  std::optional<SweepSizing> sizing = std::nullopt;
 };
 
 /// Statuses (the one-word `status` column): `ok`; from the model `unsettled` (values are its
@@ -57,14 +71,21 @@ struct SweepLayout {
   bool sweep = false;       // ... sweep, after load_n
   bool spread = false;      // speed_spread_mm_s, after tip_tangential_um
   bool electrical = false;  // kElectricalColumns, after status
+  bool sizing = false;      // kSizingColumns, after those
   bool operator==(const SweepLayout&) const = default;
 };
-inline constexpr SweepLayout kModelSweep{};
-inline constexpr SweepLayout kDeviceSweep{true, true, true, true};
+inline constexpr SweepLayout kModelSweep{false, false, false, true, true};
+inline constexpr SweepLayout kDeviceSweep{true, true, true, true, false};
 /// The electrical columns of a live sweep, in order (the same names as `swum log`'s).
 inline constexpr const char* kElectricalColumns[] = {"current_a_a", "current_b_a",          "phase_a_deg",
                                                      "phase_b_deg", "motional_phase_a_deg", "motional_phase_b_deg",
                                                      "power_w",     "stator_temperature_c"};
+
+/// The sizing columns of a model sweep, in SweepSizing's order.
+inline constexpr const char* kSizingColumns[] = {"current_rms_a_a",     "current_rms_b_a", "current_peak_a_a",
+                                                 "current_peak_b_a",    "voltage_a_v",     "voltage_b_v",
+                                                 "power_a_w",           "power_b_w",       "apparent_power_a_va",
+                                                 "apparent_power_b_va", "power_factor_a",  "power_factor_b"};
 
 /// The columns the rows use: time/sweep when any row has one, spread when any row has one.
 SweepLayout sweep_layout_of(const std::vector<SweepRow>& rows);
@@ -77,15 +98,15 @@ std::string format_sweep_row(const SweepLayout& layout, const SweepRow& row);
 /// row has empty measured cells, never made-up numbers. When any row has a time or a sweep id (live sweeps), `time_s`
 /// and `sweep` follow `load_n`; when any row has a measured spread, a `speed_spread_mm_s` column follows
 /// `tip_tangential_um`; when any row has electrical values or a stator temperature, the eight
-/// kElectricalColumns follow `status` (empty cells where a row has none).
+/// kElectricalColumns follow `status` (empty cells where a row has none); when any row has sizing
+/// figures (model sweeps), the twelve kSizingColumns follow those.
 std::string format_sweep_csv(const std::vector<SweepRow>& rows);
 
 /// Reads a sweep CSV (the layouts above; columns found by name, `time_s`, `sweep`,
 /// `speed_spread_mm_s`, `status` and the electrical columns optional; a row's electrical values
-/// are read when all seven of their cells are filled). A row is ok when status is "ok", "unsettled"
-/// (or absent) and the speed is present.
-/// Throws std::runtime_error naming `source` and the line of a bad row, std::invalid_argument
-/// naming them and the column of a cell that is not a finite number.
+/// are read when all seven of their cells are filled, the sizing figures when all twelve are). A row is ok when status
+/// is "ok", "unsettled" (or absent) and the speed is present. Throws std::runtime_error naming `source` and the line of
+/// a bad row, std::invalid_argument naming them and the column of a cell that is not a finite number.
 std::vector<SweepRow> parse_sweep_csv(const std::string& text, const std::string& source);
 /// Speed vs frequency, one curve per (voltage, load); or speed vs voltage when the sweep
 /// has a single frequency. Failed rows are left out of the curves.

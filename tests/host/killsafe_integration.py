@@ -29,7 +29,11 @@ EMU_ARGS = ["--watchdog-ms", "5000"]  # generous: a shared CI machine can stall 
 # than swum's defaults (1 s to connect, 0.5 s per answer) and the run fails on the stall. Hang
 # guards only: no wait below ends on them.
 LINK = ["--connect-timeout-ms", "60000", "--timeout-ms", "60000"]
-MODEL_HEADER = "amplitude_v,frequency_hz,load_n,speed_mm_s,tip_normal_um,tip_tangential_um,status\n"
+MODEL_HEADER = ("amplitude_v,frequency_hz,load_n,speed_mm_s,tip_normal_um,tip_tangential_um,status,"
+                "current_a_a,current_b_a,phase_a_deg,phase_b_deg,motional_phase_a_deg,motional_phase_b_deg,power_w,"
+                "stator_temperature_c,current_rms_a_a,current_rms_b_a,current_peak_a_a,current_peak_b_a,voltage_a_v,"
+                "voltage_b_v,power_a_w,power_b_w,apparent_power_a_va,apparent_power_b_va,power_factor_a,"
+                "power_factor_b\n")
 DEVICE_HEADER = ("amplitude_v,frequency_hz,load_n,time_s,sweep,speed_mm_s,tip_normal_um,tip_tangential_um,"
                  "speed_spread_mm_s,status,current_a_a,current_b_a,phase_a_deg,phase_b_deg,motional_phase_a_deg,"
                  "motional_phase_b_deg,power_w,stator_temperature_c\n")

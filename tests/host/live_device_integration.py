@@ -33,6 +33,9 @@ MAP = RegisterMap()
 OUT = tempfile.mkdtemp(prefix="swum-live-")
 ELECTRICAL = ["current_a_a", "current_b_a", "phase_a_deg", "phase_b_deg", "motional_phase_a_deg", "motional_phase_b_deg",
               "power_w", "stator_temperature_c"]  # the last columns of a live sweep and of a log
+# A model sweep's sizing columns after those (issue 36).
+SIZING = ["current_rms_a_a", "current_rms_b_a", "current_peak_a_a", "current_peak_b_a", "voltage_a_v", "voltage_b_v",
+          "power_a_w", "power_b_w", "apparent_power_a_va", "apparent_power_b_va", "power_factor_a", "power_factor_b"]
 # A generous watchdog: a shared CI machine can stall the client for a while; the keep-alive
 # itself is unit-tested against a fake device with the default 100 ms.
 EMU_ARGS = ["--watchdog-ms", "5000"]
@@ -137,9 +140,11 @@ def sweep_log_modbus():
         check(list(live[0].keys()) == ["amplitude_v", "frequency_hz", "load_n", "time_s", "sweep", "speed_mm_s", "tip_normal_um",
                                        "tip_tangential_um", "speed_spread_mm_s", "status", *ELECTRICAL],
               f"columns {list(live[0])}")
-        check(list(offline[0].keys()) == [k for k in live[0].keys()
-                                          if k not in ("time_s", "sweep", "speed_spread_mm_s", *ELECTRICAL)],
-              "offline columns")
+        # The model sweep: no clock, no sweep id, no spread; the device's electrical columns, then its sizing ones.
+        check(list(offline[0].keys()) == [k for k in live[0].keys() if k not in ("time_s", "sweep", "speed_spread_mm_s")]
+              + SIZING, f"offline columns {list(offline[0])}")
+        check(all(float(r["current_rms_a_a"]) > 0 and float(r["power_a_w"]) > 0 and r["stator_temperature_c"] == ""
+                  for r in offline), "offline electrical cells")
         # The electrical port of the device, means over each dwell (docs/protocols.md "Electrical port").
         check(all(float(r["current_a_a"]) > 0 and float(r["current_b_a"]) > 0 and float(r["power_w"]) > 0
                   and abs(float(r["stator_temperature_c"]) - 20.0) < 5.0 for r in live),

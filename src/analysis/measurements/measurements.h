@@ -89,21 +89,13 @@ struct MeasurementSet {
 // fault, named from `fault_code` as in a sweep's status), or when `phase_deg` is not 90
 // ("phase_not_90_deg": predictions are made at 90 deg). Without a `sweep` column, a file with
 // a `state` column (a log) gets sweep ids: each stretch of consecutive rows used is one sweep.
-inline constexpr std::array<std::string_view, 15> kInformationalColumns{"speed_spread_mm_s",
-                                                                        "host_time_s",
-                                                                        "position_mm",
-                                                                        "last_reject",
-                                                                        "lateness_p99_us",
-                                                                        "lateness_max_us",
-                                                                        "overruns",
-                                                                        "current_a_a",
-                                                                        "current_b_a",
-                                                                        "phase_a_deg",
-                                                                        "phase_b_deg",
-                                                                        "motional_phase_a_deg",
-                                                                        "motional_phase_b_deg",
-                                                                        "power_w",
-                                                                        "stator_temperature_c"};
+inline constexpr std::array<std::string_view, 27> kInformationalColumns{
+    "speed_spread_mm_s", "host_time_s", "position_mm", "last_reject", "lateness_p99_us", "lateness_max_us", "overruns",
+    "current_a_a", "current_b_a", "phase_a_deg", "phase_b_deg", "motional_phase_a_deg", "motional_phase_b_deg",
+    "power_w", "stator_temperature_c",
+    // a model sweep's sizing columns
+    "current_rms_a_a", "current_rms_b_a", "current_peak_a_a", "current_peak_b_a", "voltage_a_v", "voltage_b_v",
+    "power_a_w", "power_b_w", "apparent_power_a_va", "apparent_power_b_va", "power_factor_a", "power_factor_b"};
 
 [[nodiscard]] MeasurementSet parse_measurements_csv(std::string_view text, std::string_view source_name);
 

@@ -56,7 +56,7 @@ std::vector<BandRow> operating_band(const MotorModel& model, const BandGrid& gri
   for (double v : grid.voltages) {
     for (double load : grid.loads_n) {
       for (double rise : grid.temperature_rises_k) {
-        rows.push_back(BandRow{v, load, rise, {}, {}});
+        rows.push_back(BandRow{v, load, rise, {}, {}, {}});
         chains.push_back(down_sweep_chain(grid.frequencies_hz, v, load, rise));
       }
     }
@@ -78,12 +78,57 @@ std::vector<BandRow> operating_band(const MotorModel& model, const BandGrid& gri
     for (std::size_t c = 0; c < mine.size(); ++c) {
       BandRow& row = rows[begin + c];
       for (std::size_t k = 0; k < mine[c].size(); ++k) row.curve.push_back(sample_of(mine[c][k], results[c][k]));
+      row.points = results[c];
     }
   });
   PickOptions options;
   options.min_margin_hz = grid.margin_hz;
   for (BandRow& row : rows) row.pick = pick_operating_point(row.curve, options);
   return rows;
+}
+
+std::optional<ElectricalReadings> band_electrical_at(const BandRow& row, double frequency_hz) {
+  // curve[k] and points[k] are the same point, frequencies falling with k.
+  for (std::size_t k = 0; k < row.curve.size() && k < row.points.size(); ++k) {
+    const double f_k = row.curve[k].frequency_hz;
+    if (f_k < frequency_hz) {
+      if (k == 0) return std::nullopt;  // above the curve
+      const double f_up = row.curve[k - 1].frequency_hz;
+      const ElectricalReadings& up = row.points[k - 1].electrical;
+      const ElectricalReadings& down = row.points[k].electrical;
+      if (!up.valid || !down.valid) return std::nullopt;
+      const double w = (f_up - frequency_hz) / (f_up - f_k);  // 0 at the upper point, 1 at the lower
+      auto mix = [w](double a, double b) { return a + w * (b - a); };
+      auto mix_deg = [w](double a, double b) { return wrap_phase_deg(a + w * wrap_phase_deg(b - a)); };
+      ElectricalReadings r = up;
+      r.current_a_a = mix(up.current_a_a, down.current_a_a);
+      r.current_b_a = mix(up.current_b_a, down.current_b_a);
+      r.phase_a_deg = mix_deg(up.phase_a_deg, down.phase_a_deg);
+      r.phase_b_deg = mix_deg(up.phase_b_deg, down.phase_b_deg);
+      r.motional_current_a_a = mix(up.motional_current_a_a, down.motional_current_a_a);
+      r.motional_current_b_a = mix(up.motional_current_b_a, down.motional_current_b_a);
+      r.motional_phase_a_deg = mix_deg(up.motional_phase_a_deg, down.motional_phase_a_deg);
+      r.motional_phase_b_deg = mix_deg(up.motional_phase_b_deg, down.motional_phase_b_deg);
+      r.power_a_w = mix(up.power_a_w, down.power_a_w);
+      r.power_b_w = mix(up.power_b_w, down.power_b_w);
+      r.rms_current_a_a = mix(up.rms_current_a_a, down.rms_current_a_a);
+      r.rms_current_b_a = mix(up.rms_current_b_a, down.rms_current_b_a);
+      r.peak_current_a_a = mix(up.peak_current_a_a, down.peak_current_a_a);
+      r.peak_current_b_a = mix(up.peak_current_b_a, down.peak_current_b_a);
+      r.voltage_a_v = mix(up.voltage_a_v, down.voltage_a_v);
+      r.voltage_b_v = mix(up.voltage_b_v, down.voltage_b_v);
+      r.apparent_power_a_va = mix(up.apparent_power_a_va, down.apparent_power_a_va);
+      r.apparent_power_b_va = mix(up.apparent_power_b_va, down.apparent_power_b_va);
+      r.power_factor_a = mix(up.power_factor_a, down.power_factor_a);
+      r.power_factor_b = mix(up.power_factor_b, down.power_factor_b);
+      return r;
+    }
+    if (f_k == frequency_hz) {
+      if (!row.points[k].electrical.valid) return std::nullopt;
+      return row.points[k].electrical;
+    }
+  }
+  return std::nullopt;  // below the curve
 }
 
 BandSummary summarize_band(const std::vector<BandRow>& rows) {

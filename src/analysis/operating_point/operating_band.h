@@ -40,8 +40,17 @@ struct BandRow {
   double load_n = 0.0;
   double temperature_rise_k = 0.0;
   std::vector<CurveSample> curve;  // the chain's points, highest frequency first (ok = false: diverged)
+  // The full steady state of each curve point, parallel to `curve` (the electrical port, tip
+  // amplitudes, powers), so a caller can read any figure at any point of the curve.
+  std::vector<SteadyStateResult> points;
   PickResult pick;
 };
+
+// The electrical port's figures of a row at `frequency_hz` (its pick), each interpolated linearly
+// between the two curve points either side, as the pick's speed is (phases along the shorter
+// arc); a frequency on a grid point gives that point's. None when the frequency is outside the
+// curve or a point either side has no valid reading (diverged, 0 V).
+[[nodiscard]] std::optional<ElectricalReadings> band_electrical_at(const BandRow& row, double frequency_hz);
 
 // Called (concurrently, from the ParallelFor's tasks) each time a point of some chain is final.
 using BandPointDone = std::function<void()>;

@@ -55,6 +55,7 @@ struct LaneWork {
   double elapsed_s = 0.0;
   double previous_speed_mm_s = std::numeric_limits<double>::quiet_NaN();
   double start_position_m = 0.0;
+  bool sampling = false;  // the electrical port in the window under way
   SteadyStateResult result;
 };
 
@@ -144,6 +145,8 @@ class BatchRunner {
     if (!w.settling) {
       w.elapsed_s += options_.window_s;
       store_window(sim_.window(lane), window_duration_s_, w.start_position_m, position, r);
+      r.electrical = w.sampling ? window_electrical(sim_.lane_electrical(lane), chains_[w.chain][w.index])
+                                : ElectricalReadings{};
       ++r.windows;
       if (window_verdict(options_, w.elapsed_s, w.previous_speed_mm_s, r)) return finish_point(lane);
     }
@@ -151,6 +154,10 @@ class BatchRunner {
     w.start_position_m = position;
     w.steps_left = window_steps_;
     sim_.reset_window(lane);
+    // The windows that may be the last only (not the settle, not a first window that a second
+    // one follows), as run_to_steady_state.
+    w.sampling = window_may_be_last(options_, r.windows, w.elapsed_s + options_.window_s);
+    sim_.set_lane_sampling(lane, w.sampling);
   }
 
   void finish_point(std::size_t lane) {

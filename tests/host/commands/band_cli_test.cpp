@@ -24,9 +24,12 @@ TEST(SwumBand, WritesTheRowsAndPrintsTheBand) {
   EXPECT_EQ(r.output.rfind("operating band 39546 .. 40395 Hz (849 Hz wide)", 0), 0u) << r.output;
   EXPECT_NE(r.output.find("rows: 2 decided, 0 undecided\n"), std::string::npos) << r.output;
   const std::string csv = swum::test::read_file(out);
-  EXPECT_EQ(csv.substr(0, csv.find('\n') + 1),
-            "amplitude_v,load_n,temperature_rise_k,decided,frequency_hz,speed_mm_s,peak_frequency_hz,peak_speed_mm_s,"
-            "margin_hz,collapse_hz,reason\n");
+  EXPECT_EQ(
+      csv.substr(0, csv.find('\n') + 1),
+      "amplitude_v,load_n,temperature_rise_k,decided,frequency_hz,speed_mm_s,peak_frequency_hz,peak_speed_mm_s,"
+      "margin_hz,collapse_hz,reason,current_rms_a_a,current_rms_b_a,current_peak_a_a,current_peak_b_a,phase_a_deg,"
+      "phase_b_deg,motional_phase_a_deg,motional_phase_b_deg,power_a_w,power_b_w,apparent_power_a_va,"
+      "apparent_power_b_va,power_factor_a,power_factor_b\n");
   EXPECT_NE(csv.find("\n100,0,0,1,40395,"), std::string::npos) << csv;
   EXPECT_NE(csv.find("\n400,0,0,1,39546,"), std::string::npos) << csv;
   EXPECT_FALSE(std::filesystem::exists(out.string() + ".tmp"));

@@ -115,7 +115,12 @@ TEST(SwumCli, SweepWritesOneRowPerPointAndAPlot) {
   std::istringstream text(slurp(csv));
   std::string header;
   std::getline(text, header);
-  EXPECT_EQ(header, "amplitude_v,frequency_hz,load_n,speed_mm_s,tip_normal_um,tip_tangential_um,status");
+  EXPECT_EQ(header.rfind("amplitude_v,frequency_hz,load_n,speed_mm_s,tip_normal_um,tip_tangential_um,status,"
+                         "current_a_a,",
+                         0),
+            0u)
+      << header;
+  EXPECT_NE(header.find(",current_rms_a_a,"), std::string::npos) << header;
   std::vector<std::string> rows;
   for (std::string line; std::getline(text, line);) rows.push_back(line);
   ASSERT_EQ(rows.size(), 6u);

@@ -117,15 +117,39 @@ TEST(SweepTable, AModelSweepKeepsTheOfflineLayout) {
   EXPECT_FALSE(again[1].ok);
 }
 
+// A model sweep's electrical and sizing figures (issue 36) come back as written; a failed point
+// has empty cells there too.
+TEST(SweepTable, AModelSweepsElectricalFiguresRoundTrip) {
+  SweepRow ok{300, 40060, 1, true, "ok", 150.5, 1.4, 1.2};
+  ok.electrical = SweepElectrical{0.74, 0.74, 82.1, 82.0, -12.9, -10.1, 24.4};
+  ok.sizing = SweepSizing{0.52, 0.51, 0.76, 0.75, 300, 299.5, 15.3, 9.1, 110.9, 110.7, 0.138, 0.082};
+  SweepRow diverged{300, 40300, 0, false, "diverged"};
+  const std::string csv = format_sweep_csv({ok, diverged});
+  EXPECT_NE(csv.find(",current_rms_a_a,current_rms_b_a,current_peak_a_a,current_peak_b_a,voltage_a_v,voltage_b_v,"
+                     "power_a_w,power_b_w,apparent_power_a_va,apparent_power_b_va,power_factor_a,power_factor_b\n"),
+            std::string::npos)
+      << csv;
+  EXPECT_NE(csv.find(",diverged" + std::string(8 + 12, ',') + "\n"), std::string::npos) << csv;  // 8 + 12 empty
+  const std::vector<SweepRow> again = parse_sweep_csv(csv, "model.csv");
+  ASSERT_EQ(again.size(), 2u);
+  ASSERT_TRUE(again[0].sizing);
+  EXPECT_EQ(*again[0].sizing, *ok.sizing);
+  EXPECT_EQ(*again[0].electrical, *ok.electrical);
+  EXPECT_FALSE(again[1].sizing);
+}
+
 // The row-by-row writers produce format_sweep_csv's bytes.
 TEST(SweepTable, HeaderAndRowsAreTheWholeTable) {
   SweepRow ok{300, 40400, 0, true, "ok", 210.5, 1.4, 1.2};
+  ok.electrical = SweepElectrical{0.74, 0.74, 82.1, 82.0, -12.9, -10.1, 24.4};
+  ok.sizing = SweepSizing{0.52, 0.52, 0.76, 0.76, 300, 300, 15.3, 9.1, 110.9, 110.7, 0.138, 0.082};
   SweepRow diverged{300, 40300, 0, false, "diverged"};
   EXPECT_EQ(sweep_layout_of({ok, diverged}), kModelSweep);
   EXPECT_EQ(format_sweep_header(kModelSweep) + format_sweep_row(kModelSweep, ok) +
                 format_sweep_row(kModelSweep, diverged),
             format_sweep_csv({ok, diverged}));
   SweepRow measured = ok;
+  measured.sizing = std::nullopt;
   measured.time_s = 1.25;
   measured.sweep = 3;
   measured.speed_spread_mm_s = 0.5;

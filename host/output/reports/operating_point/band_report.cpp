@@ -3,6 +3,9 @@
 #include <algorithm>
 #include <cmath>
 #include <nlohmann/json.hpp>
+#include <optional>
+#include <utility>
+#include <vector>
 
 #include "formats/number_format.h"
 #include "output/reports/report_values.h"
@@ -12,7 +15,32 @@ namespace {
 
 constexpr const char* kBandHeader =
     "amplitude_v,load_n,temperature_rise_k,decided,frequency_hz,speed_mm_s,peak_frequency_hz,peak_speed_mm_s,margin_hz,"
-    "collapse_hz,reason\n";
+    "collapse_hz,reason,current_rms_a_a,current_rms_b_a,current_peak_a_a,current_peak_b_a,phase_a_deg,phase_b_deg,"
+    "motional_phase_a_deg,motional_phase_b_deg,power_a_w,power_b_w,apparent_power_a_va,apparent_power_b_va,"
+    "power_factor_a,power_factor_b\n";
+
+// The electrical figures at the pick (band_electrical_at), in kBandHeader's order after reason.
+std::vector<std::pair<const char*, double>> electrical_cells(const ElectricalReadings& e) {
+  return {{"current_rms_a_a", e.rms_current_a_a},
+          {"current_rms_b_a", e.rms_current_b_a},
+          {"current_peak_a_a", e.peak_current_a_a},
+          {"current_peak_b_a", e.peak_current_b_a},
+          {"phase_a_deg", e.phase_a_deg},
+          {"phase_b_deg", e.phase_b_deg},
+          {"motional_phase_a_deg", e.motional_phase_a_deg},
+          {"motional_phase_b_deg", e.motional_phase_b_deg},
+          {"power_a_w", e.power_a_w},
+          {"power_b_w", e.power_b_w},
+          {"apparent_power_a_va", e.apparent_power_a_va},
+          {"apparent_power_b_va", e.apparent_power_b_va},
+          {"power_factor_a", e.power_factor_a},
+          {"power_factor_b", e.power_factor_b}};
+}
+
+std::optional<ElectricalReadings> electrical_at_pick(const BandRow& row) {
+  if (!row.pick.decided) return std::nullopt;
+  return band_electrical_at(row, row.pick.frequency_hz);
+}
 
 // The reasons are prose with commas; the table has no quoting.
 std::string csv_text(std::string text) {
@@ -42,7 +70,12 @@ std::string band_csv(const std::vector<BandRow>& rows) {
     } else {
       csv += ",,,,,";
     }
-    csv += "," + csv_text(p.reason) + "\n";
+    csv += "," + csv_text(p.reason);
+    const std::optional<ElectricalReadings> e = electrical_at_pick(row);
+    for (const auto& [name, value] : electrical_cells(e.value_or(ElectricalReadings{}))) {
+      csv += "," + (e ? format_number(value) : std::string());
+    }
+    csv += "\n";
   }
   return csv;
 }
@@ -63,6 +96,14 @@ std::string band_json(const std::vector<BandRow>& rows, const BandSummary& s, do
     j["margin_hz"] = number_or_null(p.decided, p.margin_hz);
     j["collapse_hz"] = number_or_null(p.decided && p.collapse_hz.has_value(), p.collapse_hz.value_or(NAN));
     j["reason"] = p.reason;
+    const std::optional<ElectricalReadings> e = electrical_at_pick(row);
+    if (e) {
+      Json electrical;
+      for (const auto& [name, value] : electrical_cells(*e)) electrical[name] = value;
+      j["electrical"] = electrical;
+    } else {
+      j["electrical"] = nullptr;
+    }
     list.push_back(j);
   }
   Json j;

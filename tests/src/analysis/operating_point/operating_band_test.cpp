@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <mutex>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -64,6 +65,21 @@ TEST(OperatingBand, PicksAMarginAboveTheSofteningPeakAndThePeakFallsWithVoltage)
   EXPECT_EQ(high.curve.front().frequency_hz, 40500.0);
   EXPECT_EQ(high.curve.back().frequency_hz, 38750.0);
 
+  // Every curve point's steady state, in the curve's order, with the electrical port: at the
+  // pick the figures between those of the grid points either side, real power flowing in.
+  ASSERT_EQ(high.points.size(), high.curve.size());
+  const std::optional<ElectricalReadings> at_pick = band_electrical_at(high, high.pick.frequency_hz);
+  ASSERT_TRUE(at_pick.has_value());
+  EXPECT_GT(at_pick->power_a_w + at_pick->power_b_w, 0.0);
+  for (std::size_t k = 1; k < high.curve.size(); ++k) {
+    if (high.curve[k].frequency_hz > high.pick.frequency_hz) continue;
+    const double above = high.points[k - 1].electrical.rms_current_a_a;
+    const double below = high.points[k].electrical.rms_current_a_a;
+    EXPECT_GE(at_pick->rms_current_a_a, std::min(above, below));
+    EXPECT_LE(at_pick->rms_current_a_a, std::max(above, below));
+    break;
+  }
+
   const BandSummary s = summarize_band(rows);
   EXPECT_EQ(s.decided, 2u);
   EXPECT_EQ(s.undecided, 0u);
@@ -72,6 +88,32 @@ TEST(OperatingBand, PicksAMarginAboveTheSofteningPeakAndThePeakFallsWithVoltage)
   EXPECT_EQ(s.band->high_hz, low.pick.frequency_hz);
   EXPECT_EQ(s.peak->low_hz, high.pick.peak_frequency_hz);
   EXPECT_EQ(s.peak->high_hz, low.pick.peak_frequency_hz);
+}
+
+// band_electrical_at on a made-up curve: linear between the points either side (0.25 of the way
+// from 40200 to 40100 Hz), phases along the shorter arc across +-180 deg, a grid point's own
+// figures on it, none outside the curve or next to a point without a reading.
+TEST(OperatingBand, ElectricalFiguresAtAFrequencyAreInterpolatedBetweenTheCurvePoints) {
+  BandRow row;
+  auto point = [&row](double frequency_hz, double current_a, double phase_deg, bool valid) {
+    row.curve.push_back(CurveSample{frequency_hz, 0.0, true});
+    SteadyStateResult r;
+    r.electrical.valid = valid;
+    r.electrical.rms_current_a_a = current_a;
+    r.electrical.motional_phase_a_deg = phase_deg;
+    row.points.push_back(r);
+  };
+  point(40200.0, 0.4, 170.0, true);
+  point(40100.0, 0.8, -170.0, true);
+  point(40000.0, 1.0, -160.0, false);
+  const std::optional<ElectricalReadings> mid = band_electrical_at(row, 40175.0);
+  ASSERT_TRUE(mid.has_value());
+  EXPECT_DOUBLE_EQ(mid->rms_current_a_a, 0.5);
+  EXPECT_NEAR(mid->motional_phase_a_deg, 175.0, 1e-9);
+  EXPECT_DOUBLE_EQ(band_electrical_at(row, 40100.0)->rms_current_a_a, 0.8);
+  EXPECT_FALSE(band_electrical_at(row, 40300.0).has_value());
+  EXPECT_FALSE(band_electrical_at(row, 40050.0).has_value());
+  EXPECT_FALSE(band_electrical_at(row, 39900.0).has_value());
 }
 
 TEST(OperatingBand, AWarmerStatorWhoseStiffnessFallsMovesThePeakDown) {

@@ -38,9 +38,11 @@ BandSummary summary() {
 TEST(BandCsv, OneRowPerChainWithEmptyCellsWhenUndecided) {
   EXPECT_EQ(band_csv(rows()),
             "amplitude_v,load_n,temperature_rise_k,decided,frequency_hz,speed_mm_s,peak_frequency_hz,peak_speed_mm_s,"
-            "margin_hz,collapse_hz,reason\n"
-            "100,0.5,10,1,40125.5,80.25,40000,90,125.5,39950,margin 125.5 Hz; above the peak\n"
-            "200,0,0,0,,,,,,,no peak; speed still rising\n");
+            "margin_hz,collapse_hz,reason,current_rms_a_a,current_rms_b_a,current_peak_a_a,current_peak_b_a,"
+            "phase_a_deg,phase_b_deg,motional_phase_a_deg,motional_phase_b_deg,power_a_w,power_b_w,"
+            "apparent_power_a_va,apparent_power_b_va,power_factor_a,power_factor_b\n"
+            "100,0.5,10,1,40125.5,80.25,40000,90,125.5,39950,margin 125.5 Hz; above the peak,,,,,,,,,,,,,,\n"
+            "200,0,0,0,,,,,,,no peak; speed still rising,,,,,,,,,,,,,,\n");
 }
 
 TEST(BandJson, SummaryThenRowsWithNullWhereUndecided) {
