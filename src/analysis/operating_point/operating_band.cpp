@@ -56,7 +56,7 @@ std::vector<BandRow> operating_band(const MotorModel& model, const BandGrid& gri
   for (double v : grid.voltages) {
     for (double load : grid.loads_n) {
       for (double rise : grid.temperature_rises_k) {
-        rows.push_back(BandRow{v, load, rise, {}, {}});
+        rows.push_back(BandRow{v, load, rise, {}, {}, {}});
         chains.push_back(down_sweep_chain(grid.frequencies_hz, v, load, rise));
       }
     }
@@ -78,6 +78,7 @@ std::vector<BandRow> operating_band(const MotorModel& model, const BandGrid& gri
     for (std::size_t c = 0; c < mine.size(); ++c) {
       BandRow& row = rows[begin + c];
       for (std::size_t k = 0; k < mine[c].size(); ++k) row.curve.push_back(sample_of(mine[c][k], results[c][k]));
+      row.points = results[c];
     }
   });
   PickOptions options;

@@ -40,6 +40,9 @@ struct BandRow {
   double load_n = 0.0;
   double temperature_rise_k = 0.0;
   std::vector<CurveSample> curve;  // the chain's points, highest frequency first (ok = false: diverged)
+  // The full steady state of each curve point, parallel to `curve` (the electrical port, tip
+  // amplitudes, powers), so a caller can read any figure at any point of the curve.
+  std::vector<SteadyStateResult> points;
   PickResult pick;
 };
 

@@ -14,6 +14,7 @@ namespace {
 // One window: the statistics of its steps and where the mover started.
 struct WindowStats : WindowStatistics {
   double start_position_m = 0.0;
+  ElectricalSums electrical;  // fixed-step solver only
 
   void store(double end_position_m, SteadyStateResult& r) const {
     store_window(*this, duration_s, start_position_m, end_position_m, r);
@@ -57,6 +58,11 @@ SteadyStateResult window_loop(const SteadyStateOptions& opt, Run&& run, Position
 
 }  // namespace
 
+ElectricalReadings window_electrical(const ElectricalSums& sums, const OperatingPoint& point) {
+  // No drive, no measurement (as the emulator): a ring-down current has nothing to refer to.
+  return point.amplitude_v > 0.0 ? electrical_readings(sums, point.phase_deg) : ElectricalReadings{};
+}
+
 void store_window(const WindowStatistics& w, double duration_s, double start_position_m, double end_position_m,
                   SteadyStateResult& r) {
   const double T = duration_s;
@@ -67,6 +73,8 @@ void store_window(const WindowStatistics& w, double duration_s, double start_pos
   r.mean_friction_force_n = w.ft_sum_n_s / T;
   r.mean_normal_force_n = w.fn_sum_n_s / T;
   r.damping_power_w = w.energy_j / T;
+  r.slip_power_w = w.slip_energy_j / T;
+  r.mover_power_w = w.mover_energy_j / T;
   r.friction_force_std_n = std::sqrt(
       std::max(0.0, w.ft2_sum_n2_s / T - r.mean_friction_force_n * r.mean_friction_force_n));
 }
@@ -130,7 +138,7 @@ SteadyStateResult run_to_steady_state(const MotorModel& model, const OperatingPo
     }
     if (!traced) {
       // The hot loop, the window statistics inside it: nothing per step through a call.
-      if (w != nullptr) sim.advance(steps, *w);
+      if (w != nullptr) sim.advance(steps, *w, w->electrical);
       else sim.advance(steps);
       total_steps += steps;
     }
@@ -138,7 +146,7 @@ SteadyStateResult run_to_steady_state(const MotorModel& model, const OperatingPo
       // The hot loop up to the next trace sample (the window sums inside it are the same bits
       // as step() and window.add() one step at a time; tests/src/model/simulation/simulator_test.cpp).
       const std::uint64_t chunk = std::min(steps - k, opt.trace_every_steps - total_steps % opt.trace_every_steps);
-      if (w != nullptr) sim.advance(chunk, *w);
+      if (w != nullptr) sim.advance(chunk, *w, w->electrical);
       else sim.advance(chunk);
       k += chunk;
       total_steps += chunk;
@@ -151,6 +159,7 @@ SteadyStateResult run_to_steady_state(const MotorModel& model, const OperatingPo
     }
     r.steps = total_steps;
     r.sim_s = sim.state().time_s;
+    if (w != nullptr) r.electrical = window_electrical(w->electrical, point);
     if (sim.diverged()) {
       r.diverged = true;
       r.ok = false;

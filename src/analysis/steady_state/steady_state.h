@@ -7,6 +7,7 @@
 #include <optional>
 #include <string>
 
+#include "model/machine/electrical.h"
 #include "model/motor_model.h"
 #include "model/simulation/window_statistics.h"
 
@@ -69,9 +70,19 @@ struct SteadyStateResult {
   double mean_normal_force_n = 0.0;    // mean F_N
   double friction_force_std_n = 0.0;   // standard deviation of F_T over the window
   double damping_power_w = 0.0;        // mean C1 q1'^2 + C2 q2'^2 (heats the stator)
-  double speed_change_mm_s = 0.0;      // speed difference of the last two windows
-  double sim_s = 0.0;                  // simulated time in total
-  std::uint64_t steps = 0;             // solver steps in total (accepted steps for the reference)
+  // The interface's share of the power balance (window_statistics.h): mean F_T (gT q2' - v_m),
+  // the slip in the contact, and mean F_T v_m, what the mover receives (load x speed, mover
+  // damping, guide friction). Electrical real power = damping + slip + mover power (tested).
+  double slip_power_w = 0.0;
+  double mover_power_w = 0.0;
+  // The electrical port over the last window (electrical.h; the emulator's definitions and
+  // sampling: every MotorSimulator::kElectricalStride-th step at its midpoint). Invalid (all 0)
+  // at zero amplitude, from the reference solver, and when the last window ran without
+  // statistics (stop_when_settled false: the last window always has them).
+  ElectricalReadings electrical;
+  double speed_change_mm_s = 0.0;  // speed difference of the last two windows
+  double sim_s = 0.0;              // simulated time in total
+  std::uint64_t steps = 0;         // solver steps in total (accepted steps for the reference)
   int windows = 0;
   MotorState final_state;  // where the run ended (fixed-step solver only): the next point of a sweep starts here
 };
@@ -99,5 +110,7 @@ void store_window(const WindowStatistics& sums, double duration_s, double start_
 [[nodiscard]] bool window_verdict(const SteadyStateOptions& options, double elapsed_s, double& previous_speed_mm_s,
                                   SteadyStateResult& r);
 [[nodiscard]] std::string diverged_failure(double time_s);
+// A window's electrical readings for this point (none at zero amplitude, as the emulator).
+[[nodiscard]] ElectricalReadings window_electrical(const ElectricalSums& sums, const OperatingPoint& point);
 
 }  // namespace swum

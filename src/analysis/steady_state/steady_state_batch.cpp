@@ -144,6 +144,7 @@ class BatchRunner {
     if (!w.settling) {
       w.elapsed_s += options_.window_s;
       store_window(sim_.window(lane), window_duration_s_, w.start_position_m, position, r);
+      r.electrical = window_electrical(sim_.lane_electrical(lane), chains_[w.chain][w.index]);
       ++r.windows;
       if (window_verdict(options_, w.elapsed_s, w.previous_speed_mm_s, r)) return finish_point(lane);
     }
@@ -151,6 +152,7 @@ class BatchRunner {
     w.start_position_m = position;
     w.steps_left = window_steps_;
     sim_.reset_window(lane);
+    sim_.set_lane_sampling(lane, true);  // the windows only, not the settle
   }
 
   void finish_point(std::size_t lane) {

@@ -1,5 +1,6 @@
 #include "model/machine/electrical.h"
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 
@@ -21,6 +22,16 @@ ElectricalSums& ElectricalSums::operator+=(const ElectricalSums& o) {
   mb_c += o.mb_c;
   power_a += o.power_a;
   power_b += o.power_b;
+  a_sq += o.a_sq;
+  b_sq += o.b_sq;
+  a_peak = std::max(a_peak, o.a_peak);
+  b_peak = std::max(b_peak, o.b_peak);
+  va_s += o.va_s;
+  va_c += o.va_c;
+  vb_s += o.vb_s;
+  vb_c += o.vb_c;
+  va_sq += o.va_sq;
+  vb_sq += o.vb_sq;
   return *this;
 }
 
@@ -46,6 +57,17 @@ ElectricalReadings electrical_readings(const ElectricalSums& sums, double phase_
   fit(sums.mb_s, sums.mb_c, phase_deg, r.motional_current_b_a, r.motional_phase_b_deg);
   r.power_a_w = sums.power_a / sums.samples;
   r.power_b_w = sums.power_b / sums.samples;
+  double unused_phase_deg = 0.0;
+  fit(sums.va_s, sums.va_c, 0.0, r.voltage_a_v, unused_phase_deg);
+  fit(sums.vb_s, sums.vb_c, phase_deg, r.voltage_b_v, unused_phase_deg);
+  r.rms_current_a_a = std::sqrt(sums.a_sq / sums.samples);
+  r.rms_current_b_a = std::sqrt(sums.b_sq / sums.samples);
+  r.peak_current_a_a = sums.a_peak;
+  r.peak_current_b_a = sums.b_peak;
+  r.apparent_power_a_va = std::sqrt(sums.va_sq / sums.samples) * r.rms_current_a_a;
+  r.apparent_power_b_va = std::sqrt(sums.vb_sq / sums.samples) * r.rms_current_b_a;
+  r.power_factor_a = r.apparent_power_a_va > 0.0 ? r.power_a_w / r.apparent_power_a_va : 0.0;
+  r.power_factor_b = r.apparent_power_b_va > 0.0 ? r.power_b_w / r.apparent_power_b_va : 0.0;
   r.duration_s = sums.duration_s;
   r.valid = true;
   return r;

@@ -10,6 +10,7 @@
 // sq0 = e311 a1; lin1 = e311 a2; sq1 = e3111 a3; lin2 = e3111 a4).
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 
@@ -60,6 +61,13 @@ struct ElectricalSums {
   // sum V I_motional: the C0 current is reactive (zero mean over whole periods) and is left out,
   // so that a window that is not a whole number of periods shows no ripple from it.
   double power_a = 0.0, power_b = 0.0;
+  // True RMS and peak of the terminal currents: sum I^2 and max |I| over the samples.
+  double a_sq = 0.0, b_sq = 0.0;
+  double a_peak = 0.0, b_peak = 0.0;
+  // The phase voltages applied (after droop): sum V sin, V cos for their drive-frequency
+  // amplitude, and sum V^2 for their RMS.
+  double va_s = 0.0, va_c = 0.0, vb_s = 0.0, vb_c = 0.0;
+  double va_sq = 0.0, vb_sq = 0.0;
 
   void add(const PhaseCurrents& i, double sin_theta, double cos_theta, double va, double vb, double dt) {
     samples += 1.0;
@@ -77,14 +85,27 @@ struct ElectricalSums {
     mb_c += i.motional_b_a * cos_theta;
     power_a += va * i.motional_a_a;
     power_b += vb * i.motional_b_a;
+    a_sq += i.a_a * i.a_a;
+    b_sq += i.b_a * i.b_a;
+    a_peak = std::max(a_peak, std::abs(i.a_a));
+    b_peak = std::max(b_peak, std::abs(i.b_a));
+    va_s += va * sin_theta;
+    va_c += va * cos_theta;
+    vb_s += vb * sin_theta;
+    vb_c += vb * cos_theta;
+    va_sq += va * va;
+    vb_sq += vb * vb;
   }
   ElectricalSums& operator+=(const ElectricalSums& o);
 };
 
 // What the amplifier reports per phase: the drive-frequency component of the current (peak A),
 // its phase relative to that phase's voltage (deg in (-180, 180], + = current leads), the same
-// for the motional current, and the real power (W). valid = false when the window holds less
-// than a quarter period (the fit is then undetermined): every value is 0.
+// for the motional current, and the real power (W); what a board designer sizes with: the true
+// RMS and the largest sampled |I| of the terminal current (A), the drive-frequency amplitude of
+// the voltage applied (V; below the command with amplifier droop), the apparent power
+// V_rms I_rms (VA, true RMS of both) and the power factor P/S. valid = false when the window
+// holds less than a quarter period (the fit is then undetermined): every value is 0.
 struct ElectricalReadings {
   bool valid = false;
   double current_a_a = 0.0, current_b_a = 0.0;
@@ -92,6 +113,11 @@ struct ElectricalReadings {
   double motional_current_a_a = 0.0, motional_current_b_a = 0.0;
   double motional_phase_a_deg = 0.0, motional_phase_b_deg = 0.0;
   double power_a_w = 0.0, power_b_w = 0.0;
+  double rms_current_a_a = 0.0, rms_current_b_a = 0.0;
+  double peak_current_a_a = 0.0, peak_current_b_a = 0.0;
+  double voltage_a_v = 0.0, voltage_b_v = 0.0;
+  double apparent_power_a_va = 0.0, apparent_power_b_va = 0.0;
+  double power_factor_a = 0.0, power_factor_b = 0.0;
   double duration_s = 0.0;
 };
 

@@ -12,6 +12,7 @@
 
 #include "hwy/aligned_allocator.h"
 #include "model/machine/motor.h"
+#include "model/simulation/simulator.h"
 
 // foreach_target.h includes this file once per target: what is not per target is compiled once.
 #ifndef SWUM_BATCH_SIMULATOR_SHARED
@@ -68,6 +69,36 @@ enum BatchField : std::size_t {
   kLaneCommandedAmplitude,
   kLaneDroopGain,
   kLaneAngularFrequency,
+  // The interface's power balance (WindowStatistics::add_interface).
+  kSlipSum,
+  kMoverSum,
+  // The electrical port (ElectricalSums, in its order): 1 / (2 cos(w dt/2)) for the midpoint
+  // phasor, then the sums of the lane's samples.
+  kLaneMidpointScale,
+  kElecSamples,
+  kElecSS,
+  kElecCC,
+  kElecSC,
+  kElecAS,
+  kElecAC,
+  kElecBS,
+  kElecBC,
+  kElecMAS,
+  kElecMAC,
+  kElecMBS,
+  kElecMBC,
+  kElecPowerA,
+  kElecPowerB,
+  kElecASq,
+  kElecBSq,
+  kElecAPeak,
+  kElecBPeak,
+  kElecVAS,
+  kElecVAC,
+  kElecVBS,
+  kElecVBC,
+  kElecVASq,
+  kElecVBSq,
   kFieldCount
 };
 
@@ -75,7 +106,8 @@ enum BatchField : std::size_t {
 struct BatchConstants {
   ModeForceCoefficients l1, b2;
   double a1 = 0.0, a2 = 0.0;  // step-corrected inverse masses (MotorSplitSystem::update_step)
-  double c1 = 0.0, c2 = 0.0, g_n = 0.0, g_tv = 0.0, preload_constant = 0.0;
+  double c1 = 0.0, c2 = 0.0, g_n = 0.0, g_t = 0.0, g_tv = 0.0, preload_constant = 0.0;
+  double clamped_capacitance = 0.0;  // C0 of one phase (electrical.h)
   double preload = 0.0, contact_stiffness = 0.0, friction_coefficient = 0.0;
   double tangential_stiffness = 0.0, slider_limit_per_normal = 0.0;
   double inverse_compliance = 0.0, dt_g_t_over_m2 = 0.0, dt_over_m = 0.0, m_over_dt = 0.0, dt_mu_s_over_m = 0.0;
@@ -91,7 +123,9 @@ struct BatchConstants {
 
 struct BatchSimulator::Arrays {
   hwy::AlignedFreeUniquePtr<double[]> data;
-  std::vector<unsigned char> group_active;  // per kLanePadding lanes: any lane not idle
+  std::vector<unsigned char> group_active;    // per kLanePadding lanes: any lane not idle
+  std::vector<unsigned char> group_sampling;  // per kLanePadding lanes: any lane sampling
+  std::vector<unsigned char> lane_sampling;
   std::vector<unsigned char> lane_idle;
   BatchConstants k;
 };
@@ -143,10 +177,75 @@ HWY_INLINE V ClampedTanh(D d, V x) {
   return hn::IfThenElse(hn::Gt(x, big), one, hn::IfThenElse(hn::Lt(x, hn::Neg(big)), hn::Neg(one), t));
 }
 
+// The electrical port's sample of one step in every lane (simulator_loop.h sample_electrical with
+// phase_currents, electrical.h, and ElectricalSums::add, in their order): at the step's midpoint,
+// (s, c) from the phasors at its start and end, q the mean of the start and end, v the end's.
+HWY_INLINE void SampleElectrical(D d, const BatchConstants& k, double* HWY_RESTRICT base, std::size_t padded,
+                                 std::size_t i, V s_start, V c_start, V s_end, V c_end, V q1_mid, V q2_mid, V v1,
+                                 V v2) {
+  auto f = [&](std::size_t field) { return base + field * padded + i; };
+  auto accumulate = [&](std::size_t field, V x) { hn::Store(hn::Add(hn::Load(d, f(field)), x), d, f(field)); };
+  const V scale = hn::Load(d, f(kLaneMidpointScale));
+  const V s = hn::Mul(hn::Add(s_start, s_end), scale);
+  const V c = hn::Mul(hn::Add(c_start, c_end), scale);
+  const V amp = hn::Load(d, f(kAmplitude));
+  const V cph = hn::Load(d, f(kCosPhase)), sph = hn::Load(d, f(kSinPhase));
+  const V omega_amp = hn::Mul(hn::Load(d, f(kLaneAngularFrequency)), amp);
+  const V va = hn::Mul(amp, s);
+  const V vb = hn::Mul(amp, hn::MulAdd(s, cph, hn::Mul(c, sph)));
+  const V dva = hn::Mul(omega_amp, c);
+  const V dvb = hn::Mul(omega_amp, hn::MulSub(c, cph, hn::Mul(s, sph)));
+  const V two = hn::Set(d, 2.0);
+  // One mode's share of the motional current of phase X: (df/dV_X) v + (d^2W/dV_X^2) V_X'.
+  auto share = [&](V q, V v, double lin0, double sq0, double lin1, double sq1, double lin2, V vx, V dvx) {
+    const V df = hn::MulAdd(
+        q, hn::MulAdd(hn::Set(d, lin2), q, hn::MulAdd(hn::Mul(two, hn::Set(d, sq1)), vx, hn::Set(d, lin1))),
+        hn::MulAdd(hn::Mul(two, hn::Set(d, sq0)), vx, hn::Set(d, lin0)));
+    const V cap = hn::Mul(q, hn::MulAdd(hn::Set(d, sq1), q, hn::Mul(two, hn::Set(d, sq0))));
+    return hn::MulAdd(df, v, hn::Mul(cap, dvx));
+  };
+  const ModeForceCoefficients& l1 = k.l1;
+  const ModeForceCoefficients& b2 = k.b2;
+  const V ma = hn::Add(share(q1_mid, v1, l1.lin0_a, l1.sq0_a, l1.lin1_a, l1.sq1_a, l1.lin2_a, va, dva),
+                       share(q2_mid, v2, b2.lin0_a, b2.sq0_a, b2.lin1_a, b2.sq1_a, b2.lin2_a, va, dva));
+  const V mb = hn::Add(share(q1_mid, v1, l1.lin0_b, l1.sq0_b, l1.lin1_b, l1.sq1_b, l1.lin2_b, vb, dvb),
+                       share(q2_mid, v2, b2.lin0_b, b2.sq0_b, b2.lin1_b, b2.sq1_b, b2.lin2_b, vb, dvb));
+  const V c0 = hn::Set(d, k.clamped_capacitance);
+  const V ia = hn::MulAdd(c0, dva, ma);
+  const V ib = hn::MulAdd(c0, dvb, mb);
+  accumulate(kElecSamples, hn::Set(d, 1.0));
+  accumulate(kElecSS, hn::Mul(s, s));
+  accumulate(kElecCC, hn::Mul(c, c));
+  accumulate(kElecSC, hn::Mul(s, c));
+  accumulate(kElecAS, hn::Mul(ia, s));
+  accumulate(kElecAC, hn::Mul(ia, c));
+  accumulate(kElecBS, hn::Mul(ib, s));
+  accumulate(kElecBC, hn::Mul(ib, c));
+  accumulate(kElecMAS, hn::Mul(ma, s));
+  accumulate(kElecMAC, hn::Mul(ma, c));
+  accumulate(kElecMBS, hn::Mul(mb, s));
+  accumulate(kElecMBC, hn::Mul(mb, c));
+  accumulate(kElecPowerA, hn::Mul(va, ma));
+  accumulate(kElecPowerB, hn::Mul(vb, mb));
+  accumulate(kElecASq, hn::Mul(ia, ia));
+  accumulate(kElecBSq, hn::Mul(ib, ib));
+  hn::Store(hn::Max(hn::Load(d, f(kElecAPeak)), hn::Abs(ia)), d, f(kElecAPeak));
+  hn::Store(hn::Max(hn::Load(d, f(kElecBPeak)), hn::Abs(ib)), d, f(kElecBPeak));
+  accumulate(kElecVAS, hn::Mul(va, s));
+  accumulate(kElecVAC, hn::Mul(va, c));
+  accumulate(kElecVBS, hn::Mul(vb, s));
+  accumulate(kElecVBC, hn::Mul(vb, c));
+  accumulate(kElecVASq, hn::Mul(va, va));
+  accumulate(kElecVBSq, hn::Mul(vb, vb));
+}
+
 // kPerLane: the constants of the slow states are per lane (thermal or wear), else broadcast.
+// group_sampling: per kLanePadding lanes, whether to sample the electrical port (every
+// MotorSimulator::kElectricalStride-th step of the clock, as MotorSimulator).
 template <bool kJenkins, bool kCoulombGuide, bool kPerLane>
 HWY_NOINLINE void AdvanceLanes(const BatchConstants& k, double* HWY_RESTRICT base, std::size_t padded,
-                               const unsigned char* group_active, std::uint64_t steps, std::uint64_t clock) {
+                               const unsigned char* group_active, const unsigned char* group_sampling,
+                               std::uint64_t steps, std::uint64_t clock) {
   const D d;
   const std::size_t n = hn::Lanes(d);
   auto f = [&](std::size_t field) { return base + field * padded; };
@@ -188,6 +287,10 @@ HWY_NOINLINE void AdvanceLanes(const BatchConstants& k, double* HWY_RESTRICT bas
   const V c1_all = hn::Set(d, k.c1), c2_all = hn::Set(d, k.c2);
   const V k1_all = hn::Set(d, k.l1.k), k2_all = hn::Set(d, k.b2.k);
   const V g_n = hn::Set(d, k.g_n), g_tv = hn::Set(d, k.g_tv), pc = hn::Set(d, k.preload_constant);
+  const V g_t = hn::Set(d, k.g_t);
+  double* HWY_RESTRICT slipp = f(kSlipSum);
+  double* HWY_RESTRICT moverp = f(kMoverSum);
+  constexpr std::uint64_t kStride = MotorSimulator::kElectricalStride;
   const V preload = hn::Set(d, k.preload), ke = hn::Set(d, k.contact_stiffness);
   const V mu_all = hn::Set(d, k.friction_coefficient);
   const V kt = hn::Set(d, k.tangential_stiffness), slider_all = hn::Set(d, k.slider_limit_per_normal);
@@ -203,6 +306,7 @@ HWY_NOINLINE void AdvanceLanes(const BatchConstants& k, double* HWY_RESTRICT bas
 
   for (std::uint64_t step = 0; step < steps; ++step) {
     const bool housekeeping = ((++clock) & 63U) == 0U;
+    const bool electrical_step = (clock & (kStride - 1)) == 0U;
     for (std::size_t i = 0; i < padded; i += n) {
       if (group_active[i / BatchSimulator::kLanePadding] == 0U) continue;
       V q1 = hn::Load(d, q1p + i), q2 = hn::Load(d, q2p + i), xm = hn::Load(d, xmp + i);
@@ -269,6 +373,7 @@ HWY_NOINLINE void AdvanceLanes(const BatchConstants& k, double* HWY_RESTRICT bas
         delta = Clamp(hn::MulAdd(dt, hn::MulSub(g_tv, w2, w3), delta), hn::Mul(slider, fn_next));
       }
       // Semi-implicit Euler (semi_implicit_euler.h): v = v*, q += dt v.
+      const V q1_start = q1, q2_start = q2, s_start = s, c_start = c;
       v1 = w1;
       v2 = w2;
       vm = w3;
@@ -280,6 +385,11 @@ HWY_NOINLINE void AdvanceLanes(const BatchConstants& k, double* HWY_RESTRICT bas
       const V s_next = hn::MulAdd(s, rc, hn::Mul(c, rs));
       c = hn::NegMulAdd(s, rs, hn::Mul(c, rc));
       s = s_next;
+      if (electrical_step && group_sampling[i / BatchSimulator::kLanePadding] != 0U) {
+        const V half = hn::Set(d, 0.5);
+        SampleElectrical(d, k, base, padded, i, s_start, c_start, s, c, hn::Mul(half, hn::Add(q1_start, q1)),
+                         hn::Mul(half, hn::Add(q2_start, q2)), v1, v2);
+      }
       const V t = hn::Add(hn::Load(d, tp + i), dt);
       if (housekeeping) {
         // renormalise_phasor, flush_tiny (simulator.cpp).
@@ -332,25 +442,30 @@ HWY_NOINLINE void AdvanceLanes(const BatchConstants& k, double* HWY_RESTRICT bas
       hn::Store(hn::MulAdd(dt, fn, hn::Load(d, fnsp + i)), d, fnsp + i);
       const V power = hn::MulAdd(hn::Mul(c2, v2), v2, hn::Mul(hn::Mul(c1, v1), v1));
       hn::Store(hn::MulAdd(dt, power, hn::Load(d, powp + i)), d, powp + i);
+      const V impulse = hn::Mul(dt, ft);
+      hn::Store(hn::MulAdd(impulse, hn::MulSub(g_t, v2, vm), hn::Load(d, slipp + i)), d, slipp + i);
+      hn::Store(hn::MulAdd(impulse, vm, hn::Load(d, moverp + i)), d, moverp + i);
     }
   }
 }
 
 template <bool kPerLane>
 void AdvanceBatchWith(const BatchConstants& k, double* base, std::size_t padded, const unsigned char* group_active,
-                      std::uint64_t steps, std::uint64_t clock) {
+                      const unsigned char* group_sampling, std::uint64_t steps, std::uint64_t clock) {
+  const unsigned char* ga = group_active;
+  const unsigned char* gs = group_sampling;
   if (k.jenkins) {
-    if (k.coulomb_guide) return AdvanceLanes<true, true, kPerLane>(k, base, padded, group_active, steps, clock);
-    return AdvanceLanes<true, false, kPerLane>(k, base, padded, group_active, steps, clock);
+    if (k.coulomb_guide) return AdvanceLanes<true, true, kPerLane>(k, base, padded, ga, gs, steps, clock);
+    return AdvanceLanes<true, false, kPerLane>(k, base, padded, ga, gs, steps, clock);
   }
-  if (k.coulomb_guide) return AdvanceLanes<false, true, kPerLane>(k, base, padded, group_active, steps, clock);
-  return AdvanceLanes<false, false, kPerLane>(k, base, padded, group_active, steps, clock);
+  if (k.coulomb_guide) return AdvanceLanes<false, true, kPerLane>(k, base, padded, ga, gs, steps, clock);
+  return AdvanceLanes<false, false, kPerLane>(k, base, padded, ga, gs, steps, clock);
 }
 
 void AdvanceBatch(const BatchConstants& k, double* base, std::size_t padded, const unsigned char* group_active,
-                  std::uint64_t steps, std::uint64_t clock) {
-  if (k.per_lane) return AdvanceBatchWith<true>(k, base, padded, group_active, steps, clock);
-  return AdvanceBatchWith<false>(k, base, padded, group_active, steps, clock);
+                  const unsigned char* group_sampling, std::uint64_t steps, std::uint64_t clock) {
+  if (k.per_lane) return AdvanceBatchWith<true>(k, base, padded, group_active, group_sampling, steps, clock);
+  return AdvanceBatchWith<false>(k, base, padded, group_active, group_sampling, steps, clock);
 }
 
 const char* LaneTargetName() { return hwy::TargetName(HWY_TARGET); }
@@ -422,6 +537,8 @@ BatchSimulator::BatchSimulator(const MotorModel& model, std::size_t lanes)
   a_->data = hwy::AllocateAligned<double>(kFieldCount * padded_);
   std::fill_n(a_->data.get(), kFieldCount * padded_, 0.0);
   a_->group_active.assign(padded_ / kLanePadding, 0U);
+  a_->group_sampling.assign(padded_ / kLanePadding, 0U);
+  a_->lane_sampling.assign(padded_, 0U);
   a_->lane_idle.assign(padded_, 1U);
   const MotorCoefficients& c = model.coefficients();
   const MotorSplitSystem system(c, dt_);
@@ -434,7 +551,9 @@ BatchSimulator::BatchSimulator(const MotorModel& model, std::size_t lanes)
   k.c1 = c.c1_n_s_m;
   k.c2 = c.c2_n_s_m;
   k.g_n = c.g_n;
+  k.g_t = c.g_t;
   k.g_tv = c.g_tv;
+  k.clamped_capacitance = c.clamped_capacitance_f;
   k.preload_constant = c.preload_constant_force_n;
   k.preload = c.preload_n;
   k.contact_stiffness = c.contact_stiffness_n_m;
@@ -529,6 +648,8 @@ void BatchSimulator::set_lane(std::size_t lane, const MotorState& state, const D
   x[kLaneCommandedAmplitude * p + lane] = w.amplitude_v;
   x[kLaneDroopGain * p + lane] = 1.0;  // a fresh MotorSimulator's
   x[kLaneAngularFrequency * p + lane] = w.angular_frequency_rad_s;
+  x[kLaneMidpointScale * p + lane] = 0.5 / std::cos(0.5 * w.angular_frequency_rad_s * dt_);
+  set_lane_sampling(lane, false);
   reset_window(lane);
   a_->lane_idle[lane] = 0U;
   a_->group_active[lane / kLanePadding] = 1U;
@@ -549,7 +670,8 @@ bool BatchSimulator::idle(std::size_t lane) const { return a_->lane_idle[lane] !
 
 void BatchSimulator::advance(std::uint64_t steps) {
   if (!model_.coefficients().effects.droop) {
-    HWY_DYNAMIC_DISPATCH(AdvanceBatch)(a_->k, a_->data.get(), padded_, a_->group_active.data(), steps, clock_steps_);
+    HWY_DYNAMIC_DISPATCH(AdvanceBatch)
+    (a_->k, a_->data.get(), padded_, a_->group_active.data(), a_->group_sampling.data(), steps, clock_steps_);
     clock_steps_ += steps;
     return;
   }
@@ -557,7 +679,8 @@ void BatchSimulator::advance(std::uint64_t steps) {
   // (MotorSimulator::update_effects), per lane, between the vector blocks.
   while (steps > 0) {
     const std::uint64_t block = std::min<std::uint64_t>(steps, 64U - (clock_steps_ & 63U));
-    HWY_DYNAMIC_DISPATCH(AdvanceBatch)(a_->k, a_->data.get(), padded_, a_->group_active.data(), block, clock_steps_);
+    HWY_DYNAMIC_DISPATCH(AdvanceBatch)
+    (a_->k, a_->data.get(), padded_, a_->group_active.data(), a_->group_sampling.data(), block, clock_steps_);
     clock_steps_ += block;
     steps -= block;
     if ((clock_steps_ & 63U) == 0U) update_droop();
@@ -622,7 +745,51 @@ void BatchSimulator::reset_window(std::size_t lane) {
   x[kUMax * p + lane] = -kInfinity;
   x[kWMin * p + lane] = kInfinity;
   x[kWMax * p + lane] = -kInfinity;
-  for (std::size_t f : {kContact, kFrictionSum, kFrictionSqSum, kNormalSum, kPowerSum}) x[f * p + lane] = 0.0;
+  for (std::size_t f : {kContact, kFrictionSum, kFrictionSqSum, kNormalSum, kPowerSum, kSlipSum, kMoverSum}) {
+    x[f * p + lane] = 0.0;
+  }
+  for (std::size_t f = kElecSamples; f <= kElecVBSq; ++f) x[f * p + lane] = 0.0;
+}
+
+void BatchSimulator::set_lane_sampling(std::size_t lane, bool on) {
+  a_->lane_sampling[lane] = on ? 1U : 0U;
+  const std::size_t first = lane / kLanePadding * kLanePadding;
+  bool any = false;
+  for (std::size_t l = first; l < first + kLanePadding; ++l) any = any || a_->lane_sampling[l] != 0U;
+  a_->group_sampling[lane / kLanePadding] = any ? 1U : 0U;
+}
+
+ElectricalSums BatchSimulator::lane_electrical(std::size_t lane) const {
+  const std::size_t p = padded_;
+  const double* x = a_->data.get();
+  auto at = [&](std::size_t field) { return x[field * p + lane]; };
+  ElectricalSums e;
+  e.samples = at(kElecSamples);
+  e.duration_s = e.samples * static_cast<double>(MotorSimulator::kElectricalStride) * dt_;
+  e.ss = at(kElecSS);
+  e.cc = at(kElecCC);
+  e.sc = at(kElecSC);
+  e.a_s = at(kElecAS);
+  e.a_c = at(kElecAC);
+  e.b_s = at(kElecBS);
+  e.b_c = at(kElecBC);
+  e.ma_s = at(kElecMAS);
+  e.ma_c = at(kElecMAC);
+  e.mb_s = at(kElecMBS);
+  e.mb_c = at(kElecMBC);
+  e.power_a = at(kElecPowerA);
+  e.power_b = at(kElecPowerB);
+  e.a_sq = at(kElecASq);
+  e.b_sq = at(kElecBSq);
+  e.a_peak = at(kElecAPeak);
+  e.b_peak = at(kElecBPeak);
+  e.va_s = at(kElecVAS);
+  e.va_c = at(kElecVAC);
+  e.vb_s = at(kElecVBS);
+  e.vb_c = at(kElecVBC);
+  e.va_sq = at(kElecVASq);
+  e.vb_sq = at(kElecVBSq);
+  return e;
 }
 
 WindowStatistics BatchSimulator::window(std::size_t lane) const {
@@ -638,6 +805,8 @@ WindowStatistics BatchSimulator::window(std::size_t lane) const {
   w.ft2_sum_n2_s = x[kFrictionSqSum * p + lane];
   w.fn_sum_n_s = x[kNormalSum * p + lane];
   w.energy_j = x[kPowerSum * p + lane];
+  w.slip_energy_j = x[kSlipSum * p + lane];
+  w.mover_energy_j = x[kMoverSum * p + lane];
   return w;
 }
 

@@ -25,6 +25,7 @@
 #include <string>
 #include <vector>
 
+#include "model/machine/electrical.h"
 #include "model/machine/motor.h"
 #include "model/motor_model.h"
 #include "model/simulation/window_statistics.h"
@@ -86,9 +87,17 @@ class BatchSimulator {
 
   void reset_window(std::size_t lane);
   // Per-lane statistics gathered at every step since the lane's last reset_window() (the sums of
-  // a steady-state window, window_statistics.h; duration_s and the damping coefficients are not
-  // set: the caller knows the window's length).
+  // a steady-state window, window_statistics.h, with the interface's slip and mover energies;
+  // duration_s and the damping coefficients are not set: the caller knows the window's length).
   [[nodiscard]] WindowStatistics window(std::size_t lane) const;
+
+  // The electrical port per lane (MotorSimulator::advance(steps, ElectricalSums&)'s samples:
+  // every kElectricalStride-th step of the batch clock, at the step's midpoint). A lane samples
+  // while set_lane_sampling(lane, true) (set_lane and set_idle turn it off: the settle of a
+  // steady state costs nothing); other lanes of its vector group may then gather samples too,
+  // which reset_window clears. lane_electrical: the sums since the lane's last reset_window().
+  void set_lane_sampling(std::size_t lane, bool on);
+  [[nodiscard]] ElectricalSums lane_electrical(std::size_t lane) const;
 
   // The SoA storage (defined in the .cpp; public for the per-target kernels there).
   struct Arrays;

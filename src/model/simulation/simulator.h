@@ -54,6 +54,8 @@ class MotorSimulator {
   // outputs). Same trajectory as advance(steps).
   static constexpr std::uint64_t kElectricalStride = 4;
   void advance(std::uint64_t steps, ElectricalSums& sums);
+  // Both at once (the steady-state windows with the electrical port).
+  void advance(std::uint64_t steps, WindowStatistics& window, ElectricalSums& sums);
 
   [[nodiscard]] const MotorState& state() const { return state_; }
   // Replaces the state (e.g. a snapshot); the phasor is renormalised.

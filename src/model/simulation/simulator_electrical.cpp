@@ -11,4 +11,11 @@ void MotorSimulator::advance(std::uint64_t steps, ElectricalSums& sums) {
   });
 }
 
+void MotorSimulator::advance(std::uint64_t steps, WindowStatistics& window, ElectricalSums& sums) {
+  system_.dispatch([&]<TangentialContact C, GuideFrictionModel G>() {
+    faults_.jammed ? advance_specialised<C, G, true, true, true>(steps, &window, &sums)
+                   : advance_specialised<C, G, true, false, true>(steps, &window, &sums);
+  });
+}
+
 }  // namespace swum

@@ -41,9 +41,9 @@ inline double clamp_symmetric(double x, double limit) {
 // as add() (tested bit for bit), at ~16 operations per step instead of ~25.
 struct PairedWindow {
   DoublePair damping, scale, low, high, force_sums;
-  double energy_j, duration_s, contact_s, ft2_sum_n2_s;
+  double energy_j, duration_s, contact_s, ft2_sum_n2_s, slip_energy_j, mover_energy_j, g_t;
 
-  PairedWindow(const WindowStatistics& w, double g_tv)
+  PairedWindow(const WindowStatistics& w, double g_tv, double g_t_force)
       : damping{w.c1_n_s_m, w.c2_n_s_m},
         scale{-1.0, g_tv},
         low{w.u_min_m, w.w_min_m},
@@ -52,10 +52,13 @@ struct PairedWindow {
         energy_j(w.energy_j),
         duration_s(w.duration_s),
         contact_s(w.contact_s),
-        ft2_sum_n2_s(w.ft2_sum_n2_s) {}
+        ft2_sum_n2_s(w.ft2_sum_n2_s),
+        slip_energy_j(w.slip_energy_j),
+        mover_energy_j(w.mover_energy_j),
+        g_t(g_t_force) {}
 
-  // add(dt, -q1, g_tv q2, fn, ft, damping_power_w(v1, v2)).
-  void add(double dt, DoublePair q, DoublePair v, double fn, double ft) {
+  // add(dt, -q1, g_tv q2, fn, ft, damping_power_w(v1, v2)) and add_interface(dt, ft, g_t v2, vm).
+  void add(double dt, DoublePair q, DoublePair v, double vm, double fn, double ft) {
     const DoublePair p = (damping * v) * v;  // C1 v1 v1, C2 v2 v2
     energy_j += dt * (p[0] + p[1]);
     duration_s += dt;
@@ -66,6 +69,8 @@ struct PairedWindow {
     const DoublePair impulse = dt * DoublePair{ft, fn};
     force_sums += impulse;
     ft2_sum_n2_s += impulse[0] * ft;
+    slip_energy_j += impulse[0] * (g_t * v[1] - vm);
+    mover_energy_j += impulse[0] * vm;
   }
 
   void store(WindowStatistics& w) const {
@@ -79,6 +84,8 @@ struct PairedWindow {
     w.ft_sum_n_s = force_sums[0];
     w.fn_sum_n_s = force_sums[1];
     w.ft2_sum_n2_s = ft2_sum_n2_s;
+    w.slip_energy_j = slip_energy_j;
+    w.mover_energy_j = mover_energy_j;
   }
 };
 // The electrical port's sample of one step (both loops): v_n+1 is the velocity over the step
@@ -179,6 +186,7 @@ void MotorSimulator::advance_specialised(std::uint64_t steps, WindowStatistics* 
       // What a caller of step() reads after it: the end state and this step's forces.
       const InterfaceForces& f = system_.forces();
       window->add(dt, -q[0], g_tv * q[1], f.normal_n, f.friction_n, window->damping_power_w(v[0], v[1]));
+      window->add_interface(dt, f.friction_n, model_.coefficients().g_t * v[1], v[2]);
     }
   }
   housekeeping_steps_ = housekeeping;
@@ -279,7 +287,7 @@ void MotorSimulator::advance_jenkins(std::uint64_t steps, WindowStatistics* wind
   // The window's sums in a local copy: written through the pointer, every field was a load and
   // a store per step (the compiler cannot keep what may alias in registers). Same sums.
   [[maybe_unused]] simulator_detail::PairedWindow sums_window{kWindow ? *window : WindowStatistics{},
-                                                              system_.coefficients().g_tv};
+                                                              system_.coefficients().g_tv, system_.coefficients().g_t};
   for (std::uint64_t k = 0; k < steps; ++k) {
     const ModalCubic cubic = drive.cubic();
     [[maybe_unused]] const double s_start = drive.sin_theta(), c_start = drive.cos_theta();
@@ -354,7 +362,7 @@ void MotorSimulator::advance_jenkins(std::uint64_t steps, WindowStatistics* wind
     }
     if constexpr (kWindow) {
       // What a caller of step() reads after it: the end state and this step's forces.
-      sums_window.add(dt, q, v, fn_start, ft);
+      sums_window.add(dt, q, v, vm, fn_start, ft);
     }
     last.normal_n = fn_start;
     last.friction_n = ft;

@@ -22,6 +22,12 @@ struct WindowStatistics {
   double w_max_m = -std::numeric_limits<double>::infinity();
   double contact_s = 0.0;  // time with F_N > 0
   double ft_sum_n_s = 0.0, ft2_sum_n2_s = 0.0, fn_sum_n_s = 0.0, energy_j = 0.0;
+  // The power balance at the interface (docs/model.md "Electrical port"): the work the B2 mode
+  // gives the contact through -gT F_T less what reaches the mover, F_T (gT q2' - v_m) (slip in
+  // the contact, plus the Jenkins element's stored energy, whose mean is zero), and what reaches
+  // the mover, F_T v_m (load, mover damping, guide friction, kinetic energy). End-of-step
+  // velocities, as the step's work.
+  double slip_energy_j = 0.0, mover_energy_j = 0.0;
 
   void add(double dt, double u, double w, double fn, double ft, double power_w) {
     energy_j += dt * power_w;
@@ -34,6 +40,12 @@ struct WindowStatistics {
     ft_sum_n_s += dt * ft;
     ft2_sum_n2_s += dt * ft * ft;
     fn_sum_n_s += dt * fn;
+  }
+  // tip_velocity_m_s = gT q2' (the lever of the force on B2), mover_velocity_m_s = v_m.
+  void add_interface(double dt, double ft, double tip_velocity_m_s, double mover_velocity_m_s) {
+    const double impulse = dt * ft;
+    slip_energy_j += impulse * (tip_velocity_m_s - mover_velocity_m_s);
+    mover_energy_j += impulse * mover_velocity_m_s;
   }
   // The power the fixed-step path adds, from the modal velocities (m/s).
   [[nodiscard]] double damping_power_w(double q1_dot_m_s, double q2_dot_m_s) const {
