@@ -4,6 +4,10 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <optional>
+#include <utility>
+
+#include "analysis/studies/population.h"
 
 namespace swum {
 namespace {
@@ -65,8 +69,8 @@ MatchedDuty matched(const PhaseDuty& d, double angular_frequency_rad_s, const Ma
     m.parallel_current_phase_deg = std::arg(i) * kRadToDeg;
   }
   if (design.series_ok) {
-    const std::complex<double> vs =
-        series_source_voltage(d.admittance_s, angular_frequency_rad_s, d.voltage_v, design.series_inductance_h);
+    const std::complex<double> vs = series_source_voltage(d.admittance_s, angular_frequency_rad_s, d.voltage_v,
+                                                          design.series_inductance_h);
     const std::complex<double> i = d.voltage_v * d.admittance_s;
     m.series_source_voltage_v = std::abs(vs);
     m.series_current_amplitude_a = std::abs(i);
@@ -121,25 +125,17 @@ std::size_t default_design_row(const std::vector<BandRow>& rows) {
     const BandRow& b = rows[best];
     const bool better = r.amplitude_v > b.amplitude_v ||
                         (r.amplitude_v == b.amplitude_v &&
-                         (r.load_n < b.load_n || (r.load_n == b.load_n && r.temperature_rise_k < b.temperature_rise_k)));
+                         (r.load_n < b.load_n ||
+                          (r.load_n == b.load_n && r.temperature_rise_k < b.temperature_rise_k)));
     if (better) best = i;
   }
   return best;
 }
 
-SizingResult size_amplifier(const std::vector<BandRow>& rows, double clamped_capacitance_f, std::size_t design_row) {
-  SizingResult result;
-  result.summary.band = summarize_band(rows);
-  result.rows.resize(rows.size());
-  for (std::size_t i = 0; i < rows.size(); ++i) duty_at_pick(rows[i], result.rows[i]);
-  result.design_row = design_row;
-  if (design_row < result.rows.size() && result.rows[design_row].sized) {
-    const SizingRow& d = result.rows[design_row];
-    const double w = 2.0 * std::numbers::pi * d.frequency_hz;
-    result.design_a = design_matching(d.a.admittance_s, w, d.a.voltage_v, clamped_capacitance_f);
-    result.design_b = design_matching(d.b.admittance_s, w, d.b.voltage_v, clamped_capacitance_f);
-    result.designed = true;
-  }
+namespace {
+
+// The figures of every row, the worst cases, and the duty through result's network (designed).
+void finish_sizing(SizingResult& result) {
   SizingSummary& s = result.summary;
   for (std::size_t i = 0; i < result.rows.size(); ++i) {
     SizingRow& r = result.rows[i];
@@ -166,7 +162,92 @@ SizingResult size_amplifier(const std::vector<BandRow>& rows, double clamped_cap
     if (r.load_n > 0.0) consider(s.efficiency_min, r.efficiency, i, ' ', true);
     consider(s.stator_heat_w, r.stator_heat_w, i, ' ');
   }
+}
+
+}  // namespace
+
+SizingResult size_amplifier(const std::vector<BandRow>& rows, double clamped_capacitance_f, std::size_t design_row) {
+  SizingResult result;
+  result.summary.band = summarize_band(rows);
+  result.rows.resize(rows.size());
+  for (std::size_t i = 0; i < rows.size(); ++i)
+    (void)duty_at_pick(rows[i], result.rows[i]);  // a row says why in its reason
+  result.design_row = design_row;
+  if (design_row < result.rows.size() && result.rows[design_row].sized) {
+    const SizingRow& d = result.rows[design_row];
+    const double w = 2.0 * std::numbers::pi * d.frequency_hz;
+    result.design_a = design_matching(d.a.admittance_s, w, d.a.voltage_v, clamped_capacitance_f);
+    result.design_b = design_matching(d.b.admittance_s, w, d.b.voltage_v, clamped_capacitance_f);
+    result.designed = true;
+  }
+  finish_sizing(result);
   return result;
+}
+
+SizingResult size_amplifier_with_network(const std::vector<BandRow>& rows, const MatchingDesign& design_a,
+                                         const MatchingDesign& design_b) {
+  SizingResult result;
+  result.summary.band = summarize_band(rows);
+  result.rows.resize(rows.size());
+  for (std::size_t i = 0; i < rows.size(); ++i) (void)duty_at_pick(rows[i], result.rows[i]);
+  result.design_row = rows.size();  // none of these rows
+  result.design_a = design_a;
+  result.design_b = design_b;
+  result.designed = true;
+  finish_sizing(result);
+  return result;
+}
+
+PopulationSizing size_population(const std::vector<const SizingResult*>& motors, double yield) {
+  PopulationSizing p;
+  p.motors = motors.size();
+  p.yield = yield;
+  p.needed = static_cast<std::size_t>(std::ceil(yield * static_cast<double>(motors.size()) - 1e-9));
+  std::vector<std::optional<std::pair<double, double>>> spans;
+  using Pick = double (*)(const SizingSummary&);
+  const std::pair<PopulationFigure PopulationSizing::*, Pick> figures[] = {
+      {&PopulationSizing::current_rms_a, [](const SizingSummary& s) { return s.current_rms_a.value; }},
+      {&PopulationSizing::current_peak_a, [](const SizingSummary& s) { return s.current_peak_a.value; }},
+      {&PopulationSizing::apparent_power_va, [](const SizingSummary& s) { return s.apparent_power_va.value; }},
+      {&PopulationSizing::power_w, [](const SizingSummary& s) { return s.power_w.value; }},
+      {&PopulationSizing::stator_heat_w, [](const SizingSummary& s) { return s.stator_heat_w.value; }},
+      {&PopulationSizing::parallel_current_amplitude_a,
+       [](const SizingSummary& s) { return s.parallel_current_amplitude_a.value; }},
+      {&PopulationSizing::parallel_phase_abs_deg,
+       [](const SizingSummary& s) { return s.parallel_phase_abs_deg.value; }},
+      {&PopulationSizing::series_source_voltage_v,
+       [](const SizingSummary& s) { return s.series_source_voltage_v.value; }},
+  };
+  std::vector<std::vector<double>> values(std::size(figures));
+  for (const SizingResult* m : motors) {
+    const bool whole = m != nullptr && !m->rows.empty() && m->summary.sized == m->rows.size();
+    if (!whole) {
+      spans.emplace_back(std::nullopt);
+      continue;
+    }
+    ++p.sized;
+    double low = m->rows.front().frequency_hz, high = low;
+    for (const SizingRow& r : m->rows) {
+      low = std::min(low, r.frequency_hz);
+      high = std::max(high, r.frequency_hz);
+    }
+    spans.emplace_back(std::pair{low, high});
+    for (std::size_t k = 0; k < std::size(figures); ++k) values[k].push_back(figures[k].second(m->summary));
+  }
+  const FrequencyBand band = narrowest_band(spans, yield);
+  p.oscillator_reached = band.reached;
+  p.oscillator_low_hz = band.low_hz;
+  p.oscillator_high_hz = band.high_hz;
+  p.oscillator_covered = band.covered;
+  for (std::size_t k = 0; k < std::size(figures); ++k) {
+    std::vector<double>& v = values[k];
+    std::sort(v.begin(), v.end());
+    PopulationFigure& f = p.*(figures[k].first);
+    // The needed-th smallest worst case: that many motors stay within it.
+    f.reached = p.needed >= 1 && p.needed <= v.size() && std::isfinite(v[p.needed - 1]);
+    f.value = f.reached ? v[p.needed - 1] : 0.0;
+  }
+  return p;
 }
 
 }  // namespace swum

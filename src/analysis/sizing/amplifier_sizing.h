@@ -19,15 +19,15 @@ namespace swum {
 // One phase at one operating point (the drive-frequency components and the window's figures of
 // ElectricalReadings, model/machine/electrical.h).
 struct PhaseDuty {
-  double voltage_v = 0.0;            // amplitude of the phase voltage
-  double current_rms_a = 0.0;        // true RMS of the terminal current
-  double current_peak_a = 0.0;       // largest |I| of the window
-  double current_amplitude_a = 0.0;  // drive-frequency component, zero-to-peak
-  double phase_deg = 0.0;            // current against voltage, + = the current leads
-  double motional_phase_deg = 0.0;   // the motional current (C0's current taken out) against voltage
-  double power_w = 0.0;              // real power into the phase
-  double apparent_power_va = 0.0;    // V_rms I_rms
-  double power_factor = 0.0;         // power / apparent power
+  double voltage_v = 0.0;             // amplitude of the phase voltage
+  double current_rms_a = 0.0;         // true RMS of the terminal current
+  double current_peak_a = 0.0;        // largest |I| of the window
+  double current_amplitude_a = 0.0;   // drive-frequency component, zero-to-peak
+  double phase_deg = 0.0;             // current against voltage, + = the current leads
+  double motional_phase_deg = 0.0;    // the motional current (C0's current taken out) against voltage
+  double power_w = 0.0;               // real power into the phase
+  double apparent_power_va = 0.0;     // V_rms I_rms
+  double power_factor = 0.0;          // power / apparent power
   std::complex<double> admittance_s;  // drive-frequency I / V (G + jB)
 };
 
@@ -93,6 +93,32 @@ struct SizingResult {
 // the stator's C0 (one phase).
 [[nodiscard]] SizingResult size_amplifier(const std::vector<BandRow>& rows, double clamped_capacitance_f,
                                           std::size_t design_row);
+// The same with a network designed before (another motor's, e.g. the nominal motor of a
+// population): the figures of these rows, the amplifier's duty through that network.
+[[nodiscard]] SizingResult size_amplifier_with_network(const std::vector<BandRow>& rows, const MatchingDesign& design_a,
+                                                       const MatchingDesign& design_b);
+
+// What an amplifier must deliver for a share `yield` of a motor population (swum size --spreads):
+// each figure the smallest value that at least ceil(yield x motors) motors' worst cases over the
+// envelope stay within (a motor with a row not sized, or a rejected draw, never counts as within);
+// the oscillator the narrowest range holding every picked frequency of that many motors.
+struct PopulationFigure {
+  bool reached = false;
+  double value = 0.0;
+};
+struct PopulationSizing {
+  std::size_t motors = 0;
+  std::size_t sized = 0;  // motors with every row sized
+  double yield = 0.0;
+  std::size_t needed = 0;  // ceil(yield x motors)
+  bool oscillator_reached = false;
+  double oscillator_low_hz = 0.0, oscillator_high_hz = 0.0;
+  std::size_t oscillator_covered = 0;
+  PopulationFigure current_rms_a, current_peak_a, apparent_power_va, power_w, stator_heat_w,
+      parallel_current_amplitude_a, parallel_phase_abs_deg, series_source_voltage_v;
+};
+// motors[i]: motor i's sizing; nullptr = a rejected draw.
+[[nodiscard]] PopulationSizing size_population(const std::vector<const SizingResult*>& motors, double yield);
 
 // The figures of one row at its picked frequency, interpolated linearly between the curve's two
 // grid points either side (both on the branch above the peak, as the pick's speed is). false with

@@ -70,7 +70,7 @@ TEST(SwumSize, OscillatorRangeIsSwumBandsAndTheFiguresHangTogether) {
   EXPECT_NEAR(j.at("table")[1].at("phase_a").at("parallel_amplifier_phase_deg").get<double>(), 0.0, 1e-6);
   const std::string md = swum::test::read_file(report / "report.md");
   EXPECT_NE(md.find("## What to buy"), std::string::npos) << md;
-  EXPECT_NE(md.find("Parallel inductor per phase"), std::string::npos) << md;
+  EXPECT_NE(md.find("parallel inductor of"), std::string::npos) << md;
   for (const char* png : {"admittance_magnitude.png", "current_vs_frequency.png", "envelope_current.png"}) {
     EXPECT_TRUE(std::filesystem::exists(report / png)) << png;
     EXPECT_NE(md.find(png), std::string::npos) << png;
@@ -96,8 +96,9 @@ TEST(SwumSize, MoreClampedCapacitanceAddsOmegaTimesItToTheSusceptanceAndNothingE
   auto more = run_swum(with({"size", "--config", config.string()}, grid));
   ASSERT_EQ(base.status, 0) << base.output;
   ASSERT_EQ(more.status, 0) << more.output;
-  const auto& r0 = nlohmann::json::parse(base.output).at("table")[0];
-  const auto& r1 = nlohmann::json::parse(more.output).at("table")[0];
+  const auto j0 = nlohmann::json::parse(base.output), j1 = nlohmann::json::parse(more.output);
+  const auto& r0 = j0.at("table")[0];
+  const auto& r1 = j1.at("table")[0];
   ASSERT_EQ(r0.at("frequency_hz"), r1.at("frequency_hz"));
   const double w = 2.0 * std::numbers::pi * r0.at("frequency_hz").get<double>();
   for (const char* phase : {"phase_a", "phase_b"}) {
@@ -107,6 +108,33 @@ TEST(SwumSize, MoreClampedCapacitanceAddsOmegaTimesItToTheSusceptanceAndNothingE
                 1e-3 * r0.at(phase).at("conductance_s").get<double>())
         << phase;
   }
+}
+
+// A population: the motors drawn as `swum population` draws them, each sized with the nominal
+// network; a larger share of the motors needs at least as much of everything.
+TEST(SwumSize, APopulationNeedsMoreForALargerShareOfItsMotors) {
+  const std::string spreads = swum::test::source_path("config/population.toml");
+  auto run = [&](const char* yield) {
+    auto r = run_swum({"size", "--config", kConfig, "--amplitude-v", "400", "--frequency-hz", "39000:40500:50",
+                       "--spreads", spreads, "--motors", "4", "--seed", "3", "--yield", yield, "--json"});
+    EXPECT_EQ(r.status, 0) << r.output;
+    return nlohmann::json::parse(r.output);
+  };
+  const auto all = run("1"), quarter = run("0.25");
+  const auto& p = all.at("population");
+  EXPECT_EQ(p.at("motors"), 4);
+  EXPECT_EQ(p.at("needed"), 4);
+  EXPECT_EQ(quarter.at("population").at("needed"), 1);
+  ASSERT_EQ(p.at("sized"), 4);
+  for (const char* figure : {"current_rms_a", "current_peak_a", "apparent_power_va", "parallel_amplifier_current_a",
+                             "series_source_voltage_v"}) {
+    EXPECT_LE(quarter.at("population").at(figure).get<double>(), p.at(figure).get<double>()) << figure;
+  }
+  EXPECT_LE(quarter.at("population").at("oscillator").at("width_hz").get<double>(),
+            p.at("oscillator").at("width_hz").get<double>());
+  // The nominal motor's network and figures do not depend on the population.
+  EXPECT_EQ(all.at("network"), quarter.at("network"));
+  EXPECT_EQ(all.at("table"), quarter.at("table"));
 }
 
 struct BadSize {
@@ -128,10 +156,14 @@ TEST_P(SwumSizeRejects, WithOneLineNamingTheProblem) {
 INSTANTIATE_TEST_SUITE_P(
     BadInput, SwumSizeRejects,
     ::testing::Values(BadSize{{"--amplitude-v", "-100"}, "--amplitude-v"},
-                      BadSize{{"--amplitude-v", "200", "--load", "-1"}, "--load"},
+                      BadSize{{"--amplitude-v", "200", "--load", "5000"}, "--load"},
                       BadSize{{"--amplitude-v", "200", "--temperature-rise-k", "30"}, "--temperature-rise-k"},
                       BadSize{{"--amplitude-v", "200", "--frequency-hz", "40000:40050:50"}, "--frequency-hz"},
                       BadSize{{"--amplitude-v", "200", "--margin-hz", "-5"}, "--margin-hz"},
-                      BadSize{{"--amplitude-v", "200", "--report", "/proc/version/x"}, "report directory"}));
+                      BadSize{{"--amplitude-v", "200", "--report", "/proc/version/x"}, "report directory"},
+                      BadSize{{"--amplitude-v", "200", "--yield", "0"}, "--yield"},
+                      BadSize{{"--amplitude-v", "200", "--yield", "1.5"}, "--yield"},
+                      BadSize{{"--amplitude-v", "200", "--motors", "0"}, "--motors"},
+                      BadSize{{"--amplitude-v", "200", "--spreads", "/nonexistent/spreads.toml"}, "spreads.toml"}));
 
 }  // namespace

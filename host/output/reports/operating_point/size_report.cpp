@@ -97,12 +97,67 @@ Json design_json(const MatchingDesign& d, const SizingResult& s, bool phase_a) {
   j["c0_parallel_inductance_uh"] = d.c0_parallel_inductance_h * 1e6;
   j["parallel_inductance_uh"] = number_or_null(d.parallel_ok, d.parallel_inductance_h * 1e6);
   j["parallel_amplifier_current_a"] = number_or_null(d.parallel_ok, d.parallel_current_amplitude_a);
-  j["parallel_inductor_worst_current_a"] =
-      number_or_null(d.parallel_ok, d.parallel_ok ? worst_inductor_current_a(s, d.parallel_inductance_h, phase_a) : 0.0);
+  j["parallel_inductor_worst_current_a"] = number_or_null(
+      d.parallel_ok, d.parallel_ok ? worst_inductor_current_a(s, d.parallel_inductance_h, phase_a) : 0.0);
   j["series_inductance_uh"] = number_or_null(d.series_ok, d.series_inductance_h * 1e6);
   j["series_source_voltage_v"] = number_or_null(d.series_ok, d.series_source_voltage_v);
   j["series_amplifier_current_a"] = number_or_null(d.series_ok, d.series_current_amplitude_a);
   return j;
+}
+
+Json figure_json(const PopulationFigure& f) { return f.reached ? Json(f.value) : Json(nullptr); }
+
+Json population_json(const PopulationSizing& p, const SizeContext& c) {
+  Json j;
+  j["spreads"] = c.spreads_path;
+  j["seed"] = c.seed;
+  j["motors"] = p.motors;
+  j["sized"] = p.sized;
+  j["yield"] = p.yield;
+  j["needed"] = p.needed;
+  j["oscillator"] = p.oscillator_reached ? Json{{"low_hz", p.oscillator_low_hz},
+                                                {"high_hz", p.oscillator_high_hz},
+                                                {"width_hz", p.oscillator_high_hz - p.oscillator_low_hz},
+                                                {"covered", p.oscillator_covered}}
+                                         : Json(nullptr);
+  j["current_rms_a"] = figure_json(p.current_rms_a);
+  j["current_peak_a"] = figure_json(p.current_peak_a);
+  j["apparent_power_va"] = figure_json(p.apparent_power_va);
+  j["power_w"] = figure_json(p.power_w);
+  j["stator_heat_w"] = figure_json(p.stator_heat_w);
+  j["parallel_amplifier_current_a"] = figure_json(p.parallel_current_amplitude_a);
+  j["parallel_amplifier_phase_abs_deg"] = figure_json(p.parallel_phase_abs_deg);
+  j["series_source_voltage_v"] = figure_json(p.series_source_voltage_v);
+  return j;
+}
+
+// "x.xx UNIT" or "not reached".
+std::string figure_text(const PopulationFigure& f, const char* unit, const char* fmt = "%.4g") {
+  return f.reached ? format_number(f.value, fmt) + unit : std::string("not reached");
+}
+
+std::string population_lines(const PopulationSizing& p, const char* bullet) {
+  std::string t;
+  const std::string share = format_number(100.0 * p.yield, "%.3g") + " %";
+  t += std::string(bullet) + "population: " + format_number(static_cast<double>(p.motors)) + " motors, " +
+       format_number(static_cast<double>(p.sized)) + " sized at every row; for " + share + " (" +
+       format_number(static_cast<double>(p.needed)) + " motors):\n";
+  t += std::string(bullet) + "  oscillator " +
+       (p.oscillator_reached
+            ? format_number(p.oscillator_low_hz, "%.10g") + " .. " + format_number(p.oscillator_high_hz, "%.10g") +
+                  " Hz (covers " + format_number(static_cast<double>(p.oscillator_covered)) + ")"
+            : std::string("not reached")) +
+       "\n";
+  t += std::string(bullet) + "  RMS current per phase up to " + figure_text(p.current_rms_a, " A") + ", peak " +
+       figure_text(p.current_peak_a, " A") + ", apparent power " + figure_text(p.apparent_power_va, " VA") +
+       ", real power " + figure_text(p.power_w, " W") + " per phase, stator heat " +
+       figure_text(p.stator_heat_w, " W") + "\n";
+  t += std::string(bullet) + "  with the nominal motor's parallel inductors: amplifier current up to " +
+       figure_text(p.parallel_current_amplitude_a, " A") + " amplitude, within " +
+       figure_text(p.parallel_phase_abs_deg, "°", "%.3g") +
+       " of the voltage; with its series inductors: " + figure_text(p.series_source_voltage_v, " V") +
+       " amplitude from the amplifier\n";
+  return t;
 }
 
 std::string uh(double h) { return format_number(h * 1e6, "%.4g") + " µH"; }
@@ -179,7 +234,7 @@ std::string size_json(const SizingResult& s, const SizeContext& context) {
   j["oscillator"] = m.band.band ? Json{{"low_hz", m.band.band->low_hz},
                                        {"high_hz", m.band.band->high_hz},
                                        {"width_hz", m.band.band->high_hz - m.band.band->low_hz}}
-                                 : Json(nullptr);
+                                : Json(nullptr);
   j["worst"] = worst;
   if (s.designed) {
     const SizingRow& d = s.rows[s.design_row];
@@ -192,6 +247,7 @@ std::string size_json(const SizingResult& s, const SizeContext& context) {
   } else {
     j["network"] = nullptr;
   }
+  j["population"] = context.population ? population_json(*context.population, context) : Json(nullptr);
   j["table"] = rows;
   return j.dump(2) + "\n";
 }
@@ -242,8 +298,8 @@ std::string size_text(const SizingResult& s, const SizeContext& context, const s
            format_number(r.temperature_rise_k) + " K: " + r.reason + "\n";
     }
   }
+  if (context.population) t += population_lines(*context.population, "");
   if (!out_path.empty()) t += "rows: " + out_path + "\n";
-  (void)context;
   return t;
 }
 
@@ -266,27 +322,39 @@ std::string size_markdown(const SizingResult& s, const SizeContext& context, con
          format_number(m.band.band->high_hz - m.band.band->low_hz, "%.10g") + " Hz wide).\n";
   }
   if (s.designed) {
-    const MatchingDesign& a = s.design_a;
-    if (a.parallel_ok) {
-      const double il = worst_inductor_current_a(s, a.parallel_inductance_h, true);
-      t += "- **Parallel inductor per phase**: " + uh(a.parallel_inductance_h) + " rated for " + amps(il) +
-           " amplitude (" + amps(il / std::numbers::sqrt2) + " RMS) at " +
-           format_number(s.rows[s.design_row].frequency_hz * 1e-3, "%.4g") +
-           " kHz. It cancels the phase's whole susceptance at the design row; " + uh(a.c0_parallel_inductance_h) +
-           " would cancel C0 alone.\n";
-      if (m.parallel_current_amplitude_a.known) {
-        t += "- **Amplifier with it**: " + format_number(m.current_peak_a.known ? s.rows[s.design_row].a.voltage_v : 0.0) +
-             " V amplitude at the design row; output current up to " + amps(m.parallel_current_amplitude_a.value) +
-             " amplitude (" + amps(m.parallel_current_amplitude_a.value / std::numbers::sqrt2) + " RMS) per phase (" +
-             where(s, m.parallel_current_amplitude_a) + "), within " +
-             format_number(m.parallel_phase_abs_deg.value, "%.3g") + "° of its voltage over the envelope.\n";
+    const SizingRow& d = s.rows[s.design_row];
+    t += "- **Matching network**, sized at the design row " + format_number(d.amplitude_v) + " V, " +
+         format_number(d.load_n) + " N, " + format_number(d.temperature_rise_k) + " K, " +
+         format_number(d.frequency_hz, "%.10g") + " Hz (the highest voltage, unloaded, coldest):\n";
+    for (const auto& [name, design, phase_a] :
+         {std::tuple{"A", &s.design_a, true}, std::tuple{"B", &s.design_b, false}}) {
+      if (design->parallel_ok) {
+        const double il = worst_inductor_current_a(s, design->parallel_inductance_h, phase_a);
+        t += std::string("  - phase ") + name + ": a **parallel inductor of " + uh(design->parallel_inductance_h) +
+             "** rated for " + amps(il) + " amplitude (" + amps(il / std::numbers::sqrt2) +
+             " RMS); it cancels the phase's whole susceptance at the design row (" +
+             uh(design->c0_parallel_inductance_h) + " would cancel C0 alone)";
       }
+      if (design->series_ok) {
+        t += std::string(design->parallel_ok ? "; or" : std::string("  - phase ") + name + ":") +
+             " a **series inductor of " + uh(design->series_inductance_h) + "** from " +
+             format_number(design->series_source_voltage_v, "%.4g") + " V amplitude";
+      }
+      t += ".\n";
     }
-    if (a.series_ok) {
-      t += "- **Or a series inductor per phase**: " + uh(a.series_inductance_h) + "; the amplifier then needs " +
+    if (m.parallel_current_amplitude_a.known) {
+      t += "- **Amplifier with the parallel inductors**: the phase voltage itself (" + format_number(d.amplitude_v) +
+           " V amplitude at the design row); output current up to " + amps(m.parallel_current_amplitude_a.value) +
+           " amplitude (" + amps(m.parallel_current_amplitude_a.value / std::numbers::sqrt2) + " RMS) per phase (" +
+           where(s, m.parallel_current_amplitude_a) + "), within " +
+           format_number(m.parallel_phase_abs_deg.value, "%.3g") + "° of its voltage over the envelope.\n";
+    }
+    if (m.series_source_voltage_v.known) {
+      t += "- **Amplifier with the series inductors instead**: up to " +
            format_number(m.series_source_voltage_v.value, "%.4g") + " V amplitude (" +
-           where(s, m.series_source_voltage_v) + ") and delivers up to " + amps(m.series_current_amplitude_a.value) +
-           " amplitude.\n";
+           where(s, m.series_source_voltage_v) + ") and " + amps(m.series_current_amplitude_a.value) +
+           " amplitude; the inductor and C0 form a resonant step-up, so the phase voltage moves with every "
+           "detuning (check it in the loop, docs/sizing.md).\n";
     }
   }
   if (m.current_rms_a.known) {
@@ -294,9 +362,18 @@ std::string size_markdown(const SizingResult& s, const SizeContext& context, con
          amps(m.current_peak_a.value) + " peak) and " + format_number(m.apparent_power_va.value, "%.4g") +
          " VA per phase at a power factor down to " + format_number(m.power_factor_min.value, "%.3f") + ".\n";
   }
+  if (context.population) {
+    t += "\n## A population of motors\n\nMotors drawn from `" + context.spreads_path + "` (seed " +
+         format_number(static_cast<double>(context.seed)) +
+         ", as `swum population` draws them), each over the same envelope, the network the nominal motor's; every "
+         "figure the smallest value that the stated share of the motors' worst cases stays within (a motor not sized "
+         "at some row never counts as within).\n\n";
+    t += population_lines(*context.population, "- ");
+  }
   t += "\n## Worst cases over the envelope\n\n| figure | worst | where |\n|---|---|---|\n";
   auto row = [&](const char* name, const Extreme& e, const char* unit, const char* fmt = "%.4g") {
-    if (e.known) t += std::string("| ") + name + " | " + format_number(e.value, fmt) + unit + " | " + where(s, e) + " |\n";
+    if (e.known)
+      t += std::string("| ") + name + " | " + format_number(e.value, fmt) + unit + " | " + where(s, e) + " |\n";
   };
   row("RMS current per phase", m.current_rms_a, " A");
   row("peak current per phase", m.current_peak_a, " A");
@@ -345,7 +422,9 @@ std::vector<std::string> write_size_plots(const std::filesystem::path& dir, cons
   // Curves of the design row's load and temperature rise, one per voltage.
   PlotSpec current{"RMS current of phase A along the down-sweep (load " + format_number(design.load_n) + " N, rise " +
                        format_number(design.temperature_rise_k) + " K)",
-                   "frequency (kHz)", "current (A RMS)", {}};
+                   "frequency (kHz)",
+                   "current (A RMS)",
+                   {}};
   PlotSpec power{"Real power of both phases along the down-sweep", "frequency (kHz)", "power (W)", {}};
   for (const BandRow& r : rows) {
     if (r.load_n != design.load_n || r.temperature_rise_k != design.temperature_rise_k) continue;
@@ -363,7 +442,9 @@ std::vector<std::string> write_size_plots(const std::filesystem::path& dir, cons
     power.series.push_back(p);
   }
   PlotSpec magnitude{"Admittance of phase A at the design row (" + format_number(design.amplitude_v) + " V)",
-                     "frequency (kHz)", "|Y| (mS)", {}};
+                     "frequency (kHz)",
+                     "|Y| (mS)",
+                     {}};
   PlotSpec phase{"Phase of the admittance of phase A at the design row", "frequency (kHz)", "phase (deg)", {}};
   PlotSeries ym{"|Y|", {}, {}, true, false};
   PlotSeries yp{"phase", {}, {}, true, false};
@@ -379,8 +460,8 @@ std::vector<std::string> write_size_plots(const std::filesystem::path& dir, cons
   phase.series.push_back(yp);
   // The envelope: per (load, rise) the operating frequency and the worst RMS current against voltage.
   PlotSpec frequency{"Operating frequency over the envelope", "amplitude (V)", "frequency (kHz)", {}};
-  PlotSpec worst{"RMS current per phase (the larger of A and B) over the envelope", "amplitude (V)", "current (A RMS)",
-                 {}};
+  PlotSpec worst{
+      "RMS current per phase (the larger of A and B) over the envelope", "amplitude (V)", "current (A RMS)", {}};
   std::map<std::pair<double, double>, std::pair<PlotSeries, PlotSeries>> by_corner;
   for (const SizingRow& r : s.rows) {
     if (!r.sized) continue;

@@ -3,7 +3,9 @@
 // summary.json).
 #pragma once
 
+#include <cstdint>
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -18,7 +20,9 @@ struct SizeContext {
   std::string command;      // the command line that made them
   double margin_hz = 0.0;
   double clamped_capacitance_f = 0.0;
-  double frequency_step_hz = 0.0;
+  std::string spreads_path;  // a population was sized ("" = none)
+  std::uint64_t seed = 0;
+  std::optional<PopulationSizing> population;
 };
 
 /// One row per (voltage, load, temperature rise); cells of a row that was not sized are empty.

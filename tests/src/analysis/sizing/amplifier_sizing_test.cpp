@@ -21,8 +21,8 @@ constexpr double kC0 = 10e-9;
 ElectricalReadings readings(double v, std::complex<double> y, double b_scale = 1.0) {
   ElectricalReadings e;
   e.valid = true;
-  auto set = [&](std::complex<double> yy, double& amplitude, double& phase, double& rms, double& peak,
-                 double& voltage, double& power, double& apparent, double& pf) {
+  auto set = [&](std::complex<double> yy, double& amplitude, double& phase, double& rms, double& peak, double& voltage,
+                 double& power, double& apparent, double& pf) {
     amplitude = std::abs(yy) * v;
     phase = std::arg(yy) * 180.0 / std::numbers::pi;
     rms = amplitude / std::numbers::sqrt2;
@@ -42,8 +42,8 @@ ElectricalReadings readings(double v, std::complex<double> y, double b_scale = 1
 
 // A row whose curve holds two grid points, `high` and `low` Hz, with the given admittances; the pick
 // at `pick_hz`.
-BandRow row(double v, double load_n, double high, std::complex<double> y_high, double low,
-            std::complex<double> y_low, double pick_hz, double b_scale = 1.0) {
+BandRow row(double v, double load_n, double high, std::complex<double> y_high, double low, std::complex<double> y_low,
+            double pick_hz, double b_scale = 1.0) {
   BandRow r;
   r.amplitude_v = v;
   r.load_n = load_n;
