@@ -26,7 +26,7 @@ PhaseDuty phase_duty(double voltage_v, double current_amplitude_a, double phase_
   d.power_w = power_w;
   d.apparent_power_va = apparent_power_va;
   d.power_factor = apparent_power_va > 0.0 ? power_w / apparent_power_va : 0.0;
-  d.admittance_s = voltage_v > 0.0 ? std::polar(current_amplitude_a / voltage_v, phase_deg / kRadToDeg)
+  d.admittance_siemens = voltage_v > 0.0 ? std::polar(current_amplitude_a / voltage_v, phase_deg / kRadToDeg)
                                    : std::complex<double>{};
   return d;
 }
@@ -45,7 +45,7 @@ PhaseDuty duty_b(const ElectricalReadings& e) {
 PhaseDuty blend(const PhaseDuty& x, const PhaseDuty& y, double t) {
   auto mix = [t](double p, double q) { return (1.0 - t) * p + t * q; };
   const double voltage_v = mix(x.voltage_v, y.voltage_v);
-  const std::complex<double> admittance = (1.0 - t) * x.admittance_s + t * y.admittance_s;
+  const std::complex<double> admittance = (1.0 - t) * x.admittance_siemens + t * y.admittance_siemens;
   return phase_duty(voltage_v, std::abs(admittance) * voltage_v, std::arg(admittance) * kRadToDeg,
                     mix(x.motional_phase_deg, y.motional_phase_deg), mix(x.current_rms_a, y.current_rms_a),
                     mix(x.current_peak_a, y.current_peak_a), mix(x.power_w, y.power_w),
@@ -63,15 +63,15 @@ MatchedDuty matched(const PhaseDuty& d, double angular_frequency_rad_s, const Ma
   m.parallel_current_amplitude_a = m.parallel_current_phase_deg = nan;
   m.series_source_voltage_v = m.series_current_amplitude_a = m.series_current_phase_deg = nan;
   if (design.parallel_ok) {
-    const std::complex<double> i = parallel_amplifier_current(d.admittance_s, angular_frequency_rad_s, d.voltage_v,
+    const std::complex<double> i = parallel_amplifier_current(d.admittance_siemens, angular_frequency_rad_s, d.voltage_v,
                                                               design.parallel_inductance_h);
     m.parallel_current_amplitude_a = std::abs(i);
     m.parallel_current_phase_deg = std::arg(i) * kRadToDeg;
   }
   if (design.series_ok) {
-    const std::complex<double> vs = series_source_voltage(d.admittance_s, angular_frequency_rad_s, d.voltage_v,
+    const std::complex<double> vs = series_source_voltage(d.admittance_siemens, angular_frequency_rad_s, d.voltage_v,
                                                           design.series_inductance_h);
-    const std::complex<double> i = d.voltage_v * d.admittance_s;
+    const std::complex<double> i = d.voltage_v * d.admittance_siemens;
     m.series_source_voltage_v = std::abs(vs);
     m.series_current_amplitude_a = std::abs(i);
     m.series_current_phase_deg = std::remainder((std::arg(i) - std::arg(vs)) * kRadToDeg, 360.0);
@@ -176,8 +176,8 @@ SizingResult size_amplifier(const std::vector<BandRow>& rows, double clamped_cap
   if (design_row < result.rows.size() && result.rows[design_row].sized) {
     const SizingRow& d = result.rows[design_row];
     const double w = 2.0 * std::numbers::pi * d.frequency_hz;
-    result.design_a = design_matching(d.a.admittance_s, w, d.a.voltage_v, clamped_capacitance_f);
-    result.design_b = design_matching(d.b.admittance_s, w, d.b.voltage_v, clamped_capacitance_f);
+    result.design_a = design_matching(d.a.admittance_siemens, w, d.a.voltage_v, clamped_capacitance_f);
+    result.design_b = design_matching(d.b.admittance_siemens, w, d.b.voltage_v, clamped_capacitance_f);
     result.designed = true;
   }
   finish_sizing(result);

@@ -28,7 +28,7 @@ struct PhaseDuty {
   double power_w = 0.0;               // real power into the phase
   double apparent_power_va = 0.0;     // V_rms I_rms
   double power_factor = 0.0;          // power / apparent power
-  std::complex<double> admittance_s;  // drive-frequency I / V (G + jB)
+  std::complex<double> admittance_siemens;  // drive-frequency I / V (G + jB)
 };
 
 // What the amplifier delivers to one phase through the matching network sized at the design row.

@@ -9,7 +9,7 @@ MatchingDesign design_matching(std::complex<double> y, double w, double v, doubl
   MatchingDesign d;
   d.angular_frequency_rad_s = w;
   d.voltage_v = v;
-  d.admittance_s = y;
+  d.admittance_siemens = y;
   d.c0_parallel_inductance_h = 1.0 / (w * w * c0);
   if (y.imag() > 0.0) {
     d.parallel_ok = true;

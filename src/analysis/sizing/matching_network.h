@@ -8,7 +8,7 @@ namespace swum {
 struct MatchingDesign {
   double angular_frequency_rad_s = 0.0;
   double voltage_v = 0.0;
-  std::complex<double> admittance_s;
+  std::complex<double> admittance_siemens;
   double c0_parallel_inductance_h = 0.0;
   bool parallel_ok = false;
   double parallel_inductance_h = 0.0;
@@ -19,12 +19,12 @@ struct MatchingDesign {
   double series_current_amplitude_a = 0.0;
 };
 
-[[nodiscard]] MatchingDesign design_matching(std::complex<double> admittance_s, double angular_frequency_rad_s,
+[[nodiscard]] MatchingDesign design_matching(std::complex<double> admittance_siemens, double angular_frequency_rad_s,
                                              double voltage_v, double clamped_capacitance_f);
-[[nodiscard]] std::complex<double> parallel_amplifier_current(std::complex<double> admittance_s,
+[[nodiscard]] std::complex<double> parallel_amplifier_current(std::complex<double> admittance_siemens,
                                                               double angular_frequency_rad_s, double voltage_v,
                                                               double parallel_inductance_h);
-[[nodiscard]] std::complex<double> series_source_voltage(std::complex<double> admittance_s,
+[[nodiscard]] std::complex<double> series_source_voltage(std::complex<double> admittance_siemens,
                                                          double angular_frequency_rad_s, double voltage_v,
                                                          double series_inductance_h);
 

@@ -53,7 +53,7 @@ TEST(SwumSize, OscillatorRangeIsSwumBandsAndTheFiguresHangTogether) {
       EXPECT_NEAR(p.at("power_factor").get<double>(),
                   p.at("power_w").get<double>() / p.at("apparent_power_va").get<double>(), 1e-9);
       // Above the peak the motor is capacitive: C0 dominates the susceptance.
-      EXPECT_GT(p.at("susceptance_s").get<double>(), 0.0);
+      EXPECT_GT(p.at("susceptance_siemens").get<double>(), 0.0);
     }
     // Unloaded rows do no mechanical work; the heat into the stator is part of what the phases take in.
     EXPECT_EQ(row.at("mechanical_power_w").get<double>(), 0.0);
@@ -102,10 +102,10 @@ TEST(SwumSize, MoreClampedCapacitanceAddsOmegaTimesItToTheSusceptanceAndNothingE
   ASSERT_EQ(r0.at("frequency_hz"), r1.at("frequency_hz"));
   const double w = 2.0 * std::numbers::pi * r0.at("frequency_hz").get<double>();
   for (const char* phase : {"phase_a", "phase_b"}) {
-    const double db = r1.at(phase).at("susceptance_s").get<double>() - r0.at(phase).at("susceptance_s").get<double>();
+    const double db = r1.at(phase).at("susceptance_siemens").get<double>() - r0.at(phase).at("susceptance_siemens").get<double>();
     EXPECT_NEAR(db, w * 2.5e-9, 0.01 * w * 2.5e-9) << phase;
-    EXPECT_NEAR(r1.at(phase).at("conductance_s").get<double>(), r0.at(phase).at("conductance_s").get<double>(),
-                1e-3 * r0.at(phase).at("conductance_s").get<double>())
+    EXPECT_NEAR(r1.at(phase).at("conductance_siemens").get<double>(), r0.at(phase).at("conductance_siemens").get<double>(),
+                1e-3 * r0.at(phase).at("conductance_siemens").get<double>())
         << phase;
   }
 }

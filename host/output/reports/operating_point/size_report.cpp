@@ -78,8 +78,8 @@ Json phase_json(const PhaseDuty& d, const MatchedDuty& m) {
   j["power_w"] = d.power_w;
   j["apparent_power_va"] = d.apparent_power_va;
   j["power_factor"] = d.power_factor;
-  j["conductance_s"] = d.admittance_s.real();
-  j["susceptance_s"] = d.admittance_s.imag();
+  j["conductance_siemens"] = d.admittance_siemens.real();
+  j["susceptance_siemens"] = d.admittance_siemens.imag();
   j["parallel_amplifier_current_a"] = finite_or_null(m.parallel_current_amplitude_a);
   j["parallel_amplifier_phase_deg"] = finite_or_null(m.parallel_current_phase_deg);
   j["series_source_voltage_v"] = finite_or_null(m.series_source_voltage_v);
@@ -92,8 +92,8 @@ Json design_json(const MatchingDesign& d, const SizingResult& s, bool phase_a) {
   Json j;
   j["frequency_hz"] = d.angular_frequency_rad_s / (2.0 * std::numbers::pi);
   j["voltage_v"] = d.voltage_v;
-  j["conductance_s"] = d.admittance_s.real();
-  j["susceptance_s"] = d.admittance_s.imag();
+  j["conductance_siemens"] = d.admittance_siemens.real();
+  j["susceptance_siemens"] = d.admittance_siemens.imag();
   j["c0_parallel_inductance_uh"] = d.c0_parallel_inductance_h * 1e6;
   j["parallel_inductance_uh"] = number_or_null(d.parallel_ok, d.parallel_inductance_h * 1e6);
   j["parallel_amplifier_current_a"] = number_or_null(d.parallel_ok, d.parallel_current_amplitude_a);

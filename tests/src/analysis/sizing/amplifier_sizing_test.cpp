@@ -67,8 +67,8 @@ TEST(AmplifierSizing, FiguresAtThePickAreInterpolatedBetweenTheGridPointsEitherS
   ASSERT_TRUE(s.rows[0].sized) << s.rows[0].reason;
   const double t = 10.0 / 25.0;
   const std::complex<double> y = (1.0 - t) * y_high + t * y_low;
-  EXPECT_NEAR(s.rows[0].a.admittance_s.real(), y.real(), 1e-12);
-  EXPECT_NEAR(s.rows[0].a.admittance_s.imag(), y.imag(), 1e-12);
+  EXPECT_NEAR(s.rows[0].a.admittance_siemens.real(), y.real(), 1e-12);
+  EXPECT_NEAR(s.rows[0].a.admittance_siemens.imag(), y.imag(), 1e-12);
   EXPECT_NEAR(s.rows[0].a.current_amplitude_a, std::abs(y) * 200.0, 1e-9);
   EXPECT_NEAR(s.rows[0].a.phase_deg, std::arg(y) * 180.0 / std::numbers::pi, 1e-9);
   EXPECT_NEAR(s.rows[0].stator_heat_w, 4.8, 1e-12);
