@@ -219,6 +219,13 @@ void fill_input(const Telemetry& t, const RejectSnapshot& rejects, std::span<std
   r[input::kPowerA] = sat_i16(e.power_a_w * kPowerScale.count_per_unit);
   r[input::kPowerB] = sat_i16(e.power_b_w * kPowerScale.count_per_unit);
   r[input::kStatorTemperature] = sat_i16(t.stator_temperature_c * kTemperatureScale.count_per_unit);
+  const AmplifierOutputValues& o = t.amplifier_output;
+  r[input::kAmplifierCurrentA] = sat_u16(o.current_a_a * kCurrentScale.count_per_unit);
+  r[input::kAmplifierCurrentB] = sat_u16(o.current_b_a * kCurrentScale.count_per_unit);
+  r[input::kAmplifierPhaseA] = sat_i16(o.current_phase_a_deg * kPhaseScale.count_per_unit);
+  r[input::kAmplifierPhaseB] = sat_i16(o.current_phase_b_deg * kPhaseScale.count_per_unit);
+  r[input::kTerminalAmplitudeA] = sat_u16(o.terminal_amplitude_a_v * kAmplitudeScale.count_per_unit);
+  r[input::kTerminalAmplitudeB] = sat_u16(o.terminal_amplitude_b_v * kAmplitudeScale.count_per_unit);
 }
 
 namespace {
@@ -343,6 +350,13 @@ InputImage decode_input(std::span<const std::uint16_t, input::kCount> r) {
   e.power_a_w = i16(input::kPowerA) * kPowerScale.unit_per_count;
   e.power_b_w = i16(input::kPowerB) * kPowerScale.unit_per_count;
   t.stator_temperature_c = i16(input::kStatorTemperature) * kTemperatureScale.unit_per_count;
+  AmplifierOutputValues& o = t.amplifier_output;
+  o.current_a_a = r[input::kAmplifierCurrentA] * kCurrentScale.unit_per_count;
+  o.current_b_a = r[input::kAmplifierCurrentB] * kCurrentScale.unit_per_count;
+  o.current_phase_a_deg = i16(input::kAmplifierPhaseA) * kPhaseScale.unit_per_count;
+  o.current_phase_b_deg = i16(input::kAmplifierPhaseB) * kPhaseScale.unit_per_count;
+  o.terminal_amplitude_a_v = r[input::kTerminalAmplitudeA] * kAmplitudeScale.unit_per_count;
+  o.terminal_amplitude_b_v = r[input::kTerminalAmplitudeB] * kAmplitudeScale.unit_per_count;
   return image;
 }
 

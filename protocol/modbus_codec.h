@@ -92,7 +92,14 @@ inline constexpr std::uint16_t kMotionalPhaseB = 41;     // i16: 0.01 deg
 inline constexpr std::uint16_t kPowerA = 42;             // i16: 0.01 W, real power
 inline constexpr std::uint16_t kPowerB = 43;             // i16: 0.01 W
 inline constexpr std::uint16_t kStatorTemperature = 44;  // i16: 0.01 degC
-inline constexpr std::uint16_t kCount = 45;
+// The amplifier's output through its network (docs/amplifier.md), mean over the last window:
+inline constexpr std::uint16_t kAmplifierCurrentA = 45;   // u16: 0.1 mA, peak
+inline constexpr std::uint16_t kAmplifierCurrentB = 46;   // u16: 0.1 mA
+inline constexpr std::uint16_t kAmplifierPhaseA = 47;     // i16: 0.01 deg, vs the source voltage, + = leads
+inline constexpr std::uint16_t kAmplifierPhaseB = 48;     // i16: 0.01 deg
+inline constexpr std::uint16_t kTerminalAmplitudeA = 49;  // u16: 0.1 V
+inline constexpr std::uint16_t kTerminalAmplitudeB = 50;  // u16: 0.1 V
+inline constexpr std::uint16_t kCount = 51;
 }  // namespace input
 
 // Scales (docs/protocols.md): physical = register * unit_per_count, register = physical *

@@ -37,6 +37,17 @@ struct ElectricalValues {
   [[nodiscard]] double power_w() const { return power_a_w + power_b_w; }  // both phases
 };
 
+// The amplifier's own output through its output network (docs/amplifier.md; the motor's
+// parameter file's [amplifier] section): per phase the amplitude of the current the amplifier
+// delivers and its phase relative to the source voltage (+ = leads), and the terminal voltage
+// amplitude. Without a network the amplifier current is the phase current (C0's and the motional
+// one) and the terminal amplitude the commanded one.
+struct AmplifierOutputValues {
+  double current_a_a = 0.0, current_b_a = 0.0;  // peak amplitude (A)
+  double current_phase_a_deg = 0.0, current_phase_b_deg = 0.0;
+  double terminal_amplitude_a_v = 0.0, terminal_amplitude_b_v = 0.0;
+};
+
 // The CiA 402 drive's published values (docs/canopen.md "State machine", "Modes"): what the
 // CANopen profile maps into 0x6041, 0x6061, 0x603F, 0x2011 and 0x2030. Values only (protocol/
 // knows nothing of the drive): `state` is the drive's canopen::Cia402State as a number.
@@ -71,6 +82,7 @@ struct Telemetry {
   std::uint64_t divergences = 0;
   bool external_clock = false;  // lockstep: time advances only when a controller steps it
   ElectricalValues electrical;
+  AmplifierOutputValues amplifier_output;
   double stator_temperature_c = 20.0;  // ambient plus the thermal effect's rise (ambient alone without it)
   LoopTiming stats;
   Cia402Values cia402;

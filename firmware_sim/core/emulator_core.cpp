@@ -135,6 +135,7 @@ const Telemetry& EmulatorCore::tick() {
     un_min = un_max = ut_min = ut_max = 0.0;
     electrical_sums_ = ElectricalSums{};
     electrical_ticks_ = 0;
+    amplifier_sums_ = protocol::AmplifierOutputValues{};
   }
 
   // 5. Telemetry (what the sensors report: a scenario's sensor faults act here, not on the motor).
@@ -162,14 +163,38 @@ const Telemetry& EmulatorCore::tick() {
                              : telemetry_.tick_speed_m_s;
   telemetry_.tip_normal_um = 0.5e6 * (un_max - un_min);
   telemetry_.tip_tangential_um = 0.5e6 * (ut_max - ut_min);
+  {
+    // The amplifier's output through its network (docs/amplifier.md), summed per tick: the
+    // simulator's readings are instantaneous analytic signals that ripple with the contact.
+    const AmplifierReadings a = simulator_.amplifier_readings();
+    amplifier_sums_.current_a_a += a.a.current_a;
+    amplifier_sums_.current_b_a += a.b.current_a;
+    amplifier_sums_.current_phase_a_deg += a.a.current_phase_deg;
+    amplifier_sums_.current_phase_b_deg += a.b.current_phase_deg;
+    amplifier_sums_.terminal_amplitude_a_v += a.a.terminal_amplitude_v;
+    amplifier_sums_.terminal_amplitude_b_v += a.b.terminal_amplitude_v;
+  }
   if (++electrical_ticks_ >= electrical_window_ticks_) {
     // No drive, no measurement: a ring-down current at V = 0 has a phase but nothing to refer it to.
     const ElectricalReadings r = drive.amplitude_v > 0.0 ? electrical_readings(electrical_sums_, drive.phase_deg)
                                                          : ElectricalReadings{};
     telemetry_.electrical = {r.current_a_a,          r.current_b_a,          r.phase_a_deg, r.phase_b_deg,
                              r.motional_phase_a_deg, r.motional_phase_b_deg, r.power_a_w,   r.power_b_w};
+    protocol::AmplifierOutputValues mean{};
+    if (drive.amplitude_v > 0.0) {
+      const double n = static_cast<double>(electrical_ticks_);
+      const protocol::AmplifierOutputValues& s = amplifier_sums_;
+      mean = {s.current_a_a / n,
+              s.current_b_a / n,
+              s.current_phase_a_deg / n,
+              s.current_phase_b_deg / n,
+              s.terminal_amplitude_a_v / n,
+              s.terminal_amplitude_b_v / n};
+    }
+    telemetry_.amplifier_output = mean;
     electrical_sums_ = ElectricalSums{};
     electrical_ticks_ = 0;
+    amplifier_sums_ = protocol::AmplifierOutputValues{};
   }
   telemetry_.stator_temperature_c = kReferenceAmbientC + simulator_.ambient_offset_k() +
                                     simulator_.state().stator_temperature_rise_k;

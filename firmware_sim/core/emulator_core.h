@@ -101,8 +101,9 @@ class EmulatorCore {
   std::size_t ring_filled_ = 0;
   ElectricalSums electrical_sums_;  // the window under way (electrical.h)
   std::uint64_t electrical_window_ticks_ = 1;
-  std::uint64_t electrical_ticks_ = 0;           // ticks in the window under way
-  std::array<std::uint64_t, 64> accepted_ns_{};  // first 64 commands of a tick
+  std::uint64_t electrical_ticks_ = 0;                // ticks in the window under way
+  protocol::AmplifierOutputValues amplifier_sums_{};  // the amplifier's readings summed over the window's ticks
+  std::array<std::uint64_t, 64> accepted_ns_{};       // first 64 commands of a tick
   std::size_t accepted_count_ = 0;
   TickObserver* observer_ = nullptr;
   // Scenario: the timeline, the model faults in force, what the reported telemetry holds.

@@ -135,12 +135,15 @@ DeviceTelemetry ModbusDevice::step(const DriveSetpoint& s, const DriveSlew& slew
 
 DeviceTelemetry ModbusDevice::read() {
   std::array<std::uint16_t, input::kCount> r{};
-  // One request for the whole table (45 registers, within a read's 125); a board that stops at
-  // register 35 (no electrical port) answers it with ILLEGAL DATA ADDRESS: read 0..35 from then on.
-  const int count = electrical_registers_ ? input::kCount : input::kCurrentA;
+  // One request for the whole table (51 registers, within a read's 125); a board that stops at
+  // register 44 (no amplifier output registers) or 35 (no electrical port) answers it with ILLEGAL
+  // DATA ADDRESS: read 0..44, then 0..35, from then on.
+  if (input_count_ == 0) input_count_ = input::kCount;
+  const int count = input_count_;
   if (modbus_read_input_registers(context_, 0, count, r.data()) != count) {
-    if (!(electrical_registers_ && errno == EMBXILADD)) fail("telemetry read");
-    electrical_registers_ = false;
+    if (!(count > input::kCurrentA && errno == EMBXILADD)) fail("telemetry read");
+    input_count_ = count == input::kCount ? input::kAmplifierCurrentA : input::kCurrentA;
+    electrical_registers_ = input_count_ > input::kCurrentA;
     return read();
   }
   const modbus::InputImage image = modbus::decode_input(r);

@@ -39,6 +39,9 @@ class ModbusDevice final : public Device {
   // False for a board without the electrical input registers 36..44 (it answered the read of
   // the whole table with ILLEGAL DATA ADDRESS): then 0..35 are read, the electrical values absent.
   bool electrical_registers_ = true;
+  // How many input registers a read asks for: the whole table, then without the amplifier's
+  // output (45..50, a board or emulator from before them), then without the electrical port.
+  int input_count_ = 0;
 };
 
 }  // namespace swum::host

@@ -1,5 +1,7 @@
 #include "model/parameters.h"
 
+#include "model/machine/output_network.h"
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -179,6 +181,15 @@ const std::array kSpecs{
               "Runaway limit on the modal coordinates, sqrt(q1^2 + q2^2) (NaN guard resets above it)"),
     SWUM_REAL(numerics, NumericsParameters, divergence_speed_limit_m_s, "m/s", 1e-6, 1e9,
               "Runaway limit on the mover speed (NaN guard resets above it)"),
+    // [amplifier] the output network (docs/amplifier.md)
+    SWUM_REAL(amplifier, AmplifierParameters, source_resistance_ohm, "ohm", 0.0, 1e5,
+              "Amplifier source resistance R_s of each phase (0 with both inductances 0: an ideal source; "
+              "docs/amplifier.md); the "
+              "amplifier_droop effect's R_s adds to it"),
+    SWUM_REAL(amplifier, AmplifierParameters, series_inductance_uh, "uH", 0.0, 1e6,
+              "Series inductance L_s between the amplifier and each phase (0 = none; series matching)"),
+    SWUM_REAL(amplifier, AmplifierParameters, parallel_inductance_uh, "uH", 0.0, 1e6,
+              "Inductance L_p across each phase's terminals (0 = none; compensates C0)"),
     // [effects.*] candidate effects of the discrepancy workflow (docs/discrepancy.md)
     SWUM_EFFECT_SWITCH(electroelastic, ElectroelasticEffect, "non-linear electroelasticity"),
     SWUM_EFFECT(electroelastic, ElectroelasticEffect, scale, real, "-", -5.0, 5.0,
@@ -332,6 +343,8 @@ void validate_parameters(const MotorParameters& parameters, std::string_view sou
   if (s.geometry == GeometryMode::explicit_size && s.half_height_mm >= s.length_mm) {
     throw ParameterError(std::string(source_name) + ": stator.half_height_mm must be smaller than stator.length_mm");
   }
+  const std::string network_problem = check_output_network(parameters);
+  if (!network_problem.empty()) throw ParameterError(std::string(source_name) + ": " + network_problem);
 }
 
 std::string render_parameters_markdown() {

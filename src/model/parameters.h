@@ -201,6 +201,15 @@ struct AmplifierDroopEffect {
   double source_resistance_ohm = 60.0;  // free: R_s
 };
 
+// The amplifier's output network, the same on both phases (docs/amplifier.md): the source
+// behind R_s + j w L_s, an optional inductor L_p across each phase. All zero: an ideal source,
+// the terminal voltage is the commanded one (the network is not evaluated).
+struct AmplifierParameters {
+  double source_resistance_ohm = 0.0;
+  double series_inductance_uh = 0.0;    // 0 = none
+  double parallel_inductance_uh = 0.0;  // 0 = no parallel inductor
+};
+
 struct EffectParameters {
   ElectroelasticEffect electroelastic;
   ThermalEffect thermal;
@@ -217,6 +226,7 @@ struct MotorParameters {
   ModelOptions options;
   NumericsParameters numerics;
   EffectParameters effects;
+  AmplifierParameters amplifier;
 };
 
 // The reference Table-2 constants the electroelastic effect scales (config/li2019.toml).

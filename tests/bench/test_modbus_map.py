@@ -30,7 +30,7 @@ def full_holding(**overrides):
 
 def test_table_is_read(regmap):
     assert regmap.holding_count == 11
-    assert regmap.input_count == 45
+    assert regmap.input_count == 51
     assert set(regmap.holding) == {"command", "frequency_setpoint", "amplitude_setpoint", "phase_setpoint",
                                    "load_force", "frequency_slew", "amplitude_slew", "advance"}
     assert regmap.holding["advance"].address == 10

@@ -4,9 +4,12 @@
 usage: modbus_integration.py SCENARIO   (enable_speed frequency_change watchdog rejects malformed clients electrical)
 Environment: SWUM_EMU, SWUM_EMU_REFERENCE, SWUM_SOURCE_DIR (set by ctest).
 """
+import math
+import os
 import socket
 import struct
 import sys
+import tempfile
 import threading
 import time
 
@@ -17,7 +20,7 @@ except ImportError:
     sys.modules["serial_asyncio"] = types.SimpleNamespace(create_serial_connection=None)
 from pymodbus.client import ModbusTcpClient  # noqa: E402
 
-from emu_harness import Emulator, RegisterMap, deadline, reference
+from emu_harness import SOURCE_DIR, Emulator, RegisterMap, deadline, reference
 
 MAP = RegisterMap()
 ILLEGAL_FUNCTION, ILLEGAL_DATA_ADDRESS, ILLEGAL_DATA_VALUE = 1, 2, 3
@@ -345,13 +348,14 @@ def scenario_clients():
 
 
 def scenario_electrical():
-    """The electrical port (input registers 36..44, docs/protocols.md "Electrical port"), read on
-    their own and decoded from the JSON map: drive on at 300 V near the resonance."""
+    """The electrical port (input registers 36..44, docs/protocols.md "Electrical port") and the
+    amplifier's output (45..50, docs/amplifier.md), read on their own and decoded from the JSON
+    map: drive on at 300 V near the resonance, an ideal source (no [amplifier] network)."""
     with Emulator("--speedup", "4", "--watchdog-ms", "1000") as emu:
         c = Controller(emu)
         first = MAP.input["current_a"]["address"]
         count = MAP.input_count - first
-        assert count == 9, f"electrical registers {first}..{MAP.input_count - 1}"
+        assert count == 15, f"electrical registers {first}..{MAP.input_count - 1}"
 
         def electrical():
             rr = c.client.read_input_registers(first, count, slave=1)
@@ -374,11 +378,59 @@ def scenario_electrical():
         for name in ("phase_a", "phase_b", "motional_phase_a", "motional_phase_b"):
             assert -180.0 < e[name] <= 180.0, (name, e[name])
         assert abs(e["stator_temperature"] - 20.0) < 5.0, e
+        # Without a network the amplifier delivers the phase current at the commanded voltage: the
+        # linear coupling's current (amplifier_*) agrees with the port's fit (current_*, phase_*).
+        print("amplifier: " + ", ".join(f"{k} {e[k]:.4g}" for k in (
+            "amplifier_current_a", "amplifier_current_b", "amplifier_phase_a", "amplifier_phase_b",
+            "terminal_amplitude_a", "terminal_amplitude_b")))
+        for phase in ("a", "b"):
+            assert abs(e["terminal_amplitude_" + phase] - 300.0) < 0.2, e
+            assert abs(e["amplifier_current_" + phase] - e["current_" + phase]) < 0.1 * e["current_" + phase], e
+            assert abs(e["amplifier_phase_" + phase] - e["phase_" + phase]) < 5.0, e
         # The whole table in one read gives the same registers (the host tool reads it that way).
         whole = c.inputs()
         assert whole["current_a"] > 0.0 and abs(whole["stator_temperature"] - e["stator_temperature"]) < 1.0, whole
         c.close()
         assert emu.stop() == 0
+
+
+def scenario_matched_network():
+    """The amplifier's output network in swum-emu (docs/amplifier.md): at the default motor's
+    design point (200 V, 40137 Hz: `swum pick --amplitude-v 200`'s frequency for 0 N), the parallel
+    inductance that cancels phase A's susceptance, sized from the emulator's own electrical port
+    with an ideal source, brings phase A's amplifier current within 5 deg of its voltage over
+    Modbus; without it the current leads by far more (C0's current)."""
+    amplitude_v, frequency_hz = 200.0, 40137.0
+
+    def settled(config):
+        with Emulator("--speedup", "4", "--watchdog-ms", "1000", config=config) as emu:
+            c = Controller(emu)
+            c.run_at(amplitude_v, frequency_hz)
+            v = c.wait_sim_time(c.wait_applied()["sim_time"] + 0.12)
+            assert v["state"] == 1, v
+            c.close()
+            assert emu.stop() == 0
+            return v
+
+    ideal = settled(None)
+    y = ideal["current_a"] / amplitude_v
+    susceptance = y * math.sin(math.radians(ideal["phase_a"]))
+    inductance_uh = 1e6 / (2.0 * math.pi * frequency_hz * susceptance)
+    with open(os.path.join(SOURCE_DIR, "config/li2019.toml")) as f:
+        motor = f.read()
+    with tempfile.NamedTemporaryFile("w", suffix=".toml", delete=False) as f:
+        f.write(motor + f"\n[amplifier]\nparallel_inductance_uh = {inductance_uh:.6f}\n")
+        matched_config = f.name
+    try:
+        matched = settled(matched_config)
+    finally:
+        os.unlink(matched_config)
+    print(f"ideal: amplifier_phase_a {ideal['amplifier_phase_a']:.2f} deg; L_p {inductance_uh:.1f} uH; "
+          f"matched: amplifier_phase_a {matched['amplifier_phase_a']:.2f} deg, amplifier_current_a "
+          f"{matched['amplifier_current_a']:.4f} A, terminal_amplitude_a {matched['terminal_amplitude_a']:.1f} V")
+    assert ideal["amplifier_phase_a"] > 45.0, ideal
+    assert abs(matched["amplifier_phase_a"]) < 5.0, matched
+    assert abs(matched["terminal_amplitude_a"] - amplitude_v) < 0.2, matched  # no series impedance
 
 
 if __name__ == "__main__":

@@ -202,6 +202,7 @@ TEST(RegisterMapJson, InputRegistersAgreeWithTheCode) {
   t.external_clock = true;
   t.electrical = {0.1234, 0.0987, 12.34, -56.78, -3.21, 4.56, 9.87, 6.54};
   t.stator_temperature_c = 23.45;
+  t.amplifier_output = {0.0745, 0.0872, -2.43, -50.12, 199.4, 187.3};
   std::array<std::uint16_t, input::kCount> regs{};
   fill_input(t, RejectSnapshot{Reason::bad_checksum, 70000}, regs);
   const std::map<std::string, double> expected{{"status", 1 + 4 + 8},
@@ -238,7 +239,13 @@ TEST(RegisterMapJson, InputRegistersAgreeWithTheCode) {
                                                {"motional_phase_b", 4.56},
                                                {"power_a", 9.87},
                                                {"power_b", 6.54},
-                                               {"stator_temperature", 23.45}};
+                                               {"stator_temperature", 23.45},
+                                               {"amplifier_current_a", 0.0745},
+                                               {"amplifier_current_b", 0.0872},
+                                               {"amplifier_phase_a", -2.43},
+                                               {"amplifier_phase_b", -50.12},
+                                               {"terminal_amplitude_a", 199.4},
+                                               {"terminal_amplitude_b", 187.3}};
   EXPECT_EQ(map["input_registers"].size(), expected.size());
   unsigned words = 0;
   for (const auto& entry : map["input_registers"]) {

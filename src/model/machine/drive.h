@@ -28,6 +28,13 @@ struct DriveWaveform {
   double angular_frequency_rad_s = 0.0;
   double rotation_cos = 1.0;  // cos(w dt)
   double rotation_sin = 0.0;  // sin(w dt)
+  // The amplifier's output network shifts each phase (MotorSimulator, output_network.h): V_A =
+  // amplitude_a sin(theta) + quadrature_a cos(theta), V_B = amplitude_b sin(theta + phase) +
+  // quadrature_b cos(theta + phase). Without a network `shifted` is false and the quadratures
+  // are never read (the voltages are the same bits as before the network existed).
+  bool shifted = false;
+  double quadrature_a_v = 0.0;
+  double quadrature_b_v = 0.0;
 };
 
 [[nodiscard]] inline DriveWaveform make_drive_waveform(const DriveInput& input, double amplitude_per_volt,
@@ -46,7 +53,34 @@ struct DriveWaveform {
 }
 
 [[nodiscard]] inline DriveVoltages drive_voltages(const DriveWaveform& w, double sin_theta, double cos_theta) {
-  return {w.amplitude_a_v * sin_theta, w.amplitude_b_v * (sin_theta * w.cos_phase + cos_theta * w.sin_phase)};
+  DriveVoltages u{w.amplitude_a_v * sin_theta, w.amplitude_b_v * (sin_theta * w.cos_phase + cos_theta * w.sin_phase)};
+  if (w.shifted) [[unlikely]] {
+    u.va_v += w.quadrature_a_v * cos_theta;
+    u.vb_v += w.quadrature_b_v * (cos_theta * w.cos_phase - sin_theta * w.sin_phase);
+  }
+  return u;
+}
+
+// dV_A/dt, dV_B/dt at the phasor (sin theta, cos theta).
+[[nodiscard]] inline DriveVoltages drive_voltage_rates(const DriveWaveform& w, double sin_theta, double cos_theta) {
+  const double omega = w.angular_frequency_rad_s;
+  DriveVoltages u{w.amplitude_a_v * omega * cos_theta,
+                  w.amplitude_b_v * omega * (cos_theta * w.cos_phase - sin_theta * w.sin_phase)};
+  if (w.shifted) [[unlikely]] {
+    u.va_v -= w.quadrature_a_v * omega * sin_theta;
+    u.vb_v -= w.quadrature_b_v * omega * (sin_theta * w.cos_phase + cos_theta * w.sin_phase);
+  }
+  return u;
+}
+
+// The mean of V_A^2 and V_B^2 over a period, over 2: (amplitude^2 + quadrature^2)/2.
+[[nodiscard]] inline DriveVoltages half_mean_squares(const DriveWaveform& w) {
+  DriveVoltages h{0.5 * w.amplitude_a_v * w.amplitude_a_v, 0.5 * w.amplitude_b_v * w.amplitude_b_v};
+  if (w.shifted) [[unlikely]] {
+    h.va_v += 0.5 * w.quadrature_a_v * w.quadrature_a_v;
+    h.vb_v += 0.5 * w.quadrature_b_v * w.quadrature_b_v;
+  }
+  return h;
 }
 
 // theta += w dt. The modulus drifts by ~1e-16 per step; call renormalise_phasor() every few

@@ -33,8 +33,9 @@ class DriveRecurrence {
   // (the motor's constant preload term), added to c0.
   void seed(const PairedForceCoefficients& m, DoublePair constant_force_n, const DriveWaveform& w, double sin_theta,
             double cos_theta) {
-    const double ha = 0.5 * w.amplitude_a_v * w.amplitude_a_v;
-    const double hb = 0.5 * w.amplitude_b_v * w.amplitude_b_v;
+    const DriveVoltages half_squares = half_mean_squares(w);
+    const double ha = half_squares.va_v;
+    const double hb = half_squares.vb_v;
     const DoublePair half_a2 = {ha, ha};
     const DoublePair half_b2 = {hb, hb};
     dc0_ = m.sq0_a * half_a2 + m.sq0_b * half_b2 + constant_force_n;
@@ -78,8 +79,9 @@ class DriveRecurrence {
   };
   static void harmonics_at(const PairedForceCoefficients& m, const DriveWaveform& w, double s, double c, Harmonics& h) {
     const DriveVoltages u = drive_voltages(w, s, c);
-    const double qa = u.va_v * u.va_v - 0.5 * w.amplitude_a_v * w.amplitude_a_v;
-    const double qb = u.vb_v * u.vb_v - 0.5 * w.amplitude_b_v * w.amplitude_b_v;
+    const DriveVoltages half_squares = half_mean_squares(w);
+    const double qa = u.va_v * u.va_v - half_squares.va_v;
+    const double qb = u.vb_v * u.vb_v - half_squares.vb_v;
     const DoublePair a = {u.va_v, u.va_v}, b = {u.vb_v, u.vb_v}, a2 = {qa, qa}, b2 = {qb, qb};
     h.phasor = DoublePair{s, c};
     h.h1_0 = m.lin0_a * a + m.lin0_b * b;

@@ -17,15 +17,22 @@ EffectCoefficients make_effect_coefficients(const MotorParameters& p, const Moda
     e.friction_change = x.wear.friction_change;
     e.inverse_run_in_distance_per_m = 1.0 / x.wear.run_in_distance_m;
   }
-  if (x.amplifier_droop.enabled) {
+  const AmplifierParameters& amplifier = p.amplifier;
+  const bool network = amplifier.source_resistance_ohm != 0.0 || amplifier.series_inductance_uh != 0.0 ||
+                       amplifier.parallel_inductance_uh != 0.0;
+  if (network) {
+    e.network = true;
+    e.output_network = make_output_network(p);  // with the droop effect's R_s when it is on
+  } else if (x.amplifier_droop.enabled) {
     e.droop = true;
     e.source_resistance_ohm = x.amplifier_droop.source_resistance_ohm;
     e.clamped_capacitance_f = p.stator.clamped_capacitance_nf * 1e-9;  // the electrical port's C0
-    e.charge_a_q1 = c.a[0].group_a;
-    e.charge_a_q2 = c.b[0].group_a;
-    e.charge_b_q1 = c.a[0].group_b;
-    e.charge_b_q2 = c.b[0].group_b;
   }
+  // Always: the amplifier readings of an ideal source need them too (MotorSimulator::amplifier_readings).
+  e.charge_a_q1 = c.a[0].group_a;
+  e.charge_a_q2 = c.b[0].group_a;
+  e.charge_b_q1 = c.a[0].group_b;
+  e.charge_b_q2 = c.b[0].group_b;
   return e;
 }
 
@@ -36,29 +43,26 @@ double droop_gain(const EffectCoefficients& e, double w, double s, double c, dou
 
 double droop_gain(const EffectCoefficients& e, double w, double s, double c, double cos_phase, double sin_phase,
                   double amplitude_a_v, double amplitude_b_v, Analytic q1, Analytic q2) {
-  // Divider 1/(1 + j x), x = w R_s C0.
-  const double x = w * e.source_resistance_ohm * e.clamped_capacitance_f;
-  const double divider = 1.0 / std::sqrt(1.0 + x * x);
+  // The output network of a source resistance alone: V = (V_cmd - R_s I_m)/(1 + j w R_s C0).
+  const OutputNetwork network{e.source_resistance_ohm, 0.0, 0.0, e.clamped_capacitance_f};
   const bool driven_a = amplitude_a_v > 0.0;
   const bool driven_b = amplitude_b_v > 0.0;
-  if (!driven_a && !driven_b) return divider;
-  // One phase: commanded analytic signal V0 (sin - j cos) of its own phase angle.
+  if (!driven_a && !driven_b) return 1.0 / std::abs(network.divider(w));
+  // One phase: commanded analytic signal V0 (sin - j cos) of its own phase angle, I = j w Q.
   auto phase_gain = [&](double amplitude_v, double sin_p, double cos_p, double charge_q1, double charge_q2) {
-    const double charge_re = charge_q1 * q1.re + charge_q2 * q2.re;
-    const double charge_im = charge_q1 * q1.im + charge_q2 * q2.im;
-    // I = j w Q -> (-w Q_im, w Q_re)
-    const double re = amplitude_v * sin_p + e.source_resistance_ohm * w * charge_im;
-    const double im = -amplitude_v * cos_p - e.source_resistance_ohm * w * charge_re;
-    return std::sqrt(re * re + im * im) / amplitude_v;
+    const Phasor charge{charge_q1 * q1.re + charge_q2 * q2.re, charge_q1 * q1.im + charge_q2 * q2.im};
+    const Phasor terminal = network.terminal_voltage_v(w, Phasor{amplitude_v * sin_p, -amplitude_v * cos_p},
+                                                       Phasor{0.0, w} * charge);
+    return std::abs(terminal) / amplitude_v;
   };
   auto gain_a = [&] { return phase_gain(amplitude_a_v, s, c, e.charge_a_q1, e.charge_a_q2); };
   auto gain_b = [&] {
     return phase_gain(amplitude_b_v, s * cos_phase + c * sin_phase, c * cos_phase - s * sin_phase, e.charge_b_q1,
                       e.charge_b_q2);
   };
-  if (!driven_b) return gain_a() * divider;
-  if (!driven_a) return gain_b() * divider;
-  return 0.5 * (gain_a() + gain_b()) * divider;
+  if (!driven_b) return gain_a();
+  if (!driven_a) return gain_b();
+  return 0.5 * (gain_a() + gain_b());
 }
 
 }  // namespace swum

@@ -7,6 +7,7 @@
 
 #include <cmath>
 
+#include "model/machine/output_network.h"
 #include "model/modal/modal_constants.h"
 #include "model/parameters.h"
 
@@ -23,15 +24,21 @@ struct EffectCoefficients {
   double friction_change = 0.0;
   double inverse_run_in_distance_per_m = 0.0;
 
+  // The droop effect alone (no [amplifier] network): the magnitude-only gain, mean of the two
+  // phases, that the SIMD lanes also run (BatchSimulator).
   bool droop = false;
   double source_resistance_ohm = 0.0;
   double clamped_capacitance_f = 0.0;
+  // The [amplifier] output network (output_network.h), per phase in magnitude and phase; the droop
+  // effect's R_s, when it is on, is in its source resistance (and droop is then false).
+  bool network = false;
+  OutputNetwork output_network;
   // Motional charge per modal displacement of phase A and B (C/m) on q1 and q2: by
   // reciprocity the linear modal force per volt a0, b0 of eqs. 14-15.
   double charge_a_q1 = 0.0, charge_a_q2 = 0.0;
   double charge_b_q1 = 0.0, charge_b_q2 = 0.0;
 
-  [[nodiscard]] bool any() const { return thermal || wear || droop; }
+  [[nodiscard]] bool any() const { return thermal || wear || droop || network; }
   [[nodiscard]] bool slow() const { return thermal || wear; }
 };
 
@@ -71,7 +78,8 @@ struct Analytic {
 
 // Amplifier droop: ratio of the drive amplitude at the piezo to the commanded one, mean of
 // the two phases: V = (V_cmd - R_s I_m)/(1 + j w R_s C0), I_m = j w (Q_q1 q1 + Q_q2 q2)
-// (analytic signals). Returns 1/|1 + j w R_s C0| when there is no drive.
+// (analytic signals), the output network's terminal voltage (OutputNetwork{R_s, 0, 0, C0}) in
+// magnitude only. Returns 1/|1 + j w R_s C0| when there is no drive.
 [[nodiscard]] double droop_gain(const EffectCoefficients& e, double angular_frequency_rad_s, double sin_theta,
                                 double cos_theta, double cos_phase, double sin_phase, double amplitude_v, Analytic q1,
                                 Analytic q2);

@@ -522,7 +522,8 @@ bool BatchSimulator::supports(const MotorModel& model) {
   const MotorCoefficients& k = model.coefficients();
   const bool guide_in_lanes = k.guide_model == GuideFrictionModel::implicit_coulomb ||
                               k.guide.inverse_sign_width_s_m > 0.0;
-  return k.tangential != TangentialContact::rigid_erf && guide_in_lanes;
+  // The [amplifier] output network shifts each phase's voltage: not in the lanes' one amplitude.
+  return k.tangential != TangentialContact::rigid_erf && guide_in_lanes && !k.effects.network;
 }
 
 BatchSimulator::BatchSimulator(const MotorModel& model, std::size_t lanes)

@@ -1,6 +1,7 @@
 #include "model/simulation/simulator.h"
 
 #include <cmath>
+#include <numbers>
 #include <stdexcept>
 #include <string>
 
@@ -109,6 +110,7 @@ void MotorSimulator::update_effects(const MotorSplitSystem::Vector& q, const Mot
     if (e.wear) state_.sliding_distance_m += block_s * std::abs(v[2]);
     apply_slow_states();
   }
+  if (e.network) update_network(q, v, sin_theta, cos_theta, waveform);
   if (e.droop) {
     const double w = waveform.angular_frequency_rad_s;
     const double inv_w = w > 0.0 ? 1.0 / w : 0.0;
@@ -122,6 +124,92 @@ void MotorSimulator::update_effects(const MotorSplitSystem::Vector& q, const Mot
     waveform.amplitude_a_v = waveform_.amplitude_a_v * droop_gain_;
     waveform.amplitude_b_v = waveform_.amplitude_b_v * droop_gain_;
   }
+}
+
+DriveWaveform MotorSimulator::amplified_waveform() const {
+  DriveWaveform waveform = waveform_;
+  if (model_.coefficients().effects.network) {
+    const double a = waveform_.amplitude_a_v, b = waveform_.amplitude_b_v;
+    waveform.amplitude_a_v = a * network_a_.gain.real();
+    waveform.quadrature_a_v = a * network_a_.gain.imag();
+    waveform.amplitude_b_v = b * network_b_.gain.real();
+    waveform.quadrature_b_v = b * network_b_.gain.imag();
+    waveform.shifted = true;
+    return waveform;
+  }
+  waveform.amplitude_a_v *= droop_gain_;
+  waveform.amplitude_b_v *= droop_gain_;
+  return waveform;
+}
+
+void MotorSimulator::motional_currents(const MotorSplitSystem::Vector& q, const MotorSplitSystem::Vector& v,
+                                       double sin_theta, double cos_theta, double w, Phasor& a, Phasor& b) const {
+  // By reciprocity the motional charge per modal displacement is the linear modal force per volt
+  // (eqs. 14-15, as the droop effect): I_m = j w (Q_q1 z1 + Q_q2 z2), z the modes' sine phasors.
+  const EffectCoefficients& e = model_.coefficients().effects;
+  const double inv_w = w > 0.0 ? 1.0 / w : 0.0;
+  const Phasor z1 = sine_phasor(q[0] - model_.constants().static_q1_m, v[0] * inv_w, sin_theta, cos_theta);
+  const Phasor z2 = sine_phasor(q[1], v[1] * inv_w, sin_theta, cos_theta);
+  const Phasor jw{0.0, w};
+  a = jw * (e.charge_a_q1 * z1 + e.charge_a_q2 * z2);
+  b = jw * (e.charge_b_q1 * z1 + e.charge_b_q2 * z2);
+}
+
+void MotorSimulator::update_network(const MotorSplitSystem::Vector& q, const MotorSplitSystem::Vector& v,
+                                    double sin_theta, double cos_theta, DriveWaveform& waveform) {
+  const OutputNetwork& n = model_.coefficients().effects.output_network;
+  const double w = waveform.angular_frequency_rad_s;
+  Phasor motional_a, motional_b;
+  motional_currents(q, v, sin_theta, cos_theta, w, motional_a, motional_b);
+  // Source phasors: A for phase A, B e^{j phase} for phase B (sine phasors on theta).
+  const Phasor source_a{waveform_.amplitude_a_v, 0.0};
+  const Phasor source_b = waveform_.amplitude_b_v * Phasor{waveform.cos_phase, waveform.sin_phase};
+  NetworkPhase next_a = network_a_, next_b = network_b_;
+  const double block_s = 64.0 * dt_;
+  const bool ok_a = step_network(n, w, block_s, source_a, motional_a, next_a, kLargestNetworkGain);
+  const bool ok_b = step_network(n, w, block_s, source_b, motional_b, next_b, kLargestNetworkGain);
+  if (ok_a && ok_b) {
+    network_a_ = next_a;
+    network_b_ = next_b;
+  } else {
+    ++network_divergence_count_;
+  }
+  waveform = amplified_waveform();  // the loop's copy differs from waveform_ only in the amplitudes
+}
+
+AmplifierReadings MotorSimulator::amplifier_readings() const {
+  const EffectCoefficients& e = model_.coefficients().effects;
+  OutputNetwork n = e.output_network;
+  if (!e.network) n = OutputNetwork{0.0, 0.0, 0.0, model_.coefficients().clamped_capacitance_f};
+  const double w = waveform_.angular_frequency_rad_s;
+  Phasor motional_a, motional_b;
+  motional_currents(MotorSplitSystem::Vector{state_.q1_m, state_.q2_m, state_.mover_position_m},
+                    MotorSplitSystem::Vector{state_.q1_dot_m_s, state_.q2_dot_m_s, state_.mover_velocity_m_s},
+                    state_.drive_sin, state_.drive_cos, w, motional_a, motional_b);
+  const NetworkPhase ideal{Phasor{droop_gain_, 0.0}, Phasor{}, Phasor{}};
+  const NetworkPhase& state_a = e.network ? network_a_ : ideal;
+  const NetworkPhase& state_b = e.network ? network_b_ : ideal;
+  const Phasor source_a{waveform_.amplitude_a_v, 0.0};
+  const Phasor source_b = waveform_.amplitude_b_v * Phasor{waveform_.cos_phase, waveform_.sin_phase};
+  const double rad_to_deg = 180.0 / std::numbers::pi;
+  auto phase = [&](double amplitude_v, Phasor source, const NetworkPhase& state, Phasor motional) {
+    AmplifierPhaseReadings r;
+    const Phasor gain = state.gain;
+    const Phasor terminal = gain * source;
+    // I_amp = j w C0 V + I_Lp + I_m, the inductor's current from the network's state.
+    const Phasor current = Phasor{0.0, w * n.clamped_capacitance_f} * terminal + state.parallel * source + motional;
+    r.current_a = std::abs(current);
+    r.terminal_amplitude_v = std::abs(terminal);
+    // Relative to the source voltage's phase (a phase without a source: to the commanded one).
+    const Phasor reference = amplitude_v > 0.0 ? source / amplitude_v : Phasor{1.0, 0.0};
+    r.current_phase_deg = r.current_a > 0.0 ? wrap_phase_deg(std::arg(current / reference) * rad_to_deg) : 0.0;
+    r.terminal_phase_deg = wrap_phase_deg(std::arg(gain) * rad_to_deg);
+    return r;
+  };
+  AmplifierReadings readings;
+  readings.a = phase(waveform_.amplitude_a_v, source_a, state_a, motional_a);
+  readings.b = phase(waveform_.amplitude_b_v, source_b, state_b, motional_b);
+  return readings;
 }
 
 void MotorSimulator::apply_slow_states() {

@@ -9,6 +9,7 @@
 #include "model/machine/drive_recurrence.h"
 #include "model/machine/electrical.h"
 #include "model/machine/motor.h"
+#include "model/machine/output_network.h"
 #include "model/motor_model.h"
 #include "model/simulation/model_faults.h"
 #include "model/simulation/window_statistics.h"
@@ -79,8 +80,23 @@ class MotorSimulator {
   // offset + rise, the rise itself (driven by the losses) is unchanged. No-op without the effect.
   void set_ambient_offset_k(double offset_k);
   [[nodiscard]] double ambient_offset_k() const { return ambient_offset_k_; }
-  // Drive amplitude at the piezo / commanded (amplifier droop; 1 when disabled).
+  // Drive amplitude at the piezo / commanded (amplifier droop; 1 when disabled or when the
+  // [amplifier] network carries the droop's source resistance).
   [[nodiscard]] double droop_gain() const { return droop_gain_; }
+  // The [amplifier] output network (output_network.h; docs/amplifier.md): per phase, terminal
+  // voltage / source voltage as a sine phasor, updated every housekeeping block ((1, 0) without a
+  // network). The amplifier's current and the terminal voltages, from the state now (the motional
+  // current of the modal coordinates' analytic signals, linear coupling) and these gains; with
+  // an ideal source (no network) the same with the terminal voltage the commanded one (times
+  // the droop gain): C0's current plus the motional one.
+  [[nodiscard]] Phasor network_gain_a() const { return network_a_.gain; }
+  [[nodiscard]] Phasor network_gain_b() const { return network_b_.gain; }
+  [[nodiscard]] AmplifierReadings amplifier_readings() const;
+  // Blocks whose network update was refused: the terminal voltage would have been more than
+  // kLargestNetworkGain times the source's, or not finite (a network whose fixed point diverges,
+  // docs/amplifier.md). The gains are then held. Counted, never thrown.
+  static constexpr double kLargestNetworkGain = 1000.0;
+  [[nodiscard]] std::uint64_t network_divergence_count() const { return network_divergence_count_; }
 
   // Run-time motor/amplifier faults (model_faults.h; docs/model.md "Run-time faults"), for the
   // emulator's scenario timeline: call between steps (at tick boundaries), never from inside a
@@ -118,6 +134,13 @@ class MotorSimulator {
   void update_effects(const MotorSplitSystem::Vector& q, const MotorSplitSystem::Vector& v, double sin_theta,
                       double cos_theta, DriveWaveform& waveform);
   void apply_slow_states();
+  // The waveform the steps see: waveform_ with the droop gain or the network's phase gains.
+  [[nodiscard]] DriveWaveform amplified_waveform() const;
+  void update_network(const MotorSplitSystem::Vector& q, const MotorSplitSystem::Vector& v, double sin_theta,
+                      double cos_theta, DriveWaveform& waveform);
+  // The sine phasors of the two motional currents (A) at the phasor (sin, cos) of the drive.
+  void motional_currents(const MotorSplitSystem::Vector& q, const MotorSplitSystem::Vector& v, double sin_theta,
+                         double cos_theta, double angular_frequency_rad_s, Phasor& a, Phasor& b) const;
 
   const MotorModel& model_;
   MotorSplitSystem system_;
@@ -132,6 +155,9 @@ class MotorSimulator {
   bool slow_states_frozen_ = false;
   double ambient_offset_k_ = 0.0;
   double droop_gain_ = 1.0;
+  NetworkPhase network_a_{};
+  NetworkPhase network_b_{};
+  std::uint64_t network_divergence_count_ = 0;
   ModelFaults faults_{};
   bool diverged_ = false;
   std::uint64_t divergence_count_ = 0;

@@ -100,11 +100,9 @@ inline void sample_electrical(const PairedForceCoefficients& m, double clamped_c
   const double s_mid = (s_start + s_end) * midpoint_scale;
   const double c_mid = (c_start + c_end) * midpoint_scale;
   const DriveVoltages u_mid = drive_voltages(w, s_mid, c_mid);
-  const double omega = w.angular_frequency_rad_s;
-  const double dva = w.amplitude_a_v * omega * c_mid;
-  const double dvb = w.amplitude_b_v * omega * (c_mid * w.cos_phase - s_mid * w.sin_phase);
+  const DriveVoltages du_mid = drive_voltage_rates(w, s_mid, c_mid);
   const PhaseCurrents i = phase_currents(m, clamped_capacitance_f, 0.5 * (q_start + q_end), v, u_mid.va_v, u_mid.vb_v,
-                                         dva, dvb);
+                                         du_mid.va_v, du_mid.vb_v);
   sums.add(i, s_mid, c_mid, u_mid.va_v, u_mid.vb_v, weight_s);
 }
 }  // namespace simulator_detail
@@ -132,9 +130,7 @@ void MotorSimulator::advance_specialised(std::uint64_t steps, WindowStatistics* 
   double t = state_.time_s;
   const double load = drive_.load_n;
   const EffectCoefficients& effects = model_.coefficients().effects;
-  DriveWaveform waveform = waveform_;
-  waveform.amplitude_a_v *= droop_gain_;
-  waveform.amplitude_b_v *= droop_gain_;
+  DriveWaveform waveform = amplified_waveform();
   const double dt = dt_;
   const double position_limit_sq = position_limit_m_ * position_limit_m_;
   const double speed_limit_sq = speed_limit_m_s_ * speed_limit_m_s_;
@@ -215,9 +211,7 @@ void MotorSimulator::advance_specialised(std::uint64_t steps, WindowStatistics* 
 template <bool kWindow, bool kElectrical>
 void MotorSimulator::advance_jenkins(std::uint64_t steps, WindowStatistics* window, ElectricalSums* sums) {
   const EffectCoefficients& effects = model_.coefficients().effects;
-  DriveWaveform waveform = waveform_;
-  waveform.amplitude_a_v *= droop_gain_;
-  waveform.amplitude_b_v *= droop_gain_;
+  DriveWaveform waveform = amplified_waveform();
   const double dt = dt_;
   const double inv_dt = 1.0 / dt;
   const double load = drive_.load_n;
