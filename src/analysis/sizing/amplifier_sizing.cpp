@@ -5,6 +5,7 @@
 #include <limits>
 #include <numbers>
 #include <optional>
+#include <stdexcept>
 #include <utility>
 
 #include "analysis/studies/population.h"
@@ -80,6 +81,33 @@ MatchedDuty matched(const PhaseDuty& d, double angular_frequency_rad_s, const Ma
 }
 
 }  // namespace
+
+MatchingDesign design_matching(std::complex<double> y, double w, double v, double c0) {
+  MatchingDesign d;
+  d.angular_frequency_rad_s = w;
+  d.voltage_v = v;
+  d.admittance_siemens = y;
+  d.c0_parallel_inductance_h = c0_compensating_inductance_h(w, c0);
+  const MatchingDesignPoint point{y, v, w, c0};
+  try {
+    const ParallelMatching p = parallel_matching(point);
+    d.parallel_ok = true;
+    d.parallel_inductance_h = p.inductance_h;
+    d.parallel_current_amplitude_a = p.amplifier_current_a;
+  } catch (const std::invalid_argument& e) {
+    d.parallel_reason = e.what();
+  }
+  try {
+    const SeriesMatching m = series_matching(point);
+    d.series_ok = true;
+    d.series_inductance_h = m.inductance_h;
+    d.series_source_voltage_v = m.amplifier_output_v;
+    d.series_current_amplitude_a = m.amplifier_current_a;
+  } catch (const std::invalid_argument& e) {
+    d.series_reason = e.what();
+  }
+  return d;
+}
 
 bool duty_at_pick(const BandRow& row, SizingRow& out) {
   out.amplitude_v = row.amplitude_v;

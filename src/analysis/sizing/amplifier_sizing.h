@@ -76,6 +76,26 @@ struct SizingSummary {
   Extreme parallel_current_amplitude_a, parallel_phase_abs_deg, series_source_voltage_v, series_current_amplitude_a;
 };
 
+// The network sized at the design row for one phase (matching_network.h): both topologies,
+// each with why it is missing when the phase admits none.
+struct MatchingDesign {
+  double angular_frequency_rad_s = 0.0;
+  double voltage_v = 0.0;
+  std::complex<double> admittance_siemens;
+  double c0_parallel_inductance_h = 0.0;  // cancels C0 alone
+  bool parallel_ok = false;
+  std::string parallel_reason;
+  double parallel_inductance_h = 0.0;  // cancels the whole susceptance at the design row
+  double parallel_current_amplitude_a = 0.0;
+  bool series_ok = false;
+  std::string series_reason;
+  double series_inductance_h = 0.0;
+  double series_source_voltage_v = 0.0;
+  double series_current_amplitude_a = 0.0;
+};
+[[nodiscard]] MatchingDesign design_matching(std::complex<double> admittance_siemens, double angular_frequency_rad_s,
+                                             double voltage_v, double clamped_capacitance_f);
+
 struct SizingResult {
   std::vector<SizingRow> rows;
   std::size_t design_row = 0;
