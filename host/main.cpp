@@ -29,6 +29,7 @@ int main(int argc, char** argv) {
   add_identify_command(app);
   add_pick_command(app);
   add_band_command(app);
+  add_size_command(app);
   add_log_command(app);
   add_synth_command(app);
   add_discrepancy_command(app);

@@ -14,6 +14,7 @@ void add_admittance_command(CLI::App& app);    // admittance_command.cpp
 void add_identify_command(CLI::App& app);      // identify_command.cpp
 void add_pick_command(CLI::App& app);          // pick_command.cpp
 void add_band_command(CLI::App& app);          // band_command.cpp
+void add_size_command(CLI::App& app);          // size_command.cpp
 void add_log_command(CLI::App& app);           // log_command.cpp
 void add_synth_command(CLI::App& app);         // synth_command.cpp
 void add_discrepancy_command(CLI::App& app);   // discrepancy_command.cpp

@@ -17,8 +17,8 @@ void check_design_point(const MatchingDesignPoint& p) {
     throw std::invalid_argument("matching network: the target voltage amplitude must be positive, not " +
                                 std::to_string(p.amplitude_v) + " V");
   }
-  if (!std::isfinite(p.admittance_s.real()) || !std::isfinite(p.admittance_s.imag()) ||
-      p.admittance_s == std::complex<double>{}) {
+  if (!std::isfinite(p.admittance_siemens.real()) || !std::isfinite(p.admittance_siemens.imag()) ||
+      p.admittance_siemens == std::complex<double>{}) {
     throw std::invalid_argument("matching network: the admittance must be finite and non-zero");
   }
 }
@@ -38,7 +38,7 @@ double c0_compensating_inductance_h(double w, double c0) {
 
 ParallelMatching parallel_matching(const MatchingDesignPoint& p) {
   check_design_point(p);
-  const double g = p.admittance_s.real(), b = p.admittance_s.imag();
+  const double g = p.admittance_siemens.real(), b = p.admittance_siemens.imag();
   if (!(b > 0.0)) {
     throw std::invalid_argument("matching network: the phase's susceptance B = " + std::to_string(b) +
                                 " S is not capacitive (B > 0): no parallel inductance cancels it");
@@ -49,7 +49,7 @@ ParallelMatching parallel_matching(const MatchingDesignPoint& p) {
 
 SeriesMatching series_matching(const MatchingDesignPoint& p, double source_resistance_ohm) {
   check_design_point(p);
-  const std::complex<double> z = 1.0 / p.admittance_s;
+  const std::complex<double> z = 1.0 / p.admittance_siemens;
   const double r = z.real(), x = z.imag();
   if (!(x < 0.0)) {
     throw std::invalid_argument("matching network: the phase's reactance X = " + std::to_string(x) +
@@ -59,6 +59,14 @@ SeriesMatching series_matching(const MatchingDesignPoint& p, double source_resis
   const double magnitude = std::abs(z);
   return {-x / p.angular_frequency_rad_s, p.amplitude_v * (r + source_resistance_ohm) / magnitude,
           p.amplitude_v / magnitude, 0.0};
+}
+
+std::complex<double> parallel_amplifier_current(std::complex<double> y, double w, double v, double l) {
+  return v * (y + 1.0 / std::complex<double>(0.0, w * l));
+}
+
+std::complex<double> series_source_voltage(std::complex<double> y, double w, double v, double l_s) {
+  return v * (1.0 + std::complex<double>(0.0, w * l_s) * y);
 }
 
 }  // namespace swum

@@ -10,7 +10,7 @@
 namespace swum {
 
 struct MatchingDesignPoint {
-  std::complex<double> admittance_s;  // Y = G + jB of the phase at the design point (+B: capacitive)
+  std::complex<double> admittance_siemens;  // Y = G + jB of the phase at the design point (+B: capacitive)
   double amplitude_v = 0.0;           // target terminal voltage amplitude V (zero-to-peak)
   double angular_frequency_rad_s = 0.0;
   double clamped_capacitance_f = 0.0;  // C0 of the phase
@@ -42,5 +42,19 @@ struct SeriesMatching {
   double amplifier_current_phase_deg = 0.0;
 };
 [[nodiscard]] SeriesMatching series_matching(const MatchingDesignPoint& point, double source_resistance_ohm = 0.0);
+
+// The same inductors at another operating point (the network fixed, the motor detuned): what the
+// amplifier delivers to a phase of admittance Y at voltage amplitude V (the phase voltage the
+// reference of both phases' angles).
+// With a parallel inductor L across the phase and the amplifier driving it directly: the
+// amplifier's current V (Y + 1/(j w L)).
+[[nodiscard]] std::complex<double> parallel_amplifier_current(std::complex<double> admittance_siemens,
+                                                              double angular_frequency_rad_s, double amplitude_v,
+                                                              double parallel_inductance_h);
+// With a series inductor L_s between an ideal amplifier and the phase: the amplifier's output
+// voltage V (1 + j w L_s Y) (its current is V Y).
+[[nodiscard]] std::complex<double> series_source_voltage(std::complex<double> admittance_siemens,
+                                                         double angular_frequency_rad_s, double amplitude_v,
+                                                         double series_inductance_h);
 
 }  // namespace swum

@@ -32,7 +32,7 @@ TEST(MatchingNetwork, FormulasCancelTheSusceptanceOfAKnownCircuit) {
   // (c) The series inductance makes the total impedance real, R_s + R: the amplifier's voltage
   // over that divider gives the target.
   const SeriesMatching series = series_matching(point, 5.0);
-  const std::complex<double> y = point.admittance_s;
+  const std::complex<double> y = point.admittance_siemens;
   const std::complex<double> z_total = std::complex<double>{5.0, w * series.inductance_h} + 1.0 / y;
   EXPECT_NEAR(z_total.imag(), 0.0, 1e-9 * std::abs(z_total));
   const std::complex<double> current = series.amplifier_output_v / z_total;
@@ -54,7 +54,7 @@ constexpr double kDesignFrequencyHz = 40137.0;
 // fundamental referred to theta, the source's phase) and the terminal voltage the network makes
 // (network_gain_a: V/V_s), and the amplifier's readings averaged over the window's blocks.
 struct PhaseAState {
-  std::complex<double> admittance_s;
+  std::complex<double> admittance_siemens;
   AmplifierPhaseReadings readings;  // the mean over the window's blocks
 };
 
@@ -78,7 +78,7 @@ PhaseAState measure_phase_a(const MotorModel& model, double source_amplitude_v) 
   }
   EXPECT_EQ(sim.network_divergence_count(), 0U);
   const ElectricalReadings e = electrical_readings(sums, 90.0);
-  out.admittance_s = admittance_from_reading(e.current_a_a, e.phase_a_deg, 1.0) / (source_amplitude_v * gain);
+  out.admittance_siemens = admittance_from_reading(e.current_a_a, e.phase_a_deg, 1.0) / (source_amplitude_v * gain);
   return out;
 }
 
@@ -90,7 +90,7 @@ TEST(MatchingNetwork, ParallelInductanceBringsTheAmplifierCurrentInPhaseInTheSim
   const PhaseAState design = measure_phase_a(MotorModel{ideal}, kDesignAmplitudeV);
   const double w = 2.0 * kPi * kDesignFrequencyHz;
   const double c0 = ideal.stator.clamped_capacitance_nf * 1e-9;
-  const ParallelMatching parallel = parallel_matching({design.admittance_s, kDesignAmplitudeV, w, c0});
+  const ParallelMatching parallel = parallel_matching({design.admittance_siemens, kDesignAmplitudeV, w, c0});
   EXPECT_GT(design.readings.current_phase_deg, 45.0);  // the ideal source: C0's current dominates
   MotorParameters matched = ideal;
   matched.amplifier.parallel_inductance_uh = parallel.inductance_h * 1e6;
@@ -99,7 +99,7 @@ TEST(MatchingNetwork, ParallelInductanceBringsTheAmplifierCurrentInPhaseInTheSim
   EXPECT_NEAR(with.readings.current_a, parallel.amplifier_current_a, 0.05 * parallel.amplifier_current_a);
   EXPECT_NEAR(with.readings.terminal_amplitude_v, kDesignAmplitudeV, 1e-9 * kDesignAmplitudeV);  // Z_s = 0
   std::printf("design Y_A = %.4g %+.4gj S; L_p = %.1f uH; phase %.2f deg -> %.2f deg; I_amp %.4f A (G V %.4f A)\n",
-              design.admittance_s.real(), design.admittance_s.imag(), parallel.inductance_h * 1e6,
+              design.admittance_siemens.real(), design.admittance_siemens.imag(), parallel.inductance_h * 1e6,
               design.readings.current_phase_deg, with.readings.current_phase_deg, with.readings.current_a,
               parallel.amplifier_current_a);
 }
@@ -114,7 +114,7 @@ TEST(MatchingNetwork, SeriesMatchingReachesTheTargetPhaseVoltageInTheSimulator) 
   const double w = 2.0 * kPi * kDesignFrequencyHz;
   const double c0 = ideal.stator.clamped_capacitance_nf * 1e-9;
   const double r_s = 5.0;  // a real amplifier's output resistance: R_s = 0 is refused at load
-  std::complex<double> y = measure_phase_a(MotorModel{ideal}, kDesignAmplitudeV).admittance_s;
+  std::complex<double> y = measure_phase_a(MotorModel{ideal}, kDesignAmplitudeV).admittance_siemens;
   double terminal_v = 0.0;
   for (int round = 0; round < 10; ++round) {
     const SeriesMatching series = series_matching({y, kDesignAmplitudeV, w, c0}, r_s);
@@ -127,7 +127,7 @@ TEST(MatchingNetwork, SeriesMatchingReachesTheTargetPhaseVoltageInTheSimulator) 
                 series.inductance_h * 1e6, series.amplifier_output_v, series.amplifier_current_a, terminal_v,
                 state.readings.current_a, state.readings.current_phase_deg);
     if (std::abs(terminal_v - kDesignAmplitudeV) < 0.02 * kDesignAmplitudeV) break;
-    y = state.admittance_s;
+    y = state.admittance_siemens;
   }
   EXPECT_NEAR(terminal_v, kDesignAmplitudeV, 0.02 * kDesignAmplitudeV);
 }
