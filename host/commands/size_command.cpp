@@ -96,6 +96,18 @@ void run_size(const SizeOptions& o) {
     throw CommandError("--frequency-hz: " + o.frequency_range +
                        " has fewer than 3 points: the operating point needs a curve through the peak");
   }
+  // Where the outputs go is checked before the sweeps, which can take minutes with --spreads.
+  if (!o.report_dir.empty()) {
+    std::error_code ec;
+    fs::create_directories(o.report_dir, ec);
+    if (ec) throw CommandError("cannot create report directory " + o.report_dir + ": " + ec.message());
+  }
+  if (!o.out_path.empty()) {
+    const fs::path parent = fs::path(o.out_path).parent_path();
+    if (!parent.empty() && !fs::is_directory(parent)) {
+      throw CommandError("--out: cannot write " + o.out_path + ": " + parent.string() + " is not a directory");
+    }
+  }
   const MotorParameters parameters = load_motor_parameters(o.config_path);
   check_band_thermal(grid, parameters, o.config_path);
   const MotorModel model(parameters);
@@ -125,9 +137,6 @@ void run_size(const SizeOptions& o) {
   context.population = population;
   if (!o.out_path.empty()) write_text_file_atomically(o.out_path, size_csv(sizing));
   if (!o.report_dir.empty()) {
-    std::error_code ec;
-    fs::create_directories(o.report_dir, ec);
-    if (ec) throw CommandError("cannot create report directory " + o.report_dir + ": " + ec.message());
     const std::vector<std::string> plots = write_size_plots(o.report_dir, rows, sizing);
     write_text_file_atomically(fs::path(o.report_dir) / "report.md", size_markdown(sizing, context, plots));
     write_text_file_atomically(fs::path(o.report_dir) / "summary.json", size_json(sizing, context));

@@ -28,7 +28,7 @@ PhaseDuty phase_duty(double voltage_v, double current_amplitude_a, double phase_
   d.apparent_power_va = apparent_power_va;
   d.power_factor = apparent_power_va > 0.0 ? power_w / apparent_power_va : 0.0;
   d.admittance_siemens = voltage_v > 0.0 ? std::polar(current_amplitude_a / voltage_v, phase_deg / kRadToDeg)
-                                   : std::complex<double>{};
+                                         : std::complex<double>{};
   return d;
 }
 
@@ -39,18 +39,6 @@ PhaseDuty duty_a(const ElectricalReadings& e) {
 PhaseDuty duty_b(const ElectricalReadings& e) {
   return phase_duty(e.voltage_b_v, e.current_b_a, e.phase_b_deg, e.motional_phase_b_deg, e.rms_current_b_a,
                     e.peak_current_b_a, e.power_b_w, e.apparent_power_b_va);
-}
-
-// (1 - t) x + t y for every figure; the admittance as a complex number, its phase and the
-// current's amplitude from it, so that the three stay one consistent phasor.
-PhaseDuty blend(const PhaseDuty& x, const PhaseDuty& y, double t) {
-  auto mix = [t](double p, double q) { return (1.0 - t) * p + t * q; };
-  const double voltage_v = mix(x.voltage_v, y.voltage_v);
-  const std::complex<double> admittance = (1.0 - t) * x.admittance_siemens + t * y.admittance_siemens;
-  return phase_duty(voltage_v, std::abs(admittance) * voltage_v, std::arg(admittance) * kRadToDeg,
-                    mix(x.motional_phase_deg, y.motional_phase_deg), mix(x.current_rms_a, y.current_rms_a),
-                    mix(x.current_peak_a, y.current_peak_a), mix(x.power_w, y.power_w),
-                    mix(x.apparent_power_va, y.apparent_power_va));
 }
 
 void consider(Extreme& e, double value, std::size_t row, char phase, bool smallest = false) {
@@ -64,8 +52,8 @@ MatchedDuty matched(const PhaseDuty& d, double angular_frequency_rad_s, const Ma
   m.parallel_current_amplitude_a = m.parallel_current_phase_deg = nan;
   m.series_source_voltage_v = m.series_current_amplitude_a = m.series_current_phase_deg = nan;
   if (design.parallel_ok) {
-    const std::complex<double> i = parallel_amplifier_current(d.admittance_siemens, angular_frequency_rad_s, d.voltage_v,
-                                                              design.parallel_inductance_h);
+    const std::complex<double> i = parallel_amplifier_current(d.admittance_siemens, angular_frequency_rad_s,
+                                                              d.voltage_v, design.parallel_inductance_h);
     m.parallel_current_amplitude_a = std::abs(i);
     m.parallel_current_phase_deg = std::arg(i) * kRadToDeg;
   }
@@ -119,31 +107,30 @@ bool duty_at_pick(const BandRow& row, SizingRow& out) {
     return false;
   }
   const double f = row.pick.frequency_hz;
-  // The curve runs from the highest frequency down: the pair (k, k + 1) with f_k >= f >= f_k+1.
-  for (std::size_t k = 0; k + 1 < row.curve.size() && k + 1 < row.points.size(); ++k) {
-    const double high = row.curve[k].frequency_hz;
-    const double low = row.curve[k + 1].frequency_hz;
-    if (!(high >= f && f >= low)) continue;
-    const SteadyStateResult& p = row.points[k];
-    const SteadyStateResult& q = row.points[k + 1];
-    if (!row.curve[k].ok || !row.curve[k + 1].ok || !p.electrical.valid || !q.electrical.valid) {
-      out.reason = "the electrical port was not read at " + std::to_string(high) + " or " + std::to_string(low) + " Hz";
-      return false;
-    }
-    const double t = high > low ? (high - f) / (high - low) : 0.0;
-    out.frequency_hz = f;
-    out.speed_mm_s = row.pick.speed_mm_s;
-    out.a = blend(duty_a(p.electrical), duty_a(q.electrical), t);
-    out.b = blend(duty_b(p.electrical), duty_b(q.electrical), t);
-    out.electrical_power_w = out.a.power_w + out.b.power_w;
-    out.mechanical_power_w = row.load_n * out.speed_mm_s * 1e-3;
-    out.efficiency = out.electrical_power_w > 0.0 ? out.mechanical_power_w / out.electrical_power_w : 0.0;
-    out.stator_heat_w = (1.0 - t) * p.damping_power_w + t * q.damping_power_w;
-    out.sized = true;
-    return true;
+  // The port's figures at the pick: band_electrical_at interpolates them between the grid points
+  // either side (both above the peak); the stator's heat the same way here.
+  const std::optional<ElectricalReadings> e = band_electrical_at(row, f);
+  if (!e) {
+    out.reason = "the electrical port was not read at the grid points either side of " + std::to_string(f) + " Hz";
+    return false;
   }
-  out.reason = "the picked frequency is outside the curve's grid";
-  return false;
+  out.frequency_hz = f;
+  out.speed_mm_s = row.pick.speed_mm_s;
+  out.a = duty_a(*e);
+  out.b = duty_b(*e);
+  out.electrical_power_w = out.a.power_w + out.b.power_w;
+  out.mechanical_power_w = row.load_n * out.speed_mm_s * 1e-3;
+  out.efficiency = out.electrical_power_w > 0.0 ? out.mechanical_power_w / out.electrical_power_w : 0.0;
+  for (std::size_t k = 0; k + 1 < row.curve.size() && k + 1 < row.points.size(); ++k) {
+    const double high = row.curve[k].frequency_hz, low = row.curve[k + 1].frequency_hz;
+    if (high >= f && f >= low) {
+      const double t = high > low ? (high - f) / (high - low) : 0.0;
+      out.stator_heat_w = (1.0 - t) * row.points[k].damping_power_w + t * row.points[k + 1].damping_power_w;
+      break;
+    }
+  }
+  out.sized = true;
+  return true;
 }
 
 std::size_t default_design_row(const std::vector<BandRow>& rows) {

@@ -19,15 +19,15 @@ namespace swum {
 // One phase at one operating point (the drive-frequency components and the window's figures of
 // ElectricalReadings, model/machine/electrical.h).
 struct PhaseDuty {
-  double voltage_v = 0.0;             // amplitude of the phase voltage
-  double current_rms_a = 0.0;         // true RMS of the terminal current
-  double current_peak_a = 0.0;        // largest |I| of the window
-  double current_amplitude_a = 0.0;   // drive-frequency component, zero-to-peak
-  double phase_deg = 0.0;             // current against voltage, + = the current leads
-  double motional_phase_deg = 0.0;    // the motional current (C0's current taken out) against voltage
-  double power_w = 0.0;               // real power into the phase
-  double apparent_power_va = 0.0;     // V_rms I_rms
-  double power_factor = 0.0;          // power / apparent power
+  double voltage_v = 0.0;                   // amplitude of the phase voltage
+  double current_rms_a = 0.0;               // true RMS of the terminal current
+  double current_peak_a = 0.0;              // largest |I| of the window
+  double current_amplitude_a = 0.0;         // drive-frequency component, zero-to-peak
+  double phase_deg = 0.0;                   // current against voltage, + = the current leads
+  double motional_phase_deg = 0.0;          // the motional current (C0's current taken out) against voltage
+  double power_w = 0.0;                     // real power into the phase
+  double apparent_power_va = 0.0;           // V_rms I_rms
+  double power_factor = 0.0;                // power / apparent power
   std::complex<double> admittance_siemens;  // drive-frequency I / V (G + jB)
 };
 

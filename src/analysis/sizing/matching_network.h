@@ -11,7 +11,7 @@ namespace swum {
 
 struct MatchingDesignPoint {
   std::complex<double> admittance_siemens;  // Y = G + jB of the phase at the design point (+B: capacitive)
-  double amplitude_v = 0.0;           // target terminal voltage amplitude V (zero-to-peak)
+  double amplitude_v = 0.0;                 // target terminal voltage amplitude V (zero-to-peak)
   double angular_frequency_rad_s = 0.0;
   double clamped_capacitance_f = 0.0;  // C0 of the phase
 };

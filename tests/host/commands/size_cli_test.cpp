@@ -102,9 +102,11 @@ TEST(SwumSize, MoreClampedCapacitanceAddsOmegaTimesItToTheSusceptanceAndNothingE
   ASSERT_EQ(r0.at("frequency_hz"), r1.at("frequency_hz"));
   const double w = 2.0 * std::numbers::pi * r0.at("frequency_hz").get<double>();
   for (const char* phase : {"phase_a", "phase_b"}) {
-    const double db = r1.at(phase).at("susceptance_siemens").get<double>() - r0.at(phase).at("susceptance_siemens").get<double>();
+    const double db = r1.at(phase).at("susceptance_siemens").get<double>() -
+                      r0.at(phase).at("susceptance_siemens").get<double>();
     EXPECT_NEAR(db, w * 2.5e-9, 0.01 * w * 2.5e-9) << phase;
-    EXPECT_NEAR(r1.at(phase).at("conductance_siemens").get<double>(), r0.at(phase).at("conductance_siemens").get<double>(),
+    EXPECT_NEAR(r1.at(phase).at("conductance_siemens").get<double>(),
+                r0.at(phase).at("conductance_siemens").get<double>(),
                 1e-3 * r0.at(phase).at("conductance_siemens").get<double>())
         << phase;
   }
@@ -161,6 +163,7 @@ INSTANTIATE_TEST_SUITE_P(
                       BadSize{{"--amplitude-v", "200", "--frequency-hz", "40000:40050:50"}, "--frequency-hz"},
                       BadSize{{"--amplitude-v", "200", "--margin-hz", "-5"}, "--margin-hz"},
                       BadSize{{"--amplitude-v", "200", "--report", "/proc/version/x"}, "report directory"},
+                      BadSize{{"--amplitude-v", "200", "--out", "/nonexistent/dir/rows.csv"}, "is not a directory"},
                       BadSize{{"--amplitude-v", "200", "--yield", "0"}, "--yield"},
                       BadSize{{"--amplitude-v", "200", "--yield", "1.5"}, "--yield"},
                       BadSize{{"--amplitude-v", "200", "--motors", "0"}, "--motors"},

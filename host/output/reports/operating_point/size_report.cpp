@@ -353,8 +353,10 @@ std::string size_markdown(const SizingResult& s, const SizeContext& context, con
       t += "- **Amplifier with the series inductors instead**: up to " +
            format_number(m.series_source_voltage_v.value, "%.4g") + " V amplitude (" +
            where(s, m.series_source_voltage_v) + ") and " + amps(m.series_current_amplitude_a.value) +
-           " amplitude; the inductor and C0 form a resonant step-up, so the phase voltage moves with every "
-           "detuning (check it in the loop, docs/sizing.md).\n";
+           " amplitude. **A first estimate only**: these come from the motor driven by an ideal source; the "
+           "inductor and C0 form a resonant step-up (gain ~6) that moves the motor's state, so a series-matched "
+           "board must be sized again on the state it makes, in the loop with `[amplifier]` "
+           "(docs/amplifier.md: one-shot figures for 200 V gave 332 V there). Prefer the parallel inductors.\n";
     }
   }
   if (m.current_rms_a.known) {

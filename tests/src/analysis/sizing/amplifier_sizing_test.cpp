@@ -65,12 +65,14 @@ TEST(AmplifierSizing, FiguresAtThePickAreInterpolatedBetweenTheGridPointsEitherS
   const std::vector<BandRow> rows = {row(200.0, 1.0, 40100.0, y_high, 40075.0, y_low, 40090.0)};
   const SizingResult s = size_amplifier(rows, kC0, 0);
   ASSERT_TRUE(s.rows[0].sized) << s.rows[0].reason;
+  // band_electrical_at's interpolation: amplitude and phase each linearly (t = 10/25 of the way down).
   const double t = 10.0 / 25.0;
-  const std::complex<double> y = (1.0 - t) * y_high + t * y_low;
-  EXPECT_NEAR(s.rows[0].a.admittance_siemens.real(), y.real(), 1e-12);
-  EXPECT_NEAR(s.rows[0].a.admittance_siemens.imag(), y.imag(), 1e-12);
-  EXPECT_NEAR(s.rows[0].a.current_amplitude_a, std::abs(y) * 200.0, 1e-9);
-  EXPECT_NEAR(s.rows[0].a.phase_deg, std::arg(y) * 180.0 / std::numbers::pi, 1e-9);
+  const double amplitude = 200.0 * ((1.0 - t) * std::abs(y_high) + t * std::abs(y_low));
+  const double phase_deg = ((1.0 - t) * std::arg(y_high) + t * std::arg(y_low)) * 180.0 / std::numbers::pi;
+  EXPECT_NEAR(s.rows[0].a.current_amplitude_a, amplitude, 1e-9);
+  EXPECT_NEAR(s.rows[0].a.phase_deg, phase_deg, 1e-9);
+  EXPECT_NEAR(std::abs(s.rows[0].a.admittance_siemens) * 200.0, amplitude, 1e-9);
+  EXPECT_NEAR(std::arg(s.rows[0].a.admittance_siemens) * 180.0 / std::numbers::pi, phase_deg, 1e-9);
   EXPECT_NEAR(s.rows[0].stator_heat_w, 4.8, 1e-12);
   EXPECT_NEAR(s.rows[0].mechanical_power_w, 1.0 * 0.310, 1e-12);
   EXPECT_NEAR(s.rows[0].electrical_power_w, 2 * (0.6 * 0.5 * 4e4 * 1e-3 + 0.4 * 0.5 * 4e4 * 2e-3), 1e-9);
