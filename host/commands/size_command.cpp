@@ -48,16 +48,16 @@ struct SizeOptions {
   std::uint64_t motors = 100;
   std::uint64_t seed = 1;
   double yield = 0.95;
+  bool motors_given = false, seed_given = false, yield_given = false;
   std::string command_line;
 };
 
 constexpr std::uint64_t kMaxMotors = 100000;
 
 // Each motor of the population over the same envelope, with the nominal motor's network.
-std::vector<SizingResult> size_motors(const SizeOptions& o, const MotorParameters& nominal, const BandGrid& grid,
+std::vector<SizingResult> size_motors(const SizeOptions& o, const MotorParameters& nominal,
+                                      const std::vector<ParameterSpread>& spreads, const BandGrid& grid,
                                       const SizingResult& nominal_sizing) {
-  const std::vector<ParameterSpread> spreads = parse_parameter_spreads(read_text_file(o.spreads_path), o.spreads_path,
-                                                                       nominal);
   std::vector<SizingResult> motors(o.motors);
   ProgressBar progress("motors", o.motors);
   std::mutex progress_mutex;
@@ -91,6 +91,12 @@ void run_size(const SizeOptions& o) {
   grid.margin_hz = o.margin_hz;
   check_band_grid(grid, o.jobs);  // every bad value named before the file is read
   if (!(o.yield > 0.0 && o.yield <= 1.0)) throw std::invalid_argument("--yield: must be within (0, 1]");
+  if (o.spreads_path.empty() && (o.motors_given || o.seed_given || o.yield_given)) {
+    throw std::invalid_argument(std::string(o.motors_given ? "--motors"
+                                            : o.seed_given ? "--seed"
+                                                           : "--yield") +
+                                ": describes a population and needs --spreads");
+  }
   if (o.motors < 1 || o.motors > kMaxMotors) throw std::invalid_argument("--motors: must be within 1..100000");
   if (grid.frequencies_hz.size() < 3) {
     throw CommandError("--frequency-hz: " + o.frequency_range +
@@ -110,6 +116,17 @@ void run_size(const SizeOptions& o) {
   }
   const MotorParameters parameters = load_motor_parameters(o.config_path);
   check_band_thermal(grid, parameters, o.config_path);
+  const AmplifierParameters& network = parameters.amplifier;
+  if (network.source_resistance_ohm != 0.0 || network.series_inductance_uh != 0.0 ||
+      network.parallel_inductance_uh != 0.0) {
+    throw CommandError(o.config_path +
+                       ": [amplifier] sets an output network; swum size sizes one for an ideal source and reads "
+                       "--amplitude-v at the terminals: remove the section (docs/sizing.md)");
+  }
+  std::vector<ParameterSpread> spreads;  // read before the sweeps, which take minutes with a population
+  if (!o.spreads_path.empty()) {
+    spreads = parse_parameter_spreads(read_text_file(o.spreads_path), o.spreads_path, parameters);
+  }
   const MotorModel model(parameters);
   std::vector<BandRow> rows;
   {
@@ -122,7 +139,7 @@ void run_size(const SizeOptions& o) {
   std::vector<SizingResult> motors;
   std::optional<PopulationSizing> population;
   if (!o.spreads_path.empty()) {
-    motors = size_motors(o, parameters, grid, sizing);
+    motors = size_motors(o, parameters, spreads, grid, sizing);
     std::vector<const SizingResult*> pointers;
     for (const SizingResult& m : motors) pointers.push_back(m.rows.empty() ? nullptr : &m);
     population = size_population(pointers, o.yield);
@@ -186,6 +203,9 @@ void add_size_command(CLI::App& app) {
       ->capture_default_str();
   sub->add_option("--jobs", o->jobs, "worker threads (0: all cores)")->capture_default_str();
   sub->callback([o, sub] {
+    o->motors_given = sub->count("--motors") > 0;
+    o->seed_given = sub->count("--seed") > 0;
+    o->yield_given = sub->count("--yield") > 0;
     o->command_line = "swum size";
     for (const CLI::Option* option : sub->get_options()) {
       if (option->count() == 0 || option->get_name() == "--help") continue;

@@ -213,25 +213,32 @@ SizingResult size_amplifier_with_network(const std::vector<BandRow>& rows, const
   return result;
 }
 
+namespace {
+double known_or_infinite(const Extreme& e) { return e.known ? e.value : std::numeric_limits<double>::infinity(); }
+}  // namespace
+
 PopulationSizing size_population(const std::vector<const SizingResult*>& motors, double yield) {
   PopulationSizing p;
   p.motors = motors.size();
   p.yield = yield;
   p.needed = static_cast<std::size_t>(std::ceil(yield * static_cast<double>(motors.size()) - 1e-9));
   std::vector<std::optional<std::pair<double, double>>> spans;
+  // A worst case that was never found (no row had it, e.g. no parallel design) is not within any
+  // value: +inf, so that too many of them leave the figure not reached.
   using Pick = double (*)(const SizingSummary&);
   const std::pair<PopulationFigure PopulationSizing::*, Pick> figures[] = {
-      {&PopulationSizing::current_rms_a, [](const SizingSummary& s) { return s.current_rms_a.value; }},
-      {&PopulationSizing::current_peak_a, [](const SizingSummary& s) { return s.current_peak_a.value; }},
-      {&PopulationSizing::apparent_power_va, [](const SizingSummary& s) { return s.apparent_power_va.value; }},
-      {&PopulationSizing::power_w, [](const SizingSummary& s) { return s.power_w.value; }},
-      {&PopulationSizing::stator_heat_w, [](const SizingSummary& s) { return s.stator_heat_w.value; }},
+      {&PopulationSizing::current_rms_a, [](const SizingSummary& s) { return known_or_infinite(s.current_rms_a); }},
+      {&PopulationSizing::current_peak_a, [](const SizingSummary& s) { return known_or_infinite(s.current_peak_a); }},
+      {&PopulationSizing::apparent_power_va,
+       [](const SizingSummary& s) { return known_or_infinite(s.apparent_power_va); }},
+      {&PopulationSizing::power_w, [](const SizingSummary& s) { return known_or_infinite(s.power_w); }},
+      {&PopulationSizing::stator_heat_w, [](const SizingSummary& s) { return known_or_infinite(s.stator_heat_w); }},
       {&PopulationSizing::parallel_current_amplitude_a,
-       [](const SizingSummary& s) { return s.parallel_current_amplitude_a.value; }},
+       [](const SizingSummary& s) { return known_or_infinite(s.parallel_current_amplitude_a); }},
       {&PopulationSizing::parallel_phase_abs_deg,
-       [](const SizingSummary& s) { return s.parallel_phase_abs_deg.value; }},
+       [](const SizingSummary& s) { return known_or_infinite(s.parallel_phase_abs_deg); }},
       {&PopulationSizing::series_source_voltage_v,
-       [](const SizingSummary& s) { return s.series_source_voltage_v.value; }},
+       [](const SizingSummary& s) { return known_or_infinite(s.series_source_voltage_v); }},
   };
   std::vector<std::vector<double>> values(std::size(figures));
   for (const SizingResult* m : motors) {

@@ -33,7 +33,7 @@ struct OutputNetwork {
     return {source_resistance_ohm, angular_frequency_rad_s * series_inductance_h};
   }
   // j w C0 + 1/(j w L_p) (S); at w = 0 the inductor's term is left out (no drive, no current).
-  [[nodiscard]] Phasor parallel_admittance_s(double angular_frequency_rad_s) const {
+  [[nodiscard]] Phasor parallel_admittance_siemens(double angular_frequency_rad_s) const {
     double b = angular_frequency_rad_s * clamped_capacitance_f;
     if (parallel_inductance_h > 0.0 && angular_frequency_rad_s > 0.0) {
       b -= 1.0 / (angular_frequency_rad_s * parallel_inductance_h);
@@ -43,7 +43,7 @@ struct OutputNetwork {
   // 1 + Z_s Y_p: the divider of the idle network (no motional current). Near 0 the terminal
   // voltage of the idle network diverges.
   [[nodiscard]] Phasor divider(double angular_frequency_rad_s) const {
-    return 1.0 + series_impedance_ohm(angular_frequency_rad_s) * parallel_admittance_s(angular_frequency_rad_s);
+    return 1.0 + series_impedance_ohm(angular_frequency_rad_s) * parallel_admittance_siemens(angular_frequency_rad_s);
   }
   // V = (V_s - Z_s I_m) / (1 + Z_s Y_p).
   [[nodiscard]] Phasor terminal_voltage_v(double angular_frequency_rad_s, Phasor source_v,
@@ -55,7 +55,7 @@ struct OutputNetwork {
   // motional current; equal to (V_s - V)/Z_s whenever Z_s != 0).
   [[nodiscard]] Phasor amplifier_current_a(double angular_frequency_rad_s, Phasor terminal_v,
                                            Phasor motional_current_a) const {
-    return parallel_admittance_s(angular_frequency_rad_s) * terminal_v + motional_current_a;
+    return parallel_admittance_siemens(angular_frequency_rad_s) * terminal_v + motional_current_a;
   }
 };
 

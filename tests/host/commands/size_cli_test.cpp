@@ -139,6 +139,32 @@ TEST(SwumSize, APopulationNeedsMoreForALargerShareOfItsMotors) {
   EXPECT_EQ(all.at("table"), quarter.at("table"));
 }
 
+// A config with an output network is refused (swum size sizes one for an ideal source), and a
+// row that cannot be sized keeps the CSV's columns.
+TEST(SwumSize, RefusesAnOutputNetworkAndKeepsTheColumnsOfAnUnsizedRow) {
+  const auto config = swum::test::scratch_path("size", "network.toml");
+  std::ofstream(config) << swum::test::read_file(kConfig) << "\n[amplifier]\nparallel_inductance_uh = 1600\n";
+  auto r = run_swum({"size", "--config", config.string(), "--amplitude-v", "200"});
+  EXPECT_EQ(r.status, 1) << r.output;
+  EXPECT_NE(r.output.find("[amplifier] sets an output network"), std::string::npos) << r.output;
+  EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << r.output;
+  const auto out = swum::test::scratch_path("size", "unsized.csv");
+  auto u = run_swum({"size", "--config", kConfig, "--amplitude-v", "100,400", "--frequency-hz", "39000:40000:50",
+                     "--out", out.string()});
+  EXPECT_EQ(u.status, 1) << u.output;  // 100 V is undecided on this grid
+  const std::string csv = swum::test::read_file(out);
+  std::size_t lines = 0;
+  for (std::size_t at = 0; at < csv.size();) {
+    const std::size_t end = csv.find('\n', at);
+    const std::string line = csv.substr(at, end - at);
+    EXPECT_EQ(std::count(line.begin(), line.end(), ','), 30) << line;
+    at = end + 1;
+    ++lines;
+  }
+  EXPECT_EQ(lines, 3u);
+  EXPECT_NE(csv.find("\n100,0,0,0,"), std::string::npos) << csv;
+}
+
 struct BadSize {
   std::vector<std::string> args;
   std::string message;  // what the one line must contain
@@ -165,8 +191,9 @@ INSTANTIATE_TEST_SUITE_P(
                       BadSize{{"--amplitude-v", "200", "--report", "/proc/version/x"}, "report directory"},
                       BadSize{{"--amplitude-v", "200", "--out", "/nonexistent/dir/rows.csv"}, "is not a directory"},
                       BadSize{{"--amplitude-v", "200", "--yield", "0"}, "--yield"},
+                      BadSize{{"--amplitude-v", "200", "--motors", "10"}, "needs --spreads"},
                       BadSize{{"--amplitude-v", "200", "--yield", "1.5"}, "--yield"},
-                      BadSize{{"--amplitude-v", "200", "--motors", "0"}, "--motors"},
+                      BadSize{{"--amplitude-v", "200", "--motors", "0", "--spreads", "x.toml"}, "--motors"},
                       BadSize{{"--amplitude-v", "200", "--spreads", "/nonexistent/spreads.toml"}, "spreads.toml"}));
 
 }  // namespace

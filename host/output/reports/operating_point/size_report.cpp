@@ -183,7 +183,7 @@ std::string size_csv(const SizingResult& s) {
              cell(r.matched_a.parallel_current_phase_deg) + "," + cell(r.matched_a.series_source_voltage_v) + "," +
              cell(r.matched_a.series_current_amplitude_a) + "," + cell(r.matched_a.series_current_phase_deg);
     } else {
-      csv += std::string(26, ',');
+      csv += std::string(25, ',');  // the 26 number cells between `sized` and `reason`
     }
     csv += "," + csv_text(r.reason) + "\n";
   }

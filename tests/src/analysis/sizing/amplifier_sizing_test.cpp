@@ -128,5 +128,43 @@ TEST(AmplifierSizing, AnUndecidedRowOrAFailedNeighbourIsNotSizedAndSaysWhy) {
   EXPECT_EQ(s.summary.sized, 0u);
 }
 
+// The population's figure: the needed-th smallest of the motors' worst cases; a rejected draw, a
+// motor with an unsized row or a worst case never found is never within.
+TEST(AmplifierSizing, APopulationFigureIsTheWorstCaseThatTheNeededShareOfMotorsStaysWithin) {
+  std::vector<SizingResult> motors(5);
+  const double worst_rms[] = {4.0, 2.0, 3.0, 1.0, 5.0};
+  for (std::size_t i = 0; i < motors.size(); ++i) {
+    SizingResult& m = motors[i];
+    m.rows.resize(1);
+    m.rows[0].sized = true;
+    m.rows[0].frequency_hz = 40000.0 + 10.0 * static_cast<double>(i);
+    m.summary.sized = 1;
+    m.summary.current_rms_a = Extreme{true, worst_rms[i], 0, 'a'};
+    if (i != 2) m.summary.parallel_current_amplitude_a = Extreme{true, 0.1 * worst_rms[i], 0, 'a'};
+  }
+  motors[4].summary.sized = 0;  // the motor with the largest current has a row not sized
+  std::vector<const SizingResult*> pointers;
+  for (const SizingResult& m : motors) pointers.push_back(&m);
+  pointers.push_back(nullptr);  // a rejected draw
+  const PopulationSizing half = size_population(pointers, 0.5);
+  EXPECT_EQ(half.motors, 6u);
+  EXPECT_EQ(half.sized, 4u);
+  EXPECT_EQ(half.needed, 3u);
+  ASSERT_TRUE(half.current_rms_a.reached);
+  EXPECT_EQ(half.current_rms_a.value, 3.0);  // 1, 2, 3 of the sized motors' 1, 2, 3, 4
+  ASSERT_TRUE(half.parallel_current_amplitude_a.reached);
+  EXPECT_NEAR(half.parallel_current_amplitude_a.value, 0.4, 1e-12);  // 0.1, 0.2, 0.4; motor 2 has none
+  EXPECT_TRUE(half.oscillator_reached);
+  EXPECT_EQ(half.oscillator_covered, 3u);
+  const PopulationSizing most = size_population(pointers, 4.0 / 6.0);
+  EXPECT_EQ(most.needed, 4u);
+  EXPECT_TRUE(most.current_rms_a.reached);
+  EXPECT_EQ(most.current_rms_a.value, 4.0);
+  EXPECT_FALSE(most.parallel_current_amplitude_a.reached);  // only three motors have one
+  const PopulationSizing all = size_population(pointers, 1.0);
+  EXPECT_FALSE(all.current_rms_a.reached);
+  EXPECT_FALSE(all.oscillator_reached);
+}
+
 }  // namespace
 }  // namespace swum

@@ -10,6 +10,8 @@
 #include <numbers>
 #include <stdexcept>
 
+#include "analysis/operating_point/operating_band.h"
+#include "analysis/sizing/amplifier_sizing.h"
 #include "calibrated_parameters.h"
 #include "model/motor_model.h"
 #include "model/simulation/simulator.h"
@@ -58,9 +60,10 @@ struct PhaseAState {
   AmplifierPhaseReadings readings;  // the mean over the window's blocks
 };
 
-PhaseAState measure_phase_a(const MotorModel& model, double source_amplitude_v) {
+PhaseAState measure_phase_a(const MotorModel& model, double source_amplitude_v,
+                            double frequency_hz = kDesignFrequencyHz) {
   MotorSimulator sim(model);
-  sim.set_drive({source_amplitude_v, kDesignFrequencyHz, 90.0, 0.0});
+  sim.set_drive({source_amplitude_v, frequency_hz, 90.0, 0.0});
   const double dt = sim.time_step_s();
   sim.advance(static_cast<std::uint64_t>(0.1 / dt) / 64 * 64);
   ElectricalSums sums;
@@ -130,6 +133,44 @@ TEST(MatchingNetwork, SeriesMatchingReachesTheTargetPhaseVoltageInTheSimulator) 
     y = state.admittance_siemens;
   }
   EXPECT_NEAR(terminal_v, kDesignAmplitudeV, 0.02 * kDesignAmplitudeV);
+}
+
+// The same with what `swum size` buys: its parallel inductor of phase A, sized at its design row
+// (the highest voltage, unloaded, from the down-sweep's interpolated figures), set as [amplifier]
+// and run in the time-domain simulator at that row's frequency and voltage.
+TEST(MatchingNetwork, TheParallelInductorSwumSizeBuysHoldsTheAmplifierCurrentInPhaseAtItsDesignRow) {
+  const MotorParameters ideal = test::calibrated_parameters();
+  BandGrid grid;
+  grid.voltages = {200.0, 400.0};
+  for (double f = 41000.0; f >= 39000.0; f -= 25.0) grid.frequencies_hz.push_back(f);
+  const std::vector<BandRow> rows = operating_band(MotorModel{ideal}, grid, serial_for, 1);
+  const SizingResult sizing = size_amplifier(rows, ideal.stator.clamped_capacitance_nf * 1e-9,
+                                             default_design_row(rows));
+  ASSERT_TRUE(sizing.designed);
+  ASSERT_TRUE(sizing.design_a.parallel_ok) << sizing.design_a.parallel_reason;
+  const SizingRow& design = sizing.rows[sizing.design_row];
+  ASSERT_EQ(design.amplitude_v, 400.0);
+  const PhaseAState without = measure_phase_a(MotorModel{ideal}, 400.0, design.frequency_hz);
+  MotorParameters matched = ideal;
+  matched.amplifier.parallel_inductance_uh = sizing.design_a.parallel_inductance_h * 1e6;
+  const PhaseAState with = measure_phase_a(MotorModel{matched}, 400.0, design.frequency_hz);
+  // The amplifier's current as its output's fundamental: the phase's terminal current fitted over
+  // the window (the port, non-linear coupling included) plus the inductor's V/(j w L_p); the
+  // terminal voltage is the source's (Z_s = 0).
+  const double w = 2.0 * kPi * design.frequency_hz;
+  const std::complex<double> amplifier = parallel_amplifier_current(with.admittance_siemens, w, 400.0,
+                                                                    sizing.design_a.parallel_inductance_h);
+  const double phase_deg = std::arg(amplifier) * 180.0 / kPi;
+  std::printf("swum size's design row: 400 V at %.1f Hz, L_p = %.1f uH; phase A's amplifier current %.2f deg -> "
+              "%.2f deg, %.4f A (size: %.4f A); MotorSimulator::amplifier_readings (linear motional current) %.2f "
+              "deg\n",
+              design.frequency_hz, sizing.design_a.parallel_inductance_h * 1e6, without.readings.current_phase_deg,
+              phase_deg, std::abs(amplifier), sizing.design_a.parallel_current_amplitude_a,
+              with.readings.current_phase_deg);
+  EXPECT_GT(without.readings.current_phase_deg, 45.0);
+  EXPECT_NEAR(phase_deg, 0.0, 5.0);
+  EXPECT_NEAR(std::abs(amplifier), sizing.design_a.parallel_current_amplitude_a,
+              0.05 * sizing.design_a.parallel_current_amplitude_a);
 }
 
 }  // namespace
