@@ -136,23 +136,23 @@ std::string figure_text(const PopulationFigure& f, const char* unit, const char*
   return f.reached ? format_number(f.value, fmt) + unit : std::string("not reached");
 }
 
-std::string population_lines(const PopulationSizing& p, const char* bullet) {
+std::string population_lines(const PopulationSizing& p, const char* bullet, const char* sub) {
   std::string t;
   const std::string share = format_number(100.0 * p.yield, "%.3g") + " %";
   t += std::string(bullet) + "population: " + format_number(static_cast<double>(p.motors)) + " motors, " +
        format_number(static_cast<double>(p.sized)) + " sized at every row; for " + share + " (" +
        format_number(static_cast<double>(p.needed)) + " motors):\n";
-  t += std::string(bullet) + "  oscillator " +
+  t += std::string(sub) + "oscillator " +
        (p.oscillator_reached
             ? format_number(p.oscillator_low_hz, "%.10g") + " .. " + format_number(p.oscillator_high_hz, "%.10g") +
                   " Hz (covers " + format_number(static_cast<double>(p.oscillator_covered)) + ")"
             : std::string("not reached")) +
        "\n";
-  t += std::string(bullet) + "  RMS current per phase up to " + figure_text(p.current_rms_a, " A") + ", peak " +
+  t += std::string(sub) + "RMS current per phase up to " + figure_text(p.current_rms_a, " A") + ", peak " +
        figure_text(p.current_peak_a, " A") + ", apparent power " + figure_text(p.apparent_power_va, " VA") +
        ", real power " + figure_text(p.power_w, " W") + " per phase, stator heat " +
        figure_text(p.stator_heat_w, " W") + "\n";
-  t += std::string(bullet) + "  with the nominal motor's parallel inductors: amplifier current up to " +
+  t += std::string(sub) + "with the nominal motor's parallel inductors: amplifier current up to " +
        figure_text(p.parallel_current_amplitude_a, " A") + " amplitude, within " +
        figure_text(p.parallel_phase_abs_deg, "°", "%.3g") +
        " of the voltage; with its series inductors: " + figure_text(p.series_source_voltage_v, " V") +
@@ -298,7 +298,7 @@ std::string size_text(const SizingResult& s, const SizeContext& context, const s
            format_number(r.temperature_rise_k) + " K: " + r.reason + "\n";
     }
   }
-  if (context.population) t += population_lines(*context.population, "");
+  if (context.population) t += population_lines(*context.population, "", "  ");
   if (!out_path.empty()) t += "rows: " + out_path + "\n";
   return t;
 }
@@ -370,7 +370,7 @@ std::string size_markdown(const SizingResult& s, const SizeContext& context, con
          ", as `swum population` draws them), each over the same envelope, the network the nominal motor's; every "
          "figure the smallest value that the stated share of the motors' worst cases stays within (a motor not sized "
          "at some row never counts as within).\n\n";
-    t += population_lines(*context.population, "- ");
+    t += population_lines(*context.population, "- ", "  - ");
   }
   t += "\n## Worst cases over the envelope\n\n| figure | worst | where |\n|---|---|---|\n";
   auto row = [&](const char* name, const Extreme& e, const char* unit, const char* fmt = "%.4g") {
