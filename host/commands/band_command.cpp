@@ -12,6 +12,7 @@
 #include "commands/command_error.h"
 #include "commands/commands.h"
 #include "commands/config_option.h"
+#include "commands/envelope_options.h"
 #include "offline/band_run.h"
 #include "offline/motor_config.h"
 #include "output/progress_bar.h"
@@ -24,24 +25,14 @@ namespace {
 
 struct BandOptions {
   std::string config_path;
-  std::string amplitude_v_list;
-  std::string load_list = "0";
-  std::string rise_list = "0";
-  double margin_hz = kDefaultMarginHz;  // the operating point's defaults (operating_point.h), as swum pick
-  std::string frequency_range = kDefaultFrequencyGrid;
+  EnvelopeOptions envelope;
   std::string out_path;
   bool json = false;
   int jobs = 0;
 };
 
 void run_band(const BandOptions& o) {
-  BandGrid grid;
-  grid.voltages = parse_number_list(o.amplitude_v_list, "--amplitude-v");
-  grid.loads_n = parse_number_list(o.load_list, "--load");
-  grid.temperature_rises_k = parse_number_list(o.rise_list, "--temperature-rise-k");
-  grid.frequencies_hz = parse_range_or_value(o.frequency_range, "--frequency-hz");
-  grid.margin_hz = o.margin_hz;
-  check_band_grid(grid, o.jobs);  // every bad value named before the file is read
+  const BandGrid grid = envelope_grid(o.envelope, o.jobs);  // every bad value named before the file is read
   const MotorParameters parameters = load_motor_parameters(o.config_path);
   check_band_thermal(grid, parameters, o.config_path);
   const MotorModel model(parameters);
@@ -53,8 +44,8 @@ void run_band(const BandOptions& o) {
   }
   const BandSummary summary = summarize_band(rows);
   if (!o.out_path.empty()) write_text_file_atomically(o.out_path, band_csv(rows));
-  const std::string text = o.json ? band_json(rows, summary, o.margin_hz)
-                                  : band_text(rows, summary, o.margin_hz, o.out_path);
+  const std::string text = o.json ? band_json(rows, summary, o.envelope.margin_hz)
+                                  : band_text(rows, summary, o.envelope.margin_hz, o.out_path);
   std::fputs(text.c_str(), stdout);
   if (summary.undecided > 0) {
     throw CommandError(std::to_string(summary.undecided) + " of " + std::to_string(rows.size()) +
@@ -69,19 +60,7 @@ void add_band_command(CLI::App& app) {
   CLI::App* sub = app.add_subcommand(
       "band", "Band of operating frequencies over voltages, loads and stator temperatures (model down-sweeps)");
   add_config_option(*sub, o->config_path, "motor parameter file (TOML)");
-  sub->add_option("--amplitude-v", o->amplitude_v_list,
-                  "terminal voltage amplitudes per phase, comma list (V, zero-to-peak)")
-      ->required();
-  sub->add_option("--load", o->load_list, "loads, comma list (N)")->capture_default_str();
-  sub->add_option("--temperature-rise-k", o->rise_list,
-                  "stator temperature rises over ambient, comma list (K, 0..300; other than 0 needs [effects.thermal])")
-      ->capture_default_str();
-  sub->add_option("--margin-hz", o->margin_hz, "minimum margin above the peak (Hz), as swum pick")
-      ->capture_default_str();
-  sub->add_option("--frequency-hz", o->frequency_range,
-                  "START:STOP:STEP (Hz); every chain runs it from STOP down to START (default: 41500 down to 38000 Hz "
-                  "in 25 Hz steps)")
-      ->capture_default_str();
+  add_envelope_options(*sub, o->envelope);
   sub->add_option("--out", o->out_path, "write the rows as CSV (atomically), with the electrical port at each pick");
   sub->add_flag("--json", o->json, "summary and rows as JSON on stdout");
   sub->add_option("--jobs", o->jobs, "worker threads (0: all cores)")->capture_default_str();

@@ -19,6 +19,7 @@
 #include "commands/command_error.h"
 #include "commands/commands.h"
 #include "commands/config_option.h"
+#include "commands/envelope_options.h"
 #include "formats/spread_file.h"
 #include "offline/band_run.h"
 #include "offline/motor_config.h"
@@ -35,11 +36,7 @@ namespace fs = std::filesystem;
 
 struct SizeOptions {
   std::string config_path;
-  std::string amplitude_v_list;
-  std::string load_list = "0";
-  std::string rise_list = "0";
-  double margin_hz = kDefaultMarginHz;
-  std::string frequency_range = kDefaultFrequencyGrid;
+  EnvelopeOptions envelope;
   std::string out_path;
   std::string report_dir;
   bool json = false;
@@ -83,13 +80,7 @@ std::vector<SizingResult> size_motors(const SizeOptions& o, const MotorParameter
 }
 
 void run_size(const SizeOptions& o) {
-  BandGrid grid;
-  grid.voltages = parse_number_list(o.amplitude_v_list, "--amplitude-v");
-  grid.loads_n = parse_number_list(o.load_list, "--load");
-  grid.temperature_rises_k = parse_number_list(o.rise_list, "--temperature-rise-k");
-  grid.frequencies_hz = parse_range_or_value(o.frequency_range, "--frequency-hz");
-  grid.margin_hz = o.margin_hz;
-  check_band_grid(grid, o.jobs);  // every bad value named before the file is read
+  const BandGrid grid = envelope_grid(o.envelope, o.jobs);  // every bad value named before the file is read
   if (!(o.yield > 0.0 && o.yield <= 1.0)) throw std::invalid_argument("--yield: must be within (0, 1]");
   if (o.spreads_path.empty() && (o.motors_given || o.seed_given || o.yield_given)) {
     throw std::invalid_argument(std::string(o.motors_given ? "--motors"
@@ -99,7 +90,7 @@ void run_size(const SizeOptions& o) {
   }
   if (o.motors < 1 || o.motors > kMaxMotors) throw std::invalid_argument("--motors: must be within 1..100000");
   if (grid.frequencies_hz.size() < 3) {
-    throw CommandError("--frequency-hz: " + o.frequency_range +
+    throw CommandError("--frequency-hz: " + o.envelope.frequency_range +
                        " has fewer than 3 points: the operating point needs a curve through the peak");
   }
   // Where the outputs go is checked before the sweeps, which can take minutes with --spreads.
@@ -147,7 +138,7 @@ void run_size(const SizeOptions& o) {
   SizeContext context;
   context.config_path = o.config_path;
   context.command = o.command_line;
-  context.margin_hz = o.margin_hz;
+  context.margin_hz = o.envelope.margin_hz;
   context.clamped_capacitance_f = c0_f;
   context.spreads_path = o.spreads_path;
   context.seed = o.seed;
@@ -178,19 +169,7 @@ void add_size_command(CLI::App& app) {
   CLI::App* sub = app.add_subcommand(
       "size", "Amplifier sizing over voltages, loads and stator temperatures: currents, power, matching network");
   add_config_option(*sub, o->config_path, "motor parameter file (TOML)");
-  sub->add_option("--amplitude-v", o->amplitude_v_list,
-                  "terminal voltage amplitudes per phase, comma list (V, zero-to-peak)")
-      ->required();
-  sub->add_option("--load", o->load_list, "loads, comma list (N)")->capture_default_str();
-  sub->add_option("--temperature-rise-k", o->rise_list,
-                  "stator temperature rises over ambient, comma list (K, 0..300; other than 0 needs [effects.thermal])")
-      ->capture_default_str();
-  sub->add_option("--margin-hz", o->margin_hz, "minimum margin above the peak (Hz), as swum pick and swum band")
-      ->capture_default_str();
-  sub->add_option("--frequency-hz", o->frequency_range,
-                  "START:STOP:STEP (Hz); every chain runs it from STOP down to START (default: 41500 down to 38000 Hz "
-                  "in 25 Hz steps)")
-      ->capture_default_str();
+  add_envelope_options(*sub, o->envelope);
   sub->add_option("--out", o->out_path, "write the rows as CSV (atomically)");
   sub->add_option("--report", o->report_dir, "directory for report.md, summary.json and plots");
   sub->add_flag("--json", o->json, "the sizing as JSON on stdout");
