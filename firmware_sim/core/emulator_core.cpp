@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <stdexcept>
 
 namespace swum::emu {
@@ -136,6 +137,7 @@ const Telemetry& EmulatorCore::tick() {
     electrical_sums_ = ElectricalSums{};
     electrical_ticks_ = 0;
     amplifier_sums_ = protocol::AmplifierOutputValues{};
+    terminal_sum_a_ = terminal_sum_b_ = {};
   }
 
   // 5. Telemetry (what the sensors report: a scenario's sensor faults act here, not on the motor).
@@ -173,6 +175,9 @@ const Telemetry& EmulatorCore::tick() {
     amplifier_sums_.current_phase_b_deg += a.b.current_phase_deg;
     amplifier_sums_.terminal_amplitude_a_v += a.a.terminal_amplitude_v;
     amplifier_sums_.terminal_amplitude_b_v += a.b.terminal_amplitude_v;
+    constexpr double kDegToRad = std::numbers::pi / 180.0;
+    terminal_sum_a_ += std::polar(a.a.terminal_amplitude_v, a.a.terminal_phase_deg * kDegToRad);
+    terminal_sum_b_ += std::polar(a.b.terminal_amplitude_v, a.b.terminal_phase_deg * kDegToRad);
   }
   if (++electrical_ticks_ >= electrical_window_ticks_) {
     // No drive, no measurement: a ring-down current at V = 0 has a phase but nothing to refer it to.
@@ -190,11 +195,33 @@ const Telemetry& EmulatorCore::tick() {
               s.current_phase_b_deg / n,
               s.terminal_amplitude_a_v / n,
               s.terminal_amplitude_b_v / n};
+      // The amplifier's current from the port's fit of the terminal current (its non-linear
+      // coupling terms included; the network's instantaneous readings use the linear motional
+      // current, -6 deg off at 400 V: docs/amplifier.md) plus the parallel inductor's current
+      // V/(j w L_p) of the window's mean terminal voltage, all relative to the source's phase.
+      if (r.valid) {
+        const EffectCoefficients& e = simulator_.model().coefficients().effects;
+        const double l_p = e.network ? e.output_network.parallel_inductance_h : 0.0;
+        const double w = 2.0 * std::numbers::pi * drive.frequency_hz;
+        constexpr double kDegToRad = std::numbers::pi / 180.0;
+        auto amplifier = [&](double current_a, double phase_deg, std::complex<double> terminal_v) {
+          std::complex<double> i = std::polar(current_a, phase_deg * kDegToRad);
+          if (l_p > 0.0 && w > 0.0) i += terminal_v / std::complex<double>(0.0, w * l_p);
+          return i;
+        };
+        const std::complex<double> ia = amplifier(r.current_a_a, r.phase_a_deg, terminal_sum_a_ / n);
+        const std::complex<double> ib = amplifier(r.current_b_a, r.phase_b_deg, terminal_sum_b_ / n);
+        mean.current_a_a = std::abs(ia);
+        mean.current_b_a = std::abs(ib);
+        mean.current_phase_a_deg = wrap_phase_deg(std::arg(ia) / kDegToRad);
+        mean.current_phase_b_deg = wrap_phase_deg(std::arg(ib) / kDegToRad);
+      }
     }
     telemetry_.amplifier_output = mean;
     electrical_sums_ = ElectricalSums{};
     electrical_ticks_ = 0;
     amplifier_sums_ = protocol::AmplifierOutputValues{};
+    terminal_sum_a_ = terminal_sum_b_ = {};
   }
   telemetry_.stator_temperature_c = kReferenceAmbientC + simulator_.ambient_offset_k() +
                                     simulator_.state().stator_temperature_rise_k;

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <array>
+#include <complex>
 #include <cstdint>
 #include <cstdio>
 #include <optional>
@@ -103,7 +104,10 @@ class EmulatorCore {
   std::uint64_t electrical_window_ticks_ = 1;
   std::uint64_t electrical_ticks_ = 0;                // ticks in the window under way
   protocol::AmplifierOutputValues amplifier_sums_{};  // the amplifier's readings summed over the window's ticks
-  std::array<std::uint64_t, 64> accepted_ns_{};       // first 64 commands of a tick
+  // The terminal voltages' phasors (relative to each phase's source) summed over the window: the
+  // parallel inductor's current of the window's mean voltage joins the port's fitted current.
+  std::complex<double> terminal_sum_a_{}, terminal_sum_b_{};
+  std::array<std::uint64_t, 64> accepted_ns_{};  // first 64 commands of a tick
   std::size_t accepted_count_ = 0;
   TickObserver* observer_ = nullptr;
   // Scenario: the timeline, the model faults in force, what the reported telemetry holds.

@@ -4,10 +4,12 @@
 usage: modbus_integration.py SCENARIO   (enable_speed frequency_change watchdog rejects malformed clients electrical)
 Environment: SWUM_EMU, SWUM_EMU_REFERENCE, SWUM_SOURCE_DIR (set by ctest).
 """
+import json
 import math
 import os
 import socket
 import struct
+import subprocess
 import sys
 import tempfile
 import threading
@@ -378,8 +380,9 @@ def scenario_electrical():
         for name in ("phase_a", "phase_b", "motional_phase_a", "motional_phase_b"):
             assert -180.0 < e[name] <= 180.0, (name, e[name])
         assert abs(e["stator_temperature"] - 20.0) < 5.0, e
-        # Without a network the amplifier delivers the phase current at the commanded voltage: the
-        # linear coupling's current (amplifier_*) agrees with the port's fit (current_*, phase_*).
+        # Without a network the amplifier delivers the phase current at the commanded voltage: its
+        # registers (amplifier_*) are the port's fit (current_*, phase_*), the terminal amplitude the
+        # command.
         print("amplifier: " + ", ".join(f"{k} {e[k]:.4g}" for k in (
             "amplifier_current_a", "amplifier_current_b", "amplifier_phase_a", "amplifier_phase_b",
             "terminal_amplitude_a", "terminal_amplitude_b")))
@@ -395,12 +398,19 @@ def scenario_electrical():
 
 
 def scenario_matched_network():
-    """The amplifier's output network in swum-emu (docs/amplifier.md): at the default motor's
-    design point (200 V, 40137 Hz: `swum pick --amplitude-v 200`'s frequency for 0 N), the parallel
-    inductance that cancels phase A's susceptance, sized from the emulator's own electrical port
-    with an ideal source, brings phase A's amplifier current within 5 deg of its voltage over
-    Modbus; without it the current leads by far more (C0's current)."""
-    amplitude_v, frequency_hz = 200.0, 40137.0
+    """The amplifier's output network in swum-emu (docs/amplifier.md, docs/sizing.md): the parallel
+    inductor `swum size` buys for the default motor at 400 V (its design row: the highest voltage,
+    unloaded, cold), set as [amplifier], brings phase A's amplifier current within 5 deg of its
+    voltage at the design row's frequency, read over Modbus (input registers 45-50); without it the
+    current leads by far more (C0's current)."""
+    motor_path = os.path.join(SOURCE_DIR, "config/li2019.toml")
+    size = subprocess.run([os.environ["SWUM_BINARY"], "size", "--config", motor_path, "--amplitude-v", "400", "--json"],
+                          capture_output=True, text=True, timeout=120)
+    assert size.returncode == 0, size.stderr
+    design = json.loads(size.stdout)["network"]
+    amplitude_v, frequency_hz = design["amplitude_v"], design["phase_a"]["frequency_hz"]
+    inductance_uh = design["phase_a"]["parallel_inductance_uh"]
+    sized_current_a = design["phase_a"]["parallel_amplifier_current_a"]
 
     def settled(config):
         with Emulator("--speedup", "4", "--watchdog-ms", "1000", config=config) as emu:
@@ -413,10 +423,7 @@ def scenario_matched_network():
             return v
 
     ideal = settled(None)
-    y = ideal["current_a"] / amplitude_v
-    susceptance = y * math.sin(math.radians(ideal["phase_a"]))
-    inductance_uh = 1e6 / (2.0 * math.pi * frequency_hz * susceptance)
-    with open(os.path.join(SOURCE_DIR, "config/li2019.toml")) as f:
+    with open(motor_path) as f:
         motor = f.read()
     with tempfile.NamedTemporaryFile("w", suffix=".toml", delete=False) as f:
         f.write(motor + f"\n[amplifier]\nparallel_inductance_uh = {inductance_uh:.6f}\n")
@@ -425,12 +432,14 @@ def scenario_matched_network():
         matched = settled(matched_config)
     finally:
         os.unlink(matched_config)
-    print(f"ideal: amplifier_phase_a {ideal['amplifier_phase_a']:.2f} deg; L_p {inductance_uh:.1f} uH; "
-          f"matched: amplifier_phase_a {matched['amplifier_phase_a']:.2f} deg, amplifier_current_a "
+    print(f"swum size: {amplitude_v:g} V at {frequency_hz:g} Hz, L_p {inductance_uh:.1f} uH, amplifier current "
+          f"{sized_current_a:.4f} A; swum-emu ideal: amplifier_phase_a {ideal['amplifier_phase_a']:.2f} deg; matched: "
+          f"amplifier_phase_a {matched['amplifier_phase_a']:.2f} deg, amplifier_current_a "
           f"{matched['amplifier_current_a']:.4f} A, terminal_amplitude_a {matched['terminal_amplitude_a']:.1f} V")
     assert ideal["amplifier_phase_a"] > 45.0, ideal
     assert abs(matched["amplifier_phase_a"]) < 5.0, matched
-    assert abs(matched["terminal_amplitude_a"] - amplitude_v) < 0.2, matched  # no series impedance
+    assert abs(matched["amplifier_current_a"] - sized_current_a) < 0.05 * sized_current_a, matched
+    assert abs(matched["terminal_amplitude_a"] - amplitude_v) < 0.4, matched  # no series impedance
 
 
 if __name__ == "__main__":
