@@ -15,6 +15,7 @@
 
 #include "analysis/operating_point/operating_point.h"
 #include "analysis/sizing/amplifier_sizing.h"
+#include "analysis/sizing/series_in_loop.h"
 #include "analysis/studies/population.h"
 #include "commands/command_error.h"
 #include "commands/commands.h"
@@ -45,6 +46,7 @@ struct SizeOptions {
   std::uint64_t motors = 100;
   std::uint64_t seed = 1;
   double yield = 0.95;
+  double source_resistance_ohm = 5.0;  // the amplifier's output resistance for the series design in the loop
   bool motors_given = false, seed_given = false, yield_given = false;
   std::string command_line;
 };
@@ -89,6 +91,9 @@ void run_size(const SizeOptions& o) {
                                 ": describes a population and needs --spreads");
   }
   if (o.motors < 1 || o.motors > kMaxMotors) throw std::invalid_argument("--motors: must be within 1..100000");
+  if (!(o.source_resistance_ohm > 0.0 && o.source_resistance_ohm <= 1000.0)) {
+    throw std::invalid_argument("--source-resistance-ohm: must be within (0, 1000] ohm");
+  }
   if (grid.frequencies_hz.size() < 3) {
     throw CommandError("--frequency-hz: " + o.envelope.frequency_range +
                        " has fewer than 3 points: the operating point needs a curve through the peak");
@@ -127,6 +132,12 @@ void run_size(const SizeOptions& o) {
   }
   const double c0_f = parameters.stator.clamped_capacitance_nf * 1e-9;
   const SizingResult sizing = size_amplifier(rows, c0_f, default_design_row(rows));
+  std::optional<SeriesInLoop> series;
+  if (sizing.designed && sizing.design_a.series_ok) {
+    const SizingRow& d = sizing.rows[sizing.design_row];
+    series = series_matching_in_loop(parameters, d.frequency_hz, d.a.voltage_v, d.a.admittance_siemens,
+                                     o.source_resistance_ohm);
+  }
   std::vector<SizingResult> motors;
   std::optional<PopulationSizing> population;
   if (!o.spreads_path.empty()) {
@@ -143,6 +154,7 @@ void run_size(const SizeOptions& o) {
   context.spreads_path = o.spreads_path;
   context.seed = o.seed;
   context.population = population;
+  context.series_in_loop = series;
   if (!o.out_path.empty()) write_text_file_atomically(o.out_path, size_csv(sizing));
   if (!o.report_dir.empty()) {
     const std::vector<std::string> plots = write_size_plots(o.report_dir, rows, sizing);
@@ -173,6 +185,9 @@ void add_size_command(CLI::App& app) {
   sub->add_option("--out", o->out_path, "write the rows as CSV (atomically)");
   sub->add_option("--report", o->report_dir, "directory for report.md, summary.json and plots");
   sub->add_flag("--json", o->json, "the sizing as JSON on stdout");
+  sub->add_option("--source-resistance-ohm", o->source_resistance_ohm,
+                  "the amplifier's output resistance for the series design sized in the loop (ohm, (0, 1000])")
+      ->capture_default_str();
   sub->add_option("--spreads", o->spreads_path,
                   "spreads file (as swum population): also size a population of motors with the nominal network");
   sub->add_option("--motors", o->motors, "motors to draw with --spreads (1..100000)")->capture_default_str();

@@ -411,11 +411,12 @@ def scenario_matched_network():
     amplitude_v, frequency_hz = design["amplitude_v"], design["phase_a"]["frequency_hz"]
     inductance_uh = design["phase_a"]["parallel_inductance_uh"]
     sized_current_a = design["phase_a"]["parallel_amplifier_current_a"]
+    source_v = [amplitude_v]  # what swum-emu is commanded: with a network, the amplifier's output
 
     def settled(config):
         with Emulator("--speedup", "4", "--watchdog-ms", "1000", config=config) as emu:
             c = Controller(emu)
-            c.run_at(amplitude_v, frequency_hz)
+            c.run_at(source_v[0], frequency_hz)
             v = c.wait_sim_time(c.wait_applied()["sim_time"] + 0.12)
             assert v["state"] == 1, v
             c.close()
@@ -440,6 +441,23 @@ def scenario_matched_network():
     assert abs(matched["amplifier_phase_a"]) < 5.0, matched
     assert abs(matched["amplifier_current_a"] - sized_current_a) < 0.05 * sized_current_a, matched
     assert abs(matched["terminal_amplitude_a"] - amplitude_v) < 0.4, matched  # no series impedance
+    # The series inductor swum size sized in the loop, behind its source resistance, with the
+    # amplifier at the voltage it names: phase A's terminal amplitude within 2 % of the target.
+    series = json.loads(size.stdout)["series_in_loop"]
+    assert series["converged"], series
+    with tempfile.NamedTemporaryFile("w", suffix=".toml", delete=False) as f:
+        f.write(motor + f"\n[amplifier]\nseries_inductance_uh = {series['series_inductance_uh']:.6f}\n"
+                f"source_resistance_ohm = {series['source_resistance_ohm']:.6f}\n")
+        series_config = f.name
+    try:
+        source_v[0] = series["source_voltage_v"]
+        stepped_up = settled(series_config)
+    finally:
+        os.unlink(series_config)
+    print(f"series: {series['series_inductance_uh']:.1f} uH from {series['source_voltage_v']:.2f} V: swum-emu phase A "
+          f"{stepped_up['terminal_amplitude_a']:.1f} V (target {design['amplitude_v']:g} V), phase B "
+          f"{stepped_up['terminal_amplitude_b']:.1f} V")
+    assert abs(stepped_up["terminal_amplitude_a"] - design["amplitude_v"]) < 0.02 * design["amplitude_v"], stepped_up
 
 
 if __name__ == "__main__":

@@ -68,6 +68,11 @@ TEST(SwumSize, OscillatorRangeIsSwumBandsAndTheFiguresHangTogether) {
   EXPECT_LT(net.at("phase_a").at("parallel_inductance_uh").get<double>(),
             net.at("phase_a").at("c0_parallel_inductance_uh").get<double>());
   EXPECT_NEAR(j.at("table")[1].at("phase_a").at("parallel_amplifier_phase_deg").get<double>(), 0.0, 1e-6);
+  // The series design repeated in the simulator holds phase A within 2 % of the design voltage.
+  const auto& series = j.at("series_in_loop");
+  ASSERT_TRUE(series.at("converged").get<bool>()) << series;
+  EXPECT_NEAR(series.at("terminal_a_v").get<double>(), 400.0, 0.02 * 400.0);
+  EXPECT_LT(series.at("source_voltage_v").get<double>(), 100.0);  // a step-up
   const std::string md = swum::test::read_file(report / "report.md");
   EXPECT_NE(md.find("## What to buy"), std::string::npos) << md;
   EXPECT_NE(md.find("parallel inductor of"), std::string::npos) << md;
@@ -191,6 +196,7 @@ INSTANTIATE_TEST_SUITE_P(
                       BadSize{{"--amplitude-v", "200", "--report", "/proc/version/x"}, "report directory"},
                       BadSize{{"--amplitude-v", "200", "--out", "/nonexistent/dir/rows.csv"}, "is not a directory"},
                       BadSize{{"--amplitude-v", "200", "--yield", "0"}, "--yield"},
+                      BadSize{{"--amplitude-v", "200", "--source-resistance-ohm", "0"}, "--source-resistance-ohm"},
                       BadSize{{"--amplitude-v", "200", "--motors", "10"}, "needs --spreads"},
                       BadSize{{"--amplitude-v", "200", "--yield", "1.5"}, "--yield"},
                       BadSize{{"--amplitude-v", "200", "--motors", "0", "--spreads", "x.toml"}, "--motors"},

@@ -160,6 +160,32 @@ std::string population_lines(const PopulationSizing& p, const char* bullet, cons
   return t;
 }
 
+Json series_in_loop_json(const SeriesInLoop& l) {
+  Json j;
+  j["converged"] = l.converged;
+  j["reason"] = l.reason;
+  j["rounds"] = l.rounds;
+  j["source_resistance_ohm"] = l.source_resistance_ohm;
+  j["series_inductance_uh"] = l.inductance_h * 1e6;
+  j["source_voltage_v"] = l.source_voltage_v;
+  j["terminal_a_v"] = l.terminal_a_v;
+  j["terminal_b_v"] = l.terminal_b_v;
+  j["amplifier_current_a"] = l.current_a_a;
+  j["amplifier_current_phase_deg"] = l.current_phase_a_deg;
+  return j;
+}
+
+std::string series_in_loop_text(const SeriesInLoop& l) {
+  std::string t = "series inductor sized in the loop (R_s " + format_number(l.source_resistance_ohm, "%.3g") +
+                  " ohm, phase A): ";
+  if (!l.converged) return t + "not found: " + l.reason;
+  return t + format_number(l.inductance_h * 1e6, "%.4g") + " µH from " + format_number(l.source_voltage_v, "%.4g") +
+         " V amplitude; phase A reaches " + format_number(l.terminal_a_v, "%.4g") + " V, phase B " +
+         format_number(l.terminal_b_v, "%.4g") + " V (the same inductor), the amplifier's current " +
+         format_number(l.current_a_a, "%.3g") + " A at " + format_number(l.current_phase_a_deg, "%.3g") + "° (" +
+         std::to_string(l.rounds) + " rounds)";
+}
+
 std::string uh(double h) { return format_number(h * 1e6, "%.4g") + " µH"; }
 std::string amps(double a) { return format_number(a, "%.3g") + " A"; }
 
@@ -248,6 +274,7 @@ std::string size_json(const SizingResult& s, const SizeContext& context) {
     j["network"] = nullptr;
   }
   j["population"] = context.population ? population_json(*context.population, context) : Json(nullptr);
+  j["series_in_loop"] = context.series_in_loop ? series_in_loop_json(*context.series_in_loop) : Json(nullptr);
   j["table"] = rows;
   return j.dump(2) + "\n";
 }
@@ -298,6 +325,7 @@ std::string size_text(const SizingResult& s, const SizeContext& context, const s
            format_number(r.temperature_rise_k) + " K: " + r.reason + "\n";
     }
   }
+  if (context.series_in_loop) t += "  " + series_in_loop_text(*context.series_in_loop) + "\n";
   if (context.population) t += population_lines(*context.population, "", "  ");
   if (!out_path.empty()) t += "rows: " + out_path + "\n";
   return t;
@@ -358,6 +386,11 @@ std::string size_markdown(const SizingResult& s, const SizeContext& context, con
            "board must be sized again on the state it makes, in the loop with `[amplifier]` "
            "(docs/amplifier.md: one-shot figures for 200 V gave 332 V there). Prefer the parallel inductors.\n";
     }
+  }
+  if (context.series_in_loop) {
+    t += "- **The series inductor sized in the loop** (the design repeated in the simulator with the network as "
+         "`[amplifier]` until phase A holds its voltage): " +
+         series_in_loop_text(*context.series_in_loop) + ".\n";
   }
   if (m.current_rms_a.known) {
     t += "- **Without a network** the amplifier delivers up to " + amps(m.current_rms_a.value) + " RMS (" +

@@ -11,6 +11,7 @@
 
 #include "analysis/operating_point/operating_band.h"
 #include "analysis/sizing/amplifier_sizing.h"
+#include "analysis/sizing/series_in_loop.h"
 
 namespace swum::host {
 
@@ -23,6 +24,7 @@ struct SizeContext {
   std::string spreads_path;  // a population was sized ("" = none)
   std::uint64_t seed = 0;
   std::optional<PopulationSizing> population;
+  std::optional<SeriesInLoop> series_in_loop;  // the series design repeated in the simulator
 };
 
 /// One row per (voltage, load, temperature rise); cells of a row that was not sized are empty.
