@@ -8,27 +8,11 @@
 #include <stdexcept>
 #include <tuple>
 
-#include "analysis/fit/parameter_fit.h"
+#include "analysis/discrepancy/candidate_fitting.h"
 #include "formats/number_format.h"
 
 namespace swum {
 namespace {
-
-double sum_of_squares(const std::vector<double>& r, const std::vector<std::size_t>& slots) {
-  double s = 0.0;
-  for (std::size_t k : slots) s += r[k] * r[k];
-  return s;
-}
-
-double rms(const std::vector<double>& r, const std::vector<std::size_t>& slots) {
-  return slots.empty() ? 0.0 : std::sqrt(sum_of_squares(r, slots) / static_cast<double>(slots.size()));
-}
-
-// Schwarz criterion difference for `added` extra parameters: n ln(SSE1/SSE0) + added ln n.
-double delta_bic(double sse_new, double sse_old, std::size_t n, int added) {
-  const double nd = static_cast<double>(n);
-  return nd * std::log(std::max(sse_new, 1e-300) / std::max(sse_old, 1e-300)) + added * std::log(nd);
-}
 
 std::string describe_evidence(double bic, const HeldOutEvidence& e) {
   return format_numbers("delta BIC %+.4g; held-out: ", bic) + std::to_string(e.improved) + " of " +
@@ -39,68 +23,11 @@ std::string describe_evidence(double bic, const HeldOutEvidence& e) {
          format_numbers(", 90 %% interval %.0f..%.0f %%)", 100.0 * e.reduction_low, 100.0 * e.reduction_high);
 }
 
-// The Cauchy M-estimate (parameter_fit.h) from a first fit `ls` (at the round's scale), rescaled
-// by what that fit leaves. Its cost is not convex where a reading sits on a step of the model (a dead-zone edge,
-// a jump across the fold): the last parameter is first scanned around the least-squares value
-// (+-10, 25, 50 % of its offset from neutral, one batch) and the fit starts at the lowest
-// robust cost.
-ParameterFit robust_refit(const ParameterEvaluator& eval, const ResidualModel& model,
-                          const std::vector<std::size_t>& train, const ParameterFit& ls, int max_iterations) {
-  const double scale = kCauchyEfficiencyScale * robust_sigma(model.residuals(ls.predictions), train);
-  if (!(scale > 0.0)) return ls;
-  auto cauchy_cost = [&](const Predictions& p) {
-    double cost = 0.0;
-    for (std::size_t k : train) {
-      const double r = model.residual(k, p);
-      cost += scale * scale * std::log1p(r * r / (scale * scale));
-    }
-    return cost;
-  };
-  const FreeParameter& e = eval.free().back();
-  const double offset = ls.values.back() - e.origin;
-  std::vector<std::vector<double>> starts;
-  for (double f : {-0.5, -0.25, -0.1, 0.1, 0.25, 0.5}) {
-    std::vector<double> v = ls.values;
-    v.back() = std::clamp(ls.values.back() + f * offset, std::min(e.lower, e.upper), std::max(e.lower, e.upper));
-    starts.push_back(v);
-  }
-  const std::vector<Predictions> scanned = eval.evaluate(starts);
-  std::vector<double> start = ls.values;
-  const Predictions* start_predictions = &ls.predictions;
-  double best = cauchy_cost(ls.predictions);
-  for (std::size_t k = 0; k < starts.size(); ++k) {
-    const double cost = cauchy_cost(scanned[k]);
-    if (cost < best) {
-      best = cost;
-      start = starts[k];
-      start_predictions = &scanned[k];
-    }
-  }
-  ParameterFit robust = fit_parameters(eval, model, train, start, max_iterations, start_predictions, scale);
-  return robust.ok ? robust : ls;
-}
-
-// Cauchy cost sum a^2 ln(1 + r^2/a^2) over `slots` (parameter_fit.h).
-// (a = 0, a model that leaves exactly nothing: the sum of squares.)
-double cauchy_cost(const std::vector<double>& r, const std::vector<std::size_t>& slots, double a) {
-  double cost = 0.0;
-  for (std::size_t k : slots) cost += a > 0.0 ? a * a * std::log1p(r[k] * r[k] / (a * a)) : r[k] * r[k];
-  return cost;
-}
-
 std::vector<FreeParameter> free_parameters_of(const std::vector<const CandidateEffect*>& effects) {
   std::vector<FreeParameter> free;
   for (const CandidateEffect* e : effects) free.push_back(effect_free_parameter(*e));
   return free;
 }
-
-struct Screened {
-  double theta = 0.0;
-  double sse = 0.0;
-  double robust = 0.0;  // Cauchy cost at the round's scale
-  Predictions predictions;
-  std::vector<double> residuals;
-};
 
 }  // namespace
 
@@ -147,13 +74,9 @@ DiscrepancyResult run_discrepancy(const MotorParameters& baseline, const Measure
     // what the current model leaves: a few readings on the other side of a fold or a dead-zone
     // edge (residuals of 100 % and more) must not choose the effect.
     const double round_scale = kCauchyEfficiencyScale * robust_sigma(current_r, train);
-    const double robust0 = cauchy_cost(current_r, train, round_scale);
     // Screening: a probe at the typical magnitude, then Gauss-Newton / secant steps, every
-    // candidate of a step in one parallel batch.
-    std::vector<std::size_t> active;
-    std::vector<Screened> best(candidates.size());
-    std::vector<Screened> last(candidates.size());
-    std::vector<Screened> previous(candidates.size());
+    // candidate of a step in one parallel batch (candidate_fitting.h).
+    std::vector<std::optional<FreeParameter>> screened_free(candidates.size());
     for (std::size_t c = 0; c < candidates.size(); ++c) {
       CandidateScore score;
       score.name = std::string(candidates[c]->name);
@@ -164,63 +87,15 @@ DiscrepancyResult run_discrepancy(const MotorParameters& baseline, const Measure
         score.skipped = true;
         score.note = "needs time_s (builds up over a session)";
       } else {
-        active.push_back(c);
-        best[c] = {0.0, sse0, robust0, current_predictions, current_r};
-        previous[c] = best[c];
+        screened_free[c] = effect_free_parameter(*candidates[c]);
       }
       round.candidates.push_back(score);
     }
-    std::vector<double> thetas(candidates.size(), 1.0);
-    for (int step = 0; step <= options.screening_steps && !active.empty(); ++step) {
-      std::vector<MotorParameters> models;
-      for (std::size_t c : active) {
-        MotorParameters p = current;
-        enable_effect(p, *candidates[c], candidates[c]->neutral + thetas[c] * candidates[c]->typical);
-        models.push_back(p);
-      }
-      const std::vector<Predictions> batch = predict(models);
-      std::vector<std::pair<double, std::size_t>> promising;  // (predicted SSE, candidate)
-      for (std::size_t a = 0; a < active.size(); ++a) {
-        const std::size_t c = active[a];
-        const CandidateEffect& e = *candidates[c];
-        Screened s{thetas[c], 0.0, 0.0, batch[a], model.residuals(batch[a])};
-        s.sse = sum_of_squares(s.residuals, train);
-        s.robust = cauchy_cost(s.residuals, train, round_scale);
-        if (s.robust < best[c].robust) best[c] = s;
-        // Secant through the last two evaluations (the first: the current model at theta 0).
-        const Screened& from = step == 0 ? previous[c] : last[c];
-        const double dtheta = s.theta - from.theta;
-        // Iteratively reweighted Gauss-Newton step of the Cauchy cost (weights 1/(1 + r^2/a^2)).
-        double jr = 0.0, jj = 0.0, wjr = 0.0, wjj = 0.0;
-        for (std::size_t k : train) {
-          const double j = (s.residuals[k] - from.residuals[k]) / dtheta;
-          const double w = round_scale > 0.0
-                               ? 1.0 / (1.0 + s.residuals[k] * s.residuals[k] / (round_scale * round_scale))
-                               : 1.0;
-          jr += j * s.residuals[k];
-          jj += j * j;
-          wjr += w * j * s.residuals[k];
-          wjj += w * j * j;
-        }
-        double lo = (e.lower - e.neutral) / e.typical;
-        double hi = (e.upper - e.neutral) / e.typical;
-        if (lo > hi) std::swap(lo, hi);
-        double next = wjj > 0.0 ? s.theta - wjr / wjj : s.theta;
-        next = std::clamp(next, lo, hi);
-        if (std::abs(next - s.theta) < 1e-3) next = s.theta + 1e-3;
-        thetas[c] = next;
-        // Gauss-Newton prediction of the minimum: screening goes on only for candidates that
-        // could pass the BIC margin, at most the three best.
-        const double predicted = std::min(best[c].sse, jj > 0.0 ? s.sse - jr * jr / jj : s.sse);
-        if (delta_bic(predicted, sse0, n, 1) < -options.bic_margin) promising.emplace_back(predicted, c);
-        last[c] = std::move(s);
-      }
-      std::sort(promising.begin(), promising.end());
-      if (promising.size() > 3) promising.resize(3);
-      active.clear();
-      for (const auto& p : promising) active.push_back(p.second);
-    }
-    active.clear();
+    const std::vector<Screened> best = screen_candidates(current, screened_free, current_predictions, current_r, model,
+                                                         train,
+                                                         {options.screening_steps, options.bic_margin, round_scale},
+                                                         predict);
+    std::vector<std::size_t> active;
     for (std::size_t c = 0; c < candidates.size(); ++c) {
       if (!round.candidates[c].skipped) active.push_back(c);
     }
@@ -231,7 +106,7 @@ DiscrepancyResult run_discrepancy(const MotorParameters& baseline, const Measure
       CandidateScore& score = round.candidates[c];
       score.value = candidates[c]->neutral + best[c].theta * candidates[c]->typical;
       score.train_rms = std::sqrt(best[c].sse / static_cast<double>(std::max<std::size_t>(n, 1)));
-      score.held_out_rms = rms(best[c].residuals, test);
+      score.held_out_rms = rms_of(best[c].residuals, test);
       score.delta_bic = delta_bic(best[c].sse, sse0, n, 1);
     }
     for (std::size_t c : active) {
@@ -282,23 +157,20 @@ DiscrepancyResult run_discrepancy(const MotorParameters& baseline, const Measure
       fitted_effects[last_index] = candidates[c];
       const ParameterEvaluator eval(current, free_parameters_of(fitted_effects), set, options.prediction, parallel,
                                     result.model_evaluations);
-      Trial trial{c,
-                  fit_parameters(eval, model, train, start, options.max_fit_iterations, &best[c].predictions,
-                                 robust_fit ? round_scale : 0.0),
-                  {},
-                  0.0,
-                  {},
-                  false};
-      if (trial.fit.ok && robust_fit) {
-        trial.fit = robust_refit(eval, model, train, trial.fit, options.max_fit_iterations);
-      }
+      Trial trial{
+          c,
+          fit_candidate(eval, model, train, start, &best[c].predictions, round_scale, robust_fit, options.max_fit_iterations),
+          {},
+          0.0,
+          {},
+          false};
       trial.residuals = model.residuals(trial.fit.predictions);
       trial.bic = delta_bic(trial.fit.train_sum_of_squares, sse0, n, 1);
 
       CandidateScore& score = round.candidates[c];
       score.value = trial.fit.values[last_index];
       score.train_rms = std::sqrt(trial.fit.train_sum_of_squares / static_cast<double>(n));
-      score.held_out_rms = rms(trial.residuals, test);
+      score.held_out_rms = rms_of(trial.residuals, test);
       score.delta_bic = trial.bic;
       // Chosen on the training points alone (the lowest BIC of a usable fit); only the chosen
       // one is tested on the held-out points, so their test is not spent on the choice.
@@ -371,8 +243,8 @@ DiscrepancyResult run_discrepancy(const MotorParameters& baseline, const Measure
   result.augmented_predictions = current_predictions;
   result.augmented_map = map_disagreement(set, current_predictions, model);
   const std::vector<double> r0 = model.residuals(result.baseline_predictions);
-  result.rms_before = rms(r0, test);
-  result.rms_after = rms(current_r, test);
+  result.rms_before = rms_of(r0, test);
+  result.rms_after = rms_of(current_r, test);
   for (std::size_t k : test) {
     QuantityGap& g = result.gaps[static_cast<std::size_t>(model.slots()[k].quantity)];
     ++g.count;
