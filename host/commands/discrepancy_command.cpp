@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "analysis/discrepancy/discrepancy.h"
+#include "analysis/discrepancy/parameter_groups.h"
 #include "commands/command_error.h"
 #include "commands/commands.h"
 #include "commands/config_option.h"
@@ -33,6 +34,8 @@ struct DiscrepancyCommandOptions {
   std::string out_dir;
   std::string effects;
   std::optional<std::string> quantities;  // comma list; absent: every quantity column of the file
+  std::string discovery = "on";
+  std::string groups;
   bool json = false;
   int jobs = 0;
 };
@@ -73,7 +76,28 @@ void run_discrepancy_command(const DiscrepancyCommandOptions& o) {
       throw std::invalid_argument("--effects: unknown effect '" + name + "' (known: " + candidate_effect_names() + ")");
     }
   }
+  if (o.discovery != "on" && o.discovery != "off") {
+    throw std::invalid_argument("--discovery: must be on or off, got '" + o.discovery + "'");
+  }
+  options.discovery.enabled = o.discovery == "on";
+  if (!o.groups.empty()) {
+    if (!options.discovery.enabled) throw std::invalid_argument("--groups: needs --discovery on");
+    options.discovery.groups = parse_name_list(o.groups, "--groups");
+  }
   const MotorParameters baseline = load_motor_parameters(o.config_path);
+  for (const std::string& name : options.discovery.groups) {
+    const ParameterGroup* g = find_parameter_group(name);
+    if (g == nullptr) {
+      throw std::invalid_argument("--groups: unknown group '" + name + "' (known: " + parameter_group_names() + ")");
+    }
+    if (group_parameters(*g, baseline).empty()) {
+      throw std::invalid_argument("--groups: group '" + name + "' does not apply to " + o.config_path +
+                                  (g->change == GroupChange::shift
+                                       ? " (the natural frequencies are parameters only with stator.geometry = "
+                                         "\"from_frequencies\")"
+                                       : " (its parameters are 0)"));
+    }
+  }
   MeasurementSet measured;
   try {
     measured = parse_measurements_csv(read_text_file(o.measured_path), o.measured_path);
@@ -138,6 +162,12 @@ void add_discrepancy_command(CLI::App& app) {
   sub->add_option(
       "--quantities", o->quantities,
       "measured columns to use, comma list of speed, tip_normal, tip_tangential (default: all in the file)");
+  sub->add_option("--discovery", o->discovery,
+                  "after the library, search changes of the base model (groups of base parameters): on or off")
+      ->capture_default_str();
+  sub->add_option("--groups", o->groups,
+                  "groups of base parameters the discovery may change, comma list (default: every group that applies; "
+                  "docs/discrepancy.md)");
   sub->add_flag("--json", o->json, "print one JSON object instead of the text summary");
   sub->add_option("--jobs", o->jobs, "worker threads (default: all cores)");
   sub->callback([o] { run_discrepancy_command(*o); });

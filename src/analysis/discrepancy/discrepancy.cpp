@@ -239,6 +239,41 @@ DiscrepancyResult run_discrepancy(const MotorParameters& baseline, const Measure
     current_r = fit_r;
   }
 
+  // Discovery: a change of the base model, alone, beside the library's effects or instead of
+  // them (discovery.h).
+  if (options.discovery.enabled) {
+    DiscoveryStart start{&baseline, &result.baseline_predictions, &current, &current_predictions, {}, {}, false};
+    for (const NamedEffect& e : result.effects) {
+      start.library_effects.push_back(e.name);
+      start.library_values.push_back(e.value);
+    }
+    start.library_explains = !result.effects.empty() && !map_disagreement(set, current_predictions, model).structured;
+    const DiscoverySettings settings{options.discovery,  options.bic_margin,         options.significance,
+                                     options.robust,     options.max_fit_iterations, options.screening_steps,
+                                     options.split_seed, options.prediction};
+    result.discovery = run_discovery(start, set, model, train, test, settings, parallel, result.model_evaluations);
+    const Discovery& d = result.discovery;
+    const GroupFit* accepted = nullptr;
+    if (d.outcome == DiscoveryOutcome::alone || d.outcome == DiscoveryOutcome::instead_of_library) {
+      accepted = &d.fits[*d.chosen];
+    } else if (d.outcome == DiscoveryOutcome::with_library) {
+      accepted = &*d.with_library;
+      for (std::size_t k = 0; k < result.effects.size(); ++k) {  // refined jointly
+        result.effects[k].value = accepted->effect_values[k];
+        result.effects[k].standard_error = accepted->effect_standard_errors[k];
+      }
+    }
+    if (d.outcome == DiscoveryOutcome::instead_of_library) {
+      result.superseded = std::move(result.effects);
+      result.effects.clear();
+    }
+    if (accepted != nullptr) {
+      current = accepted->parameters;
+      current_predictions = accepted->predictions;
+      current_r = accepted->residuals;
+    }
+  }
+
   result.augmented = current;
   result.augmented_predictions = current_predictions;
   result.augmented_map = map_disagreement(set, current_predictions, model);
@@ -258,7 +293,16 @@ DiscrepancyResult run_discrepancy(const MotorParameters& baseline, const Measure
     g.rms_before = std::sqrt(g.rms_before / g.count);
     g.rms_after = std::sqrt(g.rms_after / g.count);
   }
-  if (result.effects.empty()) {
+  const DiscoveryOutcome outcome = result.discovery.outcome;
+  if (outcome == DiscoveryOutcome::alone || outcome == DiscoveryOutcome::instead_of_library ||
+      outcome == DiscoveryOutcome::with_library) {
+    result.conclusion = result.effects.empty() ? "" : "named";
+    for (const NamedEffect& e : result.effects) result.conclusion += " " + e.name;
+    if (!result.effects.empty()) result.conclusion += "; ";
+    result.conclusion += result.discovery.verdict;
+    result.conclusion += format_numbers(" (noise %.3g %%)", 100.0 * result.augmented_map.noise);
+    result.conclusion += "; remaining residual " + result.augmented_map.summary;
+  } else if (result.effects.empty()) {
     if (!result.rounds.empty() && result.rounds.back().fitted && result.rounds.back().held_out.reduction > 0.0) {
       const DiscrepancyRound& last = result.rounds.back();
       // A fit that helped but did not pass: say so rather than "nothing explains it".

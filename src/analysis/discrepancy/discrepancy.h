@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "analysis/discrepancy/candidate_effects.h"
+#include "analysis/discrepancy/discovery.h"
 #include "analysis/fit/disagreement_map.h"
 #include "analysis/fit/held_out_test.h"
 #include "analysis/measurements/measured_point_model.h"
@@ -39,6 +40,8 @@ struct DiscrepancyOptions {
   int max_effects = 3;
   int max_fit_iterations = 8;
   int screening_steps = 2;  // Gauss-Newton/secant steps per candidate before the full fit
+  // After the library: changes of the base model (discovery.h), by the same criteria.
+  DiscoveryOptions discovery;
 };
 
 struct CandidateScore {
@@ -78,7 +81,11 @@ struct QuantityGap {
 struct DiscrepancyResult {
   DisagreementMap baseline_map;      // all points
   DisagreementMap augmented_map;     // all points
-  std::vector<NamedEffect> effects;  // in the order found
+  std::vector<NamedEffect> effects;  // in the order found (the library's, as the model keeps them)
+  // Named by the library's rounds but explained better by a change of the base model
+  // (discovery.outcome = instead_of_library): not in the augmented model.
+  std::vector<NamedEffect> superseded;
+  Discovery discovery;
   std::vector<DiscrepancyRound> rounds;
   MotorParameters augmented;
   Predictions baseline_predictions;
@@ -93,7 +100,7 @@ struct DiscrepancyResult {
   int model_evaluations = 0;  // parameter sets evaluated at every point
 };
 
-// Throws std::invalid_argument for an unknown candidate name.
+// Throws std::invalid_argument for an unknown candidate or group name.
 [[nodiscard]] DiscrepancyResult run_discrepancy(const MotorParameters& baseline, const MeasurementSet& measured,
                                                 const DiscrepancyOptions& options, const ParallelFor& parallel);
 

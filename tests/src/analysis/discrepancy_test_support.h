@@ -30,6 +30,13 @@ inline MotorParameters calibrated_motor() {
   return parse_motor_parameters(text.str(), "config/li2019.toml");
 }
 
+// Whether a session named anything: a library effect, or a change of the base model (discovery.h).
+inline bool names_something(const DiscrepancyResult& r) {
+  const DiscoveryOutcome o = r.discovery.outcome;
+  return !r.effects.empty() || o == DiscoveryOutcome::alone || o == DiscoveryOutcome::with_library ||
+         o == DiscoveryOutcome::instead_of_library;
+}
+
 // RMS relative gap between a model's predictions and `truth` (the noise-free values of the same
 // rows) on the held-out rows.
 inline double held_out_gap(const MeasurementSet& truth, const Predictions& predicted,

@@ -1,5 +1,6 @@
 #include "output/reports/fit/discrepancy_report.h"
 
+#include <algorithm>
 #include <cstdio>
 #include <nlohmann/json.hpp>
 
@@ -32,6 +33,101 @@ std::string evidence_text(double delta_bic, const HeldOutEvidence& e) {
          " %)";
 }
 
+const char* outcome_name(DiscoveryOutcome o) {
+  switch (o) {
+    case DiscoveryOutcome::not_run: return "not_run";
+    case DiscoveryOutcome::nothing: return "nothing";
+    case DiscoveryOutcome::alone: return "alone";
+    case DiscoveryOutcome::with_library: return "with_library";
+    case DiscoveryOutcome::instead_of_library: return "instead_of_library";
+    case DiscoveryOutcome::library_stands: return "library_stands";
+  }
+  return "?";
+}
+
+// The fit the step accepted (nullptr: none).
+const GroupFit* accepted_change(const Discovery& d) {
+  if (d.outcome == DiscoveryOutcome::with_library) return &*d.with_library;
+  if (d.chosen && (d.outcome == DiscoveryOutcome::alone || d.outcome == DiscoveryOutcome::instead_of_library)) {
+    return &d.fits[*d.chosen];
+  }
+  return nullptr;
+}
+
+nlohmann::ordered_json group_fit_json(const GroupFit& f) {
+  nlohmann::ordered_json j;
+  j["groups"] = nlohmann::ordered_json::array();
+  for (std::size_t k = 0; k < f.groups.size(); ++k) {
+    j["groups"].push_back({{"name", f.groups[k]},
+                           {"keys", f.keys[k]},
+                           {"change", f.units[k] == "factor" ? "factor" : "shift"},
+                           {"unit", f.units[k]},
+                           {"value", f.values[k]},
+                           {"standard_error", f.standard_errors[k]},
+                           {"at_bound", static_cast<bool>(f.at_bound[k])}});
+  }
+  if (!f.effect_values.empty()) {
+    j["effect_values"] = f.effect_values;
+    j["effect_standard_errors"] = f.effect_standard_errors;
+  }
+  j["converged"] = f.ok;
+  j["delta_bic"] = f.delta_bic;
+  j["train_rms"] = f.train_rms;
+  j["held_out_rms"] = f.held_out_rms;
+  return j;
+}
+
+// Why a fitted change is not the answer, against the reference (the chosen change, or the
+// library's effects when they stand).
+std::string why_not(const Discovery& d, std::size_t k) {
+  const GroupFit& f = d.fits[k];
+  if (d.chosen && k == *d.chosen) return "chosen";
+  if (std::find(d.indistinguishable.begin(), d.indistinguishable.end(), k) != d.indistinguishable.end()) {
+    return "indistinguishable on these points (within the BIC margin): named together";
+  }
+  if (!f.ok) return "the fit did not converge";
+  const bool against_library = !d.chosen;
+  const double reference = against_library ? d.library_delta_bic : d.fits[*d.chosen].delta_bic;
+  if (against_library && d.outcome != DiscoveryOutcome::library_stands) {
+    return "delta BIC " + format_number(f.delta_bic, "%+.1f") + " against the baseline";
+  }
+  return format_number(f.delta_bic - reference, "%+.1f") + " BIC against " +
+         (against_library ? std::string("the library's effects") : std::string("the chosen change"));
+}
+
+nlohmann::ordered_json discovery_json(const DiscrepancyResult& r) {
+  const Discovery& d = r.discovery;
+  nlohmann::ordered_json j;
+  j["outcome"] = outcome_name(d.outcome);
+  j["verdict"] = d.verdict;
+  if (const GroupFit* a = accepted_change(d)) {
+    j["change"] = group_fit_json(*a);
+    j["held_out"] = evidence_json(d.held_out);
+    if (d.outcome == DiscoveryOutcome::instead_of_library)
+      j["held_out_against_library"] = evidence_json(d.against_library);
+  }
+  j["library_delta_bic"] = d.library_delta_bic;
+  j["fits"] = nlohmann::ordered_json::array();
+  for (std::size_t k = 0; k < d.fits.size(); ++k) {
+    nlohmann::ordered_json f = group_fit_json(d.fits[k]);
+    f["note"] = why_not(d, k);
+    j["fits"].push_back(f);
+  }
+  if (d.with_library) j["with_library"] = group_fit_json(*d.with_library);
+  j["screened"] = nlohmann::ordered_json::array();
+  for (const GroupScreening& s : d.screened) {
+    nlohmann::ordered_json g{{"name", s.name}};
+    if (s.note.empty()) {
+      g["value"] = s.value;
+      g["delta_bic"] = s.delta_bic;
+    } else {
+      g["note"] = s.note;
+    }
+    j["screened"].push_back(g);
+  }
+  return j;
+}
+
 nlohmann::ordered_json to_json(const DiscrepancyResult& r, double wall_s) {
   nlohmann::ordered_json j;
   j["effects"] = nlohmann::ordered_json::array();
@@ -43,6 +139,11 @@ nlohmann::ordered_json to_json(const DiscrepancyResult& r, double wall_s) {
     effect["held_out"] = evidence_json(e.held_out);
     j["effects"].push_back(effect);
   }
+  j["superseded"] = nlohmann::ordered_json::array();
+  for (const NamedEffect& e : r.superseded) {
+    j["superseded"].push_back({{"name", e.name}, {"key", e.key}, {"value", e.value}, {"unit", e.unit}});
+  }
+  j["discovery"] = discovery_json(r);
   j["held_out_points"] = r.held_out_points;
   j["operating_points"] = r.operating_points;
   j["rms_before"] = r.rms_before;
@@ -114,6 +215,20 @@ std::string discrepancy_summary_text(const DiscrepancyResult& r) {
       out += line;
     }
   }
+  if (r.discovery.outcome != DiscoveryOutcome::not_run) {
+    const Discovery& d = r.discovery;
+    out += "discovery: " + d.verdict + "\n";
+    for (std::size_t k = 0; k < d.fits.size(); ++k) {
+      out += "  " + describe_group_fit(d.fits[k]) + "\n    train RMS " + percent(d.fits[k].train_rms) +
+             ", held-out RMS " + percent(d.fits[k].held_out_rms) + ", delta BIC " +
+             format_number(d.fits[k].delta_bic, "%+.1f") + ": " + why_not(d, k) + "\n";
+    }
+  }
+  for (const NamedEffect& e : r.superseded) {
+    out += "not named after all: " + e.name +
+           " (the library's round named it; a change of the base model explains "
+           "the data better)\n";
+  }
   if (r.effects.empty()) out += "named effects: none\n";
   for (const NamedEffect& e : r.effects) {
     out += "named effect: " + e.name + "  " + e.key + " = " + format_number(e.value, "%.4g") + " +- " +
@@ -169,6 +284,39 @@ std::vector<std::string> write_discrepancy_plots(const fs::path& dir, const Meas
   return files;
 }
 
+namespace {
+
+std::string discovery_markdown(const DiscrepancyResult& r) {
+  const Discovery& d = r.discovery;
+  if (d.outcome == DiscoveryOutcome::not_run) return "";
+  std::string md = "\n## Discovery beyond the library\n\n" + d.verdict + "\n\n";
+  for (const NamedEffect& e : r.superseded) {
+    md += "- **" + e.name + "** was named by the library's round (`" + e.key + " = " + format_number(e.value, "%.4g") +
+          "`), but the change of the base model explains the data better: not in the augmented model.\n";
+  }
+  if (!d.fits.empty()) {
+    md += "\n| change of the base model | train RMS | held-out RMS | delta BIC (baseline) | |\n|---|---|---|---|---|\n";
+    for (std::size_t k = 0; k < d.fits.size(); ++k) {
+      md += "| " + describe_group_fit(d.fits[k]) + " | " + percent(d.fits[k].train_rms) + " | " +
+            percent(d.fits[k].held_out_rms) + " | " + format_number(d.fits[k].delta_bic, "%+.1f") + " | " +
+            why_not(d, k) + " |\n";
+    }
+  }
+  md += "\nScreened groups (one factor or shift each, on the baseline):\n\n| group | value | delta BIC "
+        "|\n|---|---|---|\n";
+  for (const GroupScreening& s : d.screened) {
+    md += s.note.empty() ? "| " + s.name + " | " + format_number(s.value, "%.4g") + " | " +
+                               format_number(s.delta_bic, "%+.1f") + " |\n"
+                         : "| " + s.name + " | " + s.note + " | |\n";
+  }
+  md += "\nA change is accepted by the rule that names a library effect (below); it replaces the library's effects "
+        "only when it beats them by the BIC margin on the training points and on the held-out points "
+        "(docs/discrepancy.md, \"Discovery\").\n";
+  return md;
+}
+
+}  // namespace
+
 std::string discrepancy_report_markdown(const std::string& command_line, const MeasurementSet& set,
                                         const DiscrepancyResult& r, const std::vector<std::string>& plots) {
   std::string md = "# Model discrepancy report\n\n";
@@ -206,6 +354,7 @@ std::string discrepancy_report_markdown(const std::string& command_line, const M
           format_number(e.standard_error, "%.2g") + " " + e.unit +
           "; evidence: " + evidence_text(e.delta_bic, e.held_out) + "\n";
   }
+  md += discovery_markdown(r);
   md += "\nNamed when both hold: delta BIC on the " + std::to_string(r.operating_points - r.held_out_points) +
         " training points below -" + format_number(DiscrepancyOptions{}.bic_margin, "%g") + ", and on the " +
         std::to_string(r.held_out_points) +
@@ -228,12 +377,18 @@ std::string discrepancy_report_markdown(const std::string& command_line, const M
 }
 
 std::string discrepancy_augmented_header(const std::string& command_line, const DiscrepancyResult& r) {
-  std::string header = "# Written by `swum discrepancy " + command_line + "`: the baseline plus the named effects.\n";
+  std::string header = "# Written by `swum discrepancy " + command_line +
+                       "`: the baseline plus the named effects and any change of the base model it found.\n";
   for (const NamedEffect& e : r.effects) {
     header += "#   effects." + e.name + "." + e.key + " = " + format_number(e.value, "%.6g") + " +- " +
               format_number(e.standard_error, "%.2g") + " " + e.unit + "\n";
   }
-  if (r.effects.empty()) header += "#   no effect named: identical to the baseline\n";
+  if (const GroupFit* a = accepted_change(r.discovery)) {
+    header += "#   not in the library: " + describe_group_fit(*a) + "\n";
+  }
+  if (r.effects.empty() && accepted_change(r.discovery) == nullptr) {
+    header += "#   no effect named: identical to the baseline\n";
+  }
   return header;
 }
 

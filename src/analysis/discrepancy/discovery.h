@@ -1,0 +1,118 @@
+// The discovery step of the discrepancy workflow (docs/discrepancy.md, "Discovery"): when the
+// library of effects names nothing, or leaves a structured residual, or names an effect that a
+// change of the base model explains better, the smallest change of the base model that brings
+// the held-out residual to the noise. Changes are searched over physical groups of base
+// parameters (parameter_groups.h), singly and in pairs, screened and fitted by the library's
+// own steps (candidate_fitting.h), chosen by the Schwarz criterion on the training points and
+// accepted only by the held-out test that names a library effect (held_out_test.h), so the
+// false-naming bound is the library's. A library effect stays named unless a group beats it by
+// the BIC margin and on the held-out points: when it is the truth, it wins.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "analysis/fit/disagreement_map.h"
+#include "analysis/fit/held_out_test.h"
+#include "analysis/fit/parameter_fit.h"
+
+namespace swum {
+
+struct DiscoveryOptions {
+  bool enabled = true;
+  std::vector<std::string> groups;  // group names; empty = every group that applies to the config
+  int fitted_singles = 3;           // the best screened groups that get a full fit
+  bool pairs = true;                // pairs of the best three groups when one leaves a structured residual
+};
+
+// One fitted change of the base model: one or two groups.
+struct GroupFit {
+  std::vector<std::string> groups;             // names (parameter_groups.h)
+  std::vector<std::string> units;              // "factor" or the shift's unit
+  std::vector<std::vector<std::string>> keys;  // per group, the "section.key"s it changes
+  std::vector<double> values;
+  std::vector<double> standard_errors;
+  std::vector<bool> at_bound;  // the fit stopped on the group's bound
+  // The library's named effects fitted jointly with it (their values, in the order named);
+  // empty for a change of the baseline alone.
+  std::vector<double> effect_values;
+  std::vector<double> effect_standard_errors;
+  bool ok = false;
+  double delta_bic = 0.0;  // against the baseline, training points, every fitted parameter counted
+  double train_rms = 0.0;  // relative
+  double held_out_rms = 0.0;
+  MotorParameters parameters;
+  Predictions predictions;
+  std::vector<double> residuals;
+};
+
+struct GroupScreening {
+  std::string name;
+  std::string note;  // why not screened ("" when screened)
+  double value = 0.0;
+  double delta_bic = 0.0;  // screened, against the baseline
+};
+
+enum class DiscoveryOutcome {
+  not_run,             // disabled, or nothing to search
+  nothing,             // no change passes (the verdict says which test failed)
+  alone,               // the library named nothing; a change of the base model explains it
+  with_library,        // on top of the library's effects
+  instead_of_library,  // a change of the base model explains what the library's effects did, better
+  library_stands,      // the library's effects explain it at least as well
+};
+
+struct Discovery {
+  DiscoveryOutcome outcome = DiscoveryOutcome::not_run;
+  std::vector<GroupScreening> screened;
+  std::vector<GroupFit> fits;            // changes of the baseline, by delta BIC (best first)
+  std::optional<GroupFit> with_library;  // the best change fitted jointly with the library's effects
+  std::optional<std::size_t> chosen;     // index into fits (outcome alone or instead_of_library)
+  // Fits as good as the chosen one (or as the library's effects, outcome library_stands) within
+  // the BIC margin: the data cannot tell them apart (named together).
+  std::vector<std::size_t> indistinguishable;
+  double library_delta_bic = 0.0;   // the library's named effects against the baseline
+  HeldOutEvidence held_out;         // the accepted change against the model it changes
+  HeldOutEvidence against_library;  // instead_of_library: the change against the library's model
+  std::string verdict;
+};
+
+struct DiscoverySettings {
+  DiscoveryOptions options;
+  double bic_margin = 10.0;
+  double significance = 0.01;
+  bool robust = true;
+  int max_fit_iterations = 8;
+  int screening_steps = 2;
+  std::uint64_t split_seed = 2019;
+  PredictionOptions prediction;
+};
+
+// The two models the step starts from: the baseline and what the library named on it.
+struct DiscoveryStart {
+  const MotorParameters* baseline = nullptr;
+  const Predictions* baseline_predictions = nullptr;
+  const MotorParameters* library = nullptr;  // = baseline when nothing was named
+  const Predictions* library_predictions = nullptr;
+  std::vector<std::string> library_effects;  // named, in order
+  std::vector<double> library_values;
+  // The library's effects leave a residual within the noise: only the question "does a change
+  // of the base model explain it as well?" is asked (single groups whose screening comes within
+  // the margin of the library; no pairs, no joint fit), which keeps the step cheap where the
+  // library has done its work.
+  bool library_explains = false;
+};
+
+// Throws std::invalid_argument for an unknown group name or one that does not apply.
+[[nodiscard]] Discovery run_discovery(const DiscoveryStart& start, const MeasurementSet& set,
+                                      const ResidualModel& model, std::span<const std::size_t> train,
+                                      std::span<const std::size_t> test, const DiscoverySettings& settings,
+                                      const ParallelFor& parallel, int& evaluation_counter);
+
+// "stator_damping x1.41 +- 0.02 (stator.damping_l1_n_s_m, stator.damping_b2_n_s_m together)"
+[[nodiscard]] std::string describe_group_fit(const GroupFit& fit);
+
+}  // namespace swum
