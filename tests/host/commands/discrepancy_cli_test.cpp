@@ -165,9 +165,11 @@ TEST(SwumSynth, LinearRepeatsAndNoiseFreeDataAreReproducible) {
 // `synth --set/--scale` (src/formats/parameter_edit.h): any base parameter of the table moved on the
 // command line, so the discovery step can be checked on a known answer.
 
-// Four points on both sides of the softening peak, noise-free runs of them.
+// Four points on both sides of the softening peak, noise-free runs of them. One file per test:
+// ctest runs the tests of this file side by side, and a file rewritten under a reader is a flake.
 fs::path edit_points_csv() {
-  const fs::path path = scratch("edit_points.csv");
+  const fs::path path = scratch(std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()) +
+                                "_points.csv");
   write(path, "amplitude_v,frequency_hz,load_n\n200,40000,0\n300,39800,0\n300,40300,1\n400,40600,0\n");
   return path;
 }
