@@ -20,19 +20,7 @@ std::string prefix(ParameterEditKind kind, std::string_view text) {
   return std::string(parameter_edit_option(kind)) + " '" + printable_cell(text) + "': ";
 }
 
-// The sections of the table in its order, or the keys of one section: "a, b, c".
-std::string sections_of_table() {
-  std::string names;
-  std::string_view last;
-  for (const ParameterSpec& spec : parameter_specs()) {
-    if (spec.section == last) continue;
-    last = spec.section;
-    names += names.empty() ? "" : ", ";
-    names += std::string(spec.section);
-  }
-  return names;
-}
-
+// The keys of one section of the table in its order: "preload_n, stiffness_n_m, ...".
 std::string keys_of_section(std::string_view section) {
   std::string names;
   for (const ParameterSpec& spec : parameter_specs()) {
@@ -92,7 +80,8 @@ ParameterEdit parse_parameter_edit(ParameterEditKind kind, std::string_view text
     const std::string keys = keys_of_section(section);
     throw std::invalid_argument(
         prefix(kind, text) + "unknown parameter '" + printable_cell(name) + "' (" +
-        (keys.empty() ? "sections: " + sections_of_table() : "keys of " + std::string(section) + ": " + keys) + ")");
+        (keys.empty() ? "sections: " + parameter_section_names() : "keys of " + std::string(section) + ": " + keys) +
+        ")");
   }
   ParameterEdit edit{kind, spec, 0.0, spec->name() + "=" + std::string(value_text)};
   const bool named = spec->kind == ParameterKind::boolean || spec->kind == ParameterKind::choice;
