@@ -11,6 +11,7 @@
 #include "commands/commands.h"
 #include "commands/config_option.h"
 #include "formats/name_list.h"
+#include "formats/parameter_edit.h"
 #include "offline/motor_config.h"
 #include "offline/parallel_for.h"
 #include "output/partial_file.h"
@@ -32,8 +33,23 @@ struct SynthCommandOptions {
   double speed_floor_mm_s = 0.0;
   double amplitude_floor_um = 0.0;
   double frequency_jitter_hz = 0.0;
-  std::vector<std::string> quantities;  // comma lists, as given (repeatable); none: all three
+  std::vector<std::string> quantities;        // comma lists, as given (repeatable); none: all three
+  std::vector<std::string> sets;              // --set SECTION.KEY=VALUE, as given (repeatable)
+  std::vector<std::string> scales;            // --scale SECTION.KEY=FACTOR, as given (repeatable)
+  std::vector<ParameterEditKind> edit_order;  // which of the two each --set/--scale was, in command-line order
 };
+
+// The --set and --scale items in command-line order, parsed (parse_parameter_edit's one-line
+// errors) before any work.
+std::vector<ParameterEdit> parameter_edits(const SynthCommandOptions& o) {
+  std::vector<ParameterEdit> edits;
+  std::size_t next_set = 0, next_scale = 0;
+  for (const ParameterEditKind kind : o.edit_order) {
+    const bool set = kind == ParameterEditKind::set;
+    edits.push_back(parse_parameter_edit(kind, set ? o.sets.at(next_set++) : o.scales.at(next_scale++)));
+  }
+  return edits;
+}
 
 // "speed, tip_normal" -> which quantity columns to write (parse_name_list: an empty name is
 // refused, blanks around a name dropped, as `swum discrepancy --quantities`).
@@ -71,8 +87,18 @@ void run_synth(const SynthCommandOptions& o) {
     throw std::invalid_argument("--frequency-jitter-hz: must be within 0..1000");
   }
   const std::array<bool, kQuantityCount> quantities = quantity_selection(o.quantities);
+  const std::vector<ParameterEdit> edits = parameter_edits(o);
+  // The order of docs/discrepancy.md: the config, --linear, --set/--scale as given, --effect.
   MotorParameters parameters = load_motor_parameters(o.config_path);
   if (o.linear) parameters = linearised(parameters);
+  for (const ParameterEdit& edit : edits) apply_parameter_edit(parameters, edit);
+  if (!edits.empty()) {
+    try {
+      validate_parameters(parameters, "--set/--scale");  // what one key's range cannot say (half height < length)
+    } catch (const ParameterError& e) {
+      throw std::invalid_argument(e.what());
+    }
+  }
   for (const std::string& effect : o.effects) {
     try {
       apply_effect_argument(parameters, effect);
@@ -91,6 +117,9 @@ void run_synth(const SynthCommandOptions& o) {
   options.frequency_jitter_hz = o.frequency_jitter_hz;
   options.quantities = quantities;
   std::string header = "# swum synth --config " + o.config_path + (o.linear ? " --linear" : "");
+  for (const ParameterEdit& edit : edits) {
+    header += " " + std::string(parameter_edit_option(edit.kind)) + " " + edit.text;
+  }
   for (const std::string& e : o.effects) header += " --effect " + e;
   header += " --noise " + std::to_string(o.noise) + " --seed " + std::to_string(o.seed);
   header += " --speed-floor-mm-s " + std::to_string(o.speed_floor_mm_s) + " --amplitude-floor-um " +
@@ -117,6 +146,13 @@ void add_synth_command(CLI::App& app) {
   sub->add_option("--effect", o->effects,
                   "NAME or NAME:key=value,... (repeatable): electroelastic, thermal, wear, "
                   "preload, guide_friction, amplifier_droop");
+  CLI::Option* set = sub->add_option("--set", o->sets,
+                                     "SECTION.KEY=VALUE (repeatable): a parameter of the config replaced, e.g. "
+                                     "contact.preload_n=26 (keys: docs/parameters.md)");
+  CLI::Option* scale = sub->add_option("--scale", o->scales,
+                                       "SECTION.KEY=FACTOR (repeatable): a parameter of the config multiplied, e.g. "
+                                       "stator.damping_l1_n_s_m=1.4; --set and --scale apply in command-line order, "
+                                       "after --linear, before --effect");
   sub->add_option("--points", o->points_path,
                   "CSV of operating points: amplitude_v,frequency_hz,load_n[,time_s][,sweep]")
       ->required();
@@ -137,7 +173,16 @@ void add_synth_command(CLI::App& app) {
       ->capture_default_str();
   sub->add_option("--quantities", o->quantities,
                   "columns to write, comma list of speed, tip_normal, tip_tangential (default: all)");
-  sub->callback([o] { run_synth(*o); });
+  sub->callback([o, sub, set, scale] {
+    // CLI11 keeps each option's values apart; the order of the two comes from the parse order
+    // (one entry per value).
+    o->edit_order.clear();
+    for (const CLI::Option* option : sub->parse_order()) {
+      if (option == set) o->edit_order.push_back(ParameterEditKind::set);
+      if (option == scale) o->edit_order.push_back(ParameterEditKind::scale);
+    }
+    run_synth(*o);
+  });
 }
 
 }  // namespace swum::host

@@ -99,17 +99,6 @@ MotorParameters parse_motor_parameters(std::string_view toml_text, std::string_v
     }
     return false;
   };
-  const auto known_sections = [] {
-    std::string list;
-    std::string_view last;
-    for (const auto& spec : parameter_specs()) {
-      if (spec.section == last) continue;
-      last = spec.section;
-      list += list.empty() ? "" : ", ";
-      list += std::string(last);
-    }
-    return list;
-  };
   // The droop effect's own C0 of files written before it read the stator's (docs/parameters.md,
   // "One C0"): read, and it must repeat stator.clamped_capacitance_nf.
   std::optional<double> legacy_droop_c0;
@@ -150,13 +139,13 @@ MotorParameters parse_motor_parameters(std::string_view toml_text, std::string_v
     const auto* parent = section_node.as_table();
     if (!known_parent(section) || parent == nullptr) {
       throw ParameterError(where(source_name, section_node.source()) + ": unknown section [" + section +
-                           "] (known: " + known_sections() + ")");
+                           "] (known: " + parameter_section_names() + ")");
     }
     for (auto&& [sub_key, sub_node] : *parent) {
       const std::string sub_section = section + "." + std::string(sub_key.str());
       if (!known_section(sub_section)) {
         throw ParameterError(where(source_name, sub_node.source()) + ": unknown section [" + sub_section +
-                             "] (known: " + known_sections() + ")");
+                             "] (known: " + parameter_section_names() + ")");
       }
       read_section(sub_section, sub_node);
     }

@@ -296,6 +296,18 @@ const ParameterSpec* find_parameter_spec(std::string_view section, std::string_v
   return nullptr;
 }
 
+std::string parameter_section_names() {
+  std::string list;
+  std::string_view last;
+  for (const auto& spec : kSpecs) {
+    if (spec.section == last) continue;
+    last = spec.section;
+    list += list.empty() ? "" : ", ";
+    list += std::string(last);
+  }
+  return list;
+}
+
 std::string format_parameter_value(const ParameterSpec& spec, double value) {
   switch (spec.kind) {
     case ParameterKind::choice: {

@@ -271,6 +271,9 @@ struct ParameterSpec {
 // Looks up "section.key"; nullptr if unknown.
 [[nodiscard]] const ParameterSpec* find_parameter_spec(std::string_view section, std::string_view key);
 
+// The sections of the table in its order, for messages: "stator, contact, mover, ...".
+[[nodiscard]] std::string parameter_section_names();
+
 // Checks every value against its spec (finite, in range, valid choice). Throws ParameterError
 // naming source_name and the first offending key.
 void validate_parameters(const MotorParameters& parameters, std::string_view source_name);

@@ -2,10 +2,13 @@
 // directory, an augmented config that re-reads, and one-line errors with exit codes.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <sstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "swum_cli_runner.h"
@@ -157,6 +160,128 @@ TEST(SwumSynth, LinearRepeatsAndNoiseFreeDataAreReproducible) {
   EXPECT_NE(text.find("amplitude_v,frequency_hz,load_n,time_s,speed_mm_s,tip_normal_um,tip_tangential_um"),
             std::string::npos);
   EXPECT_EQ(std::count(text.begin(), text.end(), '\n'), 2 + 64);  // comment, header, 2 x 32
+}
+
+// `synth --set/--scale` (src/formats/parameter_edit.h): any base parameter of the table moved on the
+// command line, so the discovery step can be checked on a known answer.
+
+// Four points on both sides of the softening peak, noise-free runs of them. One file per test:
+// ctest runs the tests of this file side by side, and a file rewritten under a reader is a flake.
+fs::path edit_points_csv() {
+  const fs::path path = scratch(std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()) +
+                                "_points.csv");
+  write(path, "amplitude_v,frequency_hz,load_n\n200,40000,0\n300,39800,0\n300,40300,1\n400,40600,0\n");
+  return path;
+}
+
+CliRun synth_edited(const std::string& config, const std::vector<std::string>& edits, const fs::path& out) {
+  std::vector<std::string> args{"synth",   "--config", config,  "--points",  edit_points_csv().string(),
+                                "--noise", "0",        "--out", out.string()};
+  args.insert(args.end(), edits.begin(), edits.end());
+  return run_swum(args);
+}
+
+// The file without its `# swum synth ...` comment line: the header and the rows.
+std::string data_of(const fs::path& path) {
+  const std::string text = swum::test::read_file(path);
+  EXPECT_EQ(text.rfind("# swum synth ", 0), 0u) << text;
+  return text.substr(text.find('\n') + 1);
+}
+
+// The speed_mm_s column of a noise-free synth file (columns: amplitude_v, frequency_hz, load_n, speed_mm_s, ...).
+std::vector<double> speeds_of(const fs::path& path) {
+  std::istringstream lines(data_of(path));
+  std::string line;
+  std::getline(lines, line);
+  EXPECT_EQ(line.rfind("amplitude_v,frequency_hz,load_n,speed_mm_s,", 0), 0u) << line;
+  std::vector<double> speeds;
+  while (std::getline(lines, line)) {
+    std::istringstream cells(line);
+    std::string cell;
+    for (int column = 0; column < 4; ++column) std::getline(cells, cell, ',');
+    speeds.push_back(std::stod(cell));
+  }
+  return speeds;
+}
+
+TEST(SwumSynth, ScaleMovesTheDataAndTheCommentLineSaysHow) {
+  const fs::path plain = scratch("unscaled.csv"), scaled = scratch("scaled.csv");
+  CliRun r = synth_edited(kConfig, {}, plain);
+  ASSERT_EQ(r.status, 0) << r.output;
+  r = synth_edited(kConfig, {"--scale", "stator.damping_l1_n_s_m=1.4", "--scale", " stator.damping_b2_n_s_m = 1.4"},
+                   scaled);
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_NE(swum::test::read_file(scaled).find(
+                " --scale stator.damping_l1_n_s_m=1.4 --scale stator.damping_b2_n_s_m=1.4 --noise "),
+            std::string::npos)
+      << swum::test::read_file(scaled);
+  // 40 % more modal damping: smaller tip ellipses, slower at every point, by far more than any rounding.
+  const std::vector<double> before = speeds_of(plain), after = speeds_of(scaled);
+  ASSERT_EQ(before.size(), 4u);
+  ASSERT_EQ(after.size(), 4u);
+  for (std::size_t i = 0; i < before.size(); ++i) {
+    EXPECT_LT(after[i], before[i] - 5.0) << "point " << i << ": " << before[i] << " -> " << after[i];
+  }
+}
+
+TEST(SwumSynth, SetIsTheSameAsEditingTheConfigAndEditsApplyInCommandLineOrder) {
+  std::string config = swum::test::read_file(kConfig);
+  const std::string line = "preload_n = 24.8";
+  ASSERT_NE(config.find(line), std::string::npos);
+  config.replace(config.find(line), line.size(), "preload_n = 26.0");
+  const fs::path edited_config = scratch("preload_26.toml");
+  write(edited_config, config);
+  const fs::path from_file = scratch("preload_file.csv"), from_set = scratch("preload_set.csv");
+  CliRun r = synth_edited(edited_config.string(), {}, from_file);
+  ASSERT_EQ(r.status, 0) << r.output;
+  r = synth_edited(kConfig, {"--set", "contact.preload_n=26"}, from_set);
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_EQ(data_of(from_set), data_of(from_file));
+  EXPECT_NE(swum::test::read_file(from_set).find(" --set contact.preload_n=26 --noise "), std::string::npos);
+  // 20 x 1.3 = 26: the same rows; the other way round 20 wins.
+  const fs::path set_then_scale = scratch("set_then_scale.csv"), scale_then_set = scratch("scale_then_set.csv");
+  r = synth_edited(kConfig, {"--set", "contact.preload_n=20", "--scale", "contact.preload_n=1.3"}, set_then_scale);
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_EQ(data_of(set_then_scale), data_of(from_file));
+  r = synth_edited(kConfig, {"--scale", "contact.preload_n=1.3", "--set", "contact.preload_n=20"}, scale_then_set);
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_NE(data_of(scale_then_set), data_of(from_file));
+  EXPECT_NE(
+      swum::test::read_file(scale_then_set).find("--scale contact.preload_n=1.3 --set contact.preload_n=20 --noise"),
+      std::string::npos);
+}
+
+TEST(SwumSynth, BadSetAndScaleItemsAreOneLineUsageErrorsAndWriteNothing) {
+  const fs::path out = scratch("never_edited.csv");
+  fs::remove(out);
+  const std::vector<std::pair<std::vector<std::string>, std::string>> cases{
+      {{"--set", "contact.preload_n"}, "--set 'contact.preload_n': expected SECTION.KEY=VALUE (no '=')"},
+      {{"--scale", "contact.preload=2"},
+       "--scale 'contact.preload=2': unknown parameter 'contact.preload' (keys of contact: preload_n, "},
+      {{"--set", "contacts.preload_n=2"},
+       "--set 'contacts.preload_n=2': unknown parameter 'contacts.preload_n' (sections: stator, contact, "},
+      {{"--set", "contact.preload_n=26N"}, "--set 'contact.preload_n=26N': '26N' is not a number"},
+      {{"--scale", "contact.preload_n=inf"}, "--scale 'contact.preload_n=inf': 'inf' is not finite"},
+      {{"--scale", "contact.preload_application=2"},
+       "--scale 'contact.preload_application=2': contact.preload_application is a choice ("},
+      {{"--scale", "effects.wear.enabled=2"},
+       "--scale 'effects.wear.enabled=2': effects.wear.enabled is true or false"},
+      {{"--set", "contact.preload_n=-1"}, "--set 'contact.preload_n=-1': contact.preload_n = -1 is out of range ["},
+      {{"--scale", "stator.damping_l1_n_s_m=1e6"},
+       "--scale 'stator.damping_l1_n_s_m=1e6': stator.damping_l1_n_s_m = 39000000 (39 x 1e+06) is out of range ["},
+      // What one key's range cannot say: validate_parameters over the whole set.
+      {{"--set", "stator.geometry=explicit", "--set", "stator.half_height_mm=70"},
+       "--set/--scale: stator.half_height_mm must be smaller than stator.length_mm"},
+  };
+  for (const auto& [edits, message] : cases) {
+    SCOPED_TRACE(edits.back());
+    const CliRun r = synth_edited(kConfig, edits, out);
+    EXPECT_EQ(r.status, 2) << r.output;
+    EXPECT_EQ(r.output.rfind("swum: error: " + message, 0), 0u) << r.output;
+    EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << r.output;
+    EXPECT_FALSE(fs::exists(out));
+    EXPECT_FALSE(fs::exists(out.string() + ".partial"));
+  }
 }
 
 }  // namespace
