@@ -241,7 +241,14 @@ DiscrepancyResult run_discrepancy(const MotorParameters& baseline, const Measure
 
   // Discovery: a change of the base model, alone, beside the library's effects or instead of
   // them (discovery.h).
-  if (options.discovery.enabled) {
+  // Not when nothing was named and the baseline's residual is within the noise: there is nothing
+  // for a change to explain (the conclusion says so), and noise-only sessions stay as cheap as
+  // before.
+  const bool nothing_to_explain = result.effects.empty() && !result.baseline_map.structured;
+  if (options.discovery.enabled && nothing_to_explain) {
+    result.discovery.verdict = "not run: nothing named and the baseline's residual is within the noise";
+  }
+  if (options.discovery.enabled && !nothing_to_explain) {
     DiscoveryStart start{&baseline, &result.baseline_predictions, &current, &current_predictions, {}, {}, false};
     for (const NamedEffect& e : result.effects) {
       start.library_effects.push_back(e.name);

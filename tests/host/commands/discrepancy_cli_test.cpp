@@ -76,6 +76,19 @@ TEST(SwumDiscrepancy, BadInputsAreOneLineErrorsWithExitCodes) {
                 "--effects", "thermal,magic"});
   EXPECT_EQ(r.status, 2) << r.output;
   EXPECT_NE(r.output.find("unknown effect 'magic'"), std::string::npos) << r.output;
+  // The discovery's options (docs/discrepancy.md, "Discovery"): refused before the file is read.
+  r = run_swum({"discrepancy", "--config", kConfig, "--measured", bad.string(), "--out", scratch("bad_out").string(),
+                "--discovery", "maybe"});
+  EXPECT_EQ(r.status, 2) << r.output;
+  EXPECT_NE(r.output.find("--discovery: must be on or off, got 'maybe'"), std::string::npos) << r.output;
+  r = run_swum({"discrepancy", "--config", kConfig, "--measured", bad.string(), "--out", scratch("bad_out").string(),
+                "--groups", "stator_damping,magic"});
+  EXPECT_EQ(r.status, 2) << r.output;
+  EXPECT_NE(r.output.find("--groups: unknown group 'magic' (known: stator_damping,"), std::string::npos) << r.output;
+  r = run_swum({"discrepancy", "--config", kConfig, "--measured", bad.string(), "--out", scratch("bad_out").string(),
+                "--discovery", "off", "--groups", "stator_damping"});
+  EXPECT_EQ(r.status, 2) << r.output;
+  EXPECT_NE(r.output.find("--groups: needs --discovery on"), std::string::npos) << r.output;
   const fs::path out = scratch("never.csv");
   r = run_swum({"synth", "--config", kConfig, "--effect", "wear:speed=3", "--points", points_csv().string(), "--noise",
                 "0.02", "--seed", "1", "--out", out.string()});

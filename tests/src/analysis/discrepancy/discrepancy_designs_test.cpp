@@ -156,7 +156,7 @@ TEST(UsersDataNegativeControl, NamesNothingInAtLeast95PercentOfSessions) {
     }
     (cdf > 0.05 ? lo : hi) = p;
   }
-  std::printf("negative control: %d of %d sessions named an effect (rate %.3f, 95 %% upper bound %.3f)\n", named,
+  std::printf("negative control: %d of %d sessions named an effect or a change (rate %.3f, 95 %% upper bound %.3f)\n", named,
               sessions, static_cast<double>(named) / sessions, hi);
   for (std::size_t k = 0; k < designs.size(); ++k) {
     std::printf("  %-36s %d of %d named\n", designs[k].name, named_by_design[k], sessions_by_design[k]);
