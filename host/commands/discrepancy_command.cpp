@@ -90,12 +90,12 @@ void run_discrepancy_command(const DiscrepancyCommandOptions& o) {
     if (g == nullptr) {
       throw std::invalid_argument("--groups: unknown group '" + name + "' (known: " + parameter_group_names() + ")");
     }
-    if (group_parameters(*g, baseline).empty()) {
-      throw std::invalid_argument("--groups: group '" + name + "' does not apply to " + o.config_path +
-                                  (g->change == GroupChange::shift
-                                       ? " (the natural frequencies are parameters only with stator.geometry = "
-                                         "\"from_frequencies\")"
-                                       : " (its parameters are 0)"));
+    if (const std::string why = group_not_applicable_reason(*g, baseline); !why.empty()) {
+      throw std::invalid_argument("--groups: group '" + name + "' does not apply to " + o.config_path + " (" + why +
+                                  ")");
+    }
+    if (std::count(options.discovery.groups.begin(), options.discovery.groups.end(), name) > 1) {
+      throw std::invalid_argument("--groups: '" + name + "' is named twice");
     }
   }
   MeasurementSet measured;

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "formats/number_format.h"
+
 namespace swum {
 
 double sum_of_squares(std::span<const double> r, std::span<const std::size_t> slots) {
@@ -90,11 +92,29 @@ std::vector<Screened> screen_candidates(const MotorParameters& current,
       last[c] = std::move(s);
     }
     std::sort(promising.begin(), promising.end());
+    if (!settings.families.empty()) {
+      std::vector<std::size_t> seen;
+      std::erase_if(promising, [&](const std::pair<double, std::size_t>& p) {
+        const std::size_t family = settings.families[p.second];
+        if (std::find(seen.begin(), seen.end(), family) != seen.end()) return true;
+        seen.push_back(family);
+        return false;
+      });
+    }
     if (promising.size() > 3) promising.resize(3);
     active.clear();
     for (const auto& p : promising) active.push_back(p.second);
   }
   return best;
+}
+
+std::string describe_evidence(double bic, const HeldOutEvidence& e) {
+  return format_numbers("delta BIC %+.4g; held-out: ", bic) + std::to_string(e.improved) + " of " +
+         std::to_string(e.points) + format_numbers(" points better, p = %.2g", e.p_value) +
+         format_numbers(" (signed-rank %.2g, sign-flip %.2g)", e.signed_rank_p, e.sign_flip_p) +
+         format_numbers("; RMS gap %.3g %%", 100.0 * e.rms_before) +
+         format_numbers(" -> %.3g %% (reduction %.0f %%", 100.0 * e.rms_after, 100.0 * e.reduction) +
+         format_numbers(", 90 %% interval %.0f..%.0f %%)", 100.0 * e.reduction_low, 100.0 * e.reduction_high);
 }
 
 namespace {

@@ -10,8 +10,10 @@
 #include <functional>
 #include <optional>
 #include <span>
+#include <string>
 #include <vector>
 
+#include "analysis/fit/held_out_test.h"
 #include "analysis/fit/parameter_fit.h"
 
 namespace swum {
@@ -38,14 +40,17 @@ struct ScreeningSettings {
   int steps = 2;             // Gauss-Newton/secant steps after the probe
   double bic_margin = 10.0;  // screening goes on only for candidates that could pass it
   double scale = 0.0;        // Cauchy scale of the round
+  // Candidates of one family (the two directions of one group of base parameters) share one of
+  // the three follow-up places: only the family's best goes on. Empty: every candidate its own.
+  std::vector<std::size_t> families;
 };
 
 using BatchPredictor = std::function<std::vector<Predictions>(const std::vector<MotorParameters>&)>;
 
 // Screens candidates[c] (std::nullopt: skipped) on top of `current` (whose predictions and
 // residuals are given): a probe at theta = 1 (one scale), then `steps` reweighted Gauss-Newton
-// steps of the Cauchy cost, continued only for the (at most three) candidates whose predicted
-// minimum passes the BIC margin. Returns the best point of each candidate (theta 0, the current
+// steps of the Cauchy cost, continued only for the (at most three, one per family) candidates
+// whose predicted minimum passes the BIC margin. Returns the best point of each candidate (theta 0, the current
 // model, for a skipped one or one that never improved).
 [[nodiscard]] std::vector<Screened> screen_candidates(const MotorParameters& current,
                                                       const std::vector<std::optional<FreeParameter>>& candidates,
@@ -53,6 +58,10 @@ using BatchPredictor = std::function<std::vector<Predictions>(const std::vector<
                                                       const std::vector<double>& current_residuals,
                                                       const ResidualModel& model, std::span<const std::size_t> train,
                                                       const ScreeningSettings& settings, const BatchPredictor& predict);
+
+// "delta BIC -725; held-out: 14 of 15 points better, p = 0.00012 (signed-rank ..., sign-flip ...);
+// RMS gap 20 % -> 3 % (reduction 85 %, 90 % interval 70..92 %)": the evidence of a verdict.
+[[nodiscard]] std::string describe_evidence(double delta_bic, const HeldOutEvidence& e);
 
 // The full fit of the evaluator's free parameters from `start`: the Cauchy M-estimate at
 // `round_scale` (0: least squares), then, when robust, the refit at the scale of what that fit

@@ -6,17 +6,10 @@
 
 #include "analysis/discrepancy/candidate_effects.h"
 #include "analysis/discrepancy/candidate_fitting.h"
-#include "analysis/discrepancy/parameter_groups.h"
 #include "formats/number_format.h"
 
 namespace swum {
 namespace {
-
-std::string evidence_text(const HeldOutEvidence& e) {
-  return std::to_string(e.improved) + " of " + std::to_string(e.points) +
-         format_numbers(" held-out points better, p = %.2g", e.p_value) +
-         format_numbers("; held-out RMS %.3g %% -> %.3g %%", 100.0 * e.rms_before, 100.0 * e.rms_after);
-}
 
 // The groups to search, with their free parameters around the baseline.
 struct Group {
@@ -26,29 +19,19 @@ struct Group {
 
 std::vector<Group> groups_for(const MotorParameters& baseline, const DiscoveryOptions& options,
                               std::vector<GroupScreening>& screened) {
+  validate_discovery_groups(options, baseline);
   std::vector<const ParameterGroup*> wanted;
   if (options.groups.empty()) {
     for (const ParameterGroup& g : parameter_groups()) wanted.push_back(&g);
   } else {
-    for (const std::string& name : options.groups) {
-      const ParameterGroup* g = find_parameter_group(name);
-      if (g == nullptr) {
-        throw std::invalid_argument("unknown group '" + name + "' (known: " + parameter_group_names() + ")");
-      }
-      if (group_parameters(*g, baseline).empty()) (void)group_free_parameter(*g, baseline);  // throws why
-      wanted.push_back(g);
-    }
+    for (const std::string& name : options.groups) wanted.push_back(find_parameter_group(name));
   }
   std::vector<Group> out;
   for (const ParameterGroup* g : wanted) {
     GroupScreening s;
     s.name = std::string(g->name);
-    if (group_parameters(*g, baseline).empty()) {
-      s.note = g->change == GroupChange::shift ? "the natural frequencies are not parameters of this config"
-                                               : "its parameters are 0 in this config";
-    } else {
-      out.push_back({g, group_free_parameter(*g, baseline)});
-    }
+    s.note = group_not_applicable_reason(*g, baseline);
+    if (s.note.empty()) out.push_back({g, group_free_parameter(*g, baseline)});
     screened.push_back(s);
   }
   return out;
@@ -59,21 +42,206 @@ bool near_bound(const FreeParameter& f, double value) {
   return std::abs(value - f.lower) < tolerance || std::abs(value - f.upper) < tolerance;
 }
 
+std::string join(const std::vector<std::string>& names) {
+  std::string out;
+  for (const std::string& n : names) out += (out.empty() ? "" : ", ") + n;
+  return out;
+}
+
+std::string p_text(const HeldOutEvidence& e, double level) {
+  return format_numbers("held-out p = %.3g", e.p_value) + (e.p_value < level ? " below " : " not below ") +
+         format_numbers("%.3g", level);
+}
+
+// What the step works with: the groups, the data, the training and held-out slots.
+class Search {
+ public:
+  Search(const DiscoveryStart& start, const MeasurementSet& set, const ResidualModel& model,
+         std::span<const std::size_t> train, const DiscoverySettings& settings, const ParallelFor& parallel,
+         int& counter, std::vector<Group> groups)
+      : start_(start),
+        set_(set),
+        model_(model),
+        train_(train),
+        settings_(settings),
+        parallel_(parallel),
+        counter_(counter),
+        groups_(std::move(groups)) {
+    for (std::size_t k : train_) {
+      const std::size_t row = model_.slots()[k].row;
+      if (train_rows_.empty() || train_rows_.back() != row) train_rows_.push_back(row);
+    }
+    std::sort(train_rows_.begin(), train_rows_.end());
+    train_rows_.erase(std::unique(train_rows_.begin(), train_rows_.end()), train_rows_.end());
+  }
+
+  [[nodiscard]] const std::vector<Group>& groups() const { return groups_; }
+
+  // Whether `p` leaves a structured residual on the training rows (the held-out rows must not
+  // decide which hypothesis they then test).
+  [[nodiscard]] bool structured(const Predictions& p) const {
+    return map_disagreement(set_, p, model_, train_rows_).structured;
+  }
+
+  // Every group screened in both directions on top of `origin` (the better side kept).
+  [[nodiscard]] std::vector<Screened> screen(const MotorParameters& origin, const Predictions& predictions,
+                                             const std::vector<double>& r) const {
+    // Unlike an effect, a change of the base model has no sign known in advance, and where it
+    // moves the fold a step the wrong way can leave the secant nowhere to go: each group is
+    // probed up and down, the two directions one family (one follow-up place between them).
+    std::vector<std::optional<FreeParameter>> free;
+    ScreeningSettings s{settings_.screening_steps, settings_.bic_margin, scale_of(r), {}};
+    for (std::size_t g = 0; g < groups_.size(); ++g) {
+      free.emplace_back(groups_[g].free);
+      FreeParameter down = groups_[g].free;
+      down.scale = -down.scale;
+      free.emplace_back(down);
+      s.families.push_back(g);
+      s.families.push_back(g);
+    }
+    const std::vector<Screened> both = screen_candidates(origin, free, predictions, r, model_, train_, s, predictor());
+    std::vector<Screened> out;
+    for (std::size_t g = 0; g < groups_.size(); ++g) {
+      Screened up = both[2 * g];
+      Screened down = both[2 * g + 1];
+      down.theta = -down.theta;  // in the group's own direction
+      out.push_back(down.robust < up.robust ? std::move(down) : std::move(up));
+    }
+    return out;
+  }
+
+  [[nodiscard]] double value_of(std::size_t g, const Screened& s) const {
+    return groups_[g].free.origin + s.theta * groups_[g].free.scale;
+  }
+
+  // The change `members` fitted from `values`, on the baseline or jointly with the library's
+  // effects (their values first). delta_bic is against the baseline, every fitted parameter
+  // counted.
+  [[nodiscard]] GroupFit fit(const std::vector<std::size_t>& members, const std::vector<double>& values,
+                             const Predictions* start_predictions, bool with_library) const {
+    std::vector<FreeParameter> parameters;
+    std::vector<double> start;
+    if (with_library) {
+      for (std::size_t k = 0; k < start_.library_effects.size(); ++k) {
+        parameters.push_back(effect_free_parameter(*find_candidate_effect(start_.library_effects[k])));
+        start.push_back(start_.library_values[k]);
+      }
+    }
+    for (std::size_t m : members) parameters.push_back(groups_[m].free);
+    start.insert(start.end(), values.begin(), values.end());
+    const MotorParameters& origin = with_library ? *start_.library : *start_.baseline;
+    const std::vector<double> origin_r = model_.residuals(with_library ? *start_.library_predictions
+                                                                       : *start_.baseline_predictions);
+    const ParameterEvaluator eval(origin, parameters, set_, settings_.prediction, parallel_, counter_);
+    const ParameterFit fit = fit_candidate(eval, model_, train_, start, start_predictions, scale_of(origin_r),
+                                           settings_.robust, settings_.max_fit_iterations);
+    GroupFit out;
+    const std::size_t first = with_library ? start_.library_effects.size() : 0;
+    for (std::size_t k = 0; k < first; ++k) {
+      out.effect_values.push_back(fit.values[k]);
+      out.effect_standard_errors.push_back(fit.standard_errors[k]);
+    }
+    for (std::size_t k = 0; k < members.size(); ++k) {
+      const Group& g = groups_[members[k]];
+      out.groups.emplace_back(g.group->name);
+      out.changes.push_back(g.group->change);
+      out.units.push_back(g.free.unit);
+      std::vector<std::string> keys;
+      for (const ParameterSpec* spec : group_parameters(*g.group, *start_.baseline)) keys.push_back(spec->name());
+      out.keys.push_back(std::move(keys));
+      out.values.push_back(fit.values[first + k]);
+      out.standard_errors.push_back(fit.standard_errors[first + k]);
+      out.at_bound.push_back(near_bound(g.free, fit.values[first + k]));
+    }
+    out.ok = fit.ok;
+    out.residuals = model_.residuals(fit.predictions);
+    out.delta_bic = delta_bic(fit.train_sum_of_squares, sse0(), train_.size(), static_cast<int>(parameters.size()));
+    out.train_rms = std::sqrt(fit.train_sum_of_squares / static_cast<double>(std::max<std::size_t>(train_.size(), 1)));
+    out.parameters = eval.parameters_at(fit.values);
+    out.predictions = fit.predictions;
+    return out;
+  }
+
+  [[nodiscard]] double sse0() const { return sum_of_squares(model_.residuals(*start_.baseline_predictions), train_); }
+
+  [[nodiscard]] BatchPredictor predictor() const {
+    return [this](const std::vector<MotorParameters>& models) {
+      counter_ += static_cast<int>(models.size());
+      return predict_points(models, set_.rows, settings_.prediction, parallel_);
+    };
+  }
+
+ private:
+  [[nodiscard]] double scale_of(const std::vector<double>& r) const {
+    return kCauchyEfficiencyScale * robust_sigma(r, train_);
+  }
+
+  const DiscoveryStart& start_;
+  const MeasurementSet& set_;
+  const ResidualModel& model_;
+  std::span<const std::size_t> train_;
+  const DiscoverySettings& settings_;
+  const ParallelFor& parallel_;
+  int& counter_;
+  std::vector<Group> groups_;
+  std::vector<std::size_t> train_rows_;
+};
+
+bool by_bic(const GroupFit& a, const GroupFit& b) { return a.ok != b.ok ? a.ok : a.delta_bic < b.delta_bic; }
+
+// The best usable fit, preferring fewer groups within the margin (the smallest change).
+std::optional<std::size_t> smallest_best(const std::vector<GroupFit>& fits, double margin) {
+  std::optional<std::size_t> chosen;
+  for (std::size_t k = 0; k < fits.size(); ++k) {
+    if (!fits[k].ok) continue;
+    if (!chosen ||
+        (fits[k].groups.size() < fits[*chosen].groups.size() && fits[k].delta_bic < fits[*chosen].delta_bic + margin)) {
+      chosen = k;
+    }
+  }
+  return chosen;
+}
+
 }  // namespace
+
+const GroupFit* accepted_change(const Discovery& d) {
+  if (d.outcome == DiscoveryOutcome::with_library && !d.with_library_fits.empty()) return &d.with_library_fits[0];
+  if (d.chosen && (d.outcome == DiscoveryOutcome::alone || d.outcome == DiscoveryOutcome::instead_of_library)) {
+    return &d.fits[*d.chosen];
+  }
+  return nullptr;
+}
+
+void validate_discovery_groups(const DiscoveryOptions& options, const MotorParameters& baseline) {
+  for (const std::string& name : options.groups) {
+    const ParameterGroup* g = find_parameter_group(name);
+    if (g == nullptr) {
+      throw std::invalid_argument("unknown group '" + name + "' (known: " + parameter_group_names() + ")");
+    }
+    if (std::count(options.groups.begin(), options.groups.end(), name) > 1) {
+      throw std::invalid_argument("group '" + name + "' is named twice");
+    }
+    if (const std::string why = group_not_applicable_reason(*g, baseline); !why.empty()) {
+      throw std::invalid_argument("group '" + name + "' does not apply to this config (" + why + ")");
+    }
+  }
+}
 
 std::string describe_group_fit(const GroupFit& fit) {
   std::string out;
   for (std::size_t k = 0; k < fit.groups.size(); ++k) {
-    const ParameterGroup* g = find_parameter_group(fit.groups[k]);
     if (!out.empty()) out += " and ";
-    out += fit.groups[k] + " " + describe_group_change(*g, fit.values[k]);
-    out += std::isfinite(fit.standard_errors[k]) ? format_numbers(" +- %.2g", fit.standard_errors[k])
-                                                 : std::string(" (standard error unknown)");
-    if (g->change == GroupChange::shift) out += " " + fit.units[k];
-    out += " (";
-    for (std::size_t s = 0; s < fit.keys[k].size(); ++s) out += (s == 0 ? "" : ", ") + fit.keys[k][s];
-    out += fit.keys[k].size() > 1 ? " together)" : ")";
-    if (fit.at_bound[k]) out += " [at its bound: the data push it further]";
+    const bool shift = fit.changes[k] == GroupChange::shift;
+    out += fit.groups[k] + " " +
+           (shift ? format_numbers("%+.4g", fit.values[k]) : format_numbers("x%.4g", fit.values[k]));
+    if (fit.at_bound[k]) {
+      out += " (at its bound: the data push it further; no standard error)";
+    } else {
+      out += std::isfinite(fit.standard_errors[k]) ? format_numbers(" +- %.2g", fit.standard_errors[k])
+                                                   : std::string(" (standard error unknown)");
+    }
+    if (shift) out += " " + fit.units[k];
+    out += " (" + join(fit.keys[k]) + (fit.keys[k].size() > 1 ? " together)" : ")");
   }
   return out;
 }
@@ -84,171 +252,74 @@ Discovery run_discovery(const DiscoveryStart& start, const MeasurementSet& set, 
   Discovery d;
   if (!settings.options.enabled) return d;
   const MotorParameters& baseline = *start.baseline;
-  const std::vector<Group> groups = groups_for(baseline, settings.options, d.screened);
+  std::vector<Group> groups = groups_for(baseline, settings.options, d.screened);
   if (groups.empty()) {
+    d.outcome = DiscoveryOutcome::nothing;
     d.verdict = "no group of base parameters applies to this config";
     return d;
   }
+  const Search search(start, set, model, train, settings, parallel, evaluation_counter, std::move(groups));
+  const std::vector<Group>& g_all = search.groups();
   const std::size_t n = train.size();
   const std::vector<double> base_r = model.residuals(*start.baseline_predictions);
   const std::vector<double> library_r = model.residuals(*start.library_predictions);
   const double sse0 = sum_of_squares(base_r, train);
   const int library_count = static_cast<int>(start.library_effects.size());
+  const std::string library_names = join(start.library_effects);
   d.library_delta_bic = library_count == 0 ? 0.0 : delta_bic(sum_of_squares(library_r, train), sse0, n, library_count);
-  auto predict = [&](const std::vector<MotorParameters>& models) {
-    evaluation_counter += static_cast<int>(models.size());
-    return predict_points(models, set.rows, settings.prediction, parallel);
-  };
+  const bool beside_possible = library_count > 0 && !start.library_explains;
+  d.significance = settings.significance / (beside_possible ? 2.0 : 1.0);
 
-  // 1. Screening of every group on the baseline, the library's own steps.
-  const double round_scale = kCauchyEfficiencyScale * robust_sigma(base_r, train);
-  // Each group is probed in both directions (a factor above and below 1, a shift up and down):
-  // unlike an effect, a change of the base model has no sign known in advance, and where a
-  // change moves the fold a step the wrong way can leave the secant nowhere to go. The better
-  // side is kept.
-  std::vector<std::optional<FreeParameter>> free;
-  for (const Group& g : groups) {
-    free.emplace_back(g.free);
-    FreeParameter down = g.free;
-    down.scale = -g.free.scale;
-    free.emplace_back(down);
-  }
-  const std::vector<Screened> both = screen_candidates(baseline, free, *start.baseline_predictions, base_r, model,
-                                                       train,
-                                                       {settings.screening_steps, settings.bic_margin, round_scale},
-                                                       predict);
-  std::vector<Screened> screened;
-  for (std::size_t g = 0; g < groups.size(); ++g) {
-    Screened up = both[2 * g];
-    Screened down = both[2 * g + 1];
-    down.theta = -down.theta;  // in the group's own direction
-    screened.push_back(down.robust < up.robust ? std::move(down) : std::move(up));
-  }
+  // 1. Screening of every group on the baseline.
+  const std::vector<Screened> screened = search.screen(baseline, *start.baseline_predictions, base_r);
+  std::vector<double> screened_bic;
   std::vector<std::size_t> order;  // groups by screened robust cost
-  for (std::size_t g = 0; g < groups.size(); ++g) {
+  for (std::size_t g = 0; g < g_all.size(); ++g) {
     order.push_back(g);
+    screened_bic.push_back(delta_bic(screened[g].sse, sse0, n, 1));
     for (GroupScreening& s : d.screened) {
-      if (s.name != groups[g].group->name) continue;
-      s.value = groups[g].free.origin + screened[g].theta * groups[g].free.scale;
-      s.delta_bic = delta_bic(screened[g].sse, sse0, n, 1);
+      if (s.name != g_all[g].group->name) continue;
+      s.value = search.value_of(g, screened[g]);
+      s.delta_bic = screened_bic[g];
     }
   }
   std::stable_sort(order.begin(), order.end(),
                    [&](std::size_t a, std::size_t b) { return screened[a].robust < screened[b].robust; });
 
-  // 2. Full fits: each of the best screened groups that could pass the margin, alone.
-  auto fit_change = [&](const std::vector<std::size_t>& members, std::vector<double> start_values,
-                        const Predictions* start_predictions, bool with_library) {
-    std::vector<FreeParameter> parameters;
-    const MotorParameters& origin = with_library ? *start.library : baseline;
-    if (with_library) {
-      for (std::size_t k = 0; k < start.library_effects.size(); ++k) {
-        parameters.push_back(effect_free_parameter(*find_candidate_effect(start.library_effects[k])));
-      }
-    }
-    for (std::size_t m : members) parameters.push_back(groups[m].free);
-    const ParameterEvaluator eval(origin, parameters, set, settings.prediction, parallel, evaluation_counter);
-    const ParameterFit fit = fit_candidate(eval, model, train, start_values, start_predictions, round_scale,
-                                           settings.robust, settings.max_fit_iterations);
-    GroupFit out;
-    const std::size_t first = with_library ? start.library_effects.size() : 0;
-    for (std::size_t k = 0; k < first; ++k) {
-      out.effect_values.push_back(fit.values[k]);
-      out.effect_standard_errors.push_back(fit.standard_errors[k]);
-    }
-    for (std::size_t k = 0; k < members.size(); ++k) {
-      const FreeParameter& f = groups[members[k]].free;
-      out.groups.emplace_back(groups[members[k]].group->name);
-      out.units.push_back(f.unit);
-      std::vector<std::string> keys;
-      for (const ParameterSpec* spec : group_parameters(*groups[members[k]].group, baseline)) {
-        keys.push_back(spec->name());
-      }
-      out.keys.push_back(std::move(keys));
-      out.values.push_back(fit.values[first + k]);
-      out.standard_errors.push_back(fit.standard_errors[first + k]);
-      out.at_bound.push_back(near_bound(f, fit.values[first + k]));
-    }
-    out.ok = fit.ok;
-    out.residuals = model.residuals(fit.predictions);
-    out.delta_bic = delta_bic(fit.train_sum_of_squares, sse0, n, static_cast<int>(parameters.size()));
-    out.train_rms = std::sqrt(fit.train_sum_of_squares / static_cast<double>(std::max<std::size_t>(n, 1)));
-    out.held_out_rms = rms_of(out.residuals, test);
-    out.parameters = eval.parameters_at(fit.values);
-    out.predictions = fit.predictions;
-    return out;
-  };
-  std::vector<std::size_t> single_members;
+  // 2. Full fits on the baseline: the best screened groups that could pass the margin (where the
+  // library's residual is within the noise, only those that could come within the margin of it).
+  std::vector<std::size_t> singles;
   for (std::size_t g : order) {
-    if (static_cast<int>(single_members.size()) >= settings.options.fitted_singles) break;
-    const double screened_bic = delta_bic(screened[g].sse, sse0, n, 1);
-    if (screened_bic < -settings.bic_margin &&
-        (!start.library_explains || screened_bic < d.library_delta_bic + settings.bic_margin)) {
-      single_members.push_back(g);
+    if (static_cast<int>(singles.size()) >= settings.options.fitted_singles) break;
+    if (screened_bic[g] < -settings.bic_margin &&
+        (!start.library_explains || screened_bic[g] < d.library_delta_bic + settings.bic_margin)) {
+      singles.push_back(g);
     }
   }
-  if (single_members.empty()) {
-    const std::size_t best = order.front();
-    const std::string best_text = " (best: " + std::string(groups[best].group->name) +
-                                  format_numbers(", delta BIC %+.4g against the baseline",
-                                                 delta_bic(screened[best].sse, sse0, n, 1));
-    if (library_count > 0) {
-      d.outcome = DiscoveryOutcome::library_stands;
-      std::string names;
-      for (const std::string& e : start.library_effects) names += (names.empty() ? "" : ", ") + e;
-      d.verdict = names + " stands: no change of the base model comes within the BIC margin of it" + best_text +
-                  format_numbers(", the library's effects %+.4g)", d.library_delta_bic);
-      return d;
-    }
-    d.outcome = DiscoveryOutcome::nothing;
-    d.verdict = "no group of base parameters lowers the BIC by more than " +
-                format_numbers("%.3g", settings.bic_margin) + best_text + ")";
-    return d;
+  for (std::size_t g : singles) {
+    d.fits.push_back(search.fit({g}, {search.value_of(g, screened[g])}, &screened[g].predictions, false));
   }
-  for (std::size_t g : single_members) {
-    d.fits.push_back(fit_change({g}, {groups[g].free.origin + screened[g].theta * groups[g].free.scale},
-                                &screened[g].predictions, false));
-  }
-  auto by_bic = [](const GroupFit& a, const GroupFit& b) { return a.ok != b.ok ? a.ok : a.delta_bic < b.delta_bic; };
   std::stable_sort(d.fits.begin(), d.fits.end(), by_bic);
-  // 3. Pairs of the three best screened groups, when the best single change leaves a structured
-  // residual (a second change is asked for by the data, not tried on every session).
-  const GroupFit& best_single = d.fits.front();
-  if (settings.options.pairs && !start.library_explains && groups.size() >= 2 &&
-      map_disagreement(set, best_single.predictions, model).structured) {
+  // Pairs of the three best screened groups when the best single change leaves a structured
+  // residual on the training rows (a second change asked for by the data, not tried always).
+  if (settings.options.pairs && !start.library_explains && g_all.size() >= 2 && !d.fits.empty() && d.fits.front().ok &&
+      search.structured(d.fits.front().predictions)) {
     const std::size_t top = std::min<std::size_t>(3, order.size());
-    auto value_of = [&](std::size_t g) {
+    auto start_of = [&](std::size_t g) {
       for (const GroupFit& f : d.fits) {
-        if (f.groups.size() == 1 && f.groups[0] == groups[g].group->name) return f.values[0];
+        if (f.groups.size() == 1 && f.groups[0] == g_all[g].group->name) return f.values[0];
       }
-      return groups[g].free.origin + screened[g].theta * groups[g].free.scale;
+      return search.value_of(g, screened[g]);
     };
     for (std::size_t a = 0; a < top; ++a) {
       for (std::size_t b = a + 1; b < top; ++b) {
-        d.fits.push_back(fit_change({order[a], order[b]}, {value_of(order[a]), value_of(order[b])}, nullptr, false));
+        d.fits.push_back(search.fit({order[a], order[b]}, {start_of(order[a]), start_of(order[b])}, nullptr, false));
       }
     }
     std::stable_sort(d.fits.begin(), d.fits.end(), by_bic);
   }
-  // The chosen change: the lowest BIC, but a pair only when it beats every single change by the
-  // margin (the smallest change that explains the data).
-  std::optional<std::size_t> chosen;
-  for (std::size_t k = 0; k < d.fits.size(); ++k) {
-    if (!d.fits[k].ok) continue;
-    if (!chosen) {
-      chosen = k;
-      continue;
-    }
-    const GroupFit& c = d.fits[*chosen];
-    const GroupFit& f = d.fits[k];
-    if (f.groups.size() < c.groups.size() && f.delta_bic < c.delta_bic + settings.bic_margin) chosen = k;
-  }
-  if (!chosen) {
-    d.outcome = library_count > 0 ? DiscoveryOutcome::library_stands : DiscoveryOutcome::nothing;
-    d.verdict = "no fit of a group of base parameters converged to a usable solution";
-    return d;
-  }
-  const GroupFit& g = d.fits[*chosen];
+  for (GroupFit& f : d.fits) f.held_out_rms = rms_of(f.residuals, test);
+  const std::optional<std::size_t> best = smallest_best(d.fits, settings.bic_margin);
   auto mark_indistinguishable = [&](double reference, std::optional<std::size_t> except) {
     for (std::size_t k = 0; k < d.fits.size(); ++k) {
       if (except && k == *except) continue;
@@ -262,75 +333,123 @@ Discovery run_discovery(const DiscoveryStart& start, const MeasurementSet& set, 
       d.indistinguishable.push_back(k);
     }
   };
-  const std::string change = describe_group_fit(g);
+  auto alternatives_text = [&] {
+    std::string out;
+    for (std::size_t k : d.indistinguishable) out += (out.empty() ? "" : "; ") + describe_group_fit(d.fits[k]);
+    return out.empty() ? out : "; as well explained on these points by " + out + " (not tested on the held-out points)";
+  };
+  const std::string best_screened = " (best screened: " + std::string(g_all[order.front()].group->name) +
+                                    format_numbers(", delta BIC %+.4g against the baseline)",
+                                                   screened_bic[order.front()]);
 
-  // 4. Against the library: alone, with its effects, instead of them, or not at all.
+  // 3. Against the library.
   if (library_count == 0) {
+    if (!best) {
+      d.outcome = DiscoveryOutcome::nothing;
+      d.verdict = d.fits.empty() ? "no group of base parameters lowers the BIC by more than " +
+                                       format_numbers("%.3g", settings.bic_margin) + best_screened
+                                 : "no fit of a group of base parameters converged to a usable solution";
+      return d;
+    }
+    const GroupFit& g = d.fits[*best];
     d.held_out = compare_held_out(set, model, base_r, g.residuals, test, settings.split_seed);
-    const bool passes = g.delta_bic < -settings.bic_margin && d.held_out.p_value < settings.significance;
-    d.outcome = passes ? DiscoveryOutcome::alone : DiscoveryOutcome::nothing;
-    if (passes) {
-      d.chosen = chosen;
-      mark_indistinguishable(g.delta_bic, chosen);
-      d.verdict = "not in the library: " + change + format_numbers("; delta BIC %+.4g; ", g.delta_bic) +
-                  evidence_text(d.held_out);
+    if (g.delta_bic < -settings.bic_margin && d.held_out.p_value < d.significance) {
+      d.outcome = DiscoveryOutcome::alone;
+      d.chosen = best;
+      mark_indistinguishable(g.delta_bic, best);
+      d.verdict = "not in the library: " + describe_group_fit(g) + "; " + describe_evidence(g.delta_bic, d.held_out) +
+                  alternatives_text();
     } else {
-      d.verdict = "best change of the base model " + change + " not named: " +
-                  (g.delta_bic < -settings.bic_margin
-                       ? format_numbers("held-out p = %.3g is not below ", d.held_out.p_value) +
-                             format_numbers("%.3g", settings.significance)
-                       : format_numbers("delta BIC %+.3g is not below -", g.delta_bic) +
-                             format_numbers("%.3g", settings.bic_margin)) +
+      d.outcome = DiscoveryOutcome::nothing;
+      d.verdict = "the best change of the base model, " + describe_group_fit(g) + ", is not named: " +
+                  (g.delta_bic < -settings.bic_margin ? p_text(d.held_out, d.significance)
+                                                      : format_numbers("delta BIC %+.3g is not below -", g.delta_bic) +
+                                                            format_numbers("%.3g", settings.bic_margin)) +
                   format_numbers("; held-out RMS %.3g %% -> %.3g %%", 100.0 * d.held_out.rms_before,
                                  100.0 * d.held_out.rms_after);
     }
     return d;
   }
-  std::vector<std::size_t> members;
-  for (const std::string& name : g.groups) {
-    for (std::size_t k = 0; k < groups.size(); ++k) {
-      if (groups[k].group->name == name) members.push_back(k);
+
+  std::string beside_note;
+  if (beside_possible) {
+    // 3a. Beside the library's effects: the groups screened again on the library's model, the
+    // best (at most three) fitted jointly with its effects; the lowest BIC is tested.
+    const std::vector<Screened> on_library = search.screen(*start.library, *start.library_predictions, library_r);
+    const double library_sse = sum_of_squares(library_r, train);
+    std::vector<std::size_t> lib_order;
+    for (std::size_t g = 0; g < g_all.size(); ++g) {
+      if (delta_bic(on_library[g].sse, library_sse, n, 1) < -settings.bic_margin) lib_order.push_back(g);
+    }
+    std::stable_sort(lib_order.begin(), lib_order.end(),
+                     [&](std::size_t a, std::size_t b) { return on_library[a].robust < on_library[b].robust; });
+    if (lib_order.size() > 3) lib_order.resize(3);
+    for (std::size_t g : lib_order) {
+      d.with_library_fits.push_back(
+          search.fit({g}, {search.value_of(g, on_library[g])}, &on_library[g].predictions, true));
+    }
+    std::stable_sort(d.with_library_fits.begin(), d.with_library_fits.end(), by_bic);
+    for (GroupFit& f : d.with_library_fits) f.held_out_rms = rms_of(f.residuals, test);
+    if (!d.with_library_fits.empty() && d.with_library_fits[0].ok) {
+      const GroupFit& lg = d.with_library_fits[0];
+      const double alone_bic = best ? d.fits[*best].delta_bic : 0.0;
+      if (lg.delta_bic < std::min(d.library_delta_bic, alone_bic) - settings.bic_margin) {
+        d.held_out = compare_held_out(set, model, library_r, lg.residuals, test, settings.split_seed);
+        // The library's effects must still help once the change is in: the joint model against
+        // the change alone (when there is one) on the held-out points too.
+        if (best) {
+          d.against_change = compare_held_out(set, model, d.fits[*best].residuals, lg.residuals, test,
+                                              settings.split_seed);
+        }
+        const bool effects_help = !best || d.against_change.p_value < d.significance;
+        if (d.held_out.p_value < d.significance && effects_help) {
+          d.outcome = DiscoveryOutcome::with_library;
+          d.verdict = "not in the library, beside " + library_names + ": " + describe_group_fit(lg) + "; " +
+                      describe_evidence(lg.delta_bic - d.library_delta_bic, d.held_out) + " (against " + library_names +
+                      " alone)";
+          return d;
+        }
+        beside_note = "; beside " + library_names + ", " + describe_group_fit(lg) +
+                      " is not named: " + p_text(d.held_out, d.significance) + " against " + library_names + " alone" +
+                      (best ? ", " + p_text(d.against_change, d.significance) + " against the change alone" : "");
+      } else {
+        beside_note = "; beside " + library_names + ", the best change " + describe_group_fit(lg) +
+                      format_numbers(" lowers the BIC by %.4g", d.library_delta_bic - lg.delta_bic) +
+                      format_numbers(", not by the margin %.3g", settings.bic_margin);
+      }
     }
   }
-  std::vector<double> joint_start = start.library_values;
-  joint_start.insert(joint_start.end(), g.values.begin(), g.values.end());
-  std::string library_names;
-  for (const std::string& e : start.library_effects) library_names += (library_names.empty() ? "" : ", ") + e;
-  if (!start.library_explains) d.with_library = fit_change(members, joint_start, nullptr, true);
-  const bool joint = d.with_library.has_value();
-  if (joint && d.with_library->ok &&
-      d.with_library->delta_bic < std::min(d.library_delta_bic, g.delta_bic) - settings.bic_margin) {
-    const GroupFit& lg = *d.with_library;
-    d.held_out = compare_held_out(set, model, library_r, lg.residuals, test, settings.split_seed);
-    if (d.held_out.p_value < settings.significance) {
-      d.outcome = DiscoveryOutcome::with_library;
-      d.verdict = "not in the library, beside " + library_names + ": " + describe_group_fit(lg) +
-                  format_numbers("; delta BIC %+.4g against ", lg.delta_bic - d.library_delta_bic) + library_names +
-                  " alone; " + evidence_text(d.held_out);
-      return d;
-    }
-  }
-  if (g.delta_bic < d.library_delta_bic - settings.bic_margin) {
+  // 3b. Instead of the library's effects: a change alone that beats them by the margin and on
+  // the held-out points, against the baseline and against their model.
+  if (best && d.fits[*best].delta_bic < d.library_delta_bic - settings.bic_margin) {
+    const GroupFit& g = d.fits[*best];
     d.held_out = compare_held_out(set, model, base_r, g.residuals, test, settings.split_seed);
     d.against_library = compare_held_out(set, model, library_r, g.residuals, test, settings.split_seed);
-    if (d.held_out.p_value < settings.significance && d.against_library.p_value < settings.significance) {
+    if (d.held_out.p_value < d.significance && d.against_library.p_value < d.significance) {
       d.outcome = DiscoveryOutcome::instead_of_library;
-      d.chosen = chosen;
-      mark_indistinguishable(g.delta_bic, chosen);
-      d.verdict = "not in the library: " + change + ", instead of " + library_names +
-                  format_numbers(" (delta BIC %+.4g against ", g.delta_bic - d.library_delta_bic) + library_names +
-                  "; held-out against " + library_names + ": " + evidence_text(d.against_library) +
-                  "); against the baseline: " + evidence_text(d.held_out);
+      d.chosen = best;
+      mark_indistinguishable(g.delta_bic, best);
+      d.verdict = "not in the library: " + describe_group_fit(g) + ", instead of " + library_names + " (" +
+                  describe_evidence(g.delta_bic - d.library_delta_bic, d.against_library) + ", against " +
+                  library_names + "); against the baseline: " + describe_evidence(g.delta_bic, d.held_out) +
+                  alternatives_text();
       return d;
     }
+    beside_note += "; instead of " + library_names + ", " + describe_group_fit(g) +
+                   " is not named: " + p_text(d.against_library, d.significance) + " against " + library_names + ", " +
+                   p_text(d.held_out, d.significance) + " against the baseline";
   }
   d.outcome = DiscoveryOutcome::library_stands;
   mark_indistinguishable(d.library_delta_bic, std::nullopt);
-  d.verdict = library_names + " stands: the best change of the base model, " + change +
-              format_numbers(", has delta BIC %+.4g against ", g.delta_bic - d.library_delta_bic) + library_names +
-              (joint && d.with_library->ok
-                   ? format_numbers(", and beside it %+.4g", d.with_library->delta_bic - d.library_delta_bic)
-                   : std::string());
+  if (!best) {
+    d.verdict = library_names + " stands: no change of the base model comes within the BIC margin of it" +
+                best_screened.substr(0, best_screened.size() - 1) +
+                format_numbers("; the library's effects %+.4g)", d.library_delta_bic) + beside_note;
+  } else {
+    d.verdict = library_names + " stands: the best change of the base model, " + describe_group_fit(d.fits[*best]) +
+                format_numbers(", has delta BIC %+.4g against it", d.fits[*best].delta_bic - d.library_delta_bic) +
+                beside_note + alternatives_text();
+  }
   return d;
 }
 

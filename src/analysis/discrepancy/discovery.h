@@ -4,9 +4,10 @@
 // the held-out residual to the noise. Changes are searched over physical groups of base
 // parameters (parameter_groups.h), singly and in pairs, screened and fitted by the library's
 // own steps (candidate_fitting.h), chosen by the Schwarz criterion on the training points and
-// accepted only by the held-out test that names a library effect (held_out_test.h), so the
-// false-naming bound is the library's. A library effect stays named unless a group beats it by
-// the BIC margin and on the held-out points: when it is the truth, it wins.
+// accepted only by the held-out tests that name a library effect (held_out_test.h), at the
+// workflow's level divided by the changes the step may try to name (Bonferroni). A library effect
+// stays named unless a change beats it by the BIC margin and on the held-out points: when it is
+// the truth, it wins.
 #pragma once
 
 #include <cstdint>
@@ -15,6 +16,7 @@
 #include <string>
 #include <vector>
 
+#include "analysis/discrepancy/parameter_groups.h"
 #include "analysis/fit/disagreement_map.h"
 #include "analysis/fit/held_out_test.h"
 #include "analysis/fit/parameter_fit.h"
@@ -30,7 +32,8 @@ struct DiscoveryOptions {
 
 // One fitted change of the base model: one or two groups.
 struct GroupFit {
-  std::vector<std::string> groups;             // names (parameter_groups.h)
+  std::vector<std::string> groups;  // names (parameter_groups.h)
+  std::vector<GroupChange> changes;
   std::vector<std::string> units;              // "factor" or the shift's unit
   std::vector<std::vector<std::string>> keys;  // per group, the "section.key"s it changes
   std::vector<double> values;
@@ -57,7 +60,8 @@ struct GroupScreening {
 };
 
 enum class DiscoveryOutcome {
-  not_run,             // disabled, or nothing to search
+  not_run,             // disabled
+  nothing_to_explain,  // nothing named and the baseline's residual within the noise
   nothing,             // no change passes (the verdict says which test failed)
   alone,               // the library named nothing; a change of the base model explains it
   with_library,        // on top of the library's effects
@@ -67,18 +71,34 @@ enum class DiscoveryOutcome {
 
 struct Discovery {
   DiscoveryOutcome outcome = DiscoveryOutcome::not_run;
-  std::vector<GroupScreening> screened;
+  std::vector<GroupScreening> screened;  // on the baseline
   std::vector<GroupFit> fits;            // changes of the baseline, by delta BIC (best first)
-  std::optional<GroupFit> with_library;  // the best change fitted jointly with the library's effects
-  std::optional<std::size_t> chosen;     // index into fits (outcome alone or instead_of_library)
-  // Fits as good as the chosen one (or as the library's effects, outcome library_stands) within
-  // the BIC margin: the data cannot tell them apart (named together).
+  // Changes fitted jointly with the library's effects (screened on the library's model), by
+  // delta BIC; only when the library named effects and left a structured residual.
+  std::vector<GroupFit> with_library_fits;
+  std::optional<std::size_t> chosen;  // index into fits (outcome alone or instead_of_library)
+  // Fits within the BIC margin of the chosen one (or of the library's effects when they stand):
+  // these points cannot tell them apart. Not tested on the held-out points, not in the
+  // augmented config: listed so that a reader does not take the choice for a proof.
   std::vector<std::size_t> indistinguishable;
-  double library_delta_bic = 0.0;   // the library's named effects against the baseline
-  HeldOutEvidence held_out;         // the accepted change against the model it changes
+  double library_delta_bic = 0.0;  // the library's named effects against the baseline
+  // The level of each held-out test of the step: the workflow's significance, divided by the
+  // number of changes the step may try to name (Bonferroni: two when it may name one beside the
+  // library's effects and then one instead of them). The session's false-naming rate is at most
+  // the library's level plus this one (docs/discrepancy.md).
+  double significance = 0.0;
+  HeldOutEvidence held_out;         // the tested change against the model it changes
   HeldOutEvidence against_library;  // instead_of_library: the change against the library's model
+  HeldOutEvidence against_change;   // with_library: the joint model against the change alone
   std::string verdict;
 };
+
+// The change the step named (nullptr: none): a fit of `fits` or of `with_library_fits`.
+[[nodiscard]] const GroupFit* accepted_change(const Discovery& d);
+
+// Throws std::invalid_argument for an unknown group, one named twice, or one that does not
+// apply to `baseline` (saying why).
+void validate_discovery_groups(const DiscoveryOptions& options, const MotorParameters& baseline);
 
 struct DiscoverySettings {
   DiscoveryOptions options;

@@ -14,15 +14,6 @@
 namespace swum {
 namespace {
 
-std::string describe_evidence(double bic, const HeldOutEvidence& e) {
-  return format_numbers("delta BIC %+.4g; held-out: ", bic) + std::to_string(e.improved) + " of " +
-         std::to_string(e.points) + format_numbers(" points better, p = %.2g", e.p_value) +
-         format_numbers(" (signed-rank %.2g, sign-flip %.2g)", e.signed_rank_p, e.sign_flip_p) +
-         format_numbers("; RMS gap %.3g %%", 100.0 * e.rms_before) +
-         format_numbers(" -> %.3g %% (reduction %.0f %%", 100.0 * e.rms_after, 100.0 * e.reduction) +
-         format_numbers(", 90 %% interval %.0f..%.0f %%)", 100.0 * e.reduction_low, 100.0 * e.reduction_high);
-}
-
 std::vector<FreeParameter> free_parameters_of(const std::vector<const CandidateEffect*>& effects) {
   std::vector<FreeParameter> free;
   for (const CandidateEffect* e : effects) free.push_back(effect_free_parameter(*e));
@@ -45,6 +36,7 @@ DiscrepancyResult run_discrepancy(const MotorParameters& baseline, const Measure
       candidates.push_back(e);
     }
   }
+  if (options.discovery.enabled) validate_discovery_groups(options.discovery, baseline);
   DiscrepancyResult result;
   result.held_out = held_out_rows(set, {options.held_out_fraction, options.min_held_out_points, options.split_seed},
                                   result.held_out_points, result.operating_points);
@@ -67,217 +59,233 @@ DiscrepancyResult run_discrepancy(const MotorParameters& baseline, const Measure
 
   const bool robust_fit = options.robust;
   std::vector<bool> used(candidates.size(), false);
-  while (static_cast<int>(result.effects.size()) < options.max_effects) {
-    DiscrepancyRound round;
-    const double sse0 = sum_of_squares(current_r, train);
-    // Candidates are screened, ranked and first fitted by the Cauchy cost at a scale set by
-    // what the current model leaves: a few readings on the other side of a fold or a dead-zone
-    // edge (residuals of 100 % and more) must not choose the effect.
-    const double round_scale = kCauchyEfficiencyScale * robust_sigma(current_r, train);
-    // Screening: a probe at the typical magnitude, then Gauss-Newton / secant steps, every
-    // candidate of a step in one parallel batch (candidate_fitting.h).
-    std::vector<std::optional<FreeParameter>> screened_free(candidates.size());
-    for (std::size_t c = 0; c < candidates.size(); ++c) {
-      CandidateScore score;
-      score.name = std::string(candidates[c]->name);
-      if (used[c] || effect_enabled(current, *candidates[c])) {
-        score.skipped = true;
-        score.note = "already in the model";
-      } else if (candidates[c]->needs_time && !set.has_time) {
-        score.skipped = true;
-        score.note = "needs time_s (builds up over a session)";
-      } else {
-        screened_free[c] = effect_free_parameter(*candidates[c]);
+  // The library's rounds on top of `current`: each names at most one effect (run again after a
+  // change of the base model is accepted, for effects beside it).
+  auto library_rounds = [&](bool after_change) {
+    std::fill(used.begin(), used.end(), false);
+    while (static_cast<int>(result.effects.size()) < options.max_effects) {
+      DiscrepancyRound round;
+      round.after_change = after_change;
+      const double sse0 = sum_of_squares(current_r, train);
+      // Candidates are screened, ranked and first fitted by the Cauchy cost at a scale set by
+      // what the current model leaves: a few readings on the other side of a fold or a dead-zone
+      // edge (residuals of 100 % and more) must not choose the effect.
+      const double round_scale = kCauchyEfficiencyScale * robust_sigma(current_r, train);
+      // Screening: a probe at the typical magnitude, then Gauss-Newton / secant steps, every
+      // candidate of a step in one parallel batch (candidate_fitting.h).
+      std::vector<std::optional<FreeParameter>> screened_free(candidates.size());
+      for (std::size_t c = 0; c < candidates.size(); ++c) {
+        CandidateScore score;
+        score.name = std::string(candidates[c]->name);
+        if (used[c] || effect_enabled(current, *candidates[c])) {
+          score.skipped = true;
+          score.note = "already in the model";
+        } else if (candidates[c]->needs_time && !set.has_time) {
+          score.skipped = true;
+          score.note = "needs time_s (builds up over a session)";
+        } else {
+          screened_free[c] = effect_free_parameter(*candidates[c]);
+        }
+        round.candidates.push_back(score);
       }
-      round.candidates.push_back(score);
-    }
-    const std::vector<Screened> best = screen_candidates(current, screened_free, current_predictions, current_r, model,
-                                                         train,
-                                                         {options.screening_steps, options.bic_margin, round_scale},
-                                                         predict);
-    std::vector<std::size_t> active;
-    for (std::size_t c = 0; c < candidates.size(); ++c) {
-      if (!round.candidates[c].skipped) active.push_back(c);
-    }
-    // The winner: the lowest robust cost among the candidates that pass the BIC margin; when
-    // none does, the lowest BIC (for the verdict).
-    std::optional<std::size_t> winner;
-    for (std::size_t c : active) {
-      CandidateScore& score = round.candidates[c];
-      score.value = candidates[c]->neutral + best[c].theta * candidates[c]->typical;
-      score.train_rms = std::sqrt(best[c].sse / static_cast<double>(std::max<std::size_t>(n, 1)));
-      score.held_out_rms = rms_of(best[c].residuals, test);
-      score.delta_bic = delta_bic(best[c].sse, sse0, n, 1);
-    }
-    for (std::size_t c : active) {
-      const bool passes = round.candidates[c].delta_bic < -options.bic_margin;
-      const bool winner_passes = winner && round.candidates[*winner].delta_bic < -options.bic_margin;
-      if (!winner || (passes && !winner_passes) || (passes && best[c].robust < best[*winner].robust) ||
-          (!passes && !winner_passes && round.candidates[c].delta_bic < round.candidates[*winner].delta_bic)) {
-        winner = c;
+      const std::vector<Screened> best = screen_candidates(
+          current, screened_free, current_predictions, current_r, model, train,
+          {options.screening_steps, options.bic_margin, round_scale, {}}, predict);
+      std::vector<std::size_t> active;
+      for (std::size_t c = 0; c < candidates.size(); ++c) {
+        if (!round.candidates[c].skipped) active.push_back(c);
       }
-    }
-    if (!winner || round.candidates[*winner].delta_bic > -options.bic_margin) {
-      round.verdict = winner
-                          ? "no candidate lowers the BIC by more than " + format_numbers("%.3g", options.bic_margin) +
-                                " (best: " + round.candidates[*winner].name + ", " +
-                                format_numbers("%+.3g", round.candidates[*winner].delta_bic) + ")"
-                          : "no candidate left";
-      result.rounds.push_back(round);
-      break;
-    }
-    // Full fit of the best screened candidate, jointly with the effects named before it. From
-    // the second round on, an earlier fit may have absorbed part of the new effect, which can
-    // misrank the screening: the three best screened candidates are fitted, the one with the
-    // lowest training BIC is chosen, and only that one is tested on the held-out points.
-    std::vector<std::size_t> ranked;
-    for (std::size_t k : active) {
-      if (round.candidates[k].delta_bic < -options.bic_margin) ranked.push_back(k);
-    }
-    std::sort(ranked.begin(), ranked.end(),
-              [&](std::size_t x, std::size_t y) { return best[x].robust < best[y].robust; });
-    ranked.resize(std::min<std::size_t>(ranked.size(), result.effects.empty() ? 1 : 3));
-    struct Trial {
-      std::size_t c;
-      ParameterFit fit;
-      std::vector<double> residuals;
-      double bic;
-      HeldOutEvidence evidence;
-      bool passes;
-    };
-    std::optional<Trial> chosen;
-    std::vector<const CandidateEffect*> fitted_effects;
-    for (const NamedEffect& named : result.effects) fitted_effects.push_back(find_candidate_effect(named.name));
-    fitted_effects.push_back(nullptr);
-    const std::size_t last_index = fitted_effects.size() - 1;
-    for (std::size_t c : ranked) {
-      std::vector<double> start;
-      for (const NamedEffect& named : result.effects) start.push_back(named.value);
-      start.push_back(round.candidates[c].value);
-      fitted_effects[last_index] = candidates[c];
+      // The winner: the lowest robust cost among the candidates that pass the BIC margin; when
+      // none does, the lowest BIC (for the verdict).
+      std::optional<std::size_t> winner;
+      for (std::size_t c : active) {
+        CandidateScore& score = round.candidates[c];
+        score.value = candidates[c]->neutral + best[c].theta * candidates[c]->typical;
+        score.train_rms = std::sqrt(best[c].sse / static_cast<double>(std::max<std::size_t>(n, 1)));
+        score.held_out_rms = rms_of(best[c].residuals, test);
+        score.delta_bic = delta_bic(best[c].sse, sse0, n, 1);
+      }
+      for (std::size_t c : active) {
+        const bool passes = round.candidates[c].delta_bic < -options.bic_margin;
+        const bool winner_passes = winner && round.candidates[*winner].delta_bic < -options.bic_margin;
+        if (!winner || (passes && !winner_passes) || (passes && best[c].robust < best[*winner].robust) ||
+            (!passes && !winner_passes && round.candidates[c].delta_bic < round.candidates[*winner].delta_bic)) {
+          winner = c;
+        }
+      }
+      if (!winner || round.candidates[*winner].delta_bic > -options.bic_margin) {
+        round.verdict = winner
+                            ? "no candidate lowers the BIC by more than " + format_numbers("%.3g", options.bic_margin) +
+                                  " (best: " + round.candidates[*winner].name + ", " +
+                                  format_numbers("%+.3g", round.candidates[*winner].delta_bic) + ")"
+                            : "no candidate left";
+        result.rounds.push_back(round);
+        break;
+      }
+      // Full fit of the best screened candidate, jointly with the effects named before it. From
+      // the second round on, an earlier fit may have absorbed part of the new effect, which can
+      // misrank the screening: the three best screened candidates are fitted, the one with the
+      // lowest training BIC is chosen, and only that one is tested on the held-out points.
+      std::vector<std::size_t> ranked;
+      for (std::size_t k : active) {
+        if (round.candidates[k].delta_bic < -options.bic_margin) ranked.push_back(k);
+      }
+      std::sort(ranked.begin(), ranked.end(),
+                [&](std::size_t x, std::size_t y) { return best[x].robust < best[y].robust; });
+      ranked.resize(std::min<std::size_t>(ranked.size(), result.effects.empty() ? 1 : 3));
+      struct Trial {
+        std::size_t c;
+        ParameterFit fit;
+        std::vector<double> residuals;
+        double bic;
+        HeldOutEvidence evidence;
+        bool passes;
+      };
+      std::optional<Trial> chosen;
+      std::vector<const CandidateEffect*> fitted_effects;
+      for (const NamedEffect& named : result.effects) fitted_effects.push_back(find_candidate_effect(named.name));
+      fitted_effects.push_back(nullptr);
+      const std::size_t last_index = fitted_effects.size() - 1;
+      for (std::size_t c : ranked) {
+        std::vector<double> start;
+        for (const NamedEffect& named : result.effects) start.push_back(named.value);
+        start.push_back(round.candidates[c].value);
+        fitted_effects[last_index] = candidates[c];
+        const ParameterEvaluator eval(current, free_parameters_of(fitted_effects), set, options.prediction, parallel,
+                                      result.model_evaluations);
+        Trial trial{
+            c,
+            fit_candidate(eval, model, train, start, &best[c].predictions, round_scale, robust_fit, options.max_fit_iterations),
+            {},
+            0.0,
+            {},
+            false};
+        trial.residuals = model.residuals(trial.fit.predictions);
+        trial.bic = delta_bic(trial.fit.train_sum_of_squares, sse0, n, 1);
+
+        CandidateScore& score = round.candidates[c];
+        score.value = trial.fit.values[last_index];
+        score.train_rms = std::sqrt(trial.fit.train_sum_of_squares / static_cast<double>(n));
+        score.held_out_rms = rms_of(trial.residuals, test);
+        score.delta_bic = trial.bic;
+        // Chosen on the training points alone (the lowest BIC of a usable fit); only the chosen
+        // one is tested on the held-out points, so their test is not spent on the choice.
+        const bool better = !chosen || (trial.fit.ok && !chosen->fit.ok) ||
+                            (trial.fit.ok == chosen->fit.ok && trial.bic < chosen->bic);
+        if (better) chosen = std::move(trial);
+      }
+      if (!chosen) {  // nothing ranked (a delta BIC exactly at the margin, or not a number)
+        round.verdict = "no candidate lowers the BIC by more than " + format_numbers("%.3g", options.bic_margin);
+        result.rounds.push_back(round);
+        break;
+      }
+      chosen->evidence = compare_held_out(set, model, current_r, chosen->residuals, test, options.split_seed);
+      chosen->passes = chosen->fit.ok && chosen->bic < -options.bic_margin &&
+                       chosen->evidence.p_value < options.significance;
+      const std::size_t c = chosen->c;
+      const CandidateEffect& e = *candidates[c];
+      const ParameterFit& fit = chosen->fit;
+      const std::vector<double>& fit_r = chosen->residuals;
+      const double bic = chosen->bic;
+      const HeldOutEvidence& evidence = chosen->evidence;
+      fitted_effects[last_index] = &e;
       const ParameterEvaluator eval(current, free_parameters_of(fitted_effects), set, options.prediction, parallel,
                                     result.model_evaluations);
-      Trial trial{
-          c,
-          fit_candidate(eval, model, train, start, &best[c].predictions, round_scale, robust_fit, options.max_fit_iterations),
-          {},
-          0.0,
-          {},
-          false};
-      trial.residuals = model.residuals(trial.fit.predictions);
-      trial.bic = delta_bic(trial.fit.train_sum_of_squares, sse0, n, 1);
-
-      CandidateScore& score = round.candidates[c];
-      score.value = trial.fit.values[last_index];
-      score.train_rms = std::sqrt(trial.fit.train_sum_of_squares / static_cast<double>(n));
-      score.held_out_rms = rms_of(trial.residuals, test);
-      score.delta_bic = trial.bic;
-      // Chosen on the training points alone (the lowest BIC of a usable fit); only the chosen
-      // one is tested on the held-out points, so their test is not spent on the choice.
-      const bool better = !chosen || (trial.fit.ok && !chosen->fit.ok) ||
-                          (trial.fit.ok == chosen->fit.ok && trial.bic < chosen->bic);
-      if (better) chosen = std::move(trial);
-    }
-    if (!chosen) {  // nothing ranked (a delta BIC exactly at the margin, or not a number)
-      round.verdict = "no candidate lowers the BIC by more than " + format_numbers("%.3g", options.bic_margin);
-      result.rounds.push_back(round);
-      break;
-    }
-    chosen->evidence = compare_held_out(set, model, current_r, chosen->residuals, test, options.split_seed);
-    chosen->passes = chosen->fit.ok && chosen->bic < -options.bic_margin &&
-                     chosen->evidence.p_value < options.significance;
-    const std::size_t c = chosen->c;
-    const CandidateEffect& e = *candidates[c];
-    const ParameterFit& fit = chosen->fit;
-    const std::vector<double>& fit_r = chosen->residuals;
-    const double bic = chosen->bic;
-    const HeldOutEvidence& evidence = chosen->evidence;
-    fitted_effects[last_index] = &e;
-    const ParameterEvaluator eval(current, free_parameters_of(fitted_effects), set, options.prediction, parallel,
-                                  result.model_evaluations);
-    round.fitted = c;
-    round.accepted = chosen->passes;
-    round.held_out = evidence;
-    round.fitted_delta_bic = bic;
-    if (!round.accepted) {
-      std::string why;
-      if (!fit.ok) why = "the fit did not converge to a usable solution; ";
-      if (!(bic < -options.bic_margin)) {
-        why += format_numbers("delta BIC %+.3g is not below -%.3g; ", bic, options.bic_margin);
+      round.fitted = c;
+      round.accepted = chosen->passes;
+      round.held_out = evidence;
+      round.fitted_delta_bic = bic;
+      if (!round.accepted) {
+        std::string why;
+        if (!fit.ok) why = "the fit did not converge to a usable solution; ";
+        if (!(bic < -options.bic_margin)) {
+          why += format_numbers("delta BIC %+.3g is not below -%.3g; ", bic, options.bic_margin);
+        }
+        if (!(evidence.p_value < options.significance)) {
+          why += format_numbers("held-out p = %.3g is not below %.3g", evidence.p_value, options.significance) +
+                 format_numbers(" (signed-rank %.3g, sign-flip %.3g; ", evidence.signed_rank_p, evidence.sign_flip_p) +
+                 std::to_string(evidence.improved) + " of " + std::to_string(evidence.points) +
+                 " held-out points better)";
+        }
+        if (why.size() >= 2 && why.compare(why.size() - 2, 2, "; ") == 0) why.resize(why.size() - 2);
+        round.verdict = std::string(e.name) + " fitted but not named: " + why +
+                        format_numbers("; held-out RMS %.3g %% -> %.3g %%", 100.0 * evidence.rms_before,
+                                       100.0 * evidence.rms_after);
+        result.rounds.push_back(round);
+        break;
       }
-      if (!(evidence.p_value < options.significance)) {
-        why += format_numbers("held-out p = %.3g is not below %.3g", evidence.p_value, options.significance) +
-               format_numbers(" (signed-rank %.3g, sign-flip %.3g; ", evidence.signed_rank_p, evidence.sign_flip_p) +
-               std::to_string(evidence.improved) + " of " + std::to_string(evidence.points) +
-               " held-out points better)";
+      NamedEffect named;
+      named.name = std::string(e.name);
+      named.key = std::string(e.free_key);
+      named.unit = std::string(effect_free_spec(e).unit);
+      named.value = fit.values[last_index];
+      named.standard_error = fit.standard_errors[last_index];
+      named.delta_bic = bic;
+      named.held_out = evidence;
+      round.verdict = "named " + named.name + ": " + describe_evidence(bic, evidence);
+      for (std::size_t k = 0; k < result.effects.size(); ++k) {  // refined jointly
+        result.effects[k].value = fit.values[k];
+        result.effects[k].standard_error = fit.standard_errors[k];
       }
-      if (why.size() >= 2 && why.compare(why.size() - 2, 2, "; ") == 0) why.resize(why.size() - 2);
-      round.verdict = std::string(e.name) + " fitted but not named: " + why +
-                      format_numbers("; held-out RMS %.3g %% -> %.3g %%", 100.0 * evidence.rms_before,
-                                     100.0 * evidence.rms_after);
+      result.effects.push_back(named);
       result.rounds.push_back(round);
-      break;
+      used[c] = true;
+      current = eval.parameters_at(fit.values);
+      current_predictions = fit.predictions;
+      current_r = fit_r;
     }
-    NamedEffect named;
-    named.name = std::string(e.name);
-    named.key = std::string(e.free_key);
-    named.unit = std::string(effect_free_spec(e).unit);
-    named.value = fit.values[last_index];
-    named.standard_error = fit.standard_errors[last_index];
-    named.delta_bic = bic;
-    named.held_out = evidence;
-    round.verdict = "named " + named.name + ": " + describe_evidence(bic, evidence);
-    for (std::size_t k = 0; k < result.effects.size(); ++k) {  // refined jointly
-      result.effects[k].value = fit.values[k];
-      result.effects[k].standard_error = fit.standard_errors[k];
-    }
-    result.effects.push_back(named);
-    result.rounds.push_back(round);
-    used[c] = true;
-    current = eval.parameters_at(fit.values);
-    current_predictions = fit.predictions;
-    current_r = fit_r;
-  }
+  };
+  library_rounds(false);
 
   // Discovery: a change of the base model, alone, beside the library's effects or instead of
-  // them (discovery.h).
-  // Not when nothing was named and the baseline's residual is within the noise: there is nothing
-  // for a change to explain (the conclusion says so), and noise-only sessions stay as cheap as
-  // before.
-  const bool nothing_to_explain = result.effects.empty() && !result.baseline_map.structured;
-  if (options.discovery.enabled && nothing_to_explain) {
-    result.discovery.verdict = "not run: nothing named and the baseline's residual is within the noise";
-  }
-  if (options.discovery.enabled && !nothing_to_explain) {
-    DiscoveryStart start{&baseline, &result.baseline_predictions, &current, &current_predictions, {}, {}, false};
-    for (const NamedEffect& e : result.effects) {
-      start.library_effects.push_back(e.name);
-      start.library_values.push_back(e.value);
+  // them (discovery.h). Not when nothing was named and the baseline's residual is within the
+  // noise on the training rows: there is nothing for a change to explain (the conclusion says
+  // so), and noise-only sessions stay as cheap as before. (Training rows only: the held-out rows
+  // must not choose the hypothesis they then test.)
+  if (options.discovery.enabled) {
+    std::vector<std::size_t> train_rows;
+    for (std::size_t row = 0; row < result.held_out.size(); ++row) {
+      if (!result.held_out[row]) train_rows.push_back(row);
     }
-    start.library_explains = !result.effects.empty() && !map_disagreement(set, current_predictions, model).structured;
-    const DiscoverySettings settings{options.discovery,  options.bic_margin,         options.significance,
-                                     options.robust,     options.max_fit_iterations, options.screening_steps,
-                                     options.split_seed, options.prediction};
-    result.discovery = run_discovery(start, set, model, train, test, settings, parallel, result.model_evaluations);
-    const Discovery& d = result.discovery;
-    const GroupFit* accepted = nullptr;
-    if (d.outcome == DiscoveryOutcome::alone || d.outcome == DiscoveryOutcome::instead_of_library) {
-      accepted = &d.fits[*d.chosen];
-    } else if (d.outcome == DiscoveryOutcome::with_library) {
-      accepted = &*d.with_library;
-      for (std::size_t k = 0; k < result.effects.size(); ++k) {  // refined jointly
-        result.effects[k].value = accepted->effect_values[k];
-        result.effects[k].standard_error = accepted->effect_standard_errors[k];
+    const bool nothing_to_explain = result.effects.empty() &&
+                                    !map_disagreement(set, result.baseline_predictions, model, train_rows).structured;
+    if (nothing_to_explain) {
+      result.discovery.outcome = DiscoveryOutcome::nothing_to_explain;
+      result.discovery.verdict = "not run: nothing named and the baseline's residual is within the noise";
+    } else {
+      DiscoveryStart start{&baseline, &result.baseline_predictions, &current, &current_predictions, {}, {}, false};
+      for (const NamedEffect& e : result.effects) {
+        start.library_effects.push_back(e.name);
+        start.library_values.push_back(e.value);
       }
-    }
-    if (d.outcome == DiscoveryOutcome::instead_of_library) {
-      result.superseded = std::move(result.effects);
-      result.effects.clear();
-    }
-    if (accepted != nullptr) {
-      current = accepted->parameters;
-      current_predictions = accepted->predictions;
-      current_r = accepted->residuals;
+      start.library_explains = !result.effects.empty() &&
+                               !map_disagreement(set, current_predictions, model, train_rows).structured;
+      const DiscoverySettings settings{options.discovery,  options.bic_margin,         options.significance,
+                                       options.robust,     options.max_fit_iterations, options.screening_steps,
+                                       options.split_seed, options.prediction};
+      result.discovery = run_discovery(start, set, model, train, test, settings, parallel, result.model_evaluations);
+      const Discovery& d = result.discovery;
+      const GroupFit* accepted = accepted_change(d);
+      if (d.outcome == DiscoveryOutcome::with_library) {
+        for (std::size_t k = 0; k < result.effects.size(); ++k) {  // refined jointly
+          result.effects[k].value = accepted->effect_values[k];
+          result.effects[k].standard_error = accepted->effect_standard_errors[k];
+        }
+      }
+      if (d.outcome == DiscoveryOutcome::instead_of_library) {
+        result.superseded = std::move(result.effects);
+        result.effects.clear();
+      }
+      if (accepted != nullptr) {
+        current = accepted->parameters;
+        current_predictions = accepted->predictions;
+        current_r = accepted->residuals;
+      }
+      // A change alone (or instead of the library's effects) may leave room for an effect beside
+      // it: the library's rounds again, on the changed model.
+      if (d.outcome == DiscoveryOutcome::alone || d.outcome == DiscoveryOutcome::instead_of_library) {
+        library_rounds(true);
+      }
     }
   }
 
@@ -313,7 +321,15 @@ DiscrepancyResult run_discrepancy(const MotorParameters& baseline, const Measure
     if (!result.rounds.empty() && result.rounds.back().fitted && result.rounds.back().held_out.reduction > 0.0) {
       const DiscrepancyRound& last = result.rounds.back();
       // A fit that helped but did not pass: say so rather than "nothing explains it".
-      result.conclusion = "nothing named: " + last.verdict + "; baseline residual " + result.baseline_map.summary;
+      result.conclusion = "nothing named: " + last.verdict;
+      if (outcome == DiscoveryOutcome::nothing && result.discovery.held_out.reduction > 0.0) {
+        result.conclusion += "; " + result.discovery.verdict;
+      }
+      result.conclusion += "; baseline residual " + result.baseline_map.summary;
+    } else if (outcome == DiscoveryOutcome::nothing && result.discovery.held_out.reduction > 0.0) {
+      // No prepared effect, and the best change of the base model helped but did not pass.
+      result.conclusion = "nothing named: no prepared effect explains the residual; " + result.discovery.verdict +
+                          "; baseline residual " + result.baseline_map.summary;
     } else {
       result.conclusion = result.baseline_map.structured
                               ? "no candidate explains the residual; unexplained residual, " +
@@ -326,6 +342,9 @@ DiscrepancyResult run_discrepancy(const MotorParameters& baseline, const Measure
     result.conclusion += "; held-out RMS " +
                          format_numbers("%.3g %% -> %.3g %%", 100.0 * result.rms_before, 100.0 * result.rms_after);
     result.conclusion += "; remaining residual " + result.augmented_map.summary;
+    if (outcome == DiscoveryOutcome::library_stands && !result.discovery.indistinguishable.empty()) {
+      result.conclusion += "; " + result.discovery.verdict;
+    }
   }
   return result;
 }

@@ -65,6 +65,7 @@ struct NamedEffect {
 };
 
 struct DiscrepancyRound {
+  bool after_change = false;               // on the model with the discovery's change of the base model
   std::vector<CandidateScore> candidates;  // in candidate order
   std::optional<std::size_t> fitted;       // index of the fully fitted candidate
   bool accepted = false;

@@ -109,14 +109,18 @@ std::vector<const ParameterSpec*> group_parameters(const ParameterGroup& group, 
   return out;
 }
 
+std::string group_not_applicable_reason(const ParameterGroup& group, const MotorParameters& baseline) {
+  if (!group_parameters(group, baseline).empty()) return "";
+  return group.change == GroupChange::shift
+             ? "the natural frequencies are parameters only with stator.geometry = \"from_frequencies\""
+             : "its parameters are 0 in this config";
+}
+
 FreeParameter group_free_parameter(const ParameterGroup& group, const MotorParameters& baseline) {
   const std::vector<const ParameterSpec*> specs = group_parameters(group, baseline);
   if (specs.empty()) {
-    throw std::invalid_argument("group " + std::string(group.name) + " does not apply to this config" +
-                                (group.change == GroupChange::shift
-                                     ? " (the natural frequencies are parameters only with stator.geometry = "
-                                       "\"from_frequencies\")"
-                                     : " (its parameters are 0)"));
+    throw std::invalid_argument("group " + std::string(group.name) + " does not apply to this config (" +
+                                group_not_applicable_reason(group, baseline) + ")");
   }
   double lower = group.lower;
   double upper = group.upper;

@@ -47,6 +47,9 @@ struct ParameterGroup {
 [[nodiscard]] std::vector<const ParameterSpec*> group_parameters(const ParameterGroup& group,
                                                                  const MotorParameters& baseline);
 
+// Why the group does not apply to `baseline` ("" when it does).
+[[nodiscard]] std::string group_not_applicable_reason(const ParameterGroup& group, const MotorParameters& baseline);
+
 // The group as a fit's free parameter around `baseline`: the factor (origin 1) or the shift
 // (origin 0), bounded by the group's bounds and by every key's documented range; applying a
 // value writes every key from its baseline value. Throws std::invalid_argument when the group

@@ -36,6 +36,7 @@ std::string evidence_text(double delta_bic, const HeldOutEvidence& e) {
 const char* outcome_name(DiscoveryOutcome o) {
   switch (o) {
     case DiscoveryOutcome::not_run: return "not_run";
+    case DiscoveryOutcome::nothing_to_explain: return "nothing_to_explain";
     case DiscoveryOutcome::nothing: return "nothing";
     case DiscoveryOutcome::alone: return "alone";
     case DiscoveryOutcome::with_library: return "with_library";
@@ -45,22 +46,13 @@ const char* outcome_name(DiscoveryOutcome o) {
   return "?";
 }
 
-// The fit the step accepted (nullptr: none).
-const GroupFit* accepted_change(const Discovery& d) {
-  if (d.outcome == DiscoveryOutcome::with_library) return &*d.with_library;
-  if (d.chosen && (d.outcome == DiscoveryOutcome::alone || d.outcome == DiscoveryOutcome::instead_of_library)) {
-    return &d.fits[*d.chosen];
-  }
-  return nullptr;
-}
-
 nlohmann::ordered_json group_fit_json(const GroupFit& f) {
   nlohmann::ordered_json j;
   j["groups"] = nlohmann::ordered_json::array();
   for (std::size_t k = 0; k < f.groups.size(); ++k) {
     j["groups"].push_back({{"name", f.groups[k]},
                            {"keys", f.keys[k]},
-                           {"change", f.units[k] == "factor" ? "factor" : "shift"},
+                           {"change", f.changes[k] == GroupChange::shift ? "shift" : "factor"},
                            {"unit", f.units[k]},
                            {"value", f.values[k]},
                            {"standard_error", f.standard_errors[k]},
@@ -83,7 +75,8 @@ std::string why_not(const Discovery& d, std::size_t k) {
   const GroupFit& f = d.fits[k];
   if (d.chosen && k == *d.chosen) return "chosen";
   if (std::find(d.indistinguishable.begin(), d.indistinguishable.end(), k) != d.indistinguishable.end()) {
-    return "indistinguishable on these points (within the BIC margin): named together";
+    return "cannot be told apart from the answer on these points (within the BIC margin; not tested on the "
+           "held-out points, not in augmented.toml)";
   }
   if (!f.ok) return "the fit did not converge";
   const bool against_library = !d.chosen;
@@ -113,7 +106,9 @@ nlohmann::ordered_json discovery_json(const DiscrepancyResult& r) {
     f["note"] = why_not(d, k);
     j["fits"].push_back(f);
   }
-  if (d.with_library) j["with_library"] = group_fit_json(*d.with_library);
+  j["with_library_fits"] = nlohmann::ordered_json::array();
+  for (const GroupFit& f : d.with_library_fits) j["with_library_fits"].push_back(group_fit_json(f));
+  j["significance"] = d.significance;
   j["screened"] = nlohmann::ordered_json::array();
   for (const GroupScreening& s : d.screened) {
     nlohmann::ordered_json g{{"name", s.name}};
@@ -168,6 +163,7 @@ nlohmann::ordered_json to_json(const DiscrepancyResult& r, double wall_s) {
   for (const DiscrepancyRound& round : r.rounds) {
     nlohmann::ordered_json jr;
     jr["verdict"] = round.verdict;
+    jr["after_change"] = round.after_change;
     if (round.fitted) {
       jr["fitted"] = round.candidates[*round.fitted].name;
       jr["named"] = round.accepted;
@@ -202,7 +198,8 @@ std::string discrepancy_json(const DiscrepancyResult& r, double wall_s) { return
 std::string discrepancy_summary_text(const DiscrepancyResult& r) {
   std::string out = "baseline: " + r.baseline_map.summary + "\n";
   for (std::size_t k = 0; k < r.rounds.size(); ++k) {
-    out += "round " + std::to_string(k + 1) + ": " + r.rounds[k].verdict + "\n";
+    out += "round " + std::to_string(k + 1) + (r.rounds[k].after_change ? " (on the discovery's changed model)" : "") +
+           ": " + r.rounds[k].verdict + "\n";
     for (const CandidateScore& c : r.rounds[k].candidates) {
       std::string line;
       if (c.skipped) {
@@ -215,7 +212,7 @@ std::string discrepancy_summary_text(const DiscrepancyResult& r) {
       out += line;
     }
   }
-  if (r.discovery.outcome != DiscoveryOutcome::not_run) {
+  if (!r.discovery.verdict.empty()) {
     const Discovery& d = r.discovery;
     out += "discovery: " + d.verdict + "\n";
     for (std::size_t k = 0; k < d.fits.size(); ++k) {
@@ -229,7 +226,10 @@ std::string discrepancy_summary_text(const DiscrepancyResult& r) {
            " (the library's round named it; a change of the base model explains "
            "the data better)\n";
   }
-  if (r.effects.empty()) out += "named effects: none\n";
+  if (r.effects.empty()) {
+    out += accepted_change(r.discovery) != nullptr ? "named effects: none (a change of the base model: see discovery)\n"
+                                                   : "named effects: none\n";
+  }
   for (const NamedEffect& e : r.effects) {
     out += "named effect: " + e.name + "  " + e.key + " = " + format_number(e.value, "%.4g") + " +- " +
            format_number(e.standard_error, "%.2g") + " " + e.unit +
@@ -288,7 +288,7 @@ namespace {
 
 std::string discovery_markdown(const DiscrepancyResult& r) {
   const Discovery& d = r.discovery;
-  if (d.outcome == DiscoveryOutcome::not_run) return "";
+  if (d.verdict.empty()) return "";
   std::string md = "\n## Discovery beyond the library\n\n" + d.verdict + "\n\n";
   for (const NamedEffect& e : r.superseded) {
     md += "- **" + e.name + "** was named by the library's round (`" + e.key + " = " + format_number(e.value, "%.4g") +
@@ -300,6 +300,15 @@ std::string discovery_markdown(const DiscrepancyResult& r) {
       md += "| " + describe_group_fit(d.fits[k]) + " | " + percent(d.fits[k].train_rms) + " | " +
             percent(d.fits[k].held_out_rms) + " | " + format_number(d.fits[k].delta_bic, "%+.1f") + " | " +
             why_not(d, k) + " |\n";
+    }
+  }
+  if (!d.with_library_fits.empty()) {
+    md += "\nFitted jointly with the library's effects (delta BIC against the baseline, the effects counted):\n\n"
+          "| change beside the library's effects | train RMS | held-out RMS | delta BIC (baseline) "
+          "|\n|---|---|---|---|\n";
+    for (const GroupFit& f : d.with_library_fits) {
+      md += "| " + describe_group_fit(f) + " | " + percent(f.train_rms) + " | " + percent(f.held_out_rms) + " | " +
+            format_number(f.delta_bic, "%+.1f") + " |\n";
     }
   }
   md += "\nScreened groups (one factor or shift each, on the baseline):\n\n| group | value | delta BIC "
@@ -338,7 +347,8 @@ std::string discrepancy_report_markdown(const std::string& command_line, const M
   }
   md += "\n## Selection\n\n";
   for (std::size_t k = 0; k < r.rounds.size(); ++k) {
-    md += "Round " + std::to_string(k + 1) + ": " + r.rounds[k].verdict + "\n\n";
+    md += "Round " + std::to_string(k + 1) + (r.rounds[k].after_change ? " (on the discovery's changed model)" : "") +
+          ": " + r.rounds[k].verdict + "\n\n";
     md += "| candidate | value | train RMS | held-out RMS | delta BIC |\n|---|---|---|---|---|\n";
     for (const CandidateScore& c : r.rounds[k].candidates) {
       md += c.skipped ? "| " + c.name + " | skipped: " + c.note + " | | | |\n"

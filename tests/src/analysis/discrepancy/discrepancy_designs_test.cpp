@@ -78,6 +78,8 @@ TEST_P(UsersData, HiddenEffectIsNamedAloneRecoveredAndClosesTheGap) {
   for (const auto& round : r.rounds) rounds += "\n  " + round.verdict;
   ASSERT_EQ(r.effects.size(), 1u) << "truth " << effect->name << " = " << truth << rounds;
   EXPECT_EQ(r.effects[0].name, effect->name) << rounds;
+  // And the discovery step leaves it standing (no change of the base model beside or instead).
+  EXPECT_EQ(r.discovery.outcome, DiscoveryOutcome::library_stands) << r.discovery.verdict;
   if (r.effects[0].name == effect->name) {
     const double se = r.effects[0].standard_error;
     ASSERT_TRUE(std::isfinite(se) && se > 0.0) << "standard error " << se;
@@ -156,8 +158,8 @@ TEST(UsersDataNegativeControl, NamesNothingInAtLeast95PercentOfSessions) {
     }
     (cdf > 0.05 ? lo : hi) = p;
   }
-  std::printf("negative control: %d of %d sessions named an effect or a change (rate %.3f, 95 %% upper bound %.3f)\n", named,
-              sessions, static_cast<double>(named) / sessions, hi);
+  std::printf("negative control: %d of %d sessions named an effect or a change (rate %.3f, 95 %% upper bound %.3f)\n",
+              named, sessions, static_cast<double>(named) / sessions, hi);
   for (std::size_t k = 0; k < designs.size(); ++k) {
     std::printf("  %-36s %d of %d named\n", designs[k].name, named_by_design[k], sessions_by_design[k]);
   }

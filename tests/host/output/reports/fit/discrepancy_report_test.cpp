@@ -112,11 +112,13 @@ TEST(DiscrepancyReportMarkdown, HasInputsSelectionEffectsAndGap) {
 TEST(DiscrepancyAugmentedHeader, NamesEachEffectOrSaysNone) {
   DiscrepancyResult r = small_result();
   EXPECT_EQ(discrepancy_augmented_header("--config m.toml --measured s.csv", r),
-            "# Written by `swum discrepancy --config m.toml --measured s.csv`: the baseline plus the named effects.\n"
+            "# Written by `swum discrepancy --config m.toml --measured s.csv`: the baseline plus the named effects and "
+            "any change of the base model it found.\n"
             "#   effects.preload.force_n = 2.5 +- 0.12 N\n");
   r.effects.clear();
   EXPECT_EQ(discrepancy_augmented_header("--config m.toml --measured s.csv", r),
-            "# Written by `swum discrepancy --config m.toml --measured s.csv`: the baseline plus the named effects.\n"
+            "# Written by `swum discrepancy --config m.toml --measured s.csv`: the baseline plus the named effects and "
+            "any change of the base model it found.\n"
             "#   no effect named: identical to the baseline\n");
 }
 
