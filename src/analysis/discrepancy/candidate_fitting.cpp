@@ -86,7 +86,7 @@ std::vector<Screened> screen_candidates(const MotorParameters& current,
       if (std::abs(next - s.theta) < 1e-3) next = s.theta + 1e-3;
       thetas[c] = next;
       // Gauss-Newton prediction of the minimum: screening goes on only for candidates that
-      // could pass the BIC margin, at most the three best.
+      // could pass the BIC margin, at most the `follow_up` best.
       const double predicted = std::min(best[c].sse, jj > 0.0 ? s.sse - jr * jr / jj : s.sse);
       if (delta_bic(predicted, sse0, n, 1) < -settings.bic_margin) promising.emplace_back(predicted, c);
       last[c] = std::move(s);
@@ -101,7 +101,7 @@ std::vector<Screened> screen_candidates(const MotorParameters& current,
         return false;
       });
     }
-    if (promising.size() > 3) promising.resize(3);
+    if (promising.size() > settings.follow_up) promising.resize(settings.follow_up);
     active.clear();
     for (const auto& p : promising) active.push_back(p.second);
   }

@@ -43,13 +43,14 @@ struct ScreeningSettings {
   // Candidates of one family (the two directions of one group of base parameters) share one of
   // the three follow-up places: only the family's best goes on. Empty: every candidate its own.
   std::vector<std::size_t> families;
+  std::size_t follow_up = 3;  // candidates (families) that go on after each step
 };
 
 using BatchPredictor = std::function<std::vector<Predictions>(const std::vector<MotorParameters>&)>;
 
 // Screens candidates[c] (std::nullopt: skipped) on top of `current` (whose predictions and
 // residuals are given): a probe at theta = 1 (one scale), then `steps` reweighted Gauss-Newton
-// steps of the Cauchy cost, continued only for the (at most three, one per family) candidates
+// steps of the Cauchy cost, continued only for the (at most `follow_up`, one per family) candidates
 // whose predicted minimum passes the BIC margin. Returns the best point of each candidate (theta 0, the current
 // model, for a skipped one or one that never improved).
 [[nodiscard]] std::vector<Screened> screen_candidates(const MotorParameters& current,

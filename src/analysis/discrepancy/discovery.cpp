@@ -90,7 +90,7 @@ class Search {
     // moves the fold a step the wrong way can leave the secant nowhere to go: each group is
     // probed up and down, the two directions one family (one follow-up place between them).
     std::vector<std::optional<FreeParameter>> free;
-    ScreeningSettings s{settings_.screening_steps, settings_.bic_margin, scale_of(r), {}};
+    ScreeningSettings s{settings_.screening_steps, settings_.bic_margin, scale_of(r), {}, 3};
     for (std::size_t g = 0; g < groups_.size(); ++g) {
       free.emplace_back(groups_[g].free);
       FreeParameter down = groups_[g].free;
@@ -300,20 +300,34 @@ Discovery run_discovery(const DiscoveryStart& start, const MeasurementSet& set, 
     d.fits.push_back(search.fit({g}, {search.value_of(g, screened[g])}, &screened[g].predictions, false));
   }
   std::stable_sort(d.fits.begin(), d.fits.end(), by_bic);
-  // Pairs of the three best screened groups when the best single change leaves a structured
+  // Pairs of the best screened groups when the best single change leaves a structured
   // residual on the training rows (a second change asked for by the data, not tried always).
   if (settings.options.pairs && !start.library_explains && g_all.size() >= 2 && !d.fits.empty() && d.fits.front().ok &&
       search.structured(d.fits.front().predictions)) {
-    const std::size_t top = std::min<std::size_t>(3, order.size());
+    // The three best screened groups that share no key (two groups that change one key are not a
+    // pair: one would only take from the other).
+    std::vector<std::size_t> top;
+    auto keys_of = [&](std::size_t g) { return group_parameters(*g_all[g].group, baseline); };
+    for (std::size_t g : order) {
+      if (top.size() == 3) break;
+      const std::vector<const ParameterSpec*> keys = keys_of(g);
+      const bool overlaps = std::any_of(top.begin(), top.end(), [&](std::size_t t) {
+        const std::vector<const ParameterSpec*> other = keys_of(t);
+        return std::any_of(keys.begin(), keys.end(), [&](const ParameterSpec* k) {
+          return std::find(other.begin(), other.end(), k) != other.end();
+        });
+      });
+      if (!overlaps) top.push_back(g);
+    }
     auto start_of = [&](std::size_t g) {
       for (const GroupFit& f : d.fits) {
         if (f.groups.size() == 1 && f.groups[0] == g_all[g].group->name) return f.values[0];
       }
       return search.value_of(g, screened[g]);
     };
-    for (std::size_t a = 0; a < top; ++a) {
-      for (std::size_t b = a + 1; b < top; ++b) {
-        d.fits.push_back(search.fit({order[a], order[b]}, {start_of(order[a]), start_of(order[b])}, nullptr, false));
+    for (std::size_t a = 0; a < top.size(); ++a) {
+      for (std::size_t b = a + 1; b < top.size(); ++b) {
+        d.fits.push_back(search.fit({top[a], top[b]}, {start_of(top[a]), start_of(top[b])}, nullptr, false));
       }
     }
     std::stable_sort(d.fits.begin(), d.fits.end(), by_bic);

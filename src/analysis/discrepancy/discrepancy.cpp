@@ -90,7 +90,7 @@ DiscrepancyResult run_discrepancy(const MotorParameters& baseline, const Measure
       }
       const std::vector<Screened> best = screen_candidates(
           current, screened_free, current_predictions, current_r, model, train,
-          {options.screening_steps, options.bic_margin, round_scale, {}}, predict);
+          {options.screening_steps, options.bic_margin, round_scale, {}, 3}, predict);
       std::vector<std::size_t> active;
       for (std::size_t c = 0; c < candidates.size(); ++c) {
         if (!round.candidates[c].skipped) active.push_back(c);

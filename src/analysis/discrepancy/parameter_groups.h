@@ -2,9 +2,8 @@
 // (discovery.h, docs/discrepancy.md "Discovery") may change when no effect of the library
 // explains the residual. The parameters of a group change together in a real motor (both
 // modes' damping with temperature, ageing or a batch of ceramic; both modal frequencies with
-// the stator's stiffness; the normal and tangential stiffness of the friction layer with its
-// modulus), so they are fitted as one factor (or one shift): fitted one at a time, the
-// partner's change would be absorbed elsewhere. What the library already has is not a group
+// the stator's stiffness), so they are fitted as one factor (or one shift): fitted one at a
+// time, the partner's change would be absorbed elsewhere. What the library already has is not a group
 // here (guide friction, preload with its Hertzian stiffness, the four non-linear constants
 // scaled together, droop, heat, wear).
 #pragma once
