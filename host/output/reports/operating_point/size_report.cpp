@@ -409,9 +409,16 @@ std::string size_markdown(const SizingResult& s, const SizeContext& context, con
            format_number(m.series_source_voltage_v.value, "%.4g") + " V amplitude (" +
            where(s, m.series_source_voltage_v) + ") and " + amps(m.series_current_amplitude_a.value) +
            " amplitude. **A first estimate only**: these come from the motor driven by an ideal source; the "
-           "inductor and C0 form a resonant step-up (gain ~6) that moves the motor's state, so a series-matched "
-           "board must be sized again on the state it makes, in the loop with `[amplifier]` "
-           "(docs/amplifier.md: one-shot figures for 200 V gave 332 V there). Prefer the parallel inductors.\n";
+           "inductor and C0 form a resonant step-up (gain ~6) that moves the motor's state";
+      // With the design repeated in the loop (the next bullet), that figure is the one to build.
+      if (context.series_in_loop && context.series_in_loop->converged) {
+        t += " (docs/amplifier.md: one-shot figures for 200 V gave 332 V there), so build a series-matched board "
+             "to the figures sized in the loop below, not to these";
+      } else {
+        t += ", so a series-matched board must be sized again on the state it makes, in the loop with "
+             "`[amplifier]` (docs/amplifier.md: one-shot figures for 200 V gave 332 V there)";
+      }
+      t += ". Prefer the parallel inductors.\n";
     }
   }
   if (context.series_in_loop) {
