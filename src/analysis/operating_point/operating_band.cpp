@@ -87,48 +87,54 @@ std::vector<BandRow> operating_band(const MotorModel& model, const BandGrid& gri
   return rows;
 }
 
-std::optional<ElectricalReadings> band_electrical_at(const BandRow& row, double frequency_hz) {
+std::optional<BandInterpolation> band_interpolation_at(const BandRow& row, double frequency_hz) {
   // curve[k] and points[k] are the same point, frequencies falling with k.
   for (std::size_t k = 0; k < row.curve.size() && k < row.points.size(); ++k) {
     const double f_k = row.curve[k].frequency_hz;
     if (f_k < frequency_hz) {
       if (k == 0) return std::nullopt;  // above the curve
       const double f_up = row.curve[k - 1].frequency_hz;
-      const ElectricalReadings& up = row.points[k - 1].electrical;
-      const ElectricalReadings& down = row.points[k].electrical;
-      if (!up.valid || !down.valid) return std::nullopt;
-      const double w = (f_up - frequency_hz) / (f_up - f_k);  // 0 at the upper point, 1 at the lower
-      auto mix = [w](double a, double b) { return a + w * (b - a); };
-      auto mix_deg = [w](double a, double b) { return wrap_phase_deg(a + w * wrap_phase_deg(b - a)); };
-      ElectricalReadings r = up;
-      r.current_a_a = mix(up.current_a_a, down.current_a_a);
-      r.current_b_a = mix(up.current_b_a, down.current_b_a);
-      r.phase_a_deg = mix_deg(up.phase_a_deg, down.phase_a_deg);
-      r.phase_b_deg = mix_deg(up.phase_b_deg, down.phase_b_deg);
-      r.motional_current_a_a = mix(up.motional_current_a_a, down.motional_current_a_a);
-      r.motional_current_b_a = mix(up.motional_current_b_a, down.motional_current_b_a);
-      r.motional_phase_a_deg = mix_deg(up.motional_phase_a_deg, down.motional_phase_a_deg);
-      r.motional_phase_b_deg = mix_deg(up.motional_phase_b_deg, down.motional_phase_b_deg);
-      r.power_a_w = mix(up.power_a_w, down.power_a_w);
-      r.power_b_w = mix(up.power_b_w, down.power_b_w);
-      r.rms_current_a_a = mix(up.rms_current_a_a, down.rms_current_a_a);
-      r.rms_current_b_a = mix(up.rms_current_b_a, down.rms_current_b_a);
-      r.peak_current_a_a = mix(up.peak_current_a_a, down.peak_current_a_a);
-      r.peak_current_b_a = mix(up.peak_current_b_a, down.peak_current_b_a);
-      r.voltage_a_v = mix(up.voltage_a_v, down.voltage_a_v);
-      r.voltage_b_v = mix(up.voltage_b_v, down.voltage_b_v);
-      r.apparent_power_a_va = mix(up.apparent_power_a_va, down.apparent_power_a_va);
-      r.apparent_power_b_va = mix(up.apparent_power_b_va, down.apparent_power_b_va);
-      r.power_factor_a = mix(up.power_factor_a, down.power_factor_a);
-      r.power_factor_b = mix(up.power_factor_b, down.power_factor_b);
-      return r;
+      return BandInterpolation{k - 1, k, (f_up - frequency_hz) / (f_up - f_k)};
     }
-    if (f_k == frequency_hz) {
-      if (!row.points[k].electrical.valid) return std::nullopt;
-      return row.points[k].electrical;
-    }
+    if (f_k == frequency_hz) return BandInterpolation{k, k, 0.0};
   }
   return std::nullopt;  // below the curve
+}
+
+std::optional<ElectricalReadings> band_electrical_at(const BandRow& row, double frequency_hz) {
+  const std::optional<BandInterpolation> at = band_interpolation_at(row, frequency_hz);
+  if (!at) return std::nullopt;
+  const ElectricalReadings& up = row.points[at->upper].electrical;
+  const ElectricalReadings& down = row.points[at->lower].electrical;
+  if (!up.valid || !down.valid) return std::nullopt;
+  if (at->upper == at->lower) return up;
+  const double w = at->weight;  // 0 at the upper point, 1 at the lower
+  auto mix = [w](double a, double b) { return a + w * (b - a); };
+  auto mix_deg = [w](double a, double b) { return wrap_phase_deg(a + w * wrap_phase_deg(b - a)); };
+  ElectricalReadings r = up;
+  r.current_a_a = mix(up.current_a_a, down.current_a_a);
+  r.current_b_a = mix(up.current_b_a, down.current_b_a);
+  r.phase_a_deg = mix_deg(up.phase_a_deg, down.phase_a_deg);
+  r.phase_b_deg = mix_deg(up.phase_b_deg, down.phase_b_deg);
+  r.motional_current_a_a = mix(up.motional_current_a_a, down.motional_current_a_a);
+  r.motional_current_b_a = mix(up.motional_current_b_a, down.motional_current_b_a);
+  r.motional_phase_a_deg = mix_deg(up.motional_phase_a_deg, down.motional_phase_a_deg);
+  r.motional_phase_b_deg = mix_deg(up.motional_phase_b_deg, down.motional_phase_b_deg);
+  r.power_a_w = mix(up.power_a_w, down.power_a_w);
+  r.power_b_w = mix(up.power_b_w, down.power_b_w);
+  r.rms_current_a_a = mix(up.rms_current_a_a, down.rms_current_a_a);
+  r.rms_current_b_a = mix(up.rms_current_b_a, down.rms_current_b_a);
+  r.peak_current_a_a = mix(up.peak_current_a_a, down.peak_current_a_a);
+  r.peak_current_b_a = mix(up.peak_current_b_a, down.peak_current_b_a);
+  r.voltage_a_v = mix(up.voltage_a_v, down.voltage_a_v);
+  r.voltage_b_v = mix(up.voltage_b_v, down.voltage_b_v);
+  r.apparent_power_a_va = mix(up.apparent_power_a_va, down.apparent_power_a_va);
+  r.apparent_power_b_va = mix(up.apparent_power_b_va, down.apparent_power_b_va);
+  // P/S of the figures above (electrical_readings' definition), not a mix of the points' ratios:
+  // the readings stay consistent, and a row's power factor is the same in swum band and swum size.
+  r.power_factor_a = r.apparent_power_a_va > 0.0 ? r.power_a_w / r.apparent_power_a_va : 0.0;
+  r.power_factor_b = r.apparent_power_b_va > 0.0 ? r.power_b_w / r.apparent_power_b_va : 0.0;
+  return r;
 }
 
 BandSummary summarize_band(const std::vector<BandRow>& rows) {

@@ -46,10 +46,22 @@ struct BandRow {
   PickResult pick;
 };
 
+// Where `frequency_hz` sits on a row's curve: the two points either side (indices into `curve` and
+// `points`, `upper` the higher frequency) and the weight of the lower one, 0 at the upper point
+// and 1 at the lower, for a figure interpolated linearly between them. On a grid point both
+// indices are that point's and the weight 0. None when the frequency is outside the curve.
+struct BandInterpolation {
+  std::size_t upper = 0;
+  std::size_t lower = 0;
+  double weight = 0.0;
+};
+[[nodiscard]] std::optional<BandInterpolation> band_interpolation_at(const BandRow& row, double frequency_hz);
+
 // The electrical port's figures of a row at `frequency_hz` (its pick), each interpolated linearly
-// between the two curve points either side, as the pick's speed is (phases along the shorter
-// arc); a frequency on a grid point gives that point's. None when the frequency is outside the
-// curve or a point either side has no valid reading (diverged, 0 V).
+// between the two curve points either side (band_interpolation_at), as the pick's speed is
+// (phases along the shorter arc); the power factor is P/S of the interpolated powers, as at a
+// grid point. A frequency on a grid point gives that point's. None when the frequency is outside
+// the curve or a point either side has no valid reading (diverged, 0 V).
 [[nodiscard]] std::optional<ElectricalReadings> band_electrical_at(const BandRow& row, double frequency_hz);
 
 // Called (concurrently, from the ParallelFor's tasks) each time a point of some chain is final.

@@ -16,7 +16,8 @@ namespace {
 constexpr double kRadToDeg = 180.0 / std::numbers::pi;
 
 PhaseDuty phase_duty(double voltage_v, double current_amplitude_a, double phase_deg, double motional_phase_deg,
-                     double current_rms_a, double current_peak_a, double power_w, double apparent_power_va) {
+                     double current_rms_a, double current_peak_a, double power_w, double apparent_power_va,
+                     double power_factor) {
   PhaseDuty d;
   d.voltage_v = voltage_v;
   d.current_amplitude_a = current_amplitude_a;
@@ -26,19 +27,19 @@ PhaseDuty phase_duty(double voltage_v, double current_amplitude_a, double phase_
   d.current_peak_a = current_peak_a;
   d.power_w = power_w;
   d.apparent_power_va = apparent_power_va;
-  d.power_factor = apparent_power_va > 0.0 ? power_w / apparent_power_va : 0.0;
-  d.admittance_siemens = voltage_v > 0.0 ? std::polar(current_amplitude_a / voltage_v, phase_deg / kRadToDeg)
+  d.power_factor = power_factor;
+  d.admittance_siemens = voltage_v > 0.0 ? admittance_from_reading(current_amplitude_a, phase_deg, voltage_v)
                                          : std::complex<double>{};
   return d;
 }
 
 PhaseDuty duty_a(const ElectricalReadings& e) {
   return phase_duty(e.voltage_a_v, e.current_a_a, e.phase_a_deg, e.motional_phase_a_deg, e.rms_current_a_a,
-                    e.peak_current_a_a, e.power_a_w, e.apparent_power_a_va);
+                    e.peak_current_a_a, e.power_a_w, e.apparent_power_a_va, e.power_factor_a);
 }
 PhaseDuty duty_b(const ElectricalReadings& e) {
   return phase_duty(e.voltage_b_v, e.current_b_a, e.phase_b_deg, e.motional_phase_b_deg, e.rms_current_b_a,
-                    e.peak_current_b_a, e.power_b_w, e.apparent_power_b_va);
+                    e.peak_current_b_a, e.power_b_w, e.apparent_power_b_va, e.power_factor_b);
 }
 
 void consider(Extreme& e, double value, std::size_t row, char phase, bool smallest = false) {
@@ -108,9 +109,10 @@ bool duty_at_pick(const BandRow& row, SizingRow& out) {
   }
   const double f = row.pick.frequency_hz;
   // The port's figures at the pick: band_electrical_at interpolates them between the grid points
-  // either side (both above the peak); the stator's heat the same way here.
+  // either side (both above the peak); the stator's heat between the same two points here.
   const std::optional<ElectricalReadings> e = band_electrical_at(row, f);
-  if (!e) {
+  const std::optional<BandInterpolation> at = band_interpolation_at(row, f);
+  if (!e || !at) {
     out.reason = "the electrical port was not read at the grid points either side of " + std::to_string(f) + " Hz";
     return false;
   }
@@ -121,14 +123,8 @@ bool duty_at_pick(const BandRow& row, SizingRow& out) {
   out.electrical_power_w = out.a.power_w + out.b.power_w;
   out.mechanical_power_w = row.load_n * out.speed_mm_s * 1e-3;
   out.efficiency = out.electrical_power_w > 0.0 ? out.mechanical_power_w / out.electrical_power_w : 0.0;
-  for (std::size_t k = 0; k + 1 < row.curve.size() && k + 1 < row.points.size(); ++k) {
-    const double high = row.curve[k].frequency_hz, low = row.curve[k + 1].frequency_hz;
-    if (high >= f && f >= low) {
-      const double t = high > low ? (high - f) / (high - low) : 0.0;
-      out.stator_heat_w = (1.0 - t) * row.points[k].damping_power_w + t * row.points[k + 1].damping_power_w;
-      break;
-    }
-  }
+  const double t = at->weight;
+  out.stator_heat_w = (1.0 - t) * row.points[at->upper].damping_power_w + t * row.points[at->lower].damping_power_w;
   out.sized = true;
   return true;
 }

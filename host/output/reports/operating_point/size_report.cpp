@@ -53,6 +53,49 @@ std::string where(const SizingResult& s, const Extreme& e) {
   return t;
 }
 
+// The worst cases over the envelope, once for the JSON's "worst", the text's lines and the report's
+// table, in their order: the JSON key, the text's name (none: the text leaves the figure out), the
+// report's name, the figure, its unit and number format; the text's unit where it differs (plain
+// "deg", "amplitude" spelled out). The matching network's figures come last: the text gives them
+// after the network, only when one was designed.
+struct WorstCase {
+  const char* key;
+  const char* text_name;
+  const char* report_name;
+  Extreme SizingSummary::*extreme;
+  const char* unit;
+  const char* format;
+  const char* text_unit = nullptr;  // none: unit
+  bool network = false;
+};
+constexpr WorstCase kWorstCases[] = {
+    {"current_rms_a", "worst RMS current per phase", "RMS current per phase", &SizingSummary::current_rms_a, " A",
+     "%.4g"},
+    {"current_peak_a", "worst peak current per phase", "peak current per phase", &SizingSummary::current_peak_a, " A",
+     "%.4g"},
+    {"apparent_power_va", "worst apparent power per phase", "apparent power per phase",
+     &SizingSummary::apparent_power_va, " VA", "%.4g"},
+    {"power_w", "worst real power per phase", "real power per phase", &SizingSummary::power_w, " W", "%.4g"},
+    {"power_factor_min", "lowest power factor", "power factor (lowest)", &SizingSummary::power_factor_min, "", "%.3f"},
+    {"electrical_power_w", nullptr, "electrical power, both phases", &SizingSummary::electrical_power_w, " W", "%.4g"},
+    {"mechanical_power_w", "most mechanical output", "mechanical output", &SizingSummary::mechanical_power_w, " W",
+     "%.4g"},
+    {"efficiency_min", "lowest efficiency (loaded rows)", "efficiency (lowest, loaded rows)",
+     &SizingSummary::efficiency_min, "", "%.3f"},
+    {"stator_heat_w", "most heat into the stator", "heat into the stator", &SizingSummary::stator_heat_w, " W", "%.4g"},
+    {"parallel_amplifier_current_a", "worst amplifier current with the parallel inductor",
+     "amplifier current with the parallel inductor", &SizingSummary::parallel_current_amplitude_a, " A", "%.4g",
+     " A (amplitude)", true},
+    {"parallel_amplifier_phase_abs_deg", "worst amplifier phase with the parallel inductor",
+     "amplifier current phase with the parallel inductor (abs)", &SizingSummary::parallel_phase_abs_deg, " °", "%.3g",
+     " deg", true},
+    {"series_source_voltage_v", "worst amplifier voltage with the series inductor",
+     "amplifier voltage with the series inductor", &SizingSummary::series_source_voltage_v, " V", "%.4g",
+     " V (amplitude)", true},
+    {"series_amplifier_current_a", nullptr, "amplifier current with the series inductor",
+     &SizingSummary::series_current_amplitude_a, " A", "%.4g", nullptr, true},
+};
+
 Json extreme_json(const SizingResult& s, const Extreme& e) {
   if (!e.known) return Json(nullptr);
   const SizingRow& r = s.rows[e.row];
@@ -238,19 +281,7 @@ std::string size_json(const SizingResult& s, const SizeContext& context) {
   }
   const SizingSummary& m = s.summary;
   Json worst;
-  worst["current_rms_a"] = extreme_json(s, m.current_rms_a);
-  worst["current_peak_a"] = extreme_json(s, m.current_peak_a);
-  worst["apparent_power_va"] = extreme_json(s, m.apparent_power_va);
-  worst["power_w"] = extreme_json(s, m.power_w);
-  worst["power_factor_min"] = extreme_json(s, m.power_factor_min);
-  worst["electrical_power_w"] = extreme_json(s, m.electrical_power_w);
-  worst["mechanical_power_w"] = extreme_json(s, m.mechanical_power_w);
-  worst["efficiency_min"] = extreme_json(s, m.efficiency_min);
-  worst["stator_heat_w"] = extreme_json(s, m.stator_heat_w);
-  worst["parallel_amplifier_current_a"] = extreme_json(s, m.parallel_current_amplitude_a);
-  worst["parallel_amplifier_phase_abs_deg"] = extreme_json(s, m.parallel_phase_abs_deg);
-  worst["series_source_voltage_v"] = extreme_json(s, m.series_source_voltage_v);
-  worst["series_amplifier_current_a"] = extreme_json(s, m.series_current_amplitude_a);
+  for (const WorstCase& w : kWorstCases) worst[w.key] = extreme_json(s, m.*w.extreme);
   Json j;
   j["config"] = context.config_path;
   j["min_margin_hz"] = context.margin_hz;
@@ -288,18 +319,16 @@ std::string size_text(const SizingResult& s, const SizeContext& context, const s
          format_number(m.band.band->high_hz, "%.10g") + " Hz";
   }
   t += "\n";
-  auto line = [&](const char* name, const Extreme& e, const std::string& unit, const char* fmt = "%.4g") {
-    if (!e.known) return;
-    t += std::string("  ") + name + ": " + format_number(e.value, fmt) + unit + "  (" + where(s, e) + ")\n";
+  // The worst cases of one group (kWorstCases): the motor's, or the matching network's.
+  auto lines = [&](bool network) {
+    for (const WorstCase& w : kWorstCases) {
+      const Extreme& e = m.*w.extreme;
+      if (w.network != network || w.text_name == nullptr || !e.known) continue;
+      t += std::string("  ") + w.text_name + ": " + format_number(e.value, w.format) +
+           (w.text_unit != nullptr ? w.text_unit : w.unit) + "  (" + where(s, e) + ")\n";
+    }
   };
-  line("worst RMS current per phase", m.current_rms_a, " A");
-  line("worst peak current per phase", m.current_peak_a, " A");
-  line("worst apparent power per phase", m.apparent_power_va, " VA");
-  line("worst real power per phase", m.power_w, " W");
-  line("lowest power factor", m.power_factor_min, "", "%.3f");
-  line("most mechanical output", m.mechanical_power_w, " W");
-  line("lowest efficiency (loaded rows)", m.efficiency_min, "", "%.3f");
-  line("most heat into the stator", m.stator_heat_w, " W");
+  lines(false);
   if (s.designed) {
     const SizingRow& d = s.rows[s.design_row];
     t += "network sized at " + format_number(d.amplitude_v) + " V, " + format_number(d.load_n) + " N, " +
@@ -313,9 +342,7 @@ std::string size_text(const SizingResult& s, const SizeContext& context, const s
       }
       t += "\n";
     }
-    line("worst amplifier current with the parallel inductor", m.parallel_current_amplitude_a, " A (amplitude)");
-    line("worst amplifier phase with the parallel inductor", m.parallel_phase_abs_deg, " deg", "%.3g");
-    line("worst amplifier voltage with the series inductor", m.series_source_voltage_v, " V (amplitude)");
+    lines(true);
   } else if (s.design_row < s.rows.size()) {
     t += "no network: the design row was not sized (" + s.rows[s.design_row].reason + ")\n";
   }
@@ -382,9 +409,16 @@ std::string size_markdown(const SizingResult& s, const SizeContext& context, con
            format_number(m.series_source_voltage_v.value, "%.4g") + " V amplitude (" +
            where(s, m.series_source_voltage_v) + ") and " + amps(m.series_current_amplitude_a.value) +
            " amplitude. **A first estimate only**: these come from the motor driven by an ideal source; the "
-           "inductor and C0 form a resonant step-up (gain ~6) that moves the motor's state, so a series-matched "
-           "board must be sized again on the state it makes, in the loop with `[amplifier]` "
-           "(docs/amplifier.md: one-shot figures for 200 V gave 332 V there). Prefer the parallel inductors.\n";
+           "inductor and C0 form a resonant step-up (gain ~6) that moves the motor's state";
+      // With the design repeated in the loop (the next bullet), that figure is the one to build.
+      if (context.series_in_loop && context.series_in_loop->converged) {
+        t += " (docs/amplifier.md: one-shot figures for 200 V gave 332 V there), so build a series-matched board "
+             "to the figures sized in the loop below, not to these";
+      } else {
+        t += ", so a series-matched board must be sized again on the state it makes, in the loop with "
+             "`[amplifier]` (docs/amplifier.md: one-shot figures for 200 V gave 332 V there)";
+      }
+      t += ". Prefer the parallel inductors.\n";
     }
   }
   if (context.series_in_loop) {
@@ -406,23 +440,12 @@ std::string size_markdown(const SizingResult& s, const SizeContext& context, con
     t += population_lines(*context.population, "- ", "  - ");
   }
   t += "\n## Worst cases over the envelope\n\n| figure | worst | where |\n|---|---|---|\n";
-  auto row = [&](const char* name, const Extreme& e, const char* unit, const char* fmt = "%.4g") {
+  for (const WorstCase& w : kWorstCases) {
+    const Extreme& e = m.*w.extreme;
     if (e.known)
-      t += std::string("| ") + name + " | " + format_number(e.value, fmt) + unit + " | " + where(s, e) + " |\n";
-  };
-  row("RMS current per phase", m.current_rms_a, " A");
-  row("peak current per phase", m.current_peak_a, " A");
-  row("apparent power per phase", m.apparent_power_va, " VA");
-  row("real power per phase", m.power_w, " W");
-  row("power factor (lowest)", m.power_factor_min, "", "%.3f");
-  row("electrical power, both phases", m.electrical_power_w, " W");
-  row("mechanical output", m.mechanical_power_w, " W");
-  row("efficiency (lowest, loaded rows)", m.efficiency_min, "", "%.3f");
-  row("heat into the stator", m.stator_heat_w, " W");
-  row("amplifier current with the parallel inductor", m.parallel_current_amplitude_a, " A");
-  row("amplifier current phase with the parallel inductor (abs)", m.parallel_phase_abs_deg, " °", "%.3g");
-  row("amplifier voltage with the series inductor", m.series_source_voltage_v, " V");
-  row("amplifier current with the series inductor", m.series_current_amplitude_a, " A");
+      t += std::string("| ") + w.report_name + " | " + format_number(e.value, w.format) + w.unit + " | " + where(s, e) +
+           " |\n";
+  }
   t += "\n## Every row\n\n| V | load (N) | rise (K) | f (Hz) | speed (mm/s) | I_rms A/B (A) | phase A/B (°) | P (W) | "
        "S A (VA) | PF A | P_mech (W) | η | heat (W) |\n|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
   for (const SizingRow& r : s.rows) {

@@ -91,25 +91,46 @@ TEST(OperatingBand, PicksAMarginAboveTheSofteningPeakAndThePeakFallsWithVoltage)
 }
 
 // band_electrical_at on a made-up curve: linear between the points either side (0.25 of the way
-// from 40200 to 40100 Hz), phases along the shorter arc across +-180 deg, a grid point's own
-// figures on it, none outside the curve or next to a point without a reading.
+// from 40200 to 40100 Hz), phases along the shorter arc across +-180 deg, the power factor P/S of
+// the interpolated powers (not a mix of the points' ratios), a grid point's own figures on it,
+// none outside the curve or next to a point without a reading; band_interpolation_at's bracket.
 TEST(OperatingBand, ElectricalFiguresAtAFrequencyAreInterpolatedBetweenTheCurvePoints) {
   BandRow row;
-  auto point = [&row](double frequency_hz, double current_a, double phase_deg, bool valid) {
+  auto point = [&row](double frequency_hz, double current_a, double phase_deg, double power_w, double apparent_va,
+                      bool valid) {
     row.curve.push_back(CurveSample{frequency_hz, 0.0, true});
     SteadyStateResult r;
     r.electrical.valid = valid;
     r.electrical.rms_current_a_a = current_a;
     r.electrical.motional_phase_a_deg = phase_deg;
+    r.electrical.power_a_w = power_w;
+    r.electrical.apparent_power_a_va = apparent_va;
+    r.electrical.power_factor_a = power_w / apparent_va;
     row.points.push_back(r);
   };
-  point(40200.0, 0.4, 170.0, true);
-  point(40100.0, 0.8, -170.0, true);
-  point(40000.0, 1.0, -160.0, false);
+  point(40200.0, 0.4, 170.0, 2.0, 20.0, true);
+  point(40100.0, 0.8, -170.0, 6.0, 40.0, true);
+  point(40000.0, 1.0, -160.0, 7.0, 50.0, false);
   const std::optional<ElectricalReadings> mid = band_electrical_at(row, 40175.0);
   ASSERT_TRUE(mid.has_value());
   EXPECT_DOUBLE_EQ(mid->rms_current_a_a, 0.5);
   EXPECT_NEAR(mid->motional_phase_a_deg, 175.0, 1e-9);
+  EXPECT_DOUBLE_EQ(mid->power_a_w, 3.0);
+  EXPECT_DOUBLE_EQ(mid->apparent_power_a_va, 25.0);
+  EXPECT_DOUBLE_EQ(mid->power_factor_a, 3.0 / 25.0);  // a mix of the ratios would be 0.1125
+  EXPECT_DOUBLE_EQ(mid->power_factor_b, 0.0);         // no apparent power
+  const std::optional<BandInterpolation> at = band_interpolation_at(row, 40175.0);
+  ASSERT_TRUE(at.has_value());
+  EXPECT_EQ(at->upper, 0U);
+  EXPECT_EQ(at->lower, 1U);
+  EXPECT_DOUBLE_EQ(at->weight, 0.25);
+  const std::optional<BandInterpolation> on = band_interpolation_at(row, 40100.0);
+  ASSERT_TRUE(on.has_value());
+  EXPECT_EQ(on->upper, 1U);
+  EXPECT_EQ(on->lower, 1U);
+  EXPECT_EQ(on->weight, 0.0);
+  EXPECT_FALSE(band_interpolation_at(row, 40300.0).has_value());
+  EXPECT_FALSE(band_interpolation_at(row, 39900.0).has_value());
   EXPECT_DOUBLE_EQ(band_electrical_at(row, 40100.0)->rms_current_a_a, 0.8);
   EXPECT_FALSE(band_electrical_at(row, 40300.0).has_value());
   EXPECT_FALSE(band_electrical_at(row, 40050.0).has_value());
