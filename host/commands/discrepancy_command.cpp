@@ -12,7 +12,6 @@
 #include <vector>
 
 #include "analysis/discrepancy/discrepancy.h"
-#include "analysis/discrepancy/parameter_groups.h"
 #include "commands/command_error.h"
 #include "commands/commands.h"
 #include "commands/config_option.h"
@@ -85,18 +84,10 @@ void run_discrepancy_command(const DiscrepancyCommandOptions& o) {
     options.discovery.groups = parse_name_list(o.groups, "--groups");
   }
   const MotorParameters baseline = load_motor_parameters(o.config_path);
-  for (const std::string& name : options.discovery.groups) {
-    const ParameterGroup* g = find_parameter_group(name);
-    if (g == nullptr) {
-      throw std::invalid_argument("--groups: unknown group '" + name + "' (known: " + parameter_group_names() + ")");
-    }
-    if (const std::string why = group_not_applicable_reason(*g, baseline); !why.empty()) {
-      throw std::invalid_argument("--groups: group '" + name + "' does not apply to " + o.config_path + " (" + why +
-                                  ")");
-    }
-    if (std::count(options.discovery.groups.begin(), options.discovery.groups.end(), name) > 1) {
-      throw std::invalid_argument("--groups: '" + name + "' is named twice");
-    }
+  try {
+    validate_discovery_groups(options.discovery, baseline);
+  } catch (const std::invalid_argument& e) {
+    throw std::invalid_argument(std::string("--groups: ") + e.what());
   }
   MeasurementSet measured;
   try {

@@ -111,6 +111,11 @@ void apply_parameter_edit(MotorParameters& parameters, const ParameterEdit& edit
   const double old_value = spec.get(parameters);
   const double value = edit.kind == ParameterEditKind::set ? edit.value : old_value * edit.value;
   std::string problem;
+  if (edit.kind == ParameterEditKind::scale && old_value == 0.0 && edit.value != 1.0) {
+    // A scaled 0 stays 0: a change the user meant to hide would silently not be there.
+    throw std::invalid_argument(prefix(edit.kind, edit.text) + spec.name() +
+                                " is 0, so scaling it changes nothing; give a value with --set");
+  }
   if (!std::isfinite(value)) {
     problem = "is not finite";
   } else if (value < spec.min_value || value > spec.max_value) {

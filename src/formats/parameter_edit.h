@@ -38,7 +38,7 @@ struct ParameterEdit {
 
 // Applies `edit` to `parameters`. Throws std::invalid_argument, naming the option, the text and
 // the key, when the resulting value is outside the parameter's range (or not finite, or not a
-// whole number for an integer key); `parameters` is then unchanged. A scaled 0 stays 0.
+// whole number for an integer key, a scale of a 0); `parameters` is then unchanged.
 void apply_parameter_edit(MotorParameters& parameters, const ParameterEdit& edit);
 
 }  // namespace swum

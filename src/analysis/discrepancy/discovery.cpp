@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 
 #include "analysis/discrepancy/candidate_effects.h"
@@ -187,7 +188,11 @@ class Search {
   std::vector<std::size_t> train_rows_;
 };
 
-bool by_bic(const GroupFit& a, const GroupFit& b) { return a.ok != b.ok ? a.ok : a.delta_bic < b.delta_bic; }
+// Usable fits first, then by delta BIC (a non-finite one, from a diverged fit, last).
+double bic_key(const GroupFit& f) {
+  return std::isfinite(f.delta_bic) ? f.delta_bic : std::numeric_limits<double>::infinity();
+}
+bool by_bic(const GroupFit& a, const GroupFit& b) { return a.ok != b.ok ? a.ok : bic_key(a) < bic_key(b); }
 
 // The best usable fit, preferring fewer groups within the margin (the smallest change).
 std::optional<std::size_t> smallest_best(const std::vector<GroupFit>& fits, double margin) {
@@ -205,7 +210,9 @@ std::optional<std::size_t> smallest_best(const std::vector<GroupFit>& fits, doub
 }  // namespace
 
 const GroupFit* accepted_change(const Discovery& d) {
-  if (d.outcome == DiscoveryOutcome::with_library && !d.with_library_fits.empty()) return &d.with_library_fits[0];
+  if ((d.outcome == DiscoveryOutcome::with_library || d.effects_after_change) && !d.with_library_fits.empty()) {
+    return &d.with_library_fits[0];
+  }
   if (d.chosen && (d.outcome == DiscoveryOutcome::alone || d.outcome == DiscoveryOutcome::instead_of_library)) {
     return &d.fits[*d.chosen];
   }
@@ -225,6 +232,27 @@ void validate_discovery_groups(const DiscoveryOptions& options, const MotorParam
       throw std::invalid_argument("group '" + name + "' does not apply to this config (" + why + ")");
     }
   }
+}
+
+GroupFit refit_change_with_effects(const GroupFit& change, const std::vector<std::string>& effects,
+                                   const std::vector<double>& effect_values, const MotorParameters& baseline,
+                                   const Predictions& baseline_predictions, const MeasurementSet& set,
+                                   const ResidualModel& model, std::span<const std::size_t> train,
+                                   std::span<const std::size_t> test, const DiscoverySettings& settings,
+                                   const ParallelFor& parallel, int& evaluation_counter) {
+  const DiscoveryStart start{&baseline, &baseline_predictions, &baseline, &baseline_predictions,
+                             effects,   effect_values,         false};
+  std::vector<Group> groups;
+  std::vector<std::size_t> members;
+  for (const std::string& name : change.groups) {
+    const ParameterGroup* g = find_parameter_group(name);
+    members.push_back(groups.size());
+    groups.push_back({g, group_free_parameter(*g, baseline)});
+  }
+  const Search search(start, set, model, train, settings, parallel, evaluation_counter, std::move(groups));
+  GroupFit joint = search.fit(members, change.values, nullptr, true);
+  joint.held_out_rms = rms_of(joint.residuals, test);
+  return joint;
 }
 
 std::string describe_group_fit(const GroupFit& fit) {
@@ -252,6 +280,8 @@ Discovery run_discovery(const DiscoveryStart& start, const MeasurementSet& set, 
   Discovery d;
   if (!settings.options.enabled) return d;
   const MotorParameters& baseline = *start.baseline;
+  const bool beside_possible = !start.library_effects.empty() && !start.library_explains;
+  d.significance = settings.significance / (beside_possible ? 2.0 : 1.0);
   std::vector<Group> groups = groups_for(baseline, settings.options, d.screened);
   if (groups.empty()) {
     d.outcome = DiscoveryOutcome::nothing;
@@ -267,8 +297,6 @@ Discovery run_discovery(const DiscoveryStart& start, const MeasurementSet& set, 
   const int library_count = static_cast<int>(start.library_effects.size());
   const std::string library_names = join(start.library_effects);
   d.library_delta_bic = library_count == 0 ? 0.0 : delta_bic(sum_of_squares(library_r, train), sse0, n, library_count);
-  const bool beside_possible = library_count > 0 && !start.library_explains;
-  d.significance = settings.significance / (beside_possible ? 2.0 : 1.0);
 
   // 1. Screening of every group on the baseline.
   const std::vector<Screened> screened = search.screen(baseline, *start.baseline_predictions, base_r);
@@ -310,6 +338,7 @@ Discovery run_discovery(const DiscoveryStart& start, const MeasurementSet& set, 
     auto keys_of = [&](std::size_t g) { return group_parameters(*g_all[g].group, baseline); };
     for (std::size_t g : order) {
       if (top.size() == 3) break;
+      if (!(screened_bic[g] < 0.0)) continue;  // never improved on the baseline: no partner
       const std::vector<const ParameterSpec*> keys = keys_of(g);
       const bool overlaps = std::any_of(top.begin(), top.end(), [&](std::size_t t) {
         const std::vector<const ParameterSpec*> other = keys_of(t);
@@ -327,6 +356,8 @@ Discovery run_discovery(const DiscoveryStart& start, const MeasurementSet& set, 
     };
     for (std::size_t a = 0; a < top.size(); ++a) {
       for (std::size_t b = a + 1; b < top.size(); ++b) {
+        // A pair that is a library effect under another name is the library's to name.
+        if (!library_effect_of_pair(*g_all[top[a]].group, *g_all[top[b]].group).empty()) continue;
         d.fits.push_back(search.fit({top[a], top[b]}, {start_of(top[a]), start_of(top[b])}, nullptr, false));
       }
     }
@@ -386,9 +417,11 @@ Discovery run_discovery(const DiscoveryStart& start, const MeasurementSet& set, 
   }
 
   std::string beside_note;
+  // 3a. Beside the library's effects: the groups screened again on the library's model, the
+  // best (at most three) fitted jointly with its effects; the lowest BIC is the candidate.
+  std::optional<GroupFit> own;  // the beside candidate's change without the effects, on the baseline
+  bool beside_candidate = false;
   if (beside_possible) {
-    // 3a. Beside the library's effects: the groups screened again on the library's model, the
-    // best (at most three) fitted jointly with its effects; the lowest BIC is tested.
     const std::vector<Screened> on_library = search.screen(*start.library, *start.library_predictions, library_r);
     const double library_sse = sum_of_squares(library_r, train);
     std::vector<std::size_t> lib_order;
@@ -404,38 +437,71 @@ Discovery run_discovery(const DiscoveryStart& start, const MeasurementSet& set, 
     }
     std::stable_sort(d.with_library_fits.begin(), d.with_library_fits.end(), by_bic);
     for (GroupFit& f : d.with_library_fits) f.held_out_rms = rms_of(f.residuals, test);
+    if (!d.with_library_fits.empty() && !d.with_library_fits[0].ok) {
+      beside_note = "; beside " + library_names + ", the joint fit of " + d.with_library_fits[0].groups[0] +
+                    " did not converge to a usable solution";
+    }
     if (!d.with_library_fits.empty() && d.with_library_fits[0].ok) {
       const GroupFit& lg = d.with_library_fits[0];
-      const double alone_bic = best ? d.fits[*best].delta_bic : 0.0;
-      if (lg.delta_bic < std::min(d.library_delta_bic, alone_bic) - settings.bic_margin) {
-        d.held_out = compare_held_out(set, model, library_r, lg.residuals, test, settings.split_seed);
-        // The library's effects must still help once the change is in: the joint model against
-        // the change alone (when there is one) on the held-out points too.
-        if (best) {
-          d.against_change = compare_held_out(set, model, d.fits[*best].residuals, lg.residuals, test,
-                                              settings.split_seed);
+      // The same change without the library's effects, on the baseline: the effects must still
+      // help once the change is in (the margin and the held-out test against it).
+      for (const GroupFit& f : d.fits) {
+        if (f.ok && f.groups == lg.groups) own = f;
+      }
+      if (!own) {
+        std::vector<std::size_t> members;
+        for (const std::string& name : lg.groups) {
+          for (std::size_t k = 0; k < g_all.size(); ++k) {
+            if (g_all[k].group->name == name) members.push_back(k);
+          }
         }
-        const bool effects_help = !best || d.against_change.p_value < d.significance;
-        if (d.held_out.p_value < d.significance && effects_help) {
-          d.outcome = DiscoveryOutcome::with_library;
-          d.verdict = "not in the library, beside " + library_names + ": " + describe_group_fit(lg) + "; " +
-                      describe_evidence(lg.delta_bic - d.library_delta_bic, d.held_out) + " (against " + library_names +
-                      " alone)";
-          return d;
-        }
-        beside_note = "; beside " + library_names + ", " + describe_group_fit(lg) +
-                      " is not named: " + p_text(d.held_out, d.significance) + " against " + library_names + " alone" +
-                      (best ? ", " + p_text(d.against_change, d.significance) + " against the change alone" : "");
-      } else {
+        own = search.fit(members, lg.values, nullptr, false);
+      }
+      const double alone_bic = own->ok ? own->delta_bic : 0.0;
+      beside_candidate = lg.delta_bic < std::min(d.library_delta_bic, alone_bic) - settings.bic_margin;
+      if (!beside_candidate) {
         beside_note = "; beside " + library_names + ", the best change " + describe_group_fit(lg) +
-                      format_numbers(" lowers the BIC by %.4g", d.library_delta_bic - lg.delta_bic) +
+                      format_numbers(" lowers the BIC by %.4g",
+                                     std::min(d.library_delta_bic, alone_bic) - lg.delta_bic) +
                       format_numbers(", not by the margin %.3g", settings.bic_margin);
       }
     }
   }
-  // 3b. Instead of the library's effects: a change alone that beats them by the margin and on
-  // the held-out points, against the baseline and against their model.
-  if (best && d.fits[*best].delta_bic < d.library_delta_bic - settings.bic_margin) {
+  // 3b. Instead of the library's effects: a change alone that beats them by the margin.
+  const bool instead_candidate = best && d.fits[*best].delta_bic < d.library_delta_bic - settings.bic_margin;
+  // Both candidates are tried in the order of the smaller model: the change alone first, unless
+  // the change beside the effects is better by the margin.
+  const bool instead_first = instead_candidate &&
+                             (!beside_candidate ||
+                              d.fits[*best].delta_bic <= d.with_library_fits[0].delta_bic + settings.bic_margin);
+  auto try_beside = [&] {
+    const GroupFit& lg = d.with_library_fits[0];
+    d.held_out = compare_held_out(set, model, library_r, lg.residuals, test, settings.split_seed);
+    d.against_change = compare_held_out(set, model, own->residuals, lg.residuals, test, settings.split_seed);
+    if (d.held_out.p_value < d.significance && d.against_change.p_value < d.significance) {
+      d.outcome = DiscoveryOutcome::with_library;
+      std::string others;
+      for (std::size_t k = 1; k < d.with_library_fits.size(); ++k) {
+        const GroupFit& f = d.with_library_fits[k];
+        if (f.ok && f.delta_bic - lg.delta_bic <= settings.bic_margin) {
+          d.indistinguishable_with_library.push_back(k);
+          others += (others.empty() ? "" : "; ") + describe_group_fit(f);
+        }
+      }
+      d.verdict = "not in the library, beside " + library_names + ": " + describe_group_fit(lg) + "; " +
+                  describe_evidence(lg.delta_bic - d.library_delta_bic, d.held_out) + " (against " + library_names +
+                  " alone); against the change alone: " + p_text(d.against_change, d.significance) +
+                  (others.empty() ? ""
+                                  : "; as well explained on these points by " + others +
+                                        " beside it (not tested on the held-out points)");
+      return true;
+    }
+    beside_note += "; beside " + library_names + ", " + describe_group_fit(lg) +
+                   " is not named: " + p_text(d.held_out, d.significance) + " against " + library_names + " alone, " +
+                   p_text(d.against_change, d.significance) + " against the change alone";
+    return false;
+  };
+  auto try_instead = [&] {
     const GroupFit& g = d.fits[*best];
     d.held_out = compare_held_out(set, model, base_r, g.residuals, test, settings.split_seed);
     d.against_library = compare_held_out(set, model, library_r, g.residuals, test, settings.split_seed);
@@ -447,16 +513,25 @@ Discovery run_discovery(const DiscoveryStart& start, const MeasurementSet& set, 
                   describe_evidence(g.delta_bic - d.library_delta_bic, d.against_library) + ", against " +
                   library_names + "); against the baseline: " + describe_evidence(g.delta_bic, d.held_out) +
                   alternatives_text();
-      return d;
+      return true;
     }
     beside_note += "; instead of " + library_names + ", " + describe_group_fit(g) +
                    " is not named: " + p_text(d.against_library, d.significance) + " against " + library_names + ", " +
                    p_text(d.held_out, d.significance) + " against the baseline";
+    return false;
+  };
+  if (instead_first) {
+    if (try_instead() || (beside_candidate && try_beside())) return d;
+  } else {
+    if ((beside_candidate && try_beside()) || (instead_candidate && try_instead())) return d;
   }
   d.outcome = DiscoveryOutcome::library_stands;
   mark_indistinguishable(d.library_delta_bic, std::nullopt);
   if (!best) {
-    d.verdict = library_names + " stands: no change of the base model comes within the BIC margin of it" +
+    d.verdict = library_names + " stands: " +
+                (d.fits.empty() ? std::string("no change of the base model lowers the BIC by the margin") +
+                                      (start.library_explains ? " and comes within it of the library's effects" : "")
+                                : std::string("no fit of a change of the base model converged to a usable solution")) +
                 best_screened.substr(0, best_screened.size() - 1) +
                 format_numbers("; the library's effects %+.4g)", d.library_delta_bic) + beside_note;
   } else {

@@ -81,6 +81,8 @@ struct Discovery {
   // these points cannot tell them apart. Not tested on the held-out points, not in the
   // augmented config: listed so that a reader does not take the choice for a proof.
   std::vector<std::size_t> indistinguishable;
+  // The same for with_library_fits, against its first (outcome with_library).
+  std::vector<std::size_t> indistinguishable_with_library;
   double library_delta_bic = 0.0;  // the library's named effects against the baseline
   // The level of each held-out test of the step: the workflow's significance, divided by the
   // number of changes the step may try to name (Bonferroni: two when it may name one beside the
@@ -91,6 +93,10 @@ struct Discovery {
   HeldOutEvidence against_library;  // instead_of_library: the change against the library's model
   HeldOutEvidence against_change;   // with_library: the joint model against the change alone
   std::string verdict;
+  // The library's rounds on the changed model named effects beside an accepted change (outcome
+  // alone or instead_of_library): the change and those effects were refitted jointly, the fit
+  // is with_library_fits[0].
+  bool effects_after_change = false;
 };
 
 // The change the step named (nullptr: none): a fit of `fits` or of `with_library_fits`.
@@ -131,6 +137,16 @@ struct DiscoveryStart {
                                       const ResidualModel& model, std::span<const std::size_t> train,
                                       std::span<const std::size_t> test, const DiscoverySettings& settings,
                                       const ParallelFor& parallel, int& evaluation_counter);
+
+// `change` refitted jointly with `effects` (at `effect_values`) from the baseline: one fit of
+// the change and the effects the library's rounds named on the changed model.
+[[nodiscard]] GroupFit refit_change_with_effects(const GroupFit& change, const std::vector<std::string>& effects,
+                                                 const std::vector<double>& effect_values,
+                                                 const MotorParameters& baseline,
+                                                 const Predictions& baseline_predictions, const MeasurementSet& set,
+                                                 const ResidualModel& model, std::span<const std::size_t> train,
+                                                 std::span<const std::size_t> test, const DiscoverySettings& settings,
+                                                 const ParallelFor& parallel, int& evaluation_counter);
 
 // "stator_damping x1.41 +- 0.02 (stator.damping_l1_n_s_m, stator.damping_b2_n_s_m together)"
 [[nodiscard]] std::string describe_group_fit(const GroupFit& fit);

@@ -14,6 +14,12 @@
 namespace swum {
 namespace {
 
+std::string join_names(const std::vector<std::string>& names) {
+  std::string out;
+  for (const std::string& n : names) out += (out.empty() ? "" : ", ") + n;
+  return out;
+}
+
 std::vector<FreeParameter> free_parameters_of(const std::vector<const CandidateEffect*>& effects) {
   std::vector<FreeParameter> free;
   for (const CandidateEffect* e : effects) free.push_back(effect_free_parameter(*e));
@@ -63,6 +69,11 @@ DiscrepancyResult run_discrepancy(const MotorParameters& baseline, const Measure
   // change of the base model is accepted, for effects beside it).
   auto library_rounds = [&](bool after_change) {
     std::fill(used.begin(), used.end(), false);
+    // On the changed model the effects the change replaced are not candidates again: that
+    // question ("the effect beside the change") was the step's to answer.
+    for (std::size_t c = 0; c < candidates.size(); ++c) {
+      for (const NamedEffect& e : result.superseded) used[c] = used[c] || e.name == candidates[c]->name;
+    }
     while (static_cast<int>(result.effects.size()) < options.max_effects) {
       DiscrepancyRound round;
       round.after_change = after_change;
@@ -251,6 +262,7 @@ DiscrepancyResult run_discrepancy(const MotorParameters& baseline, const Measure
                                     !map_disagreement(set, result.baseline_predictions, model, train_rows).structured;
     if (nothing_to_explain) {
       result.discovery.outcome = DiscoveryOutcome::nothing_to_explain;
+      result.discovery.significance = options.significance;
       result.discovery.verdict = "not run: nothing named and the baseline's residual is within the noise";
     } else {
       DiscoveryStart start{&baseline, &result.baseline_predictions, &current, &current_predictions, {}, {}, false};
@@ -285,6 +297,49 @@ DiscrepancyResult run_discrepancy(const MotorParameters& baseline, const Measure
       // it: the library's rounds again, on the changed model.
       if (d.outcome == DiscoveryOutcome::alone || d.outcome == DiscoveryOutcome::instead_of_library) {
         library_rounds(true);
+        // Effects named beside the change: the change and they, refitted jointly from the
+        // baseline, so that no value in the report is from a fit that held another one fixed.
+        if (!result.effects.empty()) {
+          std::vector<std::string> names;
+          std::vector<double> values;
+          for (const NamedEffect& e : result.effects) {
+            names.push_back(e.name);
+            values.push_back(e.value);
+          }
+          GroupFit joint = refit_change_with_effects(*accepted, names, values, baseline, result.baseline_predictions,
+                                                     set, model, train, test, settings, parallel,
+                                                     result.model_evaluations);
+          // A pair whose one group the effects have made unnecessary (its change within two
+          // standard errors of none): the smaller change, refitted with the effects.
+          if (joint.ok && joint.groups.size() == 2) {
+            for (std::size_t k = 0; k < 2; ++k) {
+              const double none = find_parameter_group(joint.groups[k])->change == GroupChange::shift ? 0.0 : 1.0;
+              if (!(std::abs(joint.values[k] - none) < 2.0 * joint.standard_errors[k])) continue;
+              GroupFit smaller;  // refit_change_with_effects reads the groups and their values
+              smaller.groups = {joint.groups[1 - k]};
+              smaller.values = {joint.values[1 - k]};
+              GroupFit refit = refit_change_with_effects(smaller, names, joint.effect_values, baseline,
+                                                         result.baseline_predictions, set, model, train, test, settings,
+                                                         parallel, result.model_evaluations);
+              if (refit.ok) joint = std::move(refit);
+              break;
+            }
+          }
+          if (joint.ok) {
+            for (std::size_t k = 0; k < result.effects.size(); ++k) {
+              result.effects[k].value = joint.effect_values[k];
+              result.effects[k].standard_error = joint.effect_standard_errors[k];
+            }
+            current = joint.parameters;
+            current_predictions = joint.predictions;
+            current_r = joint.residuals;
+            Discovery& dm = result.discovery;
+            dm.verdict += "; beside it the library's rounds on the changed model named " + join_names(names) +
+                          ", refitted jointly: " + describe_group_fit(joint);
+            dm.with_library_fits.insert(dm.with_library_fits.begin(), std::move(joint));
+            dm.effects_after_change = true;
+          }
+        }
       }
     }
   }

@@ -165,9 +165,15 @@ FreeParameter group_free_parameter(const ParameterGroup& group, const MotorParam
           }};
 }
 
-std::string describe_group_change(const ParameterGroup& group, double value) {
-  if (group.change == GroupChange::shift) return format_numbers("%+.4g", value);
-  return format_numbers("x%.4g", value);
+std::string_view library_effect_of_pair(const ParameterGroup& a, const ParameterGroup& b) {
+  constexpr std::array<std::array<std::string_view, 3>, 2> kPairs{{
+      {"preload_force", "contact_stiffness", "preload"},
+      {"elastic_nonlinearity", "electroelastic_coupling", "electroelastic"},
+  }};
+  for (const auto& pair : kPairs) {
+    if ((a.name == pair[0] && b.name == pair[1]) || (a.name == pair[1] && b.name == pair[0])) return pair[2];
+  }
+  return "";
 }
 
 }  // namespace swum

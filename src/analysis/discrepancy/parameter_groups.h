@@ -55,7 +55,9 @@ struct ParameterGroup {
 // does not apply to `baseline`.
 [[nodiscard]] FreeParameter group_free_parameter(const ParameterGroup& group, const MotorParameters& baseline);
 
-// "x1.41" (a factor) or "+152" (a shift, in its keys' unit).
-[[nodiscard]] std::string describe_group_change(const ParameterGroup& group, double value);
+// The library effect a pair of groups is under another name ("" when none): preload_force with
+// contact_stiffness is the library's preload (F_P x f, k_e x f^(1/3)); elastic_nonlinearity
+// with electroelastic_coupling its electroelastic scale. Such a pair is not searched.
+[[nodiscard]] std::string_view library_effect_of_pair(const ParameterGroup& a, const ParameterGroup& b);
 
 }  // namespace swum

@@ -89,6 +89,10 @@ TEST(SwumDiscrepancy, BadInputsAreOneLineErrorsWithExitCodes) {
                 "--discovery", "off", "--groups", "stator_damping"});
   EXPECT_EQ(r.status, 2) << r.output;
   EXPECT_NE(r.output.find("--groups: needs --discovery on"), std::string::npos) << r.output;
+  r = run_swum({"discrepancy", "--config", kConfig, "--measured", bad.string(), "--out", scratch("bad_out").string(),
+                "--groups", "mover_mass,mover_mass"});
+  EXPECT_EQ(r.status, 2) << r.output;
+  EXPECT_NE(r.output.find("--groups: group 'mover_mass' is named twice"), std::string::npos) << r.output;
   const fs::path out = scratch("never.csv");
   r = run_swum({"synth", "--config", kConfig, "--effect", "wear:speed=3", "--points", points_csv().string(), "--noise",
                 "0.02", "--seed", "1", "--out", out.string()});

@@ -41,8 +41,15 @@ TEST(ParameterEdit, SetWritesAndScaleMultipliesAnyKeyOfTheTable) {
   // Integers, scaled to a whole number.
   apply_parameter_edit(p, parse_parameter_edit(ParameterEditKind::scale, "numerics.quadrature_points=2"));
   EXPECT_EQ(p.numerics.quadrature_points, 800);
-  // A scaled 0 stays 0.
-  apply_parameter_edit(p, parse_parameter_edit(ParameterEditKind::scale, "contact.tangential_stiffness_n_m=3"));
+  // A 0 cannot be scaled: the change would silently not be there.
+  try {
+    apply_parameter_edit(p, parse_parameter_edit(ParameterEditKind::scale, "contact.tangential_stiffness_n_m=3"));
+    ADD_FAILURE() << "scaling a 0 was accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_STREQ(e.what(),
+                 "--scale 'contact.tangential_stiffness_n_m=3': contact.tangential_stiffness_n_m is 0, so scaling it "
+                 "changes nothing; give a value with --set");
+  }
   EXPECT_EQ(p.contact.tangential_stiffness_n_m, 0.0);
   EXPECT_EQ(parse_parameter_edit(ParameterEditKind::scale, "stator.damping_b2_n_s_m= 1.4").text,
             "stator.damping_b2_n_s_m=1.4");

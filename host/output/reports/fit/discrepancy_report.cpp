@@ -96,9 +96,12 @@ nlohmann::ordered_json discovery_json(const DiscrepancyResult& r) {
   if (const GroupFit* a = accepted_change(d)) {
     j["change"] = group_fit_json(*a);
     j["held_out"] = evidence_json(d.held_out);
-    if (d.outcome == DiscoveryOutcome::instead_of_library)
+    if (d.outcome == DiscoveryOutcome::instead_of_library) {
       j["held_out_against_library"] = evidence_json(d.against_library);
+    }
+    if (d.outcome == DiscoveryOutcome::with_library) j["held_out_against_change"] = evidence_json(d.against_change);
   }
+  j["effects_after_change"] = d.effects_after_change;
   j["library_delta_bic"] = d.library_delta_bic;
   j["fits"] = nlohmann::ordered_json::array();
   for (std::size_t k = 0; k < d.fits.size(); ++k) {
@@ -107,7 +110,15 @@ nlohmann::ordered_json discovery_json(const DiscrepancyResult& r) {
     j["fits"].push_back(f);
   }
   j["with_library_fits"] = nlohmann::ordered_json::array();
-  for (const GroupFit& f : d.with_library_fits) j["with_library_fits"].push_back(group_fit_json(f));
+  for (std::size_t k = 0; k < d.with_library_fits.size(); ++k) {
+    nlohmann::ordered_json f = group_fit_json(d.with_library_fits[k]);
+    const bool alike = std::find(d.indistinguishable_with_library.begin(), d.indistinguishable_with_library.end(), k) !=
+                       d.indistinguishable_with_library.end();
+    f["note"] = k == 0 && accepted_change(d) == &d.with_library_fits[0] ? "chosen"
+                : alike ? "cannot be told apart from the answer on these points (not tested on the held-out points)"
+                        : "fitted beside the library's effects";
+    j["with_library_fits"].push_back(f);
+  }
   j["significance"] = d.significance;
   j["screened"] = nlohmann::ordered_json::array();
   for (const GroupScreening& s : d.screened) {
@@ -219,6 +230,10 @@ std::string discrepancy_summary_text(const DiscrepancyResult& r) {
       out += "  " + describe_group_fit(d.fits[k]) + "\n    train RMS " + percent(d.fits[k].train_rms) +
              ", held-out RMS " + percent(d.fits[k].held_out_rms) + ", delta BIC " +
              format_number(d.fits[k].delta_bic, "%+.1f") + ": " + why_not(d, k) + "\n";
+    }
+    for (const GroupFit& f : d.with_library_fits) {
+      out += "  beside the library's effects: " + describe_group_fit(f) + "\n    train RMS " + percent(f.train_rms) +
+             ", held-out RMS " + percent(f.held_out_rms) + ", delta BIC " + format_number(f.delta_bic, "%+.1f") + "\n";
     }
   }
   for (const NamedEffect& e : r.superseded) {
@@ -369,7 +384,12 @@ std::string discrepancy_report_markdown(const std::string& command_line, const M
         " training points below -" + format_number(DiscrepancyOptions{}.bic_margin, "%g") + ", and on the " +
         std::to_string(r.held_out_points) +
         " held-out points the one-sided signed-rank and sign-flip tests, Bonferroni-combined, below p = " +
-        format_number(DiscrepancyOptions{}.significance, "%g") + " (docs/discrepancy.md).\n";
+        format_number(DiscrepancyOptions{}.significance, "%g") +
+        (r.discovery.significance > 0.0 && r.discovery.significance < DiscrepancyOptions{}.significance
+             ? " (a change of the base model: p = " + format_number(r.discovery.significance, "%g") +
+                   ", Bonferroni over the step's attempts)"
+             : std::string()) +
+        " (docs/discrepancy.md).\n";
   md += "\n## Gap on held-out points (relative)\n\n| quantity | n | RMS before | RMS after | max before | max after "
         "|\n|---|---|---|---|---|---|\n";
   for (Quantity q : kQuantities) {

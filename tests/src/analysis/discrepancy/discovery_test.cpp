@@ -57,6 +57,7 @@ TEST_P(HiddenBaseChange, RightGroupNamedWithinThreeStandardErrorsAndGapClosed) {
   const DiscrepancyResult r = run_discrepancy(baseline, data, {}, test::two_thread_for);
   std::string trace = "\n  conclusion: " + r.conclusion + "\n  discovery: " + r.discovery.verdict;
   for (const GroupFit& f : r.discovery.fits) trace += "\n    " + describe_group_fit(f);
+  for (const GroupFit& f : r.discovery.with_library_fits) trace += "\n    beside: " + describe_group_fit(f);
   const Discovery& d = r.discovery;
   ASSERT_TRUE(d.outcome == DiscoveryOutcome::alone || d.outcome == DiscoveryOutcome::instead_of_library) << trace;
   EXPECT_TRUE(r.effects.empty()) << "a library effect named beside it" << trace;
@@ -148,34 +149,63 @@ TEST(LibraryEffectTruthFullSearch, DroopStaysNamedWhenEveryChangeIsFitted) {
       << "a change of the base model explains droop as well as droop: " << without.discovery.verdict;
 }
 
-// An effect of the library and a change outside it, both hidden: both are named (the change
-// beside the library's effect, or the effect by the library's rounds on the changed model).
-TEST(LibraryEffectAndBaseChange, BothAreNamed) {
+// An effect of the library and a change outside it, both hidden: both are named, the change
+// beside the library's effect (the library names it first). (The other order - the change
+// first, the effect by the library's rounds on the changed model - is found on some sessions
+// and not on others: docs/discrepancy.md, "Limits".)
+struct EffectAndChange {
+  const char* effect;
+  double effect_value;
+  const char* group;
+  double change;
+  test::Design design;
+};
+
+void PrintTo(const EffectAndChange& c, std::ostream* os) { *os << c.effect << " and " << c.group; }
+
+const EffectAndChange kEffectAndChange[] = {
+    {"guide_friction", 0.05, "stator_damping", 1.3, {"through_ordered_60_sweeps", true, false, 60, 1, true, false}},
+};
+
+class LibraryEffectAndBaseChange : public ::testing::TestWithParam<EffectAndChange> {};
+
+TEST_P(LibraryEffectAndBaseChange, BothAreNamed) {
+  const EffectAndChange& c = GetParam();
   const MotorParameters baseline = test::calibrated_motor();
   MotorParameters hidden = baseline;
-  enable_effect(hidden, *find_candidate_effect("guide_friction"), 0.05);
-  group_free_parameter(*find_parameter_group("stator_damping"), baseline).apply(hidden, 1.3);
-  const test::Design design{"through_ordered_60_sweeps", true, false, 60, 1, true, false};
-  const std::vector<Measurement> points = test::design_points(design, 93);
-  const MeasurementSet data = synthesize_measurements(hidden, points, test::bench_noise(design, 94),
+  enable_effect(hidden, *find_candidate_effect(c.effect), c.effect_value);
+  group_free_parameter(*find_parameter_group(c.group), baseline).apply(hidden, c.change);
+  const std::vector<Measurement> points = test::design_points(c.design, 93);
+  const MeasurementSet data = synthesize_measurements(hidden, points, test::bench_noise(c.design, 94),
                                                       test::two_thread_for);
-  const MeasurementSet clean = test::clean_readings(hidden, points, design);
+  const MeasurementSet clean = test::clean_readings(hidden, points, c.design);
   const DiscrepancyResult r = run_discrepancy(baseline, data, {}, test::two_thread_for);
   std::string trace = "\n  conclusion: " + r.conclusion + "\n  discovery: " + r.discovery.verdict;
   for (const DiscrepancyRound& round : r.rounds) trace += "\n  round: " + round.verdict;
+  for (const GroupScreening& g : r.discovery.screened) {
+    trace += "\n  screened " + g.name + " " + std::to_string(g.value) + " " + std::to_string(g.delta_bic);
+  }
+  for (const GroupFit& f : r.discovery.fits)
+    trace += "\n  fit " + describe_group_fit(f) + " " + std::to_string(f.delta_bic);
   const GroupFit* change = accepted_change(r.discovery);
   ASSERT_NE(change, nullptr) << trace;
-  const auto at = std::find(change->groups.begin(), change->groups.end(), "stator_damping");
-  ASSERT_NE(at, change->groups.end()) << trace;
-  const std::size_t k = static_cast<std::size_t>(at - change->groups.begin());
-  EXPECT_NEAR(change->values[k], 1.3, 3.0 * change->standard_errors[k]) << trace;
+  ASSERT_EQ(change->groups.size(), 1u) << trace;
+  EXPECT_EQ(change->groups[0], c.group) << trace;
+  EXPECT_NEAR(change->values[0], c.change, 3.0 * change->standard_errors[0]) << trace;
   ASSERT_EQ(r.effects.size(), 1u) << trace;
-  EXPECT_EQ(r.effects[0].name, "guide_friction") << trace;
-  RecordProperty("conclusion", r.conclusion);
+  EXPECT_EQ(r.effects[0].name, c.effect) << trace;
+  EXPECT_NEAR(r.effects[0].value, c.effect_value, 3.0 * r.effects[0].standard_error) << trace;
   const double before = test::held_out_gap_to_truth(data, clean, r.baseline_predictions, r.held_out);
   const double after = test::held_out_gap_to_truth(data, clean, r.augmented_predictions, r.held_out);
   EXPECT_LE(after, 0.3 * before) << "held-out gap to the truth " << before << " -> " << after << trace;
+  RecordProperty("conclusion", r.conclusion);
 }
+
+INSTANTIATE_TEST_SUITE_P(Designs, LibraryEffectAndBaseChange, ::testing::ValuesIn(kEffectAndChange),
+                         [](const auto& info) {
+                           return std::string(info.param.effect) + "_and_" + info.param.group + "_" +
+                                  info.param.design.name;
+                         });
 
 }  // namespace
 }  // namespace swum
