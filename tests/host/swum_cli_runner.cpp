@@ -1,5 +1,7 @@
 #include "swum_cli_runner.h"
 
+#include <gtest/gtest.h>
+
 #include <chrono>
 #include <fstream>
 #include <sstream>
@@ -31,7 +33,11 @@ CliRun run_swum(const std::vector<std::string>& args) {
 }
 
 std::filesystem::path scratch_path(const std::string& suite, const std::string& name) {
-  const auto dir = std::filesystem::temp_directory_path() / suite;
+  // One directory per test: ctest runs the tests of one file side by side, and two of them
+  // writing one scratch file (synth renames its .partial into place) failed a run.
+  const ::testing::TestInfo* test = ::testing::UnitTest::GetInstance()->current_test_info();
+  auto dir = std::filesystem::temp_directory_path() / suite;
+  if (test != nullptr) dir /= std::string(test->test_suite_name()) + "." + test->name();
   std::filesystem::create_directories(dir);
   return dir / name;
 }

@@ -16,6 +16,7 @@ struct CliRun {
 CliRun run_swum(const std::vector<std::string>& args);
 
 // A file path in a per-suite folder under the system temporary directory.
+// (In a directory of its own per running test, so tests run side by side never share a file.)
 std::filesystem::path scratch_path(const std::string& suite, const std::string& name);
 
 std::string read_file(const std::filesystem::path& path);
